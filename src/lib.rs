@@ -1,0 +1,18 @@
+#![doc = include_str!("../README.md")]
+#![warn(missing_docs)]
+
+#[cfg(all(feature = "faer-lapack", feature = "system-openblas"))]
+compile_error!(
+    "features `faer-lapack` (the default) and `system-openblas` are mutually exclusive: \
+     build with `--no-default-features --features system-openblas` to link OpenBLAS"
+);
+#[cfg(not(any(feature = "faer-lapack", feature = "system-openblas")))]
+compile_error!(
+    "enable exactly one BLAS/LAPACK provider: `faer-lapack` (default) or `system-openblas`"
+);
+
+#[cfg(feature = "system-openblas")]
+extern crate openblas_src;
+
+#[cfg(feature = "faer-lapack")]
+pub mod faer_lapack;
