@@ -16,3 +16,7 @@ extern crate openblas_src;
 
 #[cfg(feature = "faer-lapack")]
 pub mod faer_lapack;
+
+pub mod cli;
+pub mod conic;
+pub mod sdpa;

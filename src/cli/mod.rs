@@ -1,0 +1,66 @@
+//! The `momentlmi` command line: argument parsing and thin calls into the
+//! library. Every command returns an exit code; errors are printed, never
+//! panicked.
+
+mod demo;
+mod sdpa_cmd;
+
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+
+/// Physically consistent inertial parameter identification and SDP tools.
+#[derive(Parser, Debug)]
+#[command(name = "momentlmi", version, about)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Run the bundled demonstration.
+    Demo {
+        /// Folder for the demo's outputs.
+        #[arg(long, default_value = "momentlmi-demo")]
+        out: PathBuf,
+    },
+    /// Solve an SDPA sparse file (.dat-s) and print the result.
+    Sdpa {
+        /// The .dat-s file.
+        file: PathBuf,
+        /// Print one JSON object instead of text.
+        #[arg(long)]
+        json: bool,
+        /// Turn on Clarabel's chordal decomposition (off by default).
+        #[arg(long)]
+        chordal: bool,
+        /// Use QDLDL instead of faer's supernodal LDLᵀ for the KKT systems.
+        #[arg(long)]
+        qdldl: bool,
+        /// Print the solver's iteration log.
+        #[arg(long)]
+        verbose: bool,
+    },
+}
+
+/// Parses `std::env::args` and runs the command; returns the exit code.
+pub fn main() -> i32 {
+    let cli = match Cli::try_parse() {
+        Ok(c) => c,
+        Err(e) => {
+            let code = if e.use_stderr() { 2 } else { 0 };
+            let _ = e.print();
+            return code;
+        }
+    };
+    match cli.command {
+        Command::Demo { out } => demo::run(&out),
+        Command::Sdpa {
+            file,
+            json,
+            chordal,
+            qdldl,
+            verbose,
+        } => sdpa_cmd::run(&file, json, chordal, qdldl, verbose),
+    }
+}

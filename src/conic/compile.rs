@@ -1,0 +1,342 @@
+//! Compilation of a [`Problem`] to Clarabel's standard form, and back.
+//!
+//! Stage 1 (rows + cones): every constraint is an affine map `s(x)` into its
+//! cone; row r with `s_r = aᵣ·x + cᵣ` becomes `Aᵣ = −aᵣ, bᵣ = cᵣ`, so that
+//! `A x + s = b`. Stage 2 (objective): squares are reduced once (Gram matrix
+//! or QR factor) so the size does not grow with the number of rows. The
+//! inverse map takes Clarabel's (x, z) back to user variables and to one dual
+//! per constraint, in the same row order.
+
+use super::error::ConicError;
+use super::expr::AffExpr;
+use super::problem::{ConeKind, Problem, Sense};
+use super::settings::{LeastSquaresForm, Settings};
+use super::solution::{Solution, Status};
+use clarabel::algebra::CscMatrix;
+use clarabel::solver::{DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
+use std::collections::HashMap;
+use std::time::Instant;
+
+/// A problem in Clarabel's form `min ½xᵀPx + qᵀx + c₀ s.t. Ax + s = b, s ∈ K`,
+/// with the maps back to the user's problem.
+pub struct Compiled {
+    /// Upper triangle of P (`n × n`).
+    pub p: CscMatrix<f64>,
+    /// Linear cost (`n`).
+    pub q: Vec<f64>,
+    /// Constraint matrix (`m × n`).
+    pub a: CscMatrix<f64>,
+    /// Right-hand side (`m`).
+    pub b: Vec<f64>,
+    /// Cones, in row order.
+    pub cones: Vec<SupportedConeT<f64>>,
+    /// Constant added to the objective.
+    pub obj_const: f64,
+    /// Number of user variables (the first entries of x).
+    pub n_user: usize,
+    /// First row of each user constraint, plus the end.
+    pub(crate) offsets: Vec<usize>,
+    pub(crate) kinds: Vec<ConeKind>,
+    pub(crate) sense: Sense,
+    pub(crate) settings: Settings,
+    compile_time: f64,
+}
+
+struct Triplets {
+    rows: Vec<usize>,
+    cols: Vec<usize>,
+    vals: Vec<f64>,
+}
+
+impl Triplets {
+    fn new() -> Self {
+        Self {
+            rows: Vec::new(),
+            cols: Vec::new(),
+            vals: Vec::new(),
+        }
+    }
+    fn push(&mut self, r: usize, c: usize, v: f64) {
+        if v != 0.0 {
+            self.rows.push(r);
+            self.cols.push(c);
+            self.vals.push(v);
+        }
+    }
+    /// CSC with duplicates summed.
+    fn into_csc(self, m: usize, n: usize) -> CscMatrix<f64> {
+        let mut idx: Vec<usize> = (0..self.vals.len()).collect();
+        idx.sort_by_key(|&k| (self.cols[k], self.rows[k]));
+        let mut colptr = vec![0usize; n + 1];
+        let mut rowval = Vec::with_capacity(idx.len());
+        let mut nzval: Vec<f64> = Vec::with_capacity(idx.len());
+        let mut last: Option<(usize, usize)> = None;
+        for k in idx {
+            let (r, c) = (self.rows[k], self.cols[k]);
+            if last == Some((r, c)) {
+                *nzval.last_mut().unwrap_or(&mut 0.0) += self.vals[k];
+            } else {
+                rowval.push(r);
+                nzval.push(self.vals[k]);
+                colptr[c + 1] += 1;
+                last = Some((r, c));
+            }
+        }
+        for c in 0..n {
+            colptr[c + 1] += colptr[c];
+        }
+        CscMatrix::new(m, n, colptr, rowval, nzval)
+    }
+}
+
+impl Problem {
+    /// Compiles to Clarabel's form.
+    pub fn compile(&self, settings: &Settings) -> Result<Compiled, ConicError> {
+        let t0 = Instant::now();
+        settings.validate()?;
+        if self.nvars == 0 {
+            return Err(ConicError::EmptyProblem);
+        }
+        let sign = match self.sense {
+            Sense::Minimize => 1.0,
+            Sense::Maximize => -1.0,
+        };
+        if self.sense == Sense::Maximize && !self.squares.is_empty() {
+            return Err(ConicError::Unsupported(
+                "maximising an objective with squares (not convex); minimise its negation".into(),
+            ));
+        }
+        let check = |e: &AffExpr, what: String| -> Result<(), ConicError> {
+            if !e.is_finite() {
+                return Err(ConicError::NonFinite { what });
+            }
+            if let Some(i) = e.max_var().filter(|&i| i >= self.nvars) {
+                return Err(ConicError::UnknownVariable {
+                    what,
+                    index: i,
+                    count: self.nvars,
+                });
+            }
+            Ok(())
+        };
+        check(&self.linear, "the objective".into())?;
+        for (k, (w, e)) in self.squares.iter().enumerate() {
+            if !(w.is_finite() && *w >= 0.0) {
+                return Err(ConicError::NonFinite {
+                    what: format!("weight of square #{k} (must be finite and ≥ 0, got {w})"),
+                });
+            }
+            check(e, format!("square #{k} of the objective"))?;
+        }
+
+        // Stage 1: constraint rows.
+        let mut at = Triplets::new();
+        let mut b = Vec::new();
+        let mut offsets = Vec::with_capacity(self.constraints.len() + 1);
+        let mut cones: Vec<SupportedConeT<f64>> = Vec::new();
+        for c in &self.constraints {
+            offsets.push(b.len());
+            for e in &c.rows {
+                let r = b.len();
+                for &(i, a) in &e.terms {
+                    at.push(r, i, -a);
+                }
+                b.push(e.constant);
+            }
+            let k = c.rows.len();
+            let cone = match c.kind {
+                ConeKind::Zero => SupportedConeT::ZeroConeT(k),
+                ConeKind::Nonnegative => SupportedConeT::NonnegativeConeT(k),
+                ConeKind::SecondOrder => SupportedConeT::SecondOrderConeT(k),
+                ConeKind::Psd { n } => SupportedConeT::PSDTriangleConeT(n),
+            };
+            // merge runs of zero / nonnegative cones
+            match (cones.last_mut(), &cone) {
+                (Some(SupportedConeT::ZeroConeT(a)), SupportedConeT::ZeroConeT(k)) => *a += k,
+                (
+                    Some(SupportedConeT::NonnegativeConeT(a)),
+                    SupportedConeT::NonnegativeConeT(k),
+                ) => *a += k,
+                _ if k == 0 => {}
+                _ => cones.push(cone),
+            }
+        }
+        offsets.push(b.len());
+
+        // Stage 2: objective.
+        let mut n = self.nvars;
+        let mut q = vec![0.0; n];
+        for &(i, a) in &self.linear.terms {
+            q[i] += sign * a;
+        }
+        let mut obj_const = sign * self.linear.constant;
+        let mut pt = Triplets::new();
+        if !self.squares.is_empty() {
+            let (cols, d) = stack_squares(&self.squares);
+            let k = cols.len();
+            match settings.least_squares {
+                LeastSquaresForm::Quadratic => {
+                    let mut g = faer::Mat::<f64>::zeros(k + 1, k + 1);
+                    faer::linalg::matmul::matmul(
+                        g.as_mut(),
+                        faer::Accum::Replace,
+                        d.transpose(),
+                        d.as_ref(),
+                        1.0,
+                        faer::Par::Seq,
+                    );
+                    for jj in 0..k {
+                        for ii in 0..=jj {
+                            pt.push(
+                                cols[ii].min(cols[jj]),
+                                cols[ii].max(cols[jj]),
+                                2.0 * g[(ii, jj)],
+                            );
+                        }
+                        q[cols[jj]] += 2.0 * g[(jj, k)];
+                    }
+                    obj_const += g[(k, k)];
+                }
+                LeastSquaresForm::SecondOrderCone => {
+                    let r = if d.nrows() > d.ncols() {
+                        d.qr().thin_R().to_owned()
+                    } else {
+                        d.clone()
+                    };
+                    let t = n;
+                    n += 1;
+                    q.push(1.0);
+                    // rows: t + 1, t − 1, 2 R [x; 1]
+                    let r0 = b.len();
+                    at.push(r0, t, -1.0);
+                    b.push(1.0);
+                    at.push(r0 + 1, t, -1.0);
+                    b.push(-1.0);
+                    for i in 0..r.nrows() {
+                        let row = b.len();
+                        for jj in 0..k {
+                            at.push(row, cols[jj], -2.0 * r[(i, jj)]);
+                        }
+                        b.push(2.0 * r[(i, k)]);
+                    }
+                    cones.push(SupportedConeT::SecondOrderConeT(2 + r.nrows()));
+                }
+            }
+        }
+        let m = b.len();
+        let a = at.into_csc(m, n);
+        let p = pt.into_csc(n, n);
+        Ok(Compiled {
+            p,
+            q,
+            a,
+            b,
+            cones,
+            obj_const,
+            n_user: self.nvars,
+            offsets,
+            kinds: self.constraints.iter().map(|c| c.kind).collect(),
+            sense: self.sense,
+            settings: settings.clone(),
+            compile_time: t0.elapsed().as_secs_f64(),
+        })
+    }
+
+    /// Compiles and solves.
+    pub fn solve(&self, settings: &Settings) -> Result<Solution, ConicError> {
+        self.compile(settings)?.solve()
+    }
+}
+
+/// Stacks `√w (a·x + b)` rows densely over the variables they use:
+/// returns the used variable indices and the `rows × (k + 1)` matrix whose
+/// last column holds the constants.
+fn stack_squares(squares: &[(f64, AffExpr)]) -> (Vec<usize>, faer::Mat<f64>) {
+    let mut col_of: HashMap<usize, usize> = HashMap::new();
+    let mut cols = Vec::new();
+    for (_, e) in squares {
+        for &(i, _) in &e.terms {
+            col_of.entry(i).or_insert_with(|| {
+                cols.push(i);
+                cols.len() - 1
+            });
+        }
+    }
+    let k = cols.len();
+    let mut d = faer::Mat::<f64>::zeros(squares.len(), k + 1);
+    for (r, (w, e)) in squares.iter().enumerate() {
+        let sw = w.sqrt();
+        for &(i, a) in &e.terms {
+            d[(r, col_of[&i])] += sw * a;
+        }
+        d[(r, k)] = sw * e.constant;
+    }
+    (cols, d)
+}
+
+impl Compiled {
+    /// Seconds spent compiling.
+    pub fn compile_time(&self) -> f64 {
+        self.compile_time
+    }
+
+    /// Number of rows of A (the cone dimension).
+    pub fn num_rows(&self) -> usize {
+        self.b.len()
+    }
+
+    /// Solves with Clarabel and maps the result back.
+    pub fn solve(&self) -> Result<Solution, ConicError> {
+        #[cfg(feature = "faer-lapack")]
+        crate::faer_lapack::ensure_linked();
+        let t0 = Instant::now();
+        let mut solver = DefaultSolver::new(
+            &self.p,
+            &self.q,
+            &self.a,
+            &self.b,
+            &self.cones,
+            self.settings.to_clarabel(),
+        )
+        .map_err(|e| ConicError::Solver(e.to_string()))?;
+        let setup = t0.elapsed().as_secs_f64() + self.compile_time;
+        solver.solve();
+        let s = &solver.solution;
+        let status = match s.status {
+            SolverStatus::Solved => Status::Solved,
+            SolverStatus::AlmostSolved => Status::SolvedInaccurately,
+            SolverStatus::PrimalInfeasible => Status::PrimalInfeasible,
+            SolverStatus::AlmostPrimalInfeasible => Status::PrimalInfeasibleInaccurate,
+            SolverStatus::DualInfeasible => Status::DualInfeasible,
+            SolverStatus::AlmostDualInfeasible => Status::DualInfeasibleInaccurate,
+            SolverStatus::MaxIterations => Status::IterationLimit,
+            SolverStatus::MaxTime => Status::TimeLimit,
+            SolverStatus::NumericalError => Status::NumericalError,
+            SolverStatus::InsufficientProgress => Status::InsufficientProgress,
+            SolverStatus::Unsolved | SolverStatus::CallbackTerminated => Status::NotSolved,
+        };
+        let sign = if self.sense == Sense::Maximize {
+            -1.0
+        } else {
+            1.0
+        };
+        let duals = self
+            .offsets
+            .windows(2)
+            .map(|w| s.z[w[0]..w[1]].to_vec())
+            .collect();
+        Ok(Solution {
+            status,
+            primal_objective: sign * (s.obj_val + self.obj_const),
+            dual_objective: sign * (s.obj_val_dual + self.obj_const),
+            x: s.x[..self.n_user].to_vec(),
+            raw_duals: duals,
+            kinds: self.kinds.clone(),
+            iterations: s.iterations,
+            primal_residual: s.r_prim,
+            dual_residual: s.r_dual,
+            setup_time_s: setup,
+            solve_time_s: s.solve_time,
+        })
+    }
+}

@@ -1,0 +1,73 @@
+//! Errors of the conic layer.
+
+/// What can go wrong while building, compiling or solving a conic problem.
+/// A solver that ends without a solution is a [`Status`](super::Status), not
+/// an error.
+#[derive(Debug, thiserror::Error, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum ConicError {
+    /// Two operands or an operand and a constraint do not fit.
+    #[error("dimension mismatch in {what}: expected {expected}, found {found}")]
+    DimensionMismatch {
+        /// The operation or constraint.
+        what: String,
+        /// The size it needed.
+        expected: String,
+        /// The size it got.
+        found: String,
+    },
+    /// An index outside a matrix or vector.
+    #[error("{what} is out of range for shape {shape}")]
+    IndexOutOfRange {
+        /// The index.
+        what: String,
+        /// The shape indexed.
+        shape: String,
+    },
+    /// A NaN or infinite coefficient.
+    #[error("non-finite coefficient in {what}")]
+    NonFinite {
+        /// Where it was found.
+        what: String,
+    },
+    /// A PSD constraint on a matrix expression that is not symmetric.
+    #[error(
+        "matrix in {constraint} is not symmetric: entry ({row}, {col}) differs from ({col}, {row})"
+    )]
+    NotSymmetric {
+        /// The constraint.
+        constraint: String,
+        /// Row of the first offending entry.
+        row: usize,
+        /// Column of the first offending entry.
+        col: usize,
+    },
+    /// A variable that belongs to another problem (index beyond this problem's variables).
+    #[error("{what} uses variable {index}, but the problem has only {count} variables")]
+    UnknownVariable {
+        /// Where it was used.
+        what: String,
+        /// The variable index.
+        index: usize,
+        /// Number of variables in the problem.
+        count: usize,
+    },
+    /// A problem with no variables.
+    #[error("the problem is empty: it has no variables")]
+    EmptyProblem,
+    /// An invalid setting.
+    #[error("invalid setting {name}: {reason}")]
+    InvalidSetting {
+        /// The setting.
+        name: &'static str,
+        /// Why it is invalid.
+        reason: String,
+    },
+    /// A problem shape the solver cannot take (e.g. Clarabel rejected the data).
+    #[error("solver rejected the problem: {0}")]
+    Solver(String),
+    /// A feature a conversion does not support (e.g. writing a second-order
+    /// cone to SDPA).
+    #[error("unsupported: {0}")]
+    Unsupported(String),
+}

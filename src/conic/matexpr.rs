@@ -1,0 +1,422 @@
+//! Affine matrix expressions `M(x) = M₀ + Σ xᵢ Mᵢ`, dense, column-major.
+//!
+//! Used to write linear matrix inequalities: build `M(x)` from variables,
+//! constants, sums, constant congruences `C M Cᵀ`, products with constant
+//! matrices and blocks, then constrain it with
+//! [`Problem::add_psd`](super::Problem::add_psd). Dimensions are checked and
+//! reported as [`ConicError::DimensionMismatch`]; symmetry is checked where a
+//! constraint needs it.
+
+use super::error::ConicError;
+use super::expr::AffExpr;
+use nalgebra::DMatrix;
+use std::ops::{Add, Mul, Neg, Sub};
+
+/// A dense `rows × cols` matrix of affine expressions (column-major).
+#[derive(Clone, Debug, PartialEq)]
+pub struct MatExpr {
+    rows: usize,
+    cols: usize,
+    data: Vec<AffExpr>,
+}
+
+fn mismatch(what: &str, expected: (usize, usize), found: (usize, usize)) -> ConicError {
+    ConicError::DimensionMismatch {
+        what: what.to_string(),
+        expected: format!("{}×{}", expected.0, expected.1),
+        found: format!("{}×{}", found.0, found.1),
+    }
+}
+
+impl MatExpr {
+    /// The `rows × cols` zero matrix.
+    pub fn zeros(rows: usize, cols: usize) -> Self {
+        Self {
+            rows,
+            cols,
+            data: vec![AffExpr::zero(); rows * cols],
+        }
+    }
+
+    /// Builds entry `(i, j)` from `f(i, j)`.
+    pub fn from_fn(rows: usize, cols: usize, mut f: impl FnMut(usize, usize) -> AffExpr) -> Self {
+        let mut data = Vec::with_capacity(rows * cols);
+        for j in 0..cols {
+            for i in 0..rows {
+                data.push(f(i, j));
+            }
+        }
+        Self { rows, cols, data }
+    }
+
+    /// A constant matrix.
+    pub fn constant(m: &DMatrix<f64>) -> Self {
+        Self::from_fn(m.nrows(), m.ncols(), |i, j| AffExpr::constant(m[(i, j)]))
+    }
+
+    /// `e · I` of size `n × n`.
+    pub fn scaled_identity(n: usize, e: impl Into<AffExpr>) -> Self {
+        let e = e.into();
+        Self::from_fn(
+            n,
+            n,
+            |i, j| if i == j { e.clone() } else { AffExpr::zero() },
+        )
+    }
+
+    /// A column vector of expressions.
+    pub fn column(entries: Vec<AffExpr>) -> Self {
+        Self {
+            rows: entries.len(),
+            cols: 1,
+            data: entries,
+        }
+    }
+
+    /// Number of rows.
+    pub fn nrows(&self) -> usize {
+        self.rows
+    }
+
+    /// Number of columns.
+    pub fn ncols(&self) -> usize {
+        self.cols
+    }
+
+    /// `(rows, cols)`.
+    pub fn shape(&self) -> (usize, usize) {
+        (self.rows, self.cols)
+    }
+
+    /// Entry `(i, j)`, or an error if out of range.
+    pub fn get(&self, i: usize, j: usize) -> Result<&AffExpr, ConicError> {
+        if i >= self.rows || j >= self.cols {
+            return Err(ConicError::IndexOutOfRange {
+                what: format!("entry ({i}, {j})"),
+                shape: format!("{}×{}", self.rows, self.cols),
+            });
+        }
+        Ok(&self.data[i + j * self.rows])
+    }
+
+    /// Entry `(i, j)` (internal, unchecked beyond the slice bound).
+    pub(crate) fn at(&self, i: usize, j: usize) -> &AffExpr {
+        &self.data[i + j * self.rows]
+    }
+
+    /// Mutable entry `(i, j)`, or an error if out of range.
+    pub fn get_mut(&mut self, i: usize, j: usize) -> Result<&mut AffExpr, ConicError> {
+        if i >= self.rows || j >= self.cols {
+            return Err(ConicError::IndexOutOfRange {
+                what: format!("entry ({i}, {j})"),
+                shape: format!("{}×{}", self.rows, self.cols),
+            });
+        }
+        Ok(&mut self.data[i + j * self.rows])
+    }
+
+    /// All entries, column-major.
+    pub fn entries(&self) -> &[AffExpr] {
+        &self.data
+    }
+
+    /// `self + other`.
+    pub fn try_add(&self, other: &MatExpr) -> Result<MatExpr, ConicError> {
+        self.zip(other, "matrix sum", 1.0)
+    }
+
+    /// `self − other`.
+    pub fn try_sub(&self, other: &MatExpr) -> Result<MatExpr, ConicError> {
+        self.zip(other, "matrix difference", -1.0)
+    }
+
+    fn zip(&self, other: &MatExpr, what: &str, s: f64) -> Result<MatExpr, ConicError> {
+        if self.shape() != other.shape() {
+            return Err(mismatch(what, self.shape(), other.shape()));
+        }
+        let data = self
+            .data
+            .iter()
+            .zip(&other.data)
+            .map(|(a, b)| {
+                let mut e = a.clone();
+                e.axpy(s, b);
+                e
+            })
+            .collect();
+        Ok(MatExpr {
+            rows: self.rows,
+            cols: self.cols,
+            data,
+        })
+    }
+
+    /// `s · self`.
+    pub fn scaled(&self, s: f64) -> MatExpr {
+        let mut m = self.clone();
+        m.data.iter_mut().for_each(|e| e.scale(s));
+        m
+    }
+
+    /// `self + e · I` (square only).
+    pub fn plus_identity(&self, e: impl Into<AffExpr>) -> Result<MatExpr, ConicError> {
+        self.try_add(&MatExpr::scaled_identity(self.rows, e))
+            .map_err(|_| {
+                mismatch(
+                    "matrix + scalar·I (square matrix)",
+                    (self.rows, self.rows),
+                    self.shape(),
+                )
+            })
+    }
+
+    /// `Mᵀ`.
+    pub fn transpose(&self) -> MatExpr {
+        MatExpr::from_fn(self.cols, self.rows, |i, j| self.at(j, i).clone())
+    }
+
+    /// `C · M` for a constant `C` (`k × rows`).
+    pub fn left_mul(&self, c: &DMatrix<f64>) -> Result<MatExpr, ConicError> {
+        if c.ncols() != self.rows {
+            return Err(mismatch(
+                "constant × matrix expression",
+                (c.nrows(), self.rows),
+                c.shape(),
+            ));
+        }
+        Ok(MatExpr::from_fn(c.nrows(), self.cols, |i, j| {
+            let mut e = AffExpr::zero();
+            for k in 0..self.rows {
+                let a = c[(i, k)];
+                if a != 0.0 {
+                    e.axpy(a, self.at(k, j));
+                }
+            }
+            e
+        }))
+    }
+
+    /// `M · C` for a constant `C` (`cols × k`).
+    pub fn right_mul(&self, c: &DMatrix<f64>) -> Result<MatExpr, ConicError> {
+        if c.nrows() != self.cols {
+            return Err(mismatch(
+                "matrix expression × constant",
+                (self.cols, c.ncols()),
+                c.shape(),
+            ));
+        }
+        Ok(MatExpr::from_fn(self.rows, c.ncols(), |i, j| {
+            let mut e = AffExpr::zero();
+            for k in 0..self.cols {
+                let a = c[(k, j)];
+                if a != 0.0 {
+                    e.axpy(a, self.at(i, k));
+                }
+            }
+            e
+        }))
+    }
+
+    /// The congruence `C M Cᵀ`, which keeps a symmetric M symmetric.
+    pub fn congruence(&self, c: &DMatrix<f64>) -> Result<MatExpr, ConicError> {
+        self.left_mul(c)?.right_mul(&c.transpose())
+    }
+
+    /// `tr M` (square only).
+    pub fn trace(&self) -> Result<AffExpr, ConicError> {
+        if self.rows != self.cols {
+            return Err(mismatch(
+                "trace (square matrix)",
+                (self.rows, self.rows),
+                self.shape(),
+            ));
+        }
+        let mut e = AffExpr::zero();
+        for i in 0..self.rows {
+            e += self.at(i, i);
+        }
+        Ok(e)
+    }
+
+    /// The inner product `⟨C, M⟩ = Σᵢⱼ Cᵢⱼ Mᵢⱼ = tr(Cᵀ M)`.
+    pub fn dot(&self, c: &DMatrix<f64>) -> Result<AffExpr, ConicError> {
+        if c.shape() != self.shape() {
+            return Err(mismatch("inner product ⟨C, M⟩", self.shape(), c.shape()));
+        }
+        let mut e = AffExpr::zero();
+        for j in 0..self.cols {
+            for i in 0..self.rows {
+                let a = c[(i, j)];
+                if a != 0.0 {
+                    e.axpy(a, self.at(i, j));
+                }
+            }
+        }
+        Ok(e)
+    }
+
+    /// The block matrix `[[B₀₀, B₀₁, …], [B₁₀, …], …]`; `None` is a zero block
+    /// whose size is taken from the other blocks of its row and column.
+    pub fn block(blocks: &[Vec<Option<&MatExpr>>]) -> Result<MatExpr, ConicError> {
+        let nr = blocks.len();
+        let nc = blocks.first().map_or(0, |r| r.len());
+        if nr == 0 || nc == 0 {
+            return Err(ConicError::DimensionMismatch {
+                what: "block matrix".into(),
+                expected: "at least one block".into(),
+                found: "none".into(),
+            });
+        }
+        let mut heights = vec![None; nr];
+        let mut widths = vec![None; nc];
+        for (bi, row) in blocks.iter().enumerate() {
+            if row.len() != nc {
+                return Err(ConicError::DimensionMismatch {
+                    what: format!("block row {bi}"),
+                    expected: format!("{nc} blocks"),
+                    found: format!("{} blocks", row.len()),
+                });
+            }
+            for (bj, b) in row.iter().enumerate() {
+                if let Some(b) = b {
+                    for (slot, val, what) in [
+                        (
+                            &mut heights[bi],
+                            b.rows,
+                            format!("height of block row {bi}"),
+                        ),
+                        (
+                            &mut widths[bj],
+                            b.cols,
+                            format!("width of block column {bj}"),
+                        ),
+                    ] {
+                        match *slot {
+                            None => *slot = Some(val),
+                            Some(v) if v != val => {
+                                return Err(ConicError::DimensionMismatch {
+                                    what,
+                                    expected: v.to_string(),
+                                    found: format!("{val} in block ({bi}, {bj})"),
+                                });
+                            }
+                            _ => {}
+                        }
+                    }
+                }
+            }
+        }
+        let undetermined = |v: &[Option<usize>], what: &str| {
+            v.iter()
+                .position(Option::is_none)
+                .map(|i| ConicError::DimensionMismatch {
+                    what: format!("{what} {i} of block matrix"),
+                    expected: "a non-empty block to fix its size".into(),
+                    found: "only zero blocks".into(),
+                })
+        };
+        if let Some(e) =
+            undetermined(&heights, "block row").or(undetermined(&widths, "block column"))
+        {
+            return Err(e);
+        }
+        let h: Vec<usize> = heights.into_iter().flatten().collect();
+        let w: Vec<usize> = widths.into_iter().flatten().collect();
+        let mut out = MatExpr::zeros(h.iter().sum(), w.iter().sum());
+        let mut r0 = 0;
+        for (bi, row) in blocks.iter().enumerate() {
+            let mut c0 = 0;
+            for (bj, b) in row.iter().enumerate() {
+                if let Some(b) = b {
+                    for j in 0..b.cols {
+                        for i in 0..b.rows {
+                            out.data[(r0 + i) + (c0 + j) * out.rows] = b.at(i, j).clone();
+                        }
+                    }
+                }
+                c0 += w[bj];
+            }
+            r0 += h[bi];
+        }
+        Ok(out)
+    }
+
+    /// `[A B]`.
+    pub fn hstack(a: &MatExpr, b: &MatExpr) -> Result<MatExpr, ConicError> {
+        Self::block(&[vec![Some(a), Some(b)]])
+    }
+
+    /// `[A; B]`.
+    pub fn vstack(a: &MatExpr, b: &MatExpr) -> Result<MatExpr, ConicError> {
+        Self::block(&[vec![Some(a)], vec![Some(b)]])
+    }
+
+    /// Whether `M = Mᵀ` coefficient-wise within `tol`. Returns the first
+    /// offending `(i, j)` otherwise.
+    pub fn symmetry_defect(&self, tol: f64) -> Option<(usize, usize)> {
+        if self.rows != self.cols {
+            return Some((self.rows, self.cols));
+        }
+        for j in 0..self.cols {
+            for i in 0..j {
+                if !self.at(i, j).approx_eq(self.at(j, i), tol) {
+                    return Some((i, j));
+                }
+            }
+        }
+        None
+    }
+
+    /// Value at the primal point `x`.
+    pub fn eval(&self, x: &[f64]) -> DMatrix<f64> {
+        DMatrix::from_fn(self.rows, self.cols, |i, j| self.at(i, j).eval(x))
+    }
+
+    /// Whether every coefficient is finite.
+    pub fn is_finite(&self) -> bool {
+        self.data.iter().all(AffExpr::is_finite)
+    }
+}
+
+impl Add<&MatExpr> for &MatExpr {
+    type Output = Result<MatExpr, ConicError>;
+    fn add(self, rhs: &MatExpr) -> Self::Output {
+        self.try_add(rhs)
+    }
+}
+impl Sub<&MatExpr> for &MatExpr {
+    type Output = Result<MatExpr, ConicError>;
+    fn sub(self, rhs: &MatExpr) -> Self::Output {
+        self.try_sub(rhs)
+    }
+}
+impl Mul<f64> for &MatExpr {
+    type Output = MatExpr;
+    fn mul(self, s: f64) -> MatExpr {
+        self.scaled(s)
+    }
+}
+impl Mul<&MatExpr> for f64 {
+    type Output = MatExpr;
+    fn mul(self, m: &MatExpr) -> MatExpr {
+        m.scaled(self)
+    }
+}
+impl Mul<&MatExpr> for &DMatrix<f64> {
+    type Output = Result<MatExpr, ConicError>;
+    fn mul(self, m: &MatExpr) -> Self::Output {
+        m.left_mul(self)
+    }
+}
+impl Mul<&DMatrix<f64>> for &MatExpr {
+    type Output = Result<MatExpr, ConicError>;
+    fn mul(self, c: &DMatrix<f64>) -> Self::Output {
+        self.right_mul(c)
+    }
+}
+impl Neg for &MatExpr {
+    type Output = MatExpr;
+    fn neg(self) -> MatExpr {
+        self.scaled(-1.0)
+    }
+}

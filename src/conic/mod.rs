@@ -1,0 +1,50 @@
+//! # `conic`: a small modelling layer for LMIs and conic programs on Clarabel
+//!
+//! ```text
+//! minimise    cᵀx + c₀ + Σₖ wₖ (aₖᵀx + bₖ)²
+//! subject to  sᵢ(x) ∈ Kᵢ,   Kᵢ ∈ {0, ℝ₊ⁿ, second-order cone, PSD cone}
+//! ```
+//!
+//! Variables ([`Var`], [`SymVar`]) live in a [`Problem`]; affine scalar
+//! expressions ([`AffExpr`]) and affine matrix expressions ([`MatExpr`])
+//! combine them with `+`, `−`, scalar `×`, constant matrix products, blocks,
+//! trace and inner products. Constraints return a [`ConstraintId`] whose dual
+//! the [`Solution`] gives back (PSD duals as full symmetric matrices).
+//! [`Problem::compile`] produces Clarabel's `(P, q, A, b, K)` once
+//! ([`Compiled`]), with PSD cones as √2-scaled upper triangles.
+//!
+//! Dual sign convention: for a constraint `s(x) ∈ K` the dual `z ∈ K*`
+//! satisfies `∇f(x) = Σ Ds(x)ᵀ z` at the optimum of the minimised objective;
+//! [`check_optimality`] verifies this for any result.
+//!
+//! ```
+//! use momentlmi::conic::{MatExpr, Problem, Settings};
+//! use nalgebra::DMatrix;
+//! // λmax(A) = min t s.t. tI − A ⪰ 0
+//! let a = DMatrix::from_row_slice(2, 2, &[2.0, 1.0, 1.0, 2.0]);
+//! let mut p = Problem::new();
+//! let t = p.scalar("t");
+//! let m = MatExpr::scaled_identity(2, t).try_sub(&MatExpr::constant(&a)).unwrap();
+//! p.add_psd(&m).unwrap();
+//! p.minimize(t);
+//! let sol = p.solve(&Settings::default()).unwrap();
+//! assert!((sol.value(t) - 3.0).abs() < 1e-7);
+//! ```
+
+mod compile;
+mod error;
+mod expr;
+mod kkt;
+mod matexpr;
+mod problem;
+mod settings;
+mod solution;
+
+pub use compile::Compiled;
+pub use error::ConicError;
+pub use expr::{AffExpr, Var, sum};
+pub use kkt::{KktReport, check_optimality};
+pub use matexpr::MatExpr;
+pub use problem::{ConeKind, ConstraintId, Problem, Sense, SymVar};
+pub use settings::{KktSolver, LeastSquaresForm, Settings};
+pub use solution::{Dual, Solution, Status, svec_to_mat};

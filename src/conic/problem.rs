@@ -1,0 +1,362 @@
+//! The problem builder: variables, constraints, objective.
+
+use super::error::ConicError;
+use super::expr::{AffExpr, Var};
+use super::matexpr::MatExpr;
+
+/// The cone a constraint's affine rows `s(x)` must lie in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ConeKind {
+    /// `s = 0` (equalities).
+    Zero,
+    /// `s ≥ 0` elementwise.
+    Nonnegative,
+    /// `s₀ ≥ ‖s₁..‖₂`.
+    SecondOrder,
+    /// `svec(S) ⪰ 0` for an `n × n` S: the rows are its upper triangle,
+    /// column by column, off-diagonals scaled by √2 (Clarabel's
+    /// `PSDTriangleConeT`).
+    Psd {
+        /// Side of the matrix.
+        n: usize,
+    },
+}
+
+/// Handle of a constraint, for its dual and name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ConstraintId(pub(crate) usize);
+
+/// A symmetric matrix variable, stored as its upper triangle
+/// (`n(n+1)/2` scalar variables).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SymVar {
+    n: usize,
+    /// Upper triangle, column by column: (0,0), (0,1), (1,1), (0,2), …
+    vars: Vec<Var>,
+}
+
+impl SymVar {
+    /// Side n.
+    pub fn n(&self) -> usize {
+        self.n
+    }
+
+    /// The scalar variable at `(i, j)` (either triangle).
+    pub fn var(&self, i: usize, j: usize) -> Option<Var> {
+        let (i, j) = if i <= j { (i, j) } else { (j, i) };
+        (j < self.n).then(|| self.vars[j * (j + 1) / 2 + i])
+    }
+
+    /// The full symmetric matrix as an expression.
+    pub fn expr(&self) -> MatExpr {
+        MatExpr::from_fn(self.n, self.n, |i, j| {
+            AffExpr::from(self.var(i, j).unwrap_or(Var(0)))
+        })
+    }
+}
+
+#[derive(Clone, Debug)]
+pub(crate) struct ConstraintData {
+    pub name: String,
+    pub kind: ConeKind,
+    /// The cone's rows `s(x)`, affine in x.
+    pub rows: Vec<AffExpr>,
+}
+
+/// Direction of optimisation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sense {
+    /// Minimise.
+    Minimize,
+    /// Maximise (solved as the minimisation of the negated objective).
+    Maximize,
+}
+
+/// A conic optimisation problem
+///
+/// ```text
+/// minimise    cᵀx + c₀ + Σₖ wₖ (aₖᵀx + bₖ)²
+/// subject to  sᵢ(x) ∈ Kᵢ   (each constraint an affine map into a cone)
+/// ```
+///
+/// with Kᵢ the zero cone (equalities), the nonnegative orthant, a
+/// second-order cone or a PSD cone. It compiles to Clarabel's
+/// `min ½xᵀPx + qᵀx s.t. Ax + s = b, s ∈ K`.
+///
+/// ```
+/// use momentlmi::conic::{Problem, Settings, Status};
+/// let mut p = Problem::new();
+/// let x = p.scalar("x");
+/// let y = p.scalar("y");
+/// p.add_ge(x + y, 1.0).unwrap();
+/// p.add_square(1.0, x - 2.0 * y);
+/// p.minimize(x + 0.0);
+/// let sol = p.solve(&Settings::default()).unwrap();
+/// assert_eq!(sol.status, Status::Solved);
+/// assert!((sol.value(x) - 0.0).abs() < 1e-6 || sol.primal_objective < 1.0);
+/// ```
+#[derive(Clone, Debug)]
+pub struct Problem {
+    pub(crate) nvars: usize,
+    pub(crate) var_names: Vec<String>,
+    pub(crate) constraints: Vec<ConstraintData>,
+    pub(crate) linear: AffExpr,
+    pub(crate) squares: Vec<(f64, AffExpr)>,
+    pub(crate) sense: Sense,
+}
+
+impl Default for Problem {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Problem {
+    /// An empty problem (minimise 0).
+    pub fn new() -> Self {
+        Self {
+            nvars: 0,
+            var_names: Vec::new(),
+            constraints: Vec::new(),
+            linear: AffExpr::zero(),
+            squares: Vec::new(),
+            sense: Sense::Minimize,
+        }
+    }
+
+    /// Number of scalar variables.
+    pub fn num_vars(&self) -> usize {
+        self.nvars
+    }
+
+    /// Number of constraints.
+    pub fn num_constraints(&self) -> usize {
+        self.constraints.len()
+    }
+
+    /// Name of a scalar variable.
+    pub fn var_name(&self, v: Var) -> Option<&str> {
+        self.var_names.get(v.0).map(String::as_str)
+    }
+
+    /// A new free scalar variable.
+    pub fn scalar(&mut self, name: &str) -> Var {
+        self.var_names.push(name.to_string());
+        self.nvars += 1;
+        Var(self.nvars - 1)
+    }
+
+    /// `n` new free scalar variables `name[0]..name[n-1]`.
+    pub fn vector(&mut self, name: &str, n: usize) -> Vec<Var> {
+        (0..n)
+            .map(|i| self.scalar(&format!("{name}[{i}]")))
+            .collect()
+    }
+
+    /// A new free symmetric `n × n` matrix variable.
+    pub fn symmetric(&mut self, name: &str, n: usize) -> SymVar {
+        let mut vars = Vec::with_capacity(n * (n + 1) / 2);
+        for j in 0..n {
+            for i in 0..=j {
+                vars.push(self.scalar(&format!("{name}[{i},{j}]")));
+            }
+        }
+        SymVar { n, vars }
+    }
+
+    fn check_expr(&self, e: &AffExpr, what: &str) -> Result<(), ConicError> {
+        if !e.is_finite() {
+            return Err(ConicError::NonFinite {
+                what: what.to_string(),
+            });
+        }
+        if let Some(i) = e.max_var().filter(|&i| i >= self.nvars) {
+            return Err(ConicError::UnknownVariable {
+                what: what.to_string(),
+                index: i,
+                count: self.nvars,
+            });
+        }
+        Ok(())
+    }
+
+    fn push(
+        &mut self,
+        kind: ConeKind,
+        rows: Vec<AffExpr>,
+        label: &str,
+    ) -> Result<ConstraintId, ConicError> {
+        let name = format!("constraint #{} ({label})", self.constraints.len());
+        for (r, e) in rows.iter().enumerate() {
+            self.check_expr(e, &format!("{name}, row {r}"))?;
+        }
+        let rows = rows
+            .into_iter()
+            .map(|mut e| {
+                e.compact();
+                e
+            })
+            .collect();
+        self.constraints.push(ConstraintData { name, kind, rows });
+        Ok(ConstraintId(self.constraints.len() - 1))
+    }
+
+    /// Names a constraint (used in error messages and reports).
+    pub fn set_name(&mut self, id: ConstraintId, name: &str) {
+        if let Some(c) = self.constraints.get_mut(id.0) {
+            c.name = name.to_string();
+        }
+    }
+
+    /// Name of a constraint.
+    pub fn constraint_name(&self, id: ConstraintId) -> Option<&str> {
+        self.constraints.get(id.0).map(|c| c.name.as_str())
+    }
+
+    /// Cone of a constraint.
+    pub fn constraint_kind(&self, id: ConstraintId) -> Option<ConeKind> {
+        self.constraints.get(id.0).map(|c| c.kind)
+    }
+
+    /// `lhs = rhs`. Dual z: `∇f = Σ z ∇(lhs − rhs)`.
+    pub fn add_eq(
+        &mut self,
+        lhs: impl Into<AffExpr>,
+        rhs: impl Into<AffExpr>,
+    ) -> Result<ConstraintId, ConicError> {
+        self.push(ConeKind::Zero, vec![lhs.into() - rhs.into()], "=")
+    }
+
+    /// `lhs ≤ rhs`, as `rhs − lhs ≥ 0`; its dual is ≥ 0.
+    pub fn add_le(
+        &mut self,
+        lhs: impl Into<AffExpr>,
+        rhs: impl Into<AffExpr>,
+    ) -> Result<ConstraintId, ConicError> {
+        self.push(ConeKind::Nonnegative, vec![rhs.into() - lhs.into()], "≤")
+    }
+
+    /// `lhs ≥ rhs`, as `lhs − rhs ≥ 0`; its dual is ≥ 0.
+    pub fn add_ge(
+        &mut self,
+        lhs: impl Into<AffExpr>,
+        rhs: impl Into<AffExpr>,
+    ) -> Result<ConstraintId, ConicError> {
+        self.push(ConeKind::Nonnegative, vec![lhs.into() - rhs.into()], "≥")
+    }
+
+    /// Every expression `= 0` (one constraint, one dual entry each).
+    pub fn add_zeros(&mut self, exprs: Vec<AffExpr>) -> Result<ConstraintId, ConicError> {
+        self.push(ConeKind::Zero, exprs, "= 0")
+    }
+
+    /// Every expression `≥ 0`.
+    pub fn add_nonneg(&mut self, exprs: Vec<AffExpr>) -> Result<ConstraintId, ConicError> {
+        self.push(ConeKind::Nonnegative, exprs, "≥ 0")
+    }
+
+    /// `‖x‖₂ ≤ t`.
+    pub fn add_soc(
+        &mut self,
+        t: impl Into<AffExpr>,
+        x: Vec<AffExpr>,
+    ) -> Result<ConstraintId, ConicError> {
+        let mut rows = vec![t.into()];
+        rows.extend(x);
+        self.push(ConeKind::SecondOrder, rows, "SOC")
+    }
+
+    /// `M ⪰ 0` for a symmetric `n × n` expression. Its dual is a symmetric
+    /// PSD matrix Z with `∇f = Σ ⟨Z, ∇M⟩`.
+    pub fn add_psd(&mut self, m: &MatExpr) -> Result<ConstraintId, ConicError> {
+        self.add_psd_eps(m, 0.0)
+    }
+
+    /// `M ⪰ εI`, the usual stand-in for a strict LMI `M ≻ 0`.
+    pub fn add_psd_eps(&mut self, m: &MatExpr, eps: f64) -> Result<ConstraintId, ConicError> {
+        let label = if eps == 0.0 {
+            "⪰ 0".to_string()
+        } else {
+            format!("⪰ {eps:e}·I")
+        };
+        let what = format!("constraint #{} ({label})", self.constraints.len());
+        if m.nrows() != m.ncols() {
+            return Err(ConicError::DimensionMismatch {
+                what,
+                expected: "a square matrix".into(),
+                found: format!("{}×{}", m.nrows(), m.ncols()),
+            });
+        }
+        if !eps.is_finite() {
+            return Err(ConicError::NonFinite {
+                what: format!("{what}: ε"),
+            });
+        }
+        if !m.is_finite() {
+            return Err(ConicError::NonFinite { what });
+        }
+        let scale = m
+            .entries()
+            .iter()
+            .flat_map(|e| e.terms.iter().map(|t| t.1.abs()).chain([e.constant.abs()]))
+            .fold(1.0f64, f64::max);
+        if let Some((row, col)) = m.symmetry_defect(1e-12 * scale) {
+            return Err(ConicError::NotSymmetric {
+                constraint: what,
+                row,
+                col,
+            });
+        }
+        let n = m.nrows();
+        let mut rows = Vec::with_capacity(n * (n + 1) / 2);
+        let s2 = std::f64::consts::SQRT_2;
+        for j in 0..n {
+            for i in 0..=j {
+                let mut e = m.at(i, j).clone();
+                if i == j {
+                    e.constant -= eps;
+                } else {
+                    // average the two triangles, then √2-scale
+                    e.axpy(1.0, m.at(j, i));
+                    e.scale(0.5 * s2);
+                }
+                rows.push(e);
+            }
+        }
+        self.push(ConeKind::Psd { n }, rows, &label)
+    }
+
+    /// Sets the objective to minimise `e` (replacing any linear objective;
+    /// squares added with [`Problem::add_square`] are kept).
+    pub fn minimize(&mut self, e: impl Into<AffExpr>) {
+        self.linear = e.into();
+        self.sense = Sense::Minimize;
+    }
+
+    /// Sets the objective to maximise `e`. Not allowed together with squares
+    /// (a maximised convex quadratic is not convex): compile reports it.
+    pub fn maximize(&mut self, e: impl Into<AffExpr>) {
+        self.linear = e.into();
+        self.sense = Sense::Maximize;
+    }
+
+    /// Adds `weight · e²` to a minimised objective.
+    pub fn add_square(&mut self, weight: f64, e: impl Into<AffExpr>) {
+        self.squares.push((weight, e.into()));
+    }
+
+    /// Adds `weight · Σ eᵢ²`.
+    pub fn add_squares(&mut self, weight: f64, exprs: impl IntoIterator<Item = AffExpr>) {
+        self.squares.extend(exprs.into_iter().map(|e| (weight, e)));
+    }
+
+    /// Objective value at x (in the user's sense).
+    pub fn objective_at(&self, x: &[f64]) -> f64 {
+        self.linear.eval(x)
+            + self
+                .squares
+                .iter()
+                .map(|(w, e)| w * e.eval(x).powi(2))
+                .sum::<f64>()
+    }
+}
