@@ -19,4 +19,5 @@ pub mod faer_lapack;
 
 pub mod cli;
 pub mod conic;
+pub mod moments;
 pub mod sdpa;

@@ -14,7 +14,6 @@ use super::settings::{LeastSquaresForm, Settings};
 use super::solution::{Solution, Status};
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
-use std::collections::HashMap;
 use std::time::Instant;
 
 /// A problem in Clarabel's form `min ½xᵀPx + qᵀx + c₀ s.t. Ax + s = b, s ∈ K`,
@@ -172,7 +171,7 @@ impl Problem {
         let mut obj_const = sign * self.linear.constant;
         let mut pt = Triplets::new();
         if !self.squares.is_empty() {
-            let (cols, d) = stack_squares(&self.squares);
+            let (cols, d) = stack_squares(&self.squares, self.nvars);
             let k = cols.len();
             match settings.least_squares {
                 LeastSquaresForm::Quadratic => {
@@ -251,15 +250,16 @@ impl Problem {
 /// Stacks `√w (a·x + b)` rows densely over the variables they use:
 /// returns the used variable indices and the `rows × (k + 1)` matrix whose
 /// last column holds the constants.
-fn stack_squares(squares: &[(f64, AffExpr)]) -> (Vec<usize>, faer::Mat<f64>) {
-    let mut col_of: HashMap<usize, usize> = HashMap::new();
+fn stack_squares(squares: &[(f64, AffExpr)], nvars: usize) -> (Vec<usize>, faer::Mat<f64>) {
+    const UNUSED: usize = usize::MAX;
+    let mut col_of = vec![UNUSED; nvars];
     let mut cols = Vec::new();
     for (_, e) in squares {
         for &(i, _) in &e.terms {
-            col_of.entry(i).or_insert_with(|| {
+            if col_of[i] == UNUSED {
+                col_of[i] = cols.len();
                 cols.push(i);
-                cols.len() - 1
-            });
+            }
         }
     }
     let k = cols.len();
@@ -267,7 +267,7 @@ fn stack_squares(squares: &[(f64, AffExpr)]) -> (Vec<usize>, faer::Mat<f64>) {
     for (r, (w, e)) in squares.iter().enumerate() {
         let sw = w.sqrt();
         for &(i, a) in &e.terms {
-            d[(r, col_of[&i])] += sw * a;
+            d[(r, col_of[i])] += sw * a;
         }
         d[(r, k)] = sw * e.constant;
     }

@@ -1,0 +1,113 @@
+//! Density realizability on a union of ellipsoids (Corollary 2): π is
+//! realizable in `S = ∪ⱼ Sⱼ` iff `π = Σⱼ πⱼ` with each πⱼ realizable in Sⱼ.
+//! The split is found with one small SDP through [`conic`](crate::conic).
+
+use super::check::{DEFAULT_TOL, check_realizable};
+use super::ellipsoid::Ellipsoid;
+use super::error::MomentsError;
+use super::lmi::BodyVars;
+use super::params::InertialParams;
+use super::points::{PointMass, four_point_masses_in};
+use crate::conic::{Problem, Settings, Status};
+
+/// The answer of [`realize_on_union`].
+#[derive(Clone, Debug, PartialEq)]
+pub enum UnionRealization {
+    /// A split `π = Σ πⱼ`, piece j realizable in ellipsoid j (pieces may be
+    /// (near) zero when an ellipsoid holds no mass).
+    Realizable(Vec<InertialParams>),
+    /// No split exists: π is not density realizable in the union.
+    NotRealizable,
+}
+
+/// Splits π over the ellipsoids (Corollary 2). Among all valid splits it
+/// returns the one that maximises the smallest scaled margin, so each piece
+/// is comfortably inside its cone whenever possible.
+pub fn realize_on_union(
+    pi: &InertialParams,
+    parts: &[Ellipsoid],
+) -> Result<UnionRealization, MomentsError> {
+    if parts.is_empty() {
+        return Err(MomentsError::InvalidEllipsoid(
+            "an empty union of ellipsoids".into(),
+        ));
+    }
+    if !pi.is_finite() {
+        return Err(MomentsError::NonFinite("union realizability".into()));
+    }
+    let m = pi.mass();
+    if m <= 0.0 {
+        return Ok(UnionRealization::NotRealizable);
+    }
+    // Length scale: the largest semi-axis; entries of J scaled to ~m.
+    let l = parts.iter().map(|e| e.semi_axes.max()).fold(0.0, f64::max);
+    let mut p = Problem::new();
+    let t = p.scalar("t");
+    let bodies: Vec<BodyVars> = (0..parts.len())
+        .map(|j| BodyVars::new(&mut p, &format!("piece{j}")))
+        .collect();
+    let d = nalgebra::DMatrix::from_diagonal(&nalgebra::DVector::from_vec(vec![
+        1.0 / l,
+        1.0 / l,
+        1.0 / l,
+        1.0,
+    ]));
+    for (b, s) in bodies.iter().zip(parts) {
+        // D J D − t·m·I ⪰ 0 and tr(JQ) ≥ t·m
+        let jd = b.pseudo_inertia().congruence(&d)?;
+        p.add_psd(&jd.try_sub(&crate::conic::MatExpr::scaled_identity(4, t * m))?)?;
+        p.add_ge(b.trace_jq(s), t * m)?;
+    }
+    for k in 0..10 {
+        let sum = crate::conic::sum(bodies.iter().map(|b| b.pi[k].clone()));
+        p.add_eq(sum, pi.0[k])?;
+    }
+    p.add_le(t, 1.0)?;
+    p.maximize(t);
+    let sol = p.solve(&Settings::default())?;
+    match sol.status {
+        s if s.is_solved() => {
+            let tv = sol.value(t);
+            let pieces: Vec<InertialParams> = bodies.iter().map(|b| b.value(&sol)).collect();
+            let ok = tv >= -1e-7
+                && pieces.iter().zip(parts).all(|(q, s)| {
+                    q.mass().abs() <= 1e-9 * m || check_realizable(q, s, 1e-7).realizable
+                });
+            Ok(if ok {
+                UnionRealization::Realizable(pieces)
+            } else {
+                UnionRealization::NotRealizable
+            })
+        }
+        Status::PrimalInfeasible | Status::PrimalInfeasibleInaccurate => {
+            Ok(UnionRealization::NotRealizable)
+        }
+        status => Err(MomentsError::Solver {
+            status,
+            task: "splitting π over a union of ellipsoids".into(),
+        }),
+    }
+}
+
+/// Four point masses per piece of a union realization (pieces with no mass
+/// are skipped). The masses lie inside their piece's ellipsoid.
+pub fn point_masses_on_union(
+    pi: &InertialParams,
+    parts: &[Ellipsoid],
+) -> Result<Vec<PointMass>, MomentsError> {
+    match realize_on_union(pi, parts)? {
+        UnionRealization::NotRealizable => Err(MomentsError::NotConsistent(
+            "not density realizable in the union of ellipsoids".into(),
+        )),
+        UnionRealization::Realizable(pieces) => {
+            let mut out = Vec::new();
+            for (q, s) in pieces.iter().zip(parts) {
+                if q.mass() > 1e-9 * pi.mass() {
+                    out.extend(four_point_masses_in(q, s)?);
+                }
+            }
+            let _ = DEFAULT_TOL;
+            Ok(out)
+        }
+    }
+}
