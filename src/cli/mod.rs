@@ -2,6 +2,7 @@
 //! library. Every command returns an exit code; errors are printed, never
 //! panicked.
 
+mod check_cmd;
 mod demo;
 mod sdpa_cmd;
 
@@ -23,6 +24,17 @@ enum Command {
         /// Folder for the demo's outputs.
         #[arg(long, default_value = "momentlmi-demo")]
         out: PathBuf,
+    },
+    /// Check the inertias of a URDF for physical consistency.
+    Check {
+        /// The URDF file.
+        urdf: PathBuf,
+        /// Print one JSON object with a `links` array.
+        #[arg(long)]
+        json: bool,
+        /// Write a copy with every inconsistent inertial replaced by the nearest consistent one.
+        #[arg(long, value_name = "OUT.urdf")]
+        repair: Option<PathBuf>,
     },
     /// Solve an SDPA sparse file (.dat-s) and print the result.
     Sdpa {
@@ -55,6 +67,7 @@ pub fn main() -> i32 {
     };
     match cli.command {
         Command::Demo { out } => demo::run(&out),
+        Command::Check { urdf, json, repair } => check_cmd::run(&urdf, json, repair.as_deref()),
         Command::Sdpa {
             file,
             json,

@@ -113,12 +113,16 @@ pub fn check_consistency(pi: &InertialParams, tol: f64) -> ConsistencyReport {
     }
     let (pm, _) = pi.principal_moments();
     let jmax3 = pm[2].abs().max(f64::MIN_POSITIVE);
+    // Tolerances scale with the inertia about the body origin, the quantity
+    // a solver or a file actually holds: for a body far from its origin
+    // (m c² ≫ Ī_C) round-off in Ī_C is relative to that, not to Ī_C.
+    let iscale = jmax3.max(0.5 * pi.inertia().trace().abs());
     let sum = pm.sum();
     let margins = [sum - 2.0 * pm[0], sum - 2.0 * pm[1], sum - 2.0 * pm[2]];
     let rel = margins.map(|x| x / jmax3);
-    let pd = pm[0] > -tol * jmax3;
+    let pd = pm[0] > -tol * iscale;
     let violated = (0..3)
-        .filter(|&i| rel[i] < -tol)
+        .filter(|&i| margins[i] < -tol * iscale)
         .min_by(|&a, &b| rel[a].total_cmp(&rel[b]));
     let consistent = jmin >= -tol * scale;
     let verdict = if !pd {

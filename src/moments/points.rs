@@ -28,6 +28,12 @@ pub fn pseudo_inertia_of(points: &[PointMass]) -> Matrix4<f64> {
     })
 }
 
+/// Eigenvalues of J down to `−FACTOR_TOL · λmax(J)` count as zero, and
+/// `tr(JQ) ≥ −FACTOR_TOL · m` counts as inside (round-off
+/// of a body on the boundary, e.g. an interior-point solver's output; the
+/// points then sit within that relative slack of the ellipsoid).
+pub const FACTOR_TOL: f64 = 1e-7;
+
 /// A symmetric square root factor `L` with `J = L Lᵀ` for J ⪰ 0 (eigenvalues
 /// below zero by round-off are clamped).
 fn psd_factor(j: &Matrix4<f64>, tol: f64) -> Result<Matrix4<f64>, MomentsError> {
@@ -86,7 +92,7 @@ pub fn four_point_masses(pi: &InertialParams) -> Result<[PointMass; 4], MomentsE
         return Err(MomentsError::NonFinite("four-point recovery".into()));
     }
     let j = pi.pseudo_inertia();
-    let l = psd_factor(&j, 1e-12)?;
+    let l = psd_factor(&j, FACTOR_TOL)?;
     // b = Lᵀ e₄; choose U with bᵀuₖ = ‖b‖/2 for every k (rotated Hadamard).
     let b: Vector4<f64> = l.row(3).transpose();
     let nb = b.norm();
@@ -147,12 +153,12 @@ pub fn four_point_masses_in(
     let j = pi.pseudo_inertia();
     let q = s.q_matrix();
     let tr = (j * q).trace();
-    if tr < -1e-12 * pi.mass().abs() {
+    if tr < -FACTOR_TOL * pi.mass().abs() {
         return Err(MomentsError::NotConsistent(format!(
             "not realizable in the ellipsoid: tr(J Q) = {tr:.3e} < 0"
         )));
     }
-    let l = psd_factor(&j, 1e-12)?;
+    let l = psd_factor(&j, FACTOR_TOL)?;
     let m = l.transpose() * q * l;
     let u = equalize_diagonal(&m);
     points_from(&l, &u)

@@ -1,0 +1,119 @@
+//! `momentlmi check ROBOT.urdf [--json] [--repair OUT.urdf]`.
+
+use crate::moments::urdf_check::{UrdfReport, check_urdf_file, check_urdf_str, repair_urdf};
+use std::path::Path;
+
+fn fmt3(v: [f64; 3], prec: usize) -> String {
+    format!("({:.p$}, {:.p$}, {:.p$})", v[0], v[1], v[2], p = prec)
+}
+
+fn print_table(file: &Path, r: &UrdfReport) {
+    println!(
+        "{} — robot '{}', {} links with inertials",
+        file.display(),
+        r.robot,
+        r.links.len()
+    );
+    println!(
+        "{:<28} {:>10} {:>30} {:>36}  {:<11} status",
+        "link", "mass [kg]", "CoM [m]", "principal moments [kg·m²]", "in geometry"
+    );
+    for l in &r.links {
+        let geo = match (l.realizable_in_geometry, l.geometry_primitives) {
+            (_, 0) => "-".to_string(),
+            (Some(true), n) => format!("yes ({n})"),
+            (Some(false), n) => format!("NO ({n})"),
+            (None, n) => format!("n/a ({n})"),
+        };
+        println!(
+            "{:<28} {:>10.5} {:>30} {:>36}  {:<11} {}",
+            l.name,
+            l.mass,
+            fmt3(l.com, 5),
+            fmt3(l.principal_moments, 7),
+            geo,
+            l.describe()
+        );
+    }
+    if !r.links_without_inertial.is_empty() {
+        println!(
+            "links without <inertial>: {}",
+            r.links_without_inertial.join(", ")
+        );
+    }
+    let bad = r
+        .links
+        .iter()
+        .filter(|l| !matches!(l.status, "ok" | "placeholder"))
+        .count();
+    if bad == 0 {
+        println!("all inertias are physically consistent");
+    } else {
+        println!("{bad} link(s) with physically inconsistent inertia");
+    }
+}
+
+/// Exit codes: 0 every link consistent (or a placeholder), 1 some are not,
+/// 2 unreadable input or a failed write.
+pub fn run(file: &Path, json: bool, repair: Option<&Path>) -> i32 {
+    let (text, report) = match check_urdf_file(file) {
+        Ok(x) => x,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return 2;
+        }
+    };
+    if json {
+        match serde_json::to_string_pretty(&report) {
+            Ok(s) => println!("{s}"),
+            Err(e) => {
+                eprintln!("error: {e}");
+                return 2;
+            }
+        }
+    } else {
+        print_table(file, &report);
+    }
+    if let Some(out) = repair {
+        let p = file.display().to_string();
+        let (fixed, names) = match repair_urdf(&text, &report, &p) {
+            Ok(x) => x,
+            Err(e) => {
+                eprintln!("error: {e}");
+                return 2;
+            }
+        };
+        // the repaired file must itself check clean before it is written
+        match check_urdf_str(&fixed, &out.display().to_string()) {
+            Ok(r)
+                if r.links
+                    .iter()
+                    .all(|l| matches!(l.status, "ok" | "placeholder" | "nonpositive_mass")) => {}
+            Ok(_) | Err(_) => {
+                eprintln!("error: the repaired URDF did not check clean; nothing written");
+                return 2;
+            }
+        }
+        let tmp = out.with_extension("urdf.tmp");
+        if let Err(e) = std::fs::write(&tmp, &fixed).and_then(|_| std::fs::rename(&tmp, out)) {
+            eprintln!("error: {}: {e}", out.display());
+            let _ = std::fs::remove_file(&tmp);
+            return 2;
+        }
+        if !json {
+            println!(
+                "wrote {} ({} inertial(s) repaired: {})",
+                out.display(),
+                names.len(),
+                names.join(", ")
+            );
+        } else {
+            eprintln!(
+                "wrote {} ({} inertial(s) repaired)",
+                out.display(),
+                names.len()
+            );
+        }
+    }
+    if report.consistent { 0 } else { 1 }
+}

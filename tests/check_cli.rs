@@ -1,0 +1,316 @@
+//! `momentlmi check` on URDFs written here with deliberate violations, on
+//! bad input, and on the Panda URDF from ../shared when present.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_momentlmi"))
+}
+
+struct TempDir(PathBuf);
+impl TempDir {
+    fn new(tag: &str) -> Self {
+        let d = std::env::temp_dir().join(format!("momentlmi-check-{tag}-{}", std::process::id()));
+        std::fs::create_dir_all(&d).unwrap();
+        Self(d)
+    }
+    fn write(&self, name: &str, text: &str) -> PathBuf {
+        let p = self.0.join(name);
+        std::fs::write(&p, text).unwrap();
+        p
+    }
+}
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+fn link(name: &str, inertial: &str, geometry: &str) -> String {
+    format!("  <link name=\"{name}\">\n{inertial}\n{geometry}\n  </link>\n")
+}
+
+fn inertial(m: &str, xyz: &str, i: [&str; 6]) -> String {
+    format!(
+        "    <inertial>\n      <origin xyz=\"{xyz}\" rpy=\"0 0 0\"/>\n      <mass value=\"{m}\"/>\n      <inertia ixx=\"{}\" ixy=\"{}\" ixz=\"{}\" iyy=\"{}\" iyz=\"{}\" izz=\"{}\"/>\n    </inertial>",
+        i[0], i[1], i[2], i[3], i[4], i[5]
+    )
+}
+
+fn robot(links: &[String]) -> String {
+    format!(
+        "<?xml version=\"1.0\"?>\n<robot name=\"test\">\n{}</robot>\n",
+        links.concat()
+    )
+}
+
+/// A 2 kg solid box 0.1 × 0.2 × 0.3 m: I = m/12 (b² + c², a² + c², a² + b²).
+fn box_link(name: &str) -> String {
+    let m = 2.0;
+    let (a, b, c) = (0.1f64, 0.2f64, 0.3f64);
+    let i = [
+        m / 12.0 * (b * b + c * c),
+        m / 12.0 * (a * a + c * c),
+        m / 12.0 * (a * a + b * b),
+    ]
+    .map(|x| x.to_string());
+    let geo = "    <collision>\n      <origin xyz=\"0 0 0\" rpy=\"0 0 0\"/>\n      <geometry><box size=\"0.1 0.2 0.3\"/></geometry>\n    </collision>";
+    link(
+        name,
+        &inertial("2.0", "0 0 0", [&i[0], "0", "0", &i[1], "0", &i[2]]),
+        geo,
+    )
+}
+
+fn json_of(out: &std::process::Output) -> serde_json::Value {
+    serde_json::from_slice(&out.stdout)
+        .unwrap_or_else(|e| panic!("bad JSON ({e}): {}", String::from_utf8_lossy(&out.stdout)))
+}
+
+fn status_of<'a>(v: &'a serde_json::Value, name: &str) -> &'a str {
+    v["links"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|l| l["name"] == name)
+        .unwrap()["status"]
+        .as_str()
+        .unwrap()
+}
+
+#[test]
+fn consistent_robot_exits_zero_and_is_realizable_in_its_box() {
+    let t = TempDir::new("good");
+    let f = t.write(
+        "good.urdf",
+        &robot(&[box_link("body"), link("frame", "", "")]),
+    );
+    let out = bin()
+        .args(["check", f.to_str().unwrap(), "--json"])
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v = json_of(&out);
+    assert_eq!(status_of(&v, "body"), "ok");
+    let l = &v["links"][0];
+    assert_eq!(l["realizable_in_geometry"], true);
+    assert!(l["triangle_margin_rel"].as_f64().unwrap() > 0.0);
+    assert_eq!(l["principal_moments"].as_array().unwrap().len(), 3);
+    assert_eq!(v["links_without_inertial"][0], "frame");
+    // text output too
+    let out = bin().args(["check", f.to_str().unwrap()]).output().unwrap();
+    assert!(
+        String::from_utf8_lossy(&out.stdout).contains("all inertias are physically consistent")
+    );
+}
+
+#[test]
+fn deliberate_violations_get_their_verdicts_and_exit_one() {
+    let t = TempDir::new("bad");
+    let links = [
+        box_link("good"),
+        // principal moments 0.01, 0.01, 0.05: 0.01 + 0.01 < 0.05, short by 60 %
+        link(
+            "triangle",
+            &inertial("1.0", "0 0 0.1", ["0.01", "0", "0", "0.01", "0", "0.05"]),
+            "",
+        ),
+        link(
+            "not_pd",
+            &inertial("1.0", "0 0 0", ["0.01", "0", "0", "0.01", "0", "-0.002"]),
+            "",
+        ),
+        link(
+            "zero_mass",
+            &inertial("0", "0 0 0", ["0.01", "0", "0", "0.01", "0", "0.01"]),
+            "",
+        ),
+        link(
+            "placeholder",
+            &inertial("0", "0 0 0", ["0", "0", "0", "0", "0", "0"]),
+            "",
+        ),
+        // consistent but its CoM sits outside its sphere: not realizable there
+        link(
+            "outside",
+            &inertial("1.0", "0.5 0 0", ["0.001", "0", "0", "0.001", "0", "0.001"]),
+            "    <collision><geometry><sphere radius=\"0.1\"/></geometry></collision>",
+        ),
+    ];
+    let f = t.write("bad.urdf", &robot(&links));
+    let out = bin()
+        .args(["check", f.to_str().unwrap(), "--json"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let v = json_of(&out);
+    assert_eq!(status_of(&v, "good"), "ok");
+    assert_eq!(status_of(&v, "triangle"), "triangle_violation");
+    assert_eq!(status_of(&v, "not_pd"), "not_positive_definite");
+    assert_eq!(status_of(&v, "zero_mass"), "nonpositive_mass");
+    assert_eq!(status_of(&v, "placeholder"), "placeholder");
+    assert_eq!(status_of(&v, "outside"), "ok");
+    let tri = v["links"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|l| l["name"] == "triangle")
+        .unwrap();
+    assert!((tri["triangle_margin_rel"].as_f64().unwrap() + 0.6).abs() < 1e-9);
+    let outside = v["links"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|l| l["name"] == "outside")
+        .unwrap();
+    assert_eq!(outside["realizable_in_geometry"], false);
+    let text = bin().args(["check", f.to_str().unwrap()]).output().unwrap();
+    assert!(
+        String::from_utf8_lossy(&text.stdout)
+            .contains("violates the triangle inequality by 60.000 %")
+    );
+
+    // --repair writes a file whose repaired links check clean
+    let fixed = t.0.join("fixed.urdf");
+    let out = bin()
+        .args([
+            "check",
+            f.to_str().unwrap(),
+            "--repair",
+            fixed.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "the input is still reported as inconsistent"
+    );
+    let out = bin()
+        .args(["check", fixed.to_str().unwrap(), "--json"])
+        .output()
+        .unwrap();
+    let v = json_of(&out);
+    assert_eq!(status_of(&v, "triangle"), "ok");
+    assert_eq!(status_of(&v, "not_pd"), "ok");
+    assert_eq!(status_of(&v, "good"), "ok");
+    // zero mass with inertia cannot be repaired without a mass: left as is
+    assert_eq!(status_of(&v, "zero_mass"), "nonpositive_mass");
+    let mass = v["links"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|l| l["name"] == "triangle")
+        .unwrap()["mass"]
+        .as_f64()
+        .unwrap();
+    assert!((mass - 1.0).abs() < 1e-9, "mass kept");
+}
+
+#[test]
+fn bad_input_exits_two_with_a_message_naming_the_problem() {
+    let t = TempDir::new("err");
+    let cases: Vec<(&str, String, &str)> = vec![
+        (
+            "missing_inertia.urdf",
+            robot(&[link(
+                "arm",
+                "    <inertial><mass value=\"1\"/></inertial>",
+                "",
+            )]),
+            "link 'arm': <inertial> has no <inertia>",
+        ),
+        (
+            "nan.urdf",
+            robot(&[link(
+                "arm",
+                &inertial("1", "0 0 0", ["NaN", "0", "0", "1", "0", "1"]),
+                "",
+            )]),
+            "link 'arm'",
+        ),
+        (
+            "negative.urdf",
+            robot(&[link(
+                "arm",
+                &inertial("-1", "0 0 0", ["1", "0", "0", "1", "0", "1"]),
+                "",
+            )]),
+            "negative mass",
+        ),
+        (
+            "malformed.urdf",
+            "<robot name=\"x\"><link name=\"a\"></robot>".to_string(),
+            "malformed XML",
+        ),
+        (
+            "badxyz.urdf",
+            robot(&[link(
+                "arm",
+                &inertial("1", "0 zero 0", ["1", "0", "0", "1", "0", "1"]),
+                "",
+            )]),
+            "link 'arm': <origin xyz",
+        ),
+        ("notrobot.urdf", "<model/>".to_string(), "not <robot>"),
+    ];
+    for (name, text, want) in cases {
+        let f = t.write(name, &text);
+        let out = bin().args(["check", f.to_str().unwrap()]).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{name}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(want), "{name}: {err}");
+        assert!(
+            err.contains(name),
+            "{name}: the message names the file: {err}"
+        );
+        assert!(!err.contains("panicked"), "{name}");
+    }
+    let out = bin()
+        .args(["check", "/nonexistent/robot.urdf"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+}
+
+#[test]
+fn panda_urdf_verdicts() {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/reference/panda.urdf");
+    if !p.exists() {
+        println!("skipping: {} not found", p.display());
+        return;
+    }
+    let out = bin()
+        .args(["check", p.to_str().unwrap(), "--json"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    let v = json_of(&out);
+    let links = v["links"].as_array().unwrap();
+    assert_eq!(links.len(), 13);
+    for l in links {
+        let name = l["name"].as_str().unwrap();
+        let want = if name == "panda_link8" || name == "panda_hand_tcp" {
+            "placeholder"
+        } else {
+            "ok"
+        };
+        assert_eq!(l["status"], want, "{name}");
+        if want == "ok" {
+            // the triangle inequalities hold on the reported principal moments
+            let j: Vec<f64> = l["principal_moments"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|x| x.as_f64().unwrap())
+                .collect();
+            assert!(j[0] > 0.0 && j[0] + j[1] >= j[2], "{name}: {j:?}");
+        }
+    }
+}
