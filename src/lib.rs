@@ -11,13 +11,17 @@ compile_error!(
     "enable exactly one BLAS/LAPACK provider: `faer-lapack` (default) or `system-openblas`"
 );
 
+/// With `system-openblas`, Clarabel's BLAS/LAPACK calls resolve to the system
+/// `libopenblas` (Debian: `libopenblas-dev`).
 #[cfg(feature = "system-openblas")]
-extern crate openblas_src;
+#[link(name = "openblas")]
+unsafe extern "C" {}
 
 #[cfg(feature = "faer-lapack")]
 pub mod faer_lapack;
 
 pub mod cli;
 pub mod conic;
+pub mod dynamics;
 pub mod moments;
 pub mod sdpa;

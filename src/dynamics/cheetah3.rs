@@ -1,0 +1,224 @@
+//! The built-in `cheetah3-leg` model: one MIT Cheetah 3 leg on a fixed base,
+//! 3 links + 3 geared rotors (gear ratio 10.6), from public data
+//! (Cheetah-Software's identified parameters, the public MATLAB example's box
+//! prior, and enlarged bounding ellipsoids; see `docs/robots.md`).
+
+use super::error::DynamicsError;
+use super::model::{Joint, JointKind, Model, Rotor};
+use super::spatial::Transform;
+use crate::moments::{Ellipsoid, InertialParams};
+use nalgebra::{Matrix3, Vector3};
+
+/// Gear ratio of all three actuators (the paper's 10.6:1).
+pub const GEAR_RATIO: f64 = 10.6;
+
+/// Joint names.
+pub const JOINTS: [&str; 3] = ["abad", "hip", "knee"];
+
+/// Body names in parameter order.
+pub const BODIES: [&str; 6] = [
+    "abad",
+    "hip",
+    "knee",
+    "abad_rotor",
+    "hip_rotor",
+    "knee_rotor",
+];
+
+/// Identified ("true") parameters, Cheetah-Software order
+/// `[m, hx, hy, hz, Ixx, Iyy, Izz, Iyz, Ixz, Ixy]`, bodies as [`BODIES`].
+const TRUE_SPATIAL_V2: [[f64; 10]; 6] = [
+    [
+        1.645278752937798,
+        3.987e-24,
+        1.050694793045323e-01,
+        -7.248117018543008e-03,
+        6.871761154771191e-03,
+        2.715028710162546e-04,
+        6.820782113449669e-03,
+        4.545198314447007e-04,
+        1.0e-25,
+        -2.2e-25,
+    ],
+    [
+        1.071200401412615,
+        -7.564034441661159e-04,
+        -3.180527291037499e-02,
+        -1.047496808654130e-01,
+        2.020976253260794e-02,
+        1.856851411013688e-02,
+        3.115448656660994e-03,
+        1.294666102054298e-04,
+        1.217274116646696e-03,
+        -4.116533457993085e-04,
+    ],
+    [
+        9.019384095786234e-01,
+        2.215928611851693e-02,
+        3.623331361414656e-03,
+        -4.411934868569409e-02,
+        2.269554734974269e-02,
+        2.714252268535285e-02,
+        5.566745484613744e-03,
+        -3.238036214456428e-04,
+        -2.194717054345885e-03,
+        1.274627163554897e-03,
+    ],
+    [
+        4.999939189070923e-01,
+        1.18e-24,
+        1.976769699734076e-03,
+        -3.681440077402916e-04,
+        9.908339941420835e-04,
+        4.955917167197880e-04,
+        4.956200895280653e-04,
+        3.533262919985919e-08,
+        5.8e-27,
+        1.3e-27,
+    ],
+    [
+        5.405045213157799e-01,
+        -3.164547557293410e-03,
+        -6.776800604201722e-03,
+        7.158586831736347e-04,
+        4.352341568156850e-04,
+        1.015373256571613e-03,
+        9.126776037286181e-04,
+        -3.097121515937353e-05,
+        -2.154046949222089e-04,
+        1.306997274233568e-04,
+    ],
+    [
+        5.398676189202086e-01,
+        -2.571556872957194e-04,
+        -7.550002224983261e-03,
+        1.125959428120149e-03,
+        7.035267590972641e-04,
+        8.693209041255046e-04,
+        4.122075637011218e-04,
+        -3.986925582339967e-05,
+        -2.295396403157565e-04,
+        2.324567952553503e-05,
+    ],
+];
+
+/// The identified ("true") parameters, paper order, bodies as [`BODIES`].
+pub fn true_params() -> [InertialParams; 6] {
+    TRUE_SPATIAL_V2.map(InertialParams::from_spatial_v2)
+}
+
+/// The box "CAD prior": solid boxes (mass, CoM, sides), bodies as [`BODIES`].
+pub fn cad_params() -> [InertialParams; 6] {
+    let b = |m: f64, c: [f64; 3], s: [f64; 3]| {
+        let s2 = Vector3::from(s).map(|x| x * x);
+        let ic = Matrix3::from_diagonal(&Vector3::new(s2.y + s2.z, s2.x + s2.z, s2.x + s2.y))
+            * (m / 12.0);
+        InertialParams::from_mass_com_inertia(m, Vector3::from(c), ic)
+    };
+    [
+        b(1.5, [0.0, 0.045, 0.0], [0.09, 0.09, 0.09]),
+        b(0.5, [0.0, 0.0, -0.171], [0.06, 0.06, 0.342]),
+        b(0.5, [0.0, 0.0, -0.1725], [0.06, 0.06, 0.345]),
+        b(0.5, [0.0; 3], [0.0225, 0.09, 0.09]),
+        b(0.5, [0.0; 3], [0.09, 0.0225, 0.09]),
+        b(0.5, [0.0; 3], [0.09, 0.0225, 0.09]),
+    ]
+}
+
+/// Bounding ellipsoids in each body's frame, bodies as [`BODIES`]. Every
+/// identified body is density realizable in its ellipsoid.
+pub fn ellipsoids() -> [Ellipsoid; 6] {
+    let e = |c: [f64; 3], a: [f64; 3]| {
+        Ellipsoid::new(Vector3::from(c), Vector3::from(a)).expect("valid constant")
+    };
+    [
+        e([0.0, 0.045, 0.0], [0.081, 0.081, 0.081]),
+        e([0.0, 0.0, -0.171], [0.0594, 0.0594, 0.36936]),
+        e([0.0, 0.0, -0.16], [0.12, 0.09, 0.32]),
+        e([0.0; 3], [0.081; 3]),
+        e([0.0; 3], [0.081; 3]),
+        e([0.0; 3], [0.081; 3]),
+    ]
+}
+
+/// Identified Coulomb friction (N·m), ab/ad, hip, knee (the paper's B_c).
+pub const COULOMB: [f64; 3] = [3.12, 1.25, 0.95];
+
+/// Viscous friction used for the simulated robot (N·m·s/rad); the paper does
+/// not give one, Cheetah-Software's actuator model uses 0.1.
+pub const VISCOUS: [f64; 3] = [0.1, 0.1, 0.1];
+
+/// Thigh and shank lengths (m).
+pub const THIGH: f64 = 0.342;
+/// Shank length (m).
+pub const SHANK: f64 = 0.345;
+/// Foot position in the knee frame (m).
+pub const FOOT: [f64; 3] = [0.0, 0.0, -0.345];
+/// Hip joint offset in the ab/ad frame (m).
+pub const HIP_OFFSET: [f64; 3] = [0.0, 0.045, 0.0];
+
+/// Joint limits chosen for the simulated leg (rad): they bound the
+/// excitation, they are not hardware values.
+pub const LIMITS: [(f64, f64); 3] = [(-1.6, 1.6), (-4.0, 4.0), (-2.9, 2.9)];
+
+fn rz_pi() -> Matrix3<f64> {
+    Matrix3::new(-1.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, 1.0)
+}
+
+/// The leg with the given link and rotor parameters (bodies as [`BODIES`]).
+pub fn model_with(params: &[InertialParams; 6]) -> Result<Model, DynamicsError> {
+    let x = Vector3::x();
+    let y = Vector3::y();
+    let hip_tree = Transform::from_pose(&rz_pi(), &Vector3::from(HIP_OFFSET));
+    let knee_tree = Transform::from_pose(&Matrix3::identity(), &Vector3::new(0.0, 0.0, -THIGH));
+    let joint = |name: &str, parent, axis, x_tree, k: usize| Joint {
+        name: name.into(),
+        body: name.into(),
+        parent,
+        kind: JointKind::Revolute,
+        axis,
+        x_tree,
+        limits: LIMITS[k],
+        inertia: params[k],
+    };
+    let joints = vec![
+        joint("abad", None, x, Transform::identity(), 0),
+        joint("hip", Some(0), y, hip_tree, 1),
+        joint("knee", Some(1), y, knee_tree, 2),
+    ];
+    let rotor = |name: &str, j: usize, axis, x_tree| Rotor {
+        name: name.into(),
+        joint: j,
+        x_tree,
+        axis,
+        gear_ratio: GEAR_RATIO,
+        inertia: params[3 + j],
+    };
+    let rotors = vec![
+        rotor("abad_rotor", 0, x, Transform::identity()),
+        rotor("hip_rotor", 1, y, hip_tree),
+        rotor("knee_rotor", 2, y, Transform::identity()),
+    ];
+    Model::new(
+        "cheetah3-leg",
+        joints,
+        rotors,
+        Vector3::new(0.0, 0.0, -9.81),
+    )
+}
+
+/// The leg with its identified ("true") parameters.
+pub fn model() -> Model {
+    model_with(&true_params()).expect("the built-in model is valid")
+}
+
+/// Foot position in the base frame for joint angles q (forward kinematics).
+pub fn foot_position(q: [f64; 3]) -> Vector3<f64> {
+    let m = model();
+    let mut x = Transform::identity();
+    for (i, qi) in q.iter().enumerate() {
+        x = m.joint_transform(i, *qi).compose(&x);
+    }
+    // x maps base → knee frame; the foot point in base coordinates:
+    x.inverse().apply_point(&Vector3::from(FOOT))
+}

@@ -1,0 +1,64 @@
+//! Per-evaluation workspace (Pinocchio's `Data`): every buffer an algorithm
+//! writes, allocated once by [`Data::new`].
+
+use super::model::Model;
+use super::spatial::Transform;
+use nalgebra::{DMatrix, DVector, Matrix6, SMatrix, Vector6};
+
+/// 6 × 10 body regressor block: `f = A(v, a) π`.
+pub type BodyRegressor = SMatrix<f64, 6, 10>;
+
+/// Buffers for one model. Algorithms overwrite what their docs say.
+#[derive(Clone, Debug)]
+pub struct Data {
+    /// `X_up[i]`: parent body frame → body i at the current q.
+    pub x_up: Vec<Transform>,
+    /// Body spatial velocities (body frames).
+    pub v: Vec<Vector6<f64>>,
+    /// Body spatial accelerations, including −gravity at the base (body frames).
+    pub a: Vec<Vector6<f64>>,
+    /// Net body forces, then (after the backward pass) forces transmitted by each joint.
+    pub f: Vec<Vector6<f64>>,
+    /// Rotor transforms (parent body → spun rotor frame).
+    pub x_rotor: Vec<Transform>,
+    /// Rotor velocities.
+    pub v_rotor: Vec<Vector6<f64>>,
+    /// Rotor accelerations.
+    pub a_rotor: Vec<Vector6<f64>>,
+    /// Rotor forces.
+    pub f_rotor: Vec<Vector6<f64>>,
+    /// Joint torques / forces from [`rnea`](super::rnea) (n).
+    pub tau: DVector<f64>,
+    /// Joint-space mass matrix from [`crba`](super::crba) (n × n).
+    pub mass_matrix: DMatrix<f64>,
+    /// Composite inertias (CRBA).
+    pub ic: Vec<Matrix6<f64>>,
+    /// Regressor (n × (10·bodies + 2n)) from [`regressor`](super::regressor).
+    pub regressor: DMatrix<f64>,
+    /// Per-body force regressor blocks (links then rotors).
+    pub(crate) body_blocks: Vec<BodyRegressor>,
+}
+
+impl Data {
+    /// Buffers sized for `model`.
+    pub fn new(model: &Model) -> Self {
+        let n = model.dof();
+        let nr = model.rotors.len();
+        let z = Vector6::zeros();
+        Self {
+            x_up: vec![Transform::identity(); n],
+            v: vec![z; n],
+            a: vec![z; n],
+            f: vec![z; n],
+            x_rotor: vec![Transform::identity(); nr],
+            v_rotor: vec![z; nr],
+            a_rotor: vec![z; nr],
+            f_rotor: vec![z; nr],
+            tau: DVector::zeros(n),
+            mass_matrix: DMatrix::zeros(n, n),
+            ic: vec![Matrix6::zeros(); n],
+            regressor: DMatrix::zeros(n, 10 * model.num_bodies() + 2 * n),
+            body_blocks: vec![BodyRegressor::zeros(); model.num_bodies()],
+        }
+    }
+}

@@ -1,0 +1,33 @@
+//! # `dynamics`: kinematic trees with geared rotors
+//!
+//! A [`Model`] (constant: joints, bodies, rotors, gravity) and a [`Data`]
+//! (per-evaluation buffers, [`Data::new`]) in Pinocchio's split; every
+//! algorithm has the shape `algo(&model, &mut data, q, …)` and allocates
+//! nothing per call (the batch regressor allocates one `Data` per chunk).
+//!
+//! - [`rnea`]: inverse dynamics, links and rotors;
+//! - [`crba`]: the mass matrix; [`forward_dynamics`]; [`energy`];
+//! - [`regressor`]: `τ = Y π + B q̇ + B_c sign(q̇)` with columns for every link
+//!   and rotor and per-joint friction; [`regressor_batch`] over many samples.
+//!
+//! Frames: body i's frame is its joint frame after the joint's motion;
+//! inertial parameters are in that frame (paper order, see
+//! [`InertialParams`](crate::moments::InertialParams)). A rotor of joint i is
+//! mounted on joint i's parent body and spins about its own axis at
+//! `N q̇ᵢ` (Cheetah 3: N = 10.6).
+
+pub mod cheetah3;
+mod crba;
+mod data;
+mod error;
+mod model;
+mod regressor;
+mod rnea;
+pub mod spatial;
+
+pub use crba::{crba, energy, forward_dynamics, transform_matrix};
+pub use data::{BodyRegressor, Data};
+pub use error::DynamicsError;
+pub use model::{Joint, JointKind, Model, Rotor};
+pub use regressor::{body_regressor, regressor, regressor_batch, sign};
+pub use rnea::rnea;

@@ -1,0 +1,258 @@
+//! The constant description of a fixed-base kinematic tree with geared rotors.
+
+use super::error::DynamicsError;
+use super::spatial::Transform;
+use crate::moments::InertialParams;
+use nalgebra::{Matrix3, Vector3};
+use serde::{Deserialize, Serialize};
+
+/// The kind of a moving joint (fixed joints are merged at import).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum JointKind {
+    /// Rotation about the axis (rad).
+    Revolute,
+    /// Translation along the axis (m).
+    Prismatic,
+}
+
+/// A joint and the body it moves.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Joint {
+    /// Joint name (also names CSV columns: `q_<name>`, …).
+    pub name: String,
+    /// Name of the body it moves.
+    pub body: String,
+    /// Index of the parent joint's body, `None` for the fixed base.
+    pub parent: Option<usize>,
+    /// Revolute or prismatic.
+    pub kind: JointKind,
+    /// Unit axis in the joint frame.
+    pub axis: Vector3<f64>,
+    /// Joint frame (before the joint's own motion) in the parent body frame.
+    pub x_tree: Transform,
+    /// Lower and upper position limits (rad or m); ±∞ when unlimited.
+    pub limits: (f64, f64),
+    /// The moved body's inertial parameters in its own (joint) frame.
+    pub inertia: InertialParams,
+}
+
+/// A rotor geared to a joint: a rigid body mounted on the joint's parent
+/// body, spinning about its own axis at `gear_ratio × q̇` (so its angle is
+/// `gear_ratio × q`). Its gyroscopic coupling with the parent is modelled.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Rotor {
+    /// Name (reports, parameter files).
+    pub name: String,
+    /// Index of the joint that drives it.
+    pub joint: usize,
+    /// Rotor frame (before its spin) in the frame of the joint's parent body.
+    pub x_tree: Transform,
+    /// Spin axis, unit, in the rotor frame.
+    pub axis: Vector3<f64>,
+    /// Gear ratio N (rotor turns per joint turn).
+    pub gear_ratio: f64,
+    /// Inertial parameters in the rotor frame.
+    pub inertia: InertialParams,
+}
+
+/// A fixed-base kinematic tree: joints in topological order (parents first),
+/// one body per joint, optional rotors, and gravity.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Model {
+    /// Model name.
+    pub name: String,
+    /// Joints, parents before children.
+    pub joints: Vec<Joint>,
+    /// Rotors.
+    pub rotors: Vec<Rotor>,
+    /// Gravity in the base frame (m/s²), e.g. (0, 0, −9.81).
+    pub gravity: Vector3<f64>,
+    /// Rotor index per joint (at most one rotor per joint), derived.
+    pub(crate) rotor_of: Vec<Option<usize>>,
+}
+
+impl Model {
+    /// Builds and validates a model: parents before children, unit axes,
+    /// finite numbers, at most one rotor per joint, unique joint names.
+    pub fn new(
+        name: &str,
+        joints: Vec<Joint>,
+        rotors: Vec<Rotor>,
+        gravity: Vector3<f64>,
+    ) -> Result<Self, DynamicsError> {
+        let bad = |what: String| {
+            Err(DynamicsError::InvalidModel {
+                model: name.to_string(),
+                message: what,
+            })
+        };
+        for (i, j) in joints.iter().enumerate() {
+            if let Some(p) = j.parent {
+                if p >= i {
+                    return bad(format!(
+                        "joint '{}' comes before its parent (index {p})",
+                        j.name
+                    ));
+                }
+            }
+            if !((j.axis.norm() - 1.0).abs() < 1e-9) {
+                return bad(format!(
+                    "joint '{}': axis {:?} is not a unit vector",
+                    j.name,
+                    j.axis.as_slice()
+                ));
+            }
+            if !j.inertia.is_finite()
+                || !j
+                    .x_tree
+                    .r
+                    .iter()
+                    .chain(j.x_tree.e.iter())
+                    .all(|x| x.is_finite())
+            {
+                return bad(format!("joint '{}': non-finite numbers", j.name));
+            }
+            if joints[..i].iter().any(|k| k.name == j.name) {
+                return bad(format!("duplicate joint name '{}'", j.name));
+            }
+        }
+        let mut rotor_of = vec![None; joints.len()];
+        for (k, r) in rotors.iter().enumerate() {
+            if r.joint >= joints.len() {
+                return bad(format!(
+                    "rotor '{}' drives joint {} of {}",
+                    r.name,
+                    r.joint,
+                    joints.len()
+                ));
+            }
+            if rotor_of[r.joint].is_some() {
+                return bad(format!("joint '{}' has two rotors", joints[r.joint].name));
+            }
+            if !((r.axis.norm() - 1.0).abs() < 1e-9)
+                || !r.gear_ratio.is_finite()
+                || !r.inertia.is_finite()
+            {
+                return bad(format!(
+                    "rotor '{}': axis not unit or non-finite numbers",
+                    r.name
+                ));
+            }
+            rotor_of[r.joint] = Some(k);
+        }
+        if !gravity.iter().all(|g| g.is_finite()) {
+            return bad("non-finite gravity".into());
+        }
+        Ok(Self {
+            name: name.to_string(),
+            joints,
+            rotors,
+            gravity,
+            rotor_of,
+        })
+    }
+
+    /// Degrees of freedom n.
+    pub fn dof(&self) -> usize {
+        self.joints.len()
+    }
+
+    /// Number of bodies with parameters: links then rotors.
+    pub fn num_bodies(&self) -> usize {
+        self.joints.len() + self.rotors.len()
+    }
+
+    /// Joint names in order.
+    pub fn joint_names(&self) -> Vec<&str> {
+        self.joints.iter().map(|j| j.name.as_str()).collect()
+    }
+
+    /// Body names in parameter order: links (by their body names) then rotors.
+    pub fn body_names(&self) -> Vec<String> {
+        self.joints
+            .iter()
+            .map(|j| j.body.clone())
+            .chain(self.rotors.iter().map(|r| r.name.clone()))
+            .collect()
+    }
+
+    /// All inertial parameters stacked: links then rotors (10 per body).
+    pub fn params(&self) -> Vec<f64> {
+        self.joints
+            .iter()
+            .map(|j| j.inertia)
+            .chain(self.rotors.iter().map(|r| r.inertia))
+            .flat_map(|p| p.0)
+            .collect()
+    }
+
+    /// Replaces all inertial parameters (links then rotors, 10 per body).
+    pub fn set_params(&mut self, p: &[f64]) -> Result<(), DynamicsError> {
+        if p.len() != 10 * self.num_bodies() {
+            return Err(DynamicsError::Dimension {
+                what: "parameter vector".into(),
+                expected: 10 * self.num_bodies(),
+                found: p.len(),
+            });
+        }
+        let nj = self.joints.len();
+        for (k, chunk) in p.chunks(10).enumerate() {
+            let v = InertialParams(std::array::from_fn(|i| chunk[i]));
+            if k < nj {
+                self.joints[k].inertia = v;
+            } else {
+                self.rotors[k - nj].inertia = v;
+            }
+        }
+        Ok(())
+    }
+
+    /// Index of the joint named `name`.
+    pub fn joint_index(&self, name: &str) -> Option<usize> {
+        self.joints.iter().position(|j| j.name == name)
+    }
+
+    /// The rotor driven by joint i, if any.
+    pub fn rotor_of(&self, i: usize) -> Option<&Rotor> {
+        self.rotor_of
+            .get(i)
+            .copied()
+            .flatten()
+            .map(|k| &self.rotors[k])
+    }
+
+    /// Motion subspace of joint i in its body frame (6-vector).
+    pub(crate) fn subspace(&self, i: usize) -> nalgebra::Vector6<f64> {
+        let a = self.joints[i].axis;
+        match self.joints[i].kind {
+            JointKind::Revolute => nalgebra::Vector6::new(a.x, a.y, a.z, 0.0, 0.0, 0.0),
+            JointKind::Prismatic => nalgebra::Vector6::new(0.0, 0.0, 0.0, a.x, a.y, a.z),
+        }
+    }
+
+    /// Transform from the parent body frame to body i at position q_i.
+    #[inline]
+    pub(crate) fn joint_transform(&self, i: usize, q: f64) -> Transform {
+        let j = &self.joints[i];
+        let motion = match j.kind {
+            JointKind::Revolute => Transform::from_pose(
+                &super::spatial::axis_rotation(&j.axis, q),
+                &Vector3::zeros(),
+            ),
+            JointKind::Prismatic => Transform::from_pose(&Matrix3::identity(), &(j.axis * q)),
+        };
+        motion.compose(&j.x_tree)
+    }
+
+    /// Transform from the parent body frame of rotor k to the spun rotor frame.
+    #[inline]
+    pub(crate) fn rotor_transform(&self, k: usize, q: f64) -> Transform {
+        let r = &self.rotors[k];
+        let spin = Transform::from_pose(
+            &super::spatial::axis_rotation(&r.axis, r.gear_ratio * q),
+            &Vector3::zeros(),
+        );
+        spin.compose(&r.x_tree)
+    }
+}

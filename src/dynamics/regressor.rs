@@ -1,0 +1,205 @@
+//! The joint-torque regressor `τ = Y(q, q̇, q̈) π + B q̇ + B_c sign(q̇)`.
+//!
+//! Column layout of `data.regressor` (n rows):
+//! `[π of link 1 … link n | π of rotor 1 … | viscous 1..n | Coulomb 1..n]`,
+//! 10 columns per body in the paper's order; the viscous column of joint i
+//! holds q̇ᵢ in row i, the Coulomb column sign(q̇ᵢ).
+
+use super::data::{BodyRegressor, Data};
+use super::error::DynamicsError;
+use super::model::Model;
+use super::rnea::{check_len, forward_pass};
+use super::spatial::Transform;
+use crate::moments::skew;
+use nalgebra::{Matrix3, SMatrix, Vector3, Vector6};
+
+/// `A(v, a)` with `I(π) a + v ×* I(π) v = A(v, a) π` (6 × 10).
+pub fn body_regressor(v: &Vector6<f64>, a: &Vector6<f64>) -> BodyRegressor {
+    let w = Vector3::new(v[0], v[1], v[2]);
+    let vl = Vector3::new(v[3], v[4], v[5]);
+    let al_ = Vector3::new(a[0], a[1], a[2]);
+    let al = Vector3::new(a[3], a[4], a[5]);
+    let acc = al + w.cross(&vl);
+    let l = |x: &Vector3<f64>| {
+        SMatrix::<f64, 3, 6>::from_row_slice(&[
+            x.x, x.y, x.z, 0.0, 0.0, 0.0, //
+            0.0, x.x, 0.0, x.y, x.z, 0.0, //
+            0.0, 0.0, x.x, 0.0, x.y, x.z,
+        ])
+    };
+    let sw: Matrix3<f64> = skew(&w);
+    let ang_i = l(&al_) + sw * l(&w);
+    let ang_h = -skew(&acc);
+    let lin_h = skew(&al_) + sw * sw;
+    let mut y = BodyRegressor::zeros();
+    for r in 0..3 {
+        y[(3 + r, 0)] = acc[r];
+        for c in 0..3 {
+            y[(r, 1 + c)] = ang_h[(r, c)];
+            y[(3 + r, 1 + c)] = lin_h[(r, c)];
+        }
+        for c in 0..6 {
+            y[(r, 4 + c)] = ang_i[(r, c)];
+        }
+    }
+    y
+}
+
+#[inline]
+fn transport(x: &Transform, b: &BodyRegressor) -> BodyRegressor {
+    let mut out = BodyRegressor::zeros();
+    for c in 0..10 {
+        let col = Vector6::new(
+            b[(0, c)],
+            b[(1, c)],
+            b[(2, c)],
+            b[(3, c)],
+            b[(4, c)],
+            b[(5, c)],
+        );
+        out.set_column(c, &x.apply_force_transpose(&col));
+    }
+    out
+}
+
+#[inline]
+fn project(s: &Vector6<f64>, b: &BodyRegressor) -> [f64; 10] {
+    std::array::from_fn(|c| (0..6).map(|r| s[r] * b[(r, c)]).sum())
+}
+
+/// Fills `data.regressor` (see the module docs for the layout) at one state.
+pub fn regressor<'a>(
+    model: &Model,
+    data: &'a mut Data,
+    q: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+) -> Result<&'a nalgebra::DMatrix<f64>, DynamicsError> {
+    let n = model.dof();
+    check_len("q", q, n)?;
+    check_len("qd", qd, n)?;
+    check_len("qdd", qdd, n)?;
+    regressor_unchecked(model, data, q, qd, qdd);
+    Ok(&data.regressor)
+}
+
+pub(crate) fn regressor_unchecked(
+    model: &Model,
+    data: &mut Data,
+    q: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+) {
+    let n = model.dof();
+    forward_pass(model, data, q, qd, qdd, true);
+    data.regressor.fill(0.0);
+    for i in 0..n {
+        data.body_blocks[i] = body_regressor(&data.v[i], &data.a[i]);
+    }
+    for k in 0..model.rotors.len() {
+        data.body_blocks[n + k] = body_regressor(&data.v_rotor[k], &data.a_rotor[k]);
+    }
+    // links: project each body's block on its joint and every ancestor
+    for i in 0..n {
+        let mut f = data.body_blocks[i];
+        let mut j = i;
+        loop {
+            let row = project(&model.subspace(j), &f);
+            for c in 0..10 {
+                data.regressor[(j, 10 * i + c)] += row[c];
+            }
+            match model.joints[j].parent {
+                Some(p) => {
+                    f = transport(&data.x_up[j], &f);
+                    j = p;
+                }
+                None => break,
+            }
+        }
+    }
+    for (k, r) in model.rotors.iter().enumerate() {
+        let col0 = 10 * (n + k);
+        let b = data.body_blocks[n + k];
+        let sr = Vector6::new(r.axis.x, r.axis.y, r.axis.z, 0.0, 0.0, 0.0) * r.gear_ratio;
+        let row = project(&sr, &b);
+        for c in 0..10 {
+            data.regressor[(r.joint, col0 + c)] += row[c];
+        }
+        if let Some(p) = model.joints[r.joint].parent {
+            let mut f = transport(&data.x_rotor[k], &b);
+            let mut j = p;
+            loop {
+                let row = project(&model.subspace(j), &f);
+                for c in 0..10 {
+                    data.regressor[(j, col0 + c)] += row[c];
+                }
+                match model.joints[j].parent {
+                    Some(pp) => {
+                        f = transport(&data.x_up[j], &f);
+                        j = pp;
+                    }
+                    None => break,
+                }
+            }
+        }
+    }
+    let nb = model.num_bodies();
+    for i in 0..n {
+        data.regressor[(i, 10 * nb + i)] = qd[i];
+        data.regressor[(i, 10 * nb + n + i)] = sign(qd[i]);
+    }
+}
+
+/// `sign(x)` with `sign(0) = 0`.
+#[inline]
+pub fn sign(x: f64) -> f64 {
+    if x > 0.0 {
+        1.0
+    } else if x < 0.0 {
+        -1.0
+    } else {
+        0.0
+    }
+}
+
+/// Regressor rows for many samples, stacked sample by sample into a
+/// `(samples · n) × (10·bodies + 2n)` row-major buffer, in parallel over
+/// chunks of samples (rayon). Each state slice holds `samples · n` numbers,
+/// sample-major.
+pub fn regressor_batch(
+    model: &Model,
+    q: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+) -> Result<Vec<f64>, DynamicsError> {
+    use rayon::prelude::*;
+    let n = model.dof();
+    if n == 0 || q.len() % n != 0 || qd.len() != q.len() || qdd.len() != q.len() {
+        return Err(DynamicsError::Dimension {
+            what: "batch state arrays".into(),
+            expected: q.len(),
+            found: qd.len().min(qdd.len()),
+        });
+    }
+    let cols = 10 * model.num_bodies() + 2 * n;
+    let samples = q.len() / n;
+    let mut out = vec![0.0; samples * n * cols];
+    const CHUNK: usize = 256;
+    out.par_chunks_mut(CHUNK * n * cols)
+        .enumerate()
+        .for_each(|(c, buf)| {
+            let mut data = Data::new(model);
+            let s0 = c * CHUNK;
+            for (local, rows) in buf.chunks_mut(n * cols).enumerate() {
+                let s = s0 + local;
+                let r = s * n..(s + 1) * n;
+                regressor_unchecked(model, &mut data, &q[r.clone()], &qd[r.clone()], &qdd[r]);
+                for i in 0..n {
+                    for j in 0..cols {
+                        rows[i * cols + j] = data.regressor[(i, j)];
+                    }
+                }
+            }
+        });
+    Ok(out)
+}
