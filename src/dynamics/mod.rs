@@ -24,6 +24,7 @@ mod model;
 mod regressor;
 mod rnea;
 pub mod spatial;
+pub mod urdf;
 
 pub use crba::{crba, energy, forward_dynamics, transform_matrix};
 pub use data::{BodyRegressor, Data};

@@ -222,12 +222,16 @@ impl InertialParams {
     /// The same body expressed in another frame: `x_new = R x_old + p`
     /// (R rotates body-frame vectors into the new frame).
     pub fn transformed(&self, r: &Matrix3<f64>, p: &Vector3<f64>) -> Self {
-        let mci = self.to_mass_com_inertia();
-        Self::from_mass_com_inertia(
-            mci.mass,
-            r * mci.com + p,
-            r * mci.inertia_com * r.transpose(),
-        )
+        // y = R x + p: h' = R h + m p,
+        // Ī' = R Ī Rᵀ + 2 pᵀ(Rh) 1 − (Rh)pᵀ − p(Rh)ᵀ + m(|p|² 1 − p pᵀ)
+        // (no division by m, so massless entries transform too)
+        let m = self.mass();
+        let rh = r * self.h();
+        let i = r * self.inertia() * r.transpose() + Matrix3::identity() * (2.0 * p.dot(&rh))
+            - rh * p.transpose()
+            - p * rh.transpose()
+            + (Matrix3::identity() * p.norm_squared() - p * p.transpose()) * m;
+        Self::from_mass_h_inertia(m, rh + p * m, i)
     }
 
     /// `self + other` (the two bodies rigidly joined, same frame).
