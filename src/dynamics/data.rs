@@ -35,8 +35,8 @@ pub struct Data {
     pub ic: Vec<Matrix6<f64>>,
     /// Regressor (n × (10·bodies + 2n)) from [`regressor`](super::regressor).
     pub regressor: DMatrix<f64>,
-    /// Per-body force regressor blocks (links then rotors).
-    pub(crate) body_blocks: Vec<BodyRegressor>,
+    /// Per body: the axes of the joints that move it, in its frame.
+    pub(crate) axes: Vec<Vec<(usize, Vector6<f64>)>>,
 }
 
 impl Data {
@@ -58,7 +58,7 @@ impl Data {
             mass_matrix: DMatrix::zeros(n, n),
             ic: vec![Matrix6::zeros(); n],
             regressor: DMatrix::zeros(n, 10 * model.num_bodies() + 2 * n),
-            body_blocks: vec![BodyRegressor::zeros(); model.num_bodies()],
+            axes: (0..n).map(|_| Vec::with_capacity(n)).collect(),
         }
     }
 }

@@ -9,7 +9,6 @@ use super::data::{BodyRegressor, Data};
 use super::error::DynamicsError;
 use super::model::Model;
 use super::rnea::{check_len, forward_pass};
-use super::spatial::Transform;
 use crate::moments::skew;
 use nalgebra::{Matrix3, SMatrix, Vector3, Vector6};
 
@@ -45,26 +44,30 @@ pub fn body_regressor(v: &Vector6<f64>, a: &Vector6<f64>) -> BodyRegressor {
     y
 }
 
-#[inline]
-fn transport(x: &Transform, b: &BodyRegressor) -> BodyRegressor {
-    let mut out = BodyRegressor::zeros();
-    for c in 0..10 {
-        let col = Vector6::new(
-            b[(0, c)],
-            b[(1, c)],
-            b[(2, c)],
-            b[(3, c)],
-            b[(4, c)],
-            b[(5, c)],
-        );
-        out.set_column(c, &x.apply_force_transpose(&col));
-    }
-    out
+/// `sᵀ B` (a row of 10), B column-major.
+#[inline(always)]
+fn project(s: &Vector6<f64>, b: &BodyRegressor) -> [f64; 10] {
+    let d = b.as_slice();
+    let s = s.as_slice();
+    std::array::from_fn(|c| {
+        let col = &d[6 * c..6 * c + 6];
+        s[0] * col[0]
+            + s[1] * col[1]
+            + s[2] * col[2]
+            + s[3] * col[3]
+            + s[4] * col[4]
+            + s[5] * col[5]
+    })
 }
 
+/// Adds a row of 10 into the regressor at (row, col0..col0+10).
 #[inline]
-fn project(s: &Vector6<f64>, b: &BodyRegressor) -> [f64; 10] {
-    std::array::from_fn(|c| (0..6).map(|r| s[r] * b[(r, c)]).sum())
+fn add_row(y: &mut nalgebra::DMatrix<f64>, row: usize, col0: usize, r: &[f64; 10]) {
+    let n = y.nrows();
+    let data = &mut y.as_mut_slice()[col0 * n..(col0 + 10) * n];
+    for c in 0..10 {
+        data[c * n + row] += r[c];
+    }
 }
 
 /// Fills `data.regressor` (see the module docs for the layout) at one state.
@@ -90,56 +93,37 @@ pub(crate) fn regressor_unchecked(
     qd: &[f64],
     qdd: &[f64],
 ) {
+    // τⱼ = Σ_k (X_{k←j} Sⱼ)ᵀ A_k π_k over the bodies k that joint j moves:
+    // instead of carrying each 6×10 block A_k up the tree, carry the joint
+    // axes down to every body (6-vectors are cheap to transform).
     let n = model.dof();
     forward_pass(model, data, q, qd, qdd, true);
-    data.regressor.fill(0.0);
+    data.regressor.as_mut_slice().fill(0.0);
     for i in 0..n {
-        data.body_blocks[i] = body_regressor(&data.v[i], &data.a[i]);
-    }
-    for k in 0..model.rotors.len() {
-        data.body_blocks[n + k] = body_regressor(&data.v_rotor[k], &data.a_rotor[k]);
-    }
-    // links: project each body's block on its joint and every ancestor
-    for i in 0..n {
-        let mut f = data.body_blocks[i];
-        let mut j = i;
-        loop {
-            let row = project(&model.subspace(j), &f);
-            for c in 0..10 {
-                data.regressor[(j, 10 * i + c)] += row[c];
+        let (done, rest) = data.axes.split_at_mut(i);
+        let mine = &mut rest[0];
+        mine.clear();
+        if let Some(p) = model.joints[i].parent {
+            for &(j, s) in &done[p] {
+                mine.push((j, data.x_up[i].apply_motion(&s)));
             }
-            match model.joints[j].parent {
-                Some(p) => {
-                    f = transport(&data.x_up[j], &f);
-                    j = p;
-                }
-                None => break,
-            }
+        }
+        mine.push((i, model.subspace(i)));
+        let a = body_regressor(&data.v[i], &data.a[i]);
+        for &(j, s) in mine.iter() {
+            add_row(&mut data.regressor, j, 10 * i, &project(&s, &a));
         }
     }
     for (k, r) in model.rotors.iter().enumerate() {
+        let a = body_regressor(&data.v_rotor[k], &data.a_rotor[k]);
         let col0 = 10 * (n + k);
-        let b = data.body_blocks[n + k];
         let sr = Vector6::new(r.axis.x, r.axis.y, r.axis.z, 0.0, 0.0, 0.0) * r.gear_ratio;
-        let row = project(&sr, &b);
-        for c in 0..10 {
-            data.regressor[(r.joint, col0 + c)] += row[c];
-        }
+        add_row(&mut data.regressor, r.joint, col0, &project(&sr, &a));
         if let Some(p) = model.joints[r.joint].parent {
-            let mut f = transport(&data.x_rotor[k], &b);
-            let mut j = p;
-            loop {
-                let row = project(&model.subspace(j), &f);
-                for c in 0..10 {
-                    data.regressor[(j, col0 + c)] += row[c];
-                }
-                match model.joints[j].parent {
-                    Some(pp) => {
-                        f = transport(&data.x_up[j], &f);
-                        j = pp;
-                    }
-                    None => break,
-                }
+            for idx in 0..data.axes[p].len() {
+                let (j, s) = data.axes[p][idx];
+                let sk = data.x_rotor[k].apply_motion(&s);
+                add_row(&mut data.regressor, j, col0, &project(&sk, &a));
             }
         }
     }
