@@ -25,3 +25,4 @@ pub mod conic;
 pub mod dynamics;
 pub mod moments;
 pub mod sdpa;
+pub mod sim;

@@ -4,6 +4,7 @@
 
 mod check_cmd;
 mod demo;
+mod predict_cmd;
 mod sdpa_cmd;
 
 use clap::{Parser, Subcommand};
@@ -35,6 +36,27 @@ enum Command {
         /// Write a copy with every inconsistent inertial replaced by the nearest consistent one.
         #[arg(long, value_name = "OUT.urdf")]
         repair: Option<PathBuf>,
+    },
+    /// Model joint torques for every sample of a data file (the "sim" side).
+    Predict {
+        /// Built-in model (cheetah3-leg) or a URDF file.
+        #[arg(long)]
+        robot: String,
+        /// TOML sidecar for a URDF (rotors, gear ratios, locked joints).
+        #[arg(long)]
+        sidecar: Option<PathBuf>,
+        /// `true` or `cad` (cheetah3-leg), or a parameter file (the JSON `identify --json` prints).
+        #[arg(long)]
+        params: Option<String>,
+        /// Data CSV: t, q_<joint>, qd_<joint>[, qdd_<joint>]; extra columns are ignored.
+        #[arg(long)]
+        data: PathBuf,
+        /// Output CSV: t, tau_<joint>…
+        #[arg(long)]
+        out: PathBuf,
+        /// Print a JSON summary.
+        #[arg(long)]
+        json: bool,
     },
     /// Solve an SDPA sparse file (.dat-s) and print the result.
     Sdpa {
@@ -68,6 +90,21 @@ pub fn main() -> i32 {
     match cli.command {
         Command::Demo { out } => demo::run(&out),
         Command::Check { urdf, json, repair } => check_cmd::run(&urdf, json, repair.as_deref()),
+        Command::Predict {
+            robot,
+            sidecar,
+            params,
+            data,
+            out,
+            json,
+        } => predict_cmd::run(&predict_cmd::PredictArgs {
+            robot: &robot,
+            sidecar: sidecar.as_deref(),
+            params: params.as_deref(),
+            data: &data,
+            out: &out,
+            json,
+        }),
         Command::Sdpa {
             file,
             json,

@@ -21,8 +21,11 @@ mod crba;
 mod data;
 mod error;
 mod model;
+pub mod params_file;
+pub mod predict;
 mod regressor;
 mod rnea;
+pub mod robots;
 pub mod spatial;
 pub mod urdf;
 

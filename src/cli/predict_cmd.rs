@@ -1,0 +1,97 @@
+//! `momentlmi predict --robot MODEL [--params true|cad|FILE] --data FILE.csv --out PRED.csv [--json]`.
+
+use crate::dynamics::predict::predict_torques;
+use crate::dynamics::robots::{apply_params, load_robot};
+use crate::sim::Dataset;
+use crate::sim::dataset::{ReadOptions, write_whole};
+use serde_json::json;
+use std::path::Path;
+
+/// Arguments of `predict`.
+pub struct PredictArgs<'a> {
+    /// Built-in name or URDF path.
+    pub robot: &'a str,
+    /// Optional sidecar for a URDF.
+    pub sidecar: Option<&'a Path>,
+    /// `true`, `cad` or a parameter file.
+    pub params: Option<&'a str>,
+    /// Input data.
+    pub data: &'a Path,
+    /// Output CSV.
+    pub out: &'a Path,
+    /// Print a JSON summary.
+    pub json: bool,
+}
+
+/// Exit codes: 0 written, 2 bad input or failed write.
+pub fn run(a: &PredictArgs) -> i32 {
+    match run_inner(a) {
+        Ok(()) => 0,
+        Err(e) => {
+            eprintln!("error: {e}");
+            2
+        }
+    }
+}
+
+fn run_inner(a: &PredictArgs) -> Result<(), String> {
+    let mut model = load_robot(a.robot, a.sidecar).map_err(|e| e.to_string())?;
+    let friction = apply_params(&mut model, a.params).map_err(|e| e.to_string())?;
+    let names = model.joint_names();
+    let d = Dataset::read_csv(
+        a.data,
+        &names,
+        ReadOptions {
+            require_tau: false,
+            ..Default::default()
+        },
+    )
+    .map_err(|e| e.to_string())?;
+    let tau = predict_torques(&model, &friction, &d.q, &d.qd, &d.qdd).map_err(|e| e.to_string())?;
+    let mut s = String::from("t");
+    for j in &names {
+        s += &format!(",tau_{j}");
+    }
+    s.push('\n');
+    for (k, row) in tau.iter().enumerate() {
+        s += &d.t[k].to_string();
+        for v in row {
+            s += &format!(",{v:e}");
+        }
+        s.push('\n');
+    }
+    write_whole(a.out, &s).map_err(|e| e.to_string())?;
+    // RMS against measured torques when the file has them
+    let rms: Option<Vec<f64>> = (!d.tau.is_empty()).then(|| {
+        (0..names.len())
+            .map(|j| {
+                (tau.iter()
+                    .zip(&d.tau)
+                    .map(|(p, m)| (p[j] - m[j]).powi(2))
+                    .sum::<f64>()
+                    / tau.len() as f64)
+                    .sqrt()
+            })
+            .collect()
+    });
+    if a.json {
+        println!(
+            "{}",
+            json!({ "robot": model.name, "joints": names, "samples": d.len(), "out": a.out.display().to_string(), "rms_vs_measured": rms })
+        );
+    } else {
+        println!(
+            "{}: {} samples of {} → {}",
+            model.name,
+            d.len(),
+            a.data.display(),
+            a.out.display()
+        );
+        if let Some(r) = rms {
+            for (j, v) in names.iter().zip(r) {
+                println!("  RMS(predicted − measured) {j:<12} {v:.4}");
+            }
+        }
+    }
+    Ok(())
+}
