@@ -1,0 +1,224 @@
+//! The simulator: inverse kinematics, the shell excitation, each effect
+//! against its formula, and the processed data.
+
+use momentlmi::dynamics::{Data, cheetah3, rnea};
+use momentlmi::sim::robot::{EFFECTS, Effects, TrueRobot};
+use momentlmi::sim::trajectory::{Shell, Trajectory, cheetah_ik};
+use momentlmi::sim::{SimConfig, simulate};
+
+#[test]
+fn inverse_kinematics_round_trips() {
+    for k in 0..50 {
+        let f = k as f64;
+        // the branch the IK returns: foot below the hip, knee bent positive
+        let q = [
+            0.5 * (0.7 * f).sin(),
+            -0.15 + 0.65 * (1.3 * f).cos(),
+            0.3 + 1.2 * (0.5 + 0.5 * (0.9 * f).sin()),
+        ];
+        let p = cheetah3::foot_position(q);
+        let back = cheetah_ik(&p).unwrap();
+        for i in 0..3 {
+            assert!((back[i] - q[i]).abs() < 1e-9, "{q:?} → {back:?}");
+        }
+    }
+    assert!(
+        cheetah_ik(&nalgebra::Vector3::new(0.0, 0.0, -0.9)).is_none(),
+        "beyond reach"
+    );
+}
+
+#[test]
+fn shell_motion_is_reproduced_and_stays_in_limits() {
+    let shell = Shell::default();
+    let tr = Trajectory::Shell(shell);
+    let model = cheetah3::model();
+    let mut k = 0.0;
+    while k < 20.0 {
+        let (q, qd, _) = tr.state(k).unwrap();
+        let foot = cheetah3::foot_position([q[0], q[1], q[2]]);
+        assert!((foot - shell.foot(k)).norm() < 1e-9, "t = {k}");
+        for (i, j) in model.joints.iter().enumerate() {
+            assert!(
+                q[i] > j.limits.0 && q[i] < j.limits.1,
+                "t = {k}: joint {i} at {}",
+                q[i]
+            );
+        }
+        assert!(qd.iter().all(|v| v.is_finite()));
+        k += 0.01;
+    }
+    // the angles follow the paper's rates: φ̇ = 12 sin(1.63 t)
+    let h = 1e-6;
+    for t in [0.3, 2.0, 7.5] {
+        let dphi = (shell.angles(t + h).0 - shell.angles(t - h).0) / (2.0 * h);
+        assert!((dphi - 12.0 * (1.63 * t).sin()).abs() < 1e-5);
+        let dth = (shell.angles(t + h).1 - shell.angles(t - h).1) / (2.0 * h);
+        assert!((dth - 3.4 * (0.265 * t).sin()).abs() < 1e-5);
+    }
+}
+
+fn states() -> (Vec<Vec<f64>>, Vec<Vec<f64>>, Vec<Vec<f64>>) {
+    let tr = Trajectory::Shell(Shell::default());
+    let mut out = (vec![], vec![], vec![]);
+    for k in 0..200 {
+        let (q, qd, qdd) = tr.state(k as f64 * 0.05).unwrap();
+        out.0.push(q);
+        out.1.push(qd);
+        out.2.push(qdd);
+    }
+    out
+}
+
+#[test]
+fn each_effect_alone_adds_its_formula_and_off_is_absent() {
+    let model = cheetah3::model();
+    let (q, qd, qdd) = states();
+    let none = TrueRobot::new(&model, Effects::default())
+        .unwrap()
+        .torques(&q, &qd, &qdd)
+        .unwrap();
+    // no effects = links only rigid-body dynamics, exactly
+    let links = momentlmi::dynamics::Model::new(
+        "cheetah3-leg",
+        model.joints.clone(),
+        vec![],
+        model.gravity,
+    )
+    .unwrap();
+    let mut d = Data::new(&links);
+    for k in 0..q.len() {
+        let t = rnea(&links, &mut d, &q[k], &qd[k], &qdd[k]).unwrap();
+        assert!((0..3).all(|i| t[i] == none[k][i]));
+    }
+    let sgn = |v: f64| {
+        if v > 0.0 {
+            1.0
+        } else if v < 0.0 {
+            -1.0
+        } else {
+            0.0
+        }
+    };
+    for e in EFFECTS {
+        if e == "time_delay" || e == "payload" || e == "rotor_inertia" {
+            continue; // checked below through the dynamics
+        }
+        let fx = Effects::parse(e, &[]).unwrap();
+        let got = TrueRobot::new(&model, fx.clone())
+            .unwrap()
+            .torques(&q, &qd, &qdd)
+            .unwrap();
+        for k in 0..q.len() {
+            for i in 0..3 {
+                let v = qd[k][i];
+                let base = none[k][i];
+                let want = match e {
+                    "coulomb" => base + cheetah3::COULOMB[i] * sgn(v),
+                    "viscous" => base + 0.1 * v,
+                    "stribeck" => base + 1.0 * (-(v / 0.2).powi(2)).exp() * sgn(v),
+                    "asymmetric_friction" => base + 0.3 * cheetah3::COULOMB[i] * sgn(v).abs(),
+                    "offset" => base + 0.5,
+                    "cogging" => base + 0.2 * (6.0 * cheetah3::GEAR_RATIO * q[k][i]).sin(),
+                    "torque_gain" => base * 1.1,
+                    other => panic!("untested effect {other}"),
+                };
+                assert!(
+                    (got[k][i] - want).abs() < 1e-12,
+                    "{e}: joint {i} sample {k}"
+                );
+            }
+        }
+    }
+    // rotor inertia: the full model with rotors
+    let with = TrueRobot::new(&model, Effects::parse("rotor_inertia", &[]).unwrap())
+        .unwrap()
+        .torques(&q, &qd, &qdd)
+        .unwrap();
+    let mut d = Data::new(&model);
+    for k in 0..q.len() {
+        let t = rnea(&model, &mut d, &q[k], &qd[k], &qdd[k]).unwrap();
+        assert!((0..3).all(|i| (t[i] - with[k][i]).abs() < 1e-12));
+    }
+    // payload: 1 kg at the foot = knee link with a point mass added
+    let pay = TrueRobot::new(
+        &model,
+        Effects::parse("payload", &["payload_mass=1.0".into()]).unwrap(),
+    )
+    .unwrap()
+    .torques(&q, &qd, &qdd)
+    .unwrap();
+    let mut joints = links.joints.clone();
+    let pm = momentlmi::moments::InertialParams::from_mass_com_inertia(
+        1.0,
+        nalgebra::Vector3::new(0.0, 0.0, -0.345),
+        nalgebra::Matrix3::zeros(),
+    );
+    joints[2].inertia = joints[2].inertia.plus(&pm);
+    let heavy = momentlmi::dynamics::Model::new("h", joints, vec![], model.gravity).unwrap();
+    let mut d = Data::new(&heavy);
+    for k in 0..q.len() {
+        let t = rnea(&heavy, &mut d, &q[k], &qd[k], &qdd[k]).unwrap();
+        assert!((0..3).all(|i| (t[i] - pay[k][i]).abs() < 1e-12));
+    }
+    assert!(Effects::parse("coulomb,warp_drive", &[]).is_err());
+    assert!(
+        Effects::parse("backlash", &[])
+            .unwrap_err()
+            .contains("not implemented")
+    );
+    assert!(Effects::parse("offset", &["offset=abc".into()]).is_err());
+}
+
+#[test]
+fn time_delay_uses_the_earlier_state() {
+    let model = cheetah3::model();
+    let fx = Effects::parse("time_delay", &["delay=0.01".into()]).unwrap();
+    let mut cfg = SimConfig::for_model("cheetah3-leg", &model, 0.5, fx, 1);
+    cfg.noise_sigma = 0.0;
+    cfg.encoder_counts = 0.0;
+    cfg.processed = false;
+    let d = simulate(&model, &cfg, |_, _| {}).unwrap();
+    let tr = Trajectory::Shell(Shell::default());
+    let robot = TrueRobot::new(&model, Effects::default()).unwrap();
+    for k in [100usize, 250, 400] {
+        let (q, qd, qdd) = tr.state(d.t[k] - 0.01).unwrap();
+        let want = robot.torques(&[q], &[qd], &[qdd]).unwrap();
+        assert!((0..3).all(|i| (want[0][i] - d.tau[k][i]).abs() < 1e-12));
+    }
+}
+
+#[test]
+fn processed_data_track_the_true_states() {
+    let model = cheetah3::model();
+    let fx = Effects::parse("rotor_inertia,coulomb,viscous", &[]).unwrap();
+    let cfg = SimConfig::for_model("cheetah3-leg", &model, 3.0, fx, 7);
+    let d = simulate(&model, &cfg, |_, _| {}).unwrap();
+    let tr = Trajectory::Shell(Shell::default());
+    let mut worst = [0.0f64; 3];
+    for k in (200..2800).step_by(50) {
+        let (q, qd, _) = tr.state(d.t[k]).unwrap();
+        worst[0] = worst[0].max((0..3).map(|i| (q[i] - d.q[k][i]).abs()).fold(0.0, f64::max));
+        worst[1] = worst[1].max(
+            (0..3)
+                .map(|i| (qd[i] - d.qd[k][i]).abs())
+                .fold(0.0, f64::max),
+        );
+    }
+    assert!(worst[0] < 2e-3, "q error {}", worst[0]);
+    assert!(worst[1] < 0.2, "q̇ error {}", worst[1]);
+    // torque noise has the requested σ
+    let clean = {
+        let mut c = cfg.clone();
+        c.noise_sigma = 0.0;
+        simulate(&model, &c, |_, _| {}).unwrap()
+    };
+    let res: Vec<f64> = d
+        .tau
+        .iter()
+        .zip(&clean.tau)
+        .flat_map(|(a, b)| (0..3).map(move |i| a[i] - b[i]))
+        .collect();
+    let sd = (res.iter().map(|x| x * x).sum::<f64>() / res.len() as f64).sqrt();
+    assert!((sd - 0.3).abs() < 0.02, "σ = {sd}");
+}
