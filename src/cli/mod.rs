@@ -6,6 +6,7 @@ mod check_cmd;
 mod demo;
 mod predict_cmd;
 mod sdpa_cmd;
+mod simulate_cmd;
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -58,6 +59,34 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Simulate a robot with switchable unmodelled effects and write a data file.
+    Simulate {
+        /// Built-in model (cheetah3-leg) or a URDF file.
+        #[arg(long)]
+        robot: String,
+        /// TOML sidecar for a URDF.
+        #[arg(long)]
+        sidecar: Option<PathBuf>,
+        /// Duration in seconds (1 kHz sampling).
+        #[arg(long, default_value_t = 20.0)]
+        seconds: f64,
+        /// Comma-separated effects: rotor_inertia, coulomb, viscous, stribeck,
+        /// asymmetric_friction, offset, payload, time_delay, cogging, torque_gain.
+        #[arg(long, default_value = "")]
+        effects: String,
+        /// Output CSV (a JSON record of how it was made is written beside it).
+        #[arg(long)]
+        out: PathBuf,
+        /// Random seed.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Torque noise σ in N·m (default 0.3; 0 writes exact, unprocessed states).
+        #[arg(long)]
+        noise: Option<f64>,
+        /// Effect parameter override NAME=VALUE (repeatable).
+        #[arg(long = "effect-param")]
+        effect_param: Vec<String>,
+    },
     /// Solve an SDPA sparse file (.dat-s) and print the result.
     Sdpa {
         /// The .dat-s file.
@@ -104,6 +133,25 @@ pub fn main() -> i32 {
             data: &data,
             out: &out,
             json,
+        }),
+        Command::Simulate {
+            robot,
+            sidecar,
+            seconds,
+            effects,
+            out,
+            seed,
+            noise,
+            effect_param,
+        } => simulate_cmd::run(&simulate_cmd::SimulateArgs {
+            robot: &robot,
+            sidecar: sidecar.as_deref(),
+            seconds,
+            effects: &effects,
+            effect_params: &effect_param,
+            out: &out,
+            seed,
+            noise,
         }),
         Command::Sdpa {
             file,
