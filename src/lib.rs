@@ -23,6 +23,7 @@ pub mod faer_lapack;
 pub mod cli;
 pub mod conic;
 pub mod dynamics;
+pub mod identify;
 pub mod moments;
 pub mod sdpa;
 pub mod sim;

@@ -4,6 +4,7 @@
 
 mod check_cmd;
 mod demo;
+mod identify_cmd;
 mod predict_cmd;
 mod sdpa_cmd;
 mod simulate_cmd;
@@ -87,6 +88,33 @@ enum Command {
         #[arg(long = "effect-param")]
         effect_param: Vec<String>,
     },
+    /// Identify link and rotor inertias and friction from data (the paper's SDP (25)).
+    Identify {
+        /// Built-in model (cheetah3-leg) or a URDF file.
+        #[arg(long)]
+        robot: String,
+        /// TOML sidecar for a URDF.
+        #[arg(long)]
+        sidecar: Option<PathBuf>,
+        /// Training data CSV.
+        #[arg(long)]
+        data: PathBuf,
+        /// Constraint level per body: none, semi, consistent, ellipsoid.
+        #[arg(long, default_value = "consistent")]
+        constraints: String,
+        /// Prior π̂: cad | true (cheetah3-leg) or a parameter file (default: cad / the URDF's own).
+        #[arg(long)]
+        prior: Option<String>,
+        /// Regularisation weight w_π toward the prior (0 turns it off).
+        #[arg(long, default_value_t = 1e-6)]
+        weight: f64,
+        /// Held-out validation data CSV.
+        #[arg(long)]
+        validate: Option<PathBuf>,
+        /// Print one JSON object (a model file for predict/diagnose/--prior).
+        #[arg(long)]
+        json: bool,
+    },
     /// Solve an SDPA sparse file (.dat-s) and print the result.
     Sdpa {
         /// The .dat-s file.
@@ -152,6 +180,25 @@ pub fn main() -> i32 {
             out: &out,
             seed,
             noise,
+        }),
+        Command::Identify {
+            robot,
+            sidecar,
+            data,
+            constraints,
+            prior,
+            weight,
+            validate,
+            json,
+        } => identify_cmd::run(&identify_cmd::IdentifyArgs {
+            robot: &robot,
+            sidecar: sidecar.as_deref(),
+            data: &data,
+            constraints: &constraints,
+            prior: prior.as_deref(),
+            weight,
+            validate: validate.as_deref(),
+            json,
         }),
         Command::Sdpa {
             file,

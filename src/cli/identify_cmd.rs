@@ -1,0 +1,181 @@
+//! `momentlmi identify --robot MODEL --data FILE.csv --constraints LEVEL
+//! [--prior cad|true|FILE] [--weight W] [--validate FILE.csv] [--json]`.
+
+use crate::dynamics::cheetah3;
+use crate::dynamics::robots::{apply_params, load_robot};
+use crate::identify::{IdentifyOptions, IdentifyResult, Level, identify};
+use crate::sim::{Dataset, ReadOptions};
+use std::path::Path;
+
+/// Arguments of `identify`.
+pub struct IdentifyArgs<'a> {
+    /// Robot.
+    pub robot: &'a str,
+    /// Sidecar for a URDF.
+    pub sidecar: Option<&'a Path>,
+    /// Training data.
+    pub data: &'a Path,
+    /// Level name.
+    pub constraints: &'a str,
+    /// Prior: cad | true | FILE (default: cad for cheetah3-leg, the URDF's own otherwise).
+    pub prior: Option<&'a str>,
+    /// Weight w_π.
+    pub weight: f64,
+    /// Validation data.
+    pub validate: Option<&'a Path>,
+    /// JSON output.
+    pub json: bool,
+}
+
+/// Exit codes: 0 identified (constraints satisfied), 1 identified but a
+/// constraint check failed, 2 bad input or solver failure.
+pub fn run(a: &IdentifyArgs) -> i32 {
+    let t0 = std::time::Instant::now();
+    match run_inner(a) {
+        Ok(mut r) => {
+            r.total_time_s += 0.0;
+            let total = t0.elapsed().as_secs_f64();
+            r.total_time_s = total;
+            if a.json {
+                match serde_json::to_string_pretty(&r) {
+                    Ok(s) => println!("{s}"),
+                    Err(e) => {
+                        eprintln!("error: {e}");
+                        return 2;
+                    }
+                }
+            } else {
+                print_report(&r);
+            }
+            for d in &r.unidentifiable_directions {
+                eprintln!("warning: not excited by the data (set by the prior/constraints): {d}");
+            }
+            if r.constraints_satisfied { 0 } else { 1 }
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            2
+        }
+    }
+}
+
+fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
+    let level = Level::parse(a.constraints).ok_or_else(|| {
+        format!(
+            "--constraints: '{}' is not one of none, semi, consistent, ellipsoid",
+            a.constraints
+        )
+    })?;
+    let mut model = load_robot(a.robot, a.sidecar).map_err(|e| e.to_string())?;
+    let names = model
+        .joint_names()
+        .iter()
+        .map(|s| s.to_string())
+        .collect::<Vec<_>>();
+    let nref: Vec<&str> = names.iter().map(String::as_str).collect();
+    let train =
+        Dataset::read_csv(a.data, &nref, ReadOptions::default()).map_err(|e| e.to_string())?;
+    let val = a
+        .validate
+        .map(|p| Dataset::read_csv(p, &nref, ReadOptions::default()))
+        .transpose()
+        .map_err(|e| e.to_string())?;
+    let prior_choice = a.prior.or(if model.name == "cheetah3-leg" {
+        Some("cad")
+    } else {
+        None
+    });
+    let ellipsoids = if model.name == "cheetah3-leg" {
+        Some(cheetah3::ellipsoids().to_vec())
+    } else {
+        None
+    };
+    if level == Level::Ellipsoid && ellipsoids.is_none() {
+        return Err(format!(
+            "--constraints ellipsoid needs bounding ellipsoids; '{}' has none (built in: cheetah3-leg)",
+            model.name
+        ));
+    }
+    apply_params(&mut model, prior_choice).map_err(|e| e.to_string())?;
+    if !(a.weight >= 0.0 && a.weight.is_finite()) {
+        return Err(format!("--weight must be ≥ 0, got {}", a.weight));
+    }
+    let opts = IdentifyOptions {
+        level,
+        weight: a.weight,
+        prior: model.params(),
+        ellipsoids,
+        com_lmi: false,
+        eps: 0.0,
+    };
+    identify(&model, &train, val.as_ref(), &opts).map_err(|e| e.to_string())
+}
+
+/// A short human report.
+pub fn print_report(r: &IdentifyResult) {
+    println!(
+        "{} — constraints: {}, weight {:e}, {} training samples, rank {}/{}",
+        r.robot,
+        r.constraints.as_str(),
+        r.weight,
+        r.training_samples,
+        r.rank,
+        r.num_parameters
+    );
+    println!(
+        "{:<12} {:>9} {:>28} {:>34} {:>11}",
+        "body", "mass", "CoM [m]", "principal moments [kg·m²]", "consistent"
+    );
+    for b in &r.bodies {
+        println!(
+            "{:<12} {:>9.4} ({:>8.4}, {:>8.4}, {:>8.4}) ({:>10.3e}, {:>10.3e}, {:>10.3e}) {:>11}",
+            b.name,
+            b.mass,
+            b.com[0],
+            b.com[1],
+            b.com[2],
+            b.principal_moments[0],
+            b.principal_moments[1],
+            b.principal_moments[2],
+            if b.consistent { "yes" } else { "NO" }
+        );
+    }
+    println!(
+        "viscous  {:?}",
+        r.friction
+            .viscous
+            .iter()
+            .map(|x| format!("{x:.4}"))
+            .collect::<Vec<_>>()
+    );
+    println!(
+        "Coulomb  {:?}",
+        r.friction
+            .coulomb
+            .iter()
+            .map(|x| format!("{x:.4}"))
+            .collect::<Vec<_>>()
+    );
+    println!(
+        "training RMS   {:?}",
+        r.training_rms
+            .iter()
+            .map(|x| format!("{x:.4}"))
+            .collect::<Vec<_>>()
+    );
+    if let Some(v) = &r.validation_rms {
+        println!(
+            "validation RMS {:?} ({} samples)",
+            v.iter().map(|x| format!("{x:.4}")).collect::<Vec<_>>(),
+            r.validation_samples
+        );
+    }
+    println!(
+        "status {}, {} iterations, solve {:.1} ms, total {:.1} ms, constraints satisfied: {}",
+        r.status,
+        r.iterations,
+        1e3 * r.solve_time_s,
+        1e3 * r.total_time_s,
+        r.constraints_satisfied
+    );
+}

@@ -1,0 +1,15 @@
+//! # `identify`: physically consistent identification, the paper's SDP (25)
+//!
+//! [`identify`] reduces the stacked regressor of the training data to a
+//! p × p factor ([`reduce`]), solves (25) at the chosen constraint level
+//! ([`problem`]) through [`conic`](crate::conic) with LMIs from
+//! [`moments`](crate::moments), checks every body with `moments`, and
+//! validates on held-out data.
+
+pub mod problem;
+pub mod reduce;
+pub mod result;
+
+pub use problem::{IdentifyError, IdentifyOptions, Level, parameter_names, solve_identification};
+pub use reduce::{Reduced, reduce_samples};
+pub use result::{BodyResult, Contributions, IdentifyResult, identify, predict_split, rms};

@@ -1,0 +1,270 @@
+//! End-to-end identification from data sets, and its report.
+
+use super::problem::{IdentifyError, IdentifyOptions, Level, Solved, solve_identification};
+use super::reduce::reduce_samples;
+use crate::dynamics::params_file::{BodyParams, Friction, ParamsFile};
+use crate::dynamics::{Data, Model, regressor};
+use crate::moments::{
+    ConsistencyReport, InertialParams, RealizabilityReport, check_consistency, check_realizable,
+};
+use crate::sim::Dataset;
+use serde::Serialize;
+
+/// Tolerance with which identified bodies are checked (an interior-point
+/// solution on the boundary of a cone sits within ~1e-9 of it).
+pub const CHECK_TOL: f64 = 1e-7;
+
+/// One body's identified parameters and physical summary.
+#[derive(Clone, Debug, Serialize)]
+pub struct BodyResult {
+    /// Body name.
+    pub name: String,
+    /// π in the paper's order.
+    pub params: [f64; 10],
+    /// Mass (kg).
+    pub mass: f64,
+    /// CoM (m), body frame.
+    pub com: [f64; 3],
+    /// Principal moments about the CoM (kg·m²).
+    pub principal_moments: [f64; 3],
+    /// Covariance-ellipsoid semi-axes √(μᵢ/m) (m).
+    pub covariance_semi_axes: [f64; 3],
+    /// `J(π) ⪰ 0` as checked by `moments` (tolerance [`CHECK_TOL`]).
+    pub consistent: bool,
+    /// The full consistency report.
+    pub consistency: ConsistencyReport,
+    /// Realizability in the body's ellipsoid, when one is given.
+    pub realizability: Option<RealizabilityReport>,
+}
+
+/// Torque contributions on the validation data (Fig. 5 of the paper).
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Contributions {
+    /// Link inertia (incl. gravity) per sample per joint (N·m).
+    pub links: Vec<Vec<f64>>,
+    /// Rotor inertia per sample per joint.
+    pub rotors: Vec<Vec<f64>>,
+    /// Friction per sample per joint.
+    pub friction: Vec<Vec<f64>>,
+}
+
+/// The result of [`identify`].
+#[derive(Clone, Debug, Serialize)]
+pub struct IdentifyResult {
+    /// Robot name.
+    pub robot: String,
+    /// Joint names.
+    pub joints: Vec<String>,
+    /// Parameter order, stated.
+    pub parameter_order: String,
+    /// Constraint level.
+    pub constraints: Level,
+    /// Regularisation weight.
+    pub weight: f64,
+    /// Bodies.
+    pub bodies: Vec<BodyResult>,
+    /// Friction.
+    pub friction: Friction,
+    /// Every body satisfies what it was asked for (checked by `moments`).
+    pub constraints_satisfied: bool,
+    /// Solver status.
+    pub status: String,
+    /// Interior-point iterations.
+    pub iterations: u32,
+    /// Numerical rank of the regressor / number of parameters.
+    pub rank: usize,
+    /// Number of parameters.
+    pub num_parameters: usize,
+    /// Parameter directions the data do not excite.
+    pub unidentifiable_directions: Vec<String>,
+    /// Training samples.
+    pub training_samples: usize,
+    /// Training RMS per joint (N·m).
+    pub training_rms: Vec<f64>,
+    /// Validation RMS per joint (N·m), with validation data.
+    pub validation_rms: Option<Vec<f64>>,
+    /// Validation samples.
+    pub validation_samples: usize,
+    /// SDP (or direct least-squares) solve time (s).
+    pub solve_time_s: f64,
+    /// Regressor + reduction time (s).
+    pub reduce_time_s: f64,
+    /// Whole identification in the process, reading excluded (s); the CLI adds reading.
+    pub total_time_s: f64,
+    /// Validation predictions per sample (not serialised).
+    #[serde(skip)]
+    pub validation_prediction: Vec<Vec<f64>>,
+    /// Contributions on the validation data (not serialised).
+    #[serde(skip)]
+    pub contributions: Contributions,
+    /// θ (not serialised; in `bodies` and `friction`).
+    #[serde(skip)]
+    pub theta: Vec<f64>,
+}
+
+impl IdentifyResult {
+    /// The parameter file part (what `predict --params` reads).
+    pub fn params_file(&self) -> ParamsFile {
+        ParamsFile {
+            robot: self.robot.clone(),
+            joints: self.joints.clone(),
+            parameter_order: self.parameter_order.clone(),
+            bodies: self
+                .bodies
+                .iter()
+                .map(|b| BodyParams {
+                    name: b.name.clone(),
+                    params: b.params,
+                })
+                .collect(),
+            friction: self.friction.clone(),
+        }
+    }
+}
+
+/// `Y θ` per sample, split into links / rotors / friction.
+pub fn predict_split(
+    model: &Model,
+    theta: &[f64],
+    d: &Dataset,
+) -> Result<(Vec<Vec<f64>>, Contributions), IdentifyError> {
+    let n = model.dof();
+    let nl = 10 * n;
+    let nb = model.num_bodies();
+    let mut data = Data::new(model);
+    let mut total = Vec::with_capacity(d.len());
+    let mut c = Contributions::default();
+    for k in 0..d.len() {
+        let y = regressor(model, &mut data, &d.q[k], &d.qd[k], &d.qdd[k])?;
+        let part = |lo: usize, hi: usize| -> Vec<f64> {
+            (0..n)
+                .map(|i| (lo..hi).map(|j| y[(i, j)] * theta[j]).sum())
+                .collect()
+        };
+        let (l, r, f) = (
+            part(0, nl),
+            part(nl, 10 * nb),
+            part(10 * nb, 10 * nb + 2 * n),
+        );
+        total.push((0..n).map(|i| l[i] + r[i] + f[i]).collect());
+        c.links.push(l);
+        c.rotors.push(r);
+        c.friction.push(f);
+    }
+    Ok((total, c))
+}
+
+/// RMS per joint of `a − b`.
+pub fn rms(a: &[Vec<f64>], b: &[Vec<f64>]) -> Vec<f64> {
+    let n = a.first().map_or(0, |r| r.len());
+    (0..n)
+        .map(|j| {
+            (a.iter()
+                .zip(b)
+                .map(|(x, y)| (x[j] - y[j]).powi(2))
+                .sum::<f64>()
+                / a.len().max(1) as f64)
+                .sqrt()
+        })
+        .collect()
+}
+
+/// Identifies `model`'s parameters from `train` (its current parameters are
+/// only used for names), optionally validating on `validate`.
+pub fn identify(
+    model: &Model,
+    train: &Dataset,
+    validate: Option<&Dataset>,
+    opts: &IdentifyOptions,
+) -> Result<IdentifyResult, IdentifyError> {
+    let t0 = std::time::Instant::now();
+    if train.tau.len() != train.len() || train.is_empty() {
+        return Err(IdentifyError::Invalid(
+            "the training data need torques (tau_* columns) and at least one sample".into(),
+        ));
+    }
+    let red = reduce_samples(model, &train.q, &train.qd, &train.qdd, &train.tau, 1024);
+    let reduce_time = t0.elapsed().as_secs_f64();
+    let Solved {
+        theta,
+        status,
+        iterations,
+        solve_time_s,
+        unidentifiable,
+        rank,
+    } = solve_identification(model, &red, opts)?;
+    let n = model.dof();
+    let nb = model.num_bodies();
+    let mut bodies = Vec::new();
+    let mut ok = true;
+    for (b, name) in model.body_names().into_iter().enumerate() {
+        let pi = InertialParams(std::array::from_fn(|k| theta[10 * b + k]));
+        let rep = check_consistency(&pi, CHECK_TOL);
+        let real = opts
+            .ellipsoids
+            .as_ref()
+            .map(|e| check_realizable(&pi, &e[b], CHECK_TOL));
+        let satisfied = match opts.level {
+            Level::None => true,
+            Level::Semi => rep.semi_consistent && pi.mass() > 0.0,
+            Level::Consistent => rep.consistent,
+            Level::Ellipsoid => real.as_ref().is_some_and(|r| r.realizable),
+        };
+        ok &= satisfied;
+        let mci = if pi.mass() > 0.0 {
+            Some(pi.to_mass_com_inertia())
+        } else {
+            None
+        };
+        let cov = pi.covariance_ellipsoid();
+        bodies.push(BodyResult {
+            name,
+            params: pi.0,
+            mass: pi.mass(),
+            com: mci.map_or([f64::NAN; 3], |m| [m.com.x, m.com.y, m.com.z]),
+            principal_moments: rep.principal_moments,
+            covariance_semi_axes: [cov.semi_axes.x, cov.semi_axes.y, cov.semi_axes.z],
+            consistent: rep.consistent,
+            consistency: rep,
+            realizability: real,
+        });
+    }
+    let friction = Friction {
+        viscous: theta[10 * nb..10 * nb + n].to_vec(),
+        coulomb: theta[10 * nb + n..].to_vec(),
+    };
+    let (train_pred, _) = predict_split(model, &theta, train)?;
+    let training_rms = rms(&train_pred, &train.tau);
+    let (validation_rms, validation_prediction, contributions, vs) = match validate {
+        Some(v) if v.tau.len() == v.len() && !v.is_empty() => {
+            let (pred, c) = predict_split(model, &theta, v)?;
+            (Some(rms(&pred, &v.tau)), pred, c, v.len())
+        }
+        _ => (None, vec![], Contributions::default(), 0),
+    };
+    Ok(IdentifyResult {
+        robot: model.name.clone(),
+        joints: model.joint_names().iter().map(|s| s.to_string()).collect(),
+        parameter_order: "m, hx, hy, hz, Ixx, Ixy, Ixz, Iyy, Iyz, Izz".into(),
+        constraints: opts.level,
+        weight: opts.weight,
+        bodies,
+        friction,
+        constraints_satisfied: ok,
+        status: status.as_str().into(),
+        iterations,
+        rank,
+        num_parameters: theta.len(),
+        unidentifiable_directions: unidentifiable,
+        training_samples: train.len(),
+        training_rms,
+        validation_rms,
+        validation_samples: vs,
+        solve_time_s,
+        reduce_time_s: reduce_time,
+        total_time_s: t0.elapsed().as_secs_f64(),
+        validation_prediction,
+        contributions,
+        theta,
+    })
+}
