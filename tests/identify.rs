@@ -1,0 +1,148 @@
+//! Identification on simulated Cheetah 3 leg data.
+
+use momentlmi::dynamics::{Data, cheetah3, regressor};
+use momentlmi::identify::{IdentifyOptions, Level, identify, predict_split};
+use momentlmi::sim::{Dataset, Effects, SimConfig, simulate};
+
+fn data(seconds: f64, noise: f64, effects: &str, seed: u64) -> Dataset {
+    let model = cheetah3::model();
+    let mut cfg = SimConfig::for_model(
+        "cheetah3-leg",
+        &model,
+        seconds,
+        Effects::parse(effects, &[]).unwrap(),
+        seed,
+    );
+    if noise == 0.0 {
+        cfg.noise_sigma = 0.0;
+        cfg.encoder_counts = 0.0;
+        cfg.processed = false;
+    } else {
+        cfg.noise_sigma = noise;
+    }
+    simulate(&model, &cfg, |_, _| {}).unwrap()
+}
+
+fn opts(level: Level, weight: f64) -> IdentifyOptions {
+    let cad = cheetah3::model_with(&cheetah3::cad_params()).unwrap();
+    IdentifyOptions {
+        level,
+        weight,
+        prior: cad.params(),
+        ellipsoids: Some(cheetah3::ellipsoids().to_vec()),
+        com_lmi: false,
+        eps: 0.0,
+    }
+}
+
+/// Noise-free data: held-out torques are reproduced to ~1e-9 relative at
+/// every level the true parameters satisfy (all of them here), and the
+/// identifiable combinations R θ equal the true ones.
+#[test]
+fn noise_free_data_are_reproduced_at_every_level() {
+    let all = data(8.0, 0.0, "rotor_inertia,coulomb,viscous", 1);
+    let (train, val) = (all.slice(0..4000), all.slice(4000..8000));
+    let model = cheetah3::model();
+    let mut truth = model.params();
+    truth.extend(cheetah3::VISCOUS);
+    truth.extend(cheetah3::COULOMB);
+    let scale = val.tau.iter().flatten().map(|x| x * x).sum::<f64>().sqrt();
+    for level in [
+        Level::None,
+        Level::Semi,
+        Level::Consistent,
+        Level::Ellipsoid,
+    ] {
+        let r = identify(&model, &train, Some(&val), &opts(level, 0.0)).unwrap();
+        assert!(r.constraints_satisfied, "{level:?}");
+        let err = r
+            .validation_prediction
+            .iter()
+            .zip(&val.tau)
+            .flat_map(|(p, m)| (0..3).map(move |i| (p[i] - m[i]).powi(2)))
+            .sum::<f64>()
+            .sqrt();
+        let rel = err / scale;
+        println!("{level:?}: relative held-out error {rel:e}");
+        let tol = 1e-9;
+        assert!(rel < tol, "{level:?}: relative held-out error {rel:e}");
+        // identifiable combinations: Y θ̂ = Y θ_true on fresh states
+        let mut d = Data::new(&model);
+        for k in (0..val.len()).step_by(397) {
+            let y = regressor(&model, &mut d, &val.q[k], &val.qd[k], &val.qdd[k]).unwrap();
+            for i in 0..3 {
+                let a: f64 = (0..66).map(|j| y[(i, j)] * r.theta[j]).sum();
+                let b: f64 = (0..66).map(|j| y[(i, j)] * truth[j]).sum();
+                assert!((a - b).abs() < 1e-6 * (1.0 + b.abs()), "{level:?}");
+            }
+        }
+        // Coulomb friction is identifiable: recovered
+        for i in 0..3 {
+            assert!(
+                (r.friction.coulomb[i] - cheetah3::COULOMB[i]).abs() < 1e-5,
+                "{level:?}: {:?}",
+                r.friction.coulomb
+            );
+        }
+    }
+}
+
+#[test]
+fn noisy_identification_satisfies_its_constraints_checked_by_moments() {
+    let all = data(6.0, 0.3, "rotor_inertia,coulomb,viscous", 2);
+    let (train, val) = (all.slice(0..3000), all.slice(3000..6000));
+    let model = cheetah3::model();
+    for level in [Level::Semi, Level::Consistent, Level::Ellipsoid] {
+        let r = identify(&model, &train, Some(&val), &opts(level, 1e-6)).unwrap();
+        assert!(r.constraints_satisfied, "{level:?}");
+        for b in &r.bodies {
+            match level {
+                Level::Semi => assert!(b.consistency.semi_consistent, "{}", b.name),
+                Level::Consistent => assert!(b.consistent, "{}", b.name),
+                _ => assert!(b.realizability.as_ref().unwrap().realizable, "{}", b.name),
+            }
+        }
+        assert!(
+            r.friction
+                .viscous
+                .iter()
+                .chain(&r.friction.coulomb)
+                .all(|&x| x >= -1e-9)
+        );
+        let v = r.validation_rms.unwrap();
+        assert!(v.iter().all(|&x| x < 0.6), "{level:?}: {v:?}");
+        // the contributions add up to the prediction
+        let (pred, c) = predict_split(&model, &r.theta, &val).unwrap();
+        for k in (0..val.len()).step_by(500) {
+            for i in 0..3 {
+                assert!(
+                    (c.links[k][i] + c.rotors[k][i] + c.friction[k][i] - pred[k][i]).abs() < 1e-9
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn too_few_samples_warn_and_stay_consistent() {
+    let all = data(0.02, 0.3, "rotor_inertia,coulomb,viscous", 3);
+    let model = cheetah3::model();
+    let r = identify(&model, &all, None, &opts(Level::Consistent, 0.0)).unwrap();
+    assert!(r.rank < 66);
+    assert!(!r.unidentifiable_directions.is_empty());
+    assert!(
+        r.bodies.iter().all(|b| b.consistent),
+        "the constrained answer is still consistent"
+    );
+    // the unconstrained one need not be
+    let e = identify(
+        &model,
+        &Dataset {
+            tau: vec![],
+            ..all.clone()
+        },
+        None,
+        &opts(Level::None, 0.0),
+    );
+    assert!(e.is_err(), "no torques is an error");
+}
