@@ -521,3 +521,106 @@ fn bad_lengths_are_errors() {
     assert!(rnea(&model, &mut data, &[0.0; 2], &[0.0; 3], &[0.0; 3]).is_err());
     assert!(crba(&model, &mut data, &[0.0; 4]).is_err());
 }
+
+/// A tree with a prismatic joint and a branch: Y π = RNEA τ and CRBA equals
+/// unit-acceleration RNEA (checks the prismatic subspace and branching).
+#[test]
+fn prismatic_joint_and_branching_tree() {
+    use momentlmi::dynamics::spatial::Transform;
+    use momentlmi::dynamics::{Joint, JointKind};
+    use momentlmi::moments::InertialParams;
+    use nalgebra::{Matrix3, Vector3};
+    let body = |m: f64, c: [f64; 3]| {
+        InertialParams::from_mass_com_inertia(
+            m,
+            Vector3::from(c),
+            Matrix3::from_diagonal(&Vector3::new(0.02, 0.03, 0.04)),
+        )
+    };
+    let j = |name: &str, parent, kind, axis: [f64; 3], p: [f64; 3], inertia| Joint {
+        name: name.into(),
+        body: name.into(),
+        parent,
+        kind,
+        axis: Vector3::from(axis).normalize(),
+        x_tree: Transform::from_pose(
+            &momentlmi::moments::rpy_rotation([0.1, -0.2, 0.3]),
+            &Vector3::from(p),
+        ),
+        limits: (-1.0, 1.0),
+        inertia,
+    };
+    let joints = vec![
+        j(
+            "slide",
+            None,
+            JointKind::Prismatic,
+            [1.0, 0.0, 0.2],
+            [0.0, 0.0, 0.1],
+            body(2.0, [0.1, 0.0, 0.0]),
+        ),
+        j(
+            "left",
+            Some(0),
+            JointKind::Revolute,
+            [0.0, 1.0, 0.0],
+            [0.2, 0.1, 0.0],
+            body(1.0, [0.0, 0.0, -0.2]),
+        ),
+        j(
+            "right",
+            Some(0),
+            JointKind::Revolute,
+            [0.0, 0.0, 1.0],
+            [-0.2, 0.1, 0.0],
+            body(0.7, [0.1, 0.1, 0.0]),
+        ),
+        j(
+            "tip",
+            Some(2),
+            JointKind::Prismatic,
+            [0.0, 0.0, 1.0],
+            [0.3, 0.0, 0.0],
+            body(0.3, [0.0, 0.05, 0.0]),
+        ),
+    ];
+    let model = Model::new(
+        "tree",
+        joints,
+        vec![],
+        nalgebra::Vector3::new(0.0, 0.0, -9.81),
+    )
+    .unwrap();
+    let nog = Model::new(
+        "tree",
+        model.joints.clone(),
+        vec![],
+        nalgebra::Vector3::zeros(),
+    )
+    .unwrap();
+    let (mut d, mut dn) = (Data::new(&model), Data::new(&nog));
+    let theta = model.params();
+    let mut rng = Rng(21);
+    for _ in 0..20 {
+        let v = |r: &mut Rng, s: f64| (0..4).map(|_| s * r.f()).collect::<Vec<f64>>();
+        let (q, qd, qdd) = (v(&mut rng, 1.0), v(&mut rng, 3.0), v(&mut rng, 10.0));
+        let tau = rnea(&model, &mut d, &q, &qd, &qdd).unwrap().clone();
+        let y = regressor(&model, &mut d, &q, &qd, &qdd).unwrap().clone();
+        for i in 0..4 {
+            let pred: f64 = (0..40).map(|k| y[(i, k)] * theta[k]).sum();
+            assert!((pred - tau[i]).abs() < 1e-10 * (1.0 + tau[i].abs()));
+        }
+        let m = crba(&model, &mut d, &q).unwrap().clone();
+        for jj in 0..4 {
+            let mut e = vec![0.0; 4];
+            e[jj] = 1.0;
+            let col = rnea(&nog, &mut dn, &q, &[0.0; 4], &e).unwrap();
+            for i in 0..4 {
+                assert!((m[(i, jj)] - col[i]).abs() < 1e-12);
+            }
+        }
+        // left and right are on different branches: no coupling
+        assert_eq!(m[(1, 2)], 0.0);
+        assert_eq!(m[(1, 3)], 0.0);
+    }
+}

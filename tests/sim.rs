@@ -222,3 +222,32 @@ fn processed_data_track_the_true_states() {
     let sd = (res.iter().map(|x| x * x).sum::<f64>() / res.len() as f64).sqrt();
     assert!((sd - 0.3).abs() < 0.02, "σ = {sd}");
 }
+
+#[test]
+fn multisine_excitation_stays_in_limits_for_any_robot() {
+    // the Panda-like limits of a URDF model: a 3-link chain written here
+    let urdf = "<robot name=\"r\"><link name=\"a\"/><link name=\"b\"><inertial><mass value=\"1\"/><inertia ixx=\"0.01\" ixy=\"0\" ixz=\"0\" iyy=\"0.01\" iyz=\"0\" izz=\"0.01\"/></inertial></link>\
+        <link name=\"c\"><inertial><mass value=\"1\"/><origin xyz=\"0.2 0 0\"/><inertia ixx=\"0.01\" ixy=\"0\" ixz=\"0\" iyy=\"0.01\" iyz=\"0\" izz=\"0.01\"/></inertial></link>\
+        <joint name=\"j1\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/><axis xyz=\"0 0 1\"/><limit lower=\"-0.5\" upper=\"2.0\" effort=\"1\" velocity=\"1\"/></joint>\
+        <joint name=\"j2\" type=\"continuous\"><parent link=\"b\"/><child link=\"c\"/><origin xyz=\"0.3 0 0\"/><axis xyz=\"0 1 0\"/></joint></robot>";
+    let model = momentlmi::dynamics::urdf::model_from_urdf_str(urdf, "r.urdf", None).unwrap();
+    for seed in 0..5 {
+        let tr = Trajectory::fourier_for(&model, seed);
+        for k in 0..2000 {
+            let (q, _, _) = tr.state(k as f64 * 0.01).unwrap();
+            assert!(q[0] >= -0.5 && q[0] <= 2.0, "{}", q[0]);
+            assert!(q[1].abs() <= 1.0 + 1e-12);
+        }
+    }
+    let mut cfg = SimConfig::for_model(
+        "r.urdf",
+        &model,
+        2.0,
+        Effects::parse("coulomb,viscous", &[]).unwrap(),
+        3,
+    );
+    cfg.noise_sigma = 0.1;
+    let d = simulate(&model, &cfg, |_, _| {}).unwrap();
+    assert_eq!(d.len(), 2000);
+    assert_eq!(d.joints, vec!["j1", "j2"]);
+}

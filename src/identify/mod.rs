@@ -13,5 +13,5 @@ pub mod reduce;
 pub mod result;
 
 pub use problem::{IdentifyError, IdentifyOptions, Level, parameter_names, solve_identification};
-pub use reduce::{Reduced, reduce_samples};
+pub use reduce::{Reduced, StreamReducer, reduce_samples};
 pub use result::{BodyResult, Contributions, IdentifyResult, identify, predict_split, rms};

@@ -115,3 +115,86 @@ pub fn reduce_samples(
         p,
     }
 }
+
+/// A streaming reducer: push samples one at a time (e.g. while reading a
+/// file or simulating); memory is one chunk of rows plus the Gram matrix,
+/// whatever the number of samples.
+pub struct StreamReducer<'m> {
+    model: &'m Model,
+    data: crate::dynamics::Data,
+    buf: Vec<f64>,
+    rows: usize,
+    chunk_rows: usize,
+    red: Reduced,
+}
+
+impl<'m> StreamReducer<'m> {
+    /// A reducer for `model`, multiplying out every `chunk` samples.
+    pub fn new(model: &'m Model, chunk: usize) -> Self {
+        let n = model.dof();
+        let p = 10 * model.num_bodies() + 2 * n;
+        let chunk_rows = chunk.max(1) * n;
+        Self {
+            model,
+            data: crate::dynamics::Data::new(model),
+            buf: vec![0.0; chunk_rows * (p + 1)],
+            rows: 0,
+            chunk_rows,
+            red: Reduced {
+                gram: Mat::zeros(p + 1, p + 1),
+                samples: 0,
+                p,
+            },
+        }
+    }
+
+    /// Adds one sample.
+    pub fn push(
+        &mut self,
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+        tau: &[f64],
+    ) -> Result<(), crate::dynamics::DynamicsError> {
+        let n = self.model.dof();
+        let p = self.red.p;
+        crate::dynamics::regressor(self.model, &mut self.data, q, qd, qdd)?;
+        let y = self.data.regressor.as_slice();
+        for i in 0..n {
+            let row = &mut self.buf[(self.rows + i) * (p + 1)..(self.rows + i + 1) * (p + 1)];
+            for c in 0..p {
+                row[c] = y[c * n + i];
+            }
+            row[p] = tau[i];
+        }
+        self.rows += n;
+        self.red.samples += 1;
+        if self.rows == self.chunk_rows {
+            self.flush();
+        }
+        Ok(())
+    }
+
+    fn flush(&mut self) {
+        if self.rows == 0 {
+            return;
+        }
+        let p1 = self.red.p + 1;
+        let x = MatRef::from_row_major_slice(&self.buf[..self.rows * p1], self.rows, p1);
+        faer::linalg::matmul::matmul(
+            self.red.gram.as_mut(),
+            faer::Accum::Add,
+            x.transpose(),
+            x,
+            1.0,
+            faer::Par::Seq,
+        );
+        self.rows = 0;
+    }
+
+    /// The reduced data.
+    pub fn finish(mut self) -> Reduced {
+        self.flush();
+        self.red
+    }
+}

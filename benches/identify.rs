@@ -1,0 +1,67 @@
+//! Identification benchmarks: 10,000 samples of the 6-body leg with
+//! ellipsoid constraints end to end (regressor + reduction + SDP), and the
+//! scaling of the streaming reduction with the number of samples.
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use momentlmi::dynamics::cheetah3;
+use momentlmi::identify::{
+    IdentifyOptions, Level, StreamReducer, reduce_samples, solve_identification,
+};
+use momentlmi::sim::{Effects, SimConfig, simulate};
+use std::hint::black_box;
+
+fn bench(c: &mut Criterion) {
+    let model = cheetah3::model();
+    let fx = Effects::parse("rotor_inertia,coulomb,viscous", &[]).unwrap();
+    let cfg = SimConfig::for_model("cheetah3-leg", &model, 10.0, fx, 1);
+    let d = simulate(&model, &cfg, |_, _| {}).unwrap();
+    let prior = cheetah3::model_with(&cheetah3::cad_params())
+        .unwrap()
+        .params();
+    let opts = |level| IdentifyOptions {
+        level,
+        weight: 1e-6,
+        prior: prior.clone(),
+        ellipsoids: Some(cheetah3::ellipsoids().to_vec()),
+        com_lmi: false,
+        eps: 0.0,
+    };
+    let mut g = c.benchmark_group("identify_10000_samples_6_bodies");
+    g.sample_size(30);
+    for level in [Level::None, Level::Consistent, Level::Ellipsoid] {
+        let o = opts(level);
+        g.bench_function(format!("end_to_end/{}", level.as_str()), |b| {
+            b.iter(|| {
+                let red = reduce_samples(&model, &d.q, &d.qd, &d.qdd, &d.tau, 1024);
+                black_box(solve_identification(&model, &red, &o).unwrap().theta[0])
+            })
+        });
+    }
+    g.bench_function("reduction_only/parallel", |b| {
+        b.iter(|| black_box(reduce_samples(&model, &d.q, &d.qd, &d.qdd, &d.tau, 1024).samples))
+    });
+    let red = reduce_samples(&model, &d.q, &d.qd, &d.qdd, &d.tau, 1024);
+    let o = opts(Level::Ellipsoid);
+    g.bench_function("sdp_only/ellipsoid", |b| {
+        b.iter(|| black_box(solve_identification(&model, &red, &o).unwrap().theta[0]))
+    });
+    g.finish();
+    let mut g = c.benchmark_group("stream_reduction");
+    g.sample_size(10);
+    for &n in &[10_000usize, 100_000] {
+        g.bench_function(format!("{n}_samples"), |b| {
+            b.iter(|| {
+                let mut r = StreamReducer::new(&model, 1024);
+                for k in 0..n {
+                    let s = k % d.len();
+                    r.push(&d.q[s], &d.qd[s], &d.qdd[s], &d.tau[s]).unwrap();
+                }
+                black_box(r.finish().samples)
+            })
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
