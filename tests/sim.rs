@@ -101,7 +101,10 @@ fn each_effect_alone_adds_its_formula_and_off_is_absent() {
         }
     };
     for e in EFFECTS {
-        if e == "time_delay" || e == "payload" || e == "rotor_inertia" {
+        if matches!(
+            e,
+            "time_delay" | "payload" | "rotor_inertia" | "elasticity" | "backlash"
+        ) {
             continue; // checked below through the dynamics
         }
         let fx = Effects::parse(e, &[]).unwrap();
@@ -162,11 +165,7 @@ fn each_effect_alone_adds_its_formula_and_off_is_absent() {
         assert!((0..3).all(|i| (t[i] - pay[k][i]).abs() < 1e-12));
     }
     assert!(Effects::parse("coulomb,warp_drive", &[]).is_err());
-    assert!(
-        Effects::parse("backlash", &[])
-            .unwrap_err()
-            .contains("not implemented")
-    );
+
     assert!(Effects::parse("offset", &["offset=abc".into()]).is_err());
 }
 
@@ -250,4 +249,89 @@ fn multisine_excitation_stays_in_limits_for_any_robot() {
     let d = simulate(&model, &cfg, |_, _| {}).unwrap();
     assert_eq!(d.len(), 2000);
     assert_eq!(d.joints, vec!["j1", "j2"]);
+}
+
+/// Elasticity and backlash: the torque carries the spring torque computed
+/// from the simulated link-side state instead of the rigid links' torque,
+/// the link side obeys its own dynamics, and the dead band transmits nothing.
+#[test]
+fn elasticity_and_backlash_follow_their_formulas() {
+    use momentlmi::dynamics::{Data, Model, rnea};
+    use momentlmi::sim::compliance::{Compliance, simulate_link_side};
+    let model = cheetah3::model();
+    for (effects, b) in [("elasticity", 0.0), ("backlash", 0.005)] {
+        let fx = Effects::parse(effects, &[]).unwrap();
+        let mut cfg = SimConfig::for_model("cheetah3-leg", &model, 1.0, fx, 1);
+        cfg.noise_sigma = 0.0;
+        cfg.encoder_counts = 0.0;
+        cfg.processed = false;
+        let d = simulate(&model, &cfg, |_, _| {}).unwrap();
+        let mut rigid_cfg = cfg.clone();
+        rigid_cfg.effects = Effects::default();
+        let r = simulate(&model, &rigid_cfg, |_, _| {}).unwrap();
+        let c = Compliance {
+            stiffness: 2000.0,
+            damping: 5.0,
+            backlash: b,
+        };
+        let links = Model::new("l", model.joints.clone(), vec![], model.gravity).unwrap();
+        let ls = simulate_link_side(&links, &cfg.trajectory, &d.t, &c).unwrap();
+        let mut data = Data::new(&links);
+        let mut dead = 0;
+        for k in (5..d.len() - 5).step_by(7) {
+            for i in 0..3 {
+                // formula: τ = τ_rigid(θ) − τ_links(θ) + τ_s, here with no rotors and no friction: τ = τ_s
+                let x = d.q[k][i] - ls[k].0[i];
+                let xd = d.qd[k][i] - ls[k].1[i];
+                let ts = c.torque(x, xd);
+                assert!((d.tau[k][i] - ts).abs() < 1e-9, "{effects}: joint {i}");
+                assert!(
+                    (ls[k].2[i] - ts).abs() < 1e-9 * (1.0 + ts.abs()),
+                    "{} vs {ts}",
+                    ls[k].2[i]
+                );
+                if x.abs() <= b {
+                    assert_eq!(ts, 0.0);
+                    dead += 1;
+                }
+                // the deflection is small but real
+                assert!(x.abs() < 0.05, "{effects}: deflection {x}");
+            }
+            // link side: M(q_L) q̈_L + h = τ_s, q̈_L by central differences
+            let dt = d.t[k + 1] - d.t[k - 1];
+            let qdd: Vec<f64> = (0..3)
+                .map(|i| (ls[k + 1].1[i] - ls[k - 1].1[i]) / dt)
+                .collect();
+            let tau = rnea(&links, &mut data, &ls[k].0, &ls[k].1, &qdd).unwrap();
+            for i in 0..3 {
+                // (with backlash, skip samples near the dead band's edges, where
+                // the transmitted torque jumps and a central difference of q̇_L
+                // is no acceleration)
+                let near_edge = b > 0.0
+                    && (0..2).any(|s| {
+                        ((d.q[k + 2 * s - 1][i] - ls[k + 2 * s - 1].0[i]).abs() - b).abs() < 2.0 * b
+                    });
+                if near_edge {
+                    continue;
+                }
+                assert!(
+                    (tau[i] - ls[k].2[i]).abs() < 0.05 * (1.0 + ls[k].2[i].abs()),
+                    "{effects}: link dynamics joint {i}: {} vs {}",
+                    tau[i],
+                    ls[k].2[i]
+                );
+            }
+        }
+        if b > 0.0 {
+            assert!(dead > 0, "the dead band is crossed during the motion");
+        }
+        // and it differs from the rigid robot
+        let diff = d
+            .tau
+            .iter()
+            .zip(&r.tau)
+            .map(|(a, b)| (a[1] - b[1]).abs())
+            .fold(0.0, f64::max);
+        assert!(diff > 0.01, "{effects}: {diff}");
+    }
 }

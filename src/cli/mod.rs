@@ -72,7 +72,8 @@ enum Command {
         #[arg(long, default_value_t = 20.0)]
         seconds: f64,
         /// Comma-separated effects: rotor_inertia, coulomb, viscous, stribeck,
-        /// asymmetric_friction, offset, payload, time_delay, cogging, torque_gain.
+        /// asymmetric_friction, offset, payload, time_delay, cogging, torque_gain,
+        /// elasticity, backlash.
         #[arg(long, default_value = "")]
         effects: String,
         /// Output CSV (a JSON record of how it was made is written beside it).

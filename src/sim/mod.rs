@@ -8,6 +8,7 @@
 //! - [`dataset`]: the CSV data format with validation;
 //! - [`filter`]: zero-phase Butterworth low-pass and differentiation.
 
+pub mod compliance;
 pub mod dataset;
 pub mod filter;
 pub mod robot;

@@ -16,8 +16,8 @@
 //! | `cogging` | `A sin(p N qᵢ)` | `cogging_amplitude` (0.2 N·m), `cogging_period` p (6 per motor turn) |
 //! | `torque_gain` | measured `(1 + ε) τ` | `gain_error` ε (0.1) |
 //!
-//! `backlash` and `elasticity` need a simulation with their own state and
-//! are not implemented yet.
+//! | `elasticity` | the links are driven through a spring–damper from the motor side ([`super::compliance`]) | `stiffness` (2000 N·m/rad), `damping` (5 N·m·s/rad) |
+//! | `backlash` | as elasticity, with a dead band of half-width b | `backlash_width` b (0.005 rad), and the two above |
 
 use crate::dynamics::predict::predict_torques;
 use crate::dynamics::{Model, cheetah3, params_file::Friction, sign};
@@ -27,7 +27,7 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 /// The effects the simulator knows.
-pub const EFFECTS: [&str; 10] = [
+pub const EFFECTS: [&str; 12] = [
     "rotor_inertia",
     "coulomb",
     "viscous",
@@ -38,10 +38,12 @@ pub const EFFECTS: [&str; 10] = [
     "time_delay",
     "cogging",
     "torque_gain",
+    "elasticity",
+    "backlash",
 ];
 
 /// Effects not implemented yet (accepted names that are rejected with a message).
-pub const NOT_YET: [&str; 2] = ["backlash", "elasticity"];
+pub const NOT_YET: [&str; 0] = [];
 
 fn default_param(name: &str) -> Option<f64> {
     Some(match name {
@@ -56,6 +58,9 @@ fn default_param(name: &str) -> Option<f64> {
         "cogging_amplitude" => 0.2,
         "cogging_period" => 6.0,
         "gain_error" => 0.1,
+        "stiffness" => 2000.0,
+        "damping" => 5.0,
+        "backlash_width" => 0.005,
         _ => return None,
     })
 }
@@ -180,6 +185,31 @@ impl TrueRobot {
     /// The effects.
     pub fn effects(&self) -> &Effects {
         &self.effects
+    }
+
+    /// The compliance of the transmission, when `elasticity` or `backlash` is on.
+    pub fn compliance(&self) -> Option<super::compliance::Compliance> {
+        let e = &self.effects;
+        (e.has("elasticity") || e.has("backlash")).then(|| super::compliance::Compliance {
+            stiffness: e.param("stiffness"),
+            damping: e.param("damping"),
+            backlash: if e.has("backlash") {
+                e.param("backlash_width")
+            } else {
+                0.0
+            },
+        })
+    }
+
+    /// The links-only part of the true robot (payload included, no rotors).
+    pub fn links_model(&self) -> Model {
+        Model::new(
+            &self.model.name,
+            self.model.joints.clone(),
+            vec![],
+            self.model.gravity,
+        )
+        .expect("a valid model stays valid")
     }
 
     /// The delay (s) the trajectory must be sampled with for the torques.

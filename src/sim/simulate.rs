@@ -129,6 +129,34 @@ pub fn simulate(
         }
     }
     d.tau = robot.torques(&qs, &qds, &qdds)?;
+    if let Some(c) = robot.compliance() {
+        // the links' rigid torque at the motor-side state is replaced by the
+        // spring torque that actually drives them
+        let links = robot.links_model();
+        let rigid = crate::dynamics::predict::predict_torques(
+            &links,
+            &crate::dynamics::params_file::Friction {
+                viscous: vec![0.0; nj],
+                coulomb: vec![0.0; nj],
+            },
+            &qs,
+            &qds,
+            &qdds,
+        )
+        .map_err(|e| e.to_string())?;
+        let times: Vec<f64> = d.t.iter().map(|t| t - robot.delay()).collect();
+        let link_side = super::compliance::simulate_link_side(&links, &cfg.trajectory, &times, &c)?;
+        let gain = if robot.effects().has("torque_gain") {
+            1.0 + robot.effects().param("gain_error")
+        } else {
+            1.0
+        };
+        for k in 0..n {
+            for i in 0..nj {
+                d.tau[k][i] += gain * (link_side[k].2[i] - rigid[k][i]);
+            }
+        }
+    }
     let mut rng = rand::rngs::StdRng::seed_from_u64(cfg.seed);
     if cfg.noise_sigma > 0.0 {
         let normal = Normal::new(0.0, cfg.noise_sigma).map_err(|e| e.to_string())?;
