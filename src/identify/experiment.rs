@@ -170,25 +170,22 @@ pub fn run_experiment(
     // Fig. 4: measured vs predicted validation torques
     let t0 = val.t.first().copied().unwrap_or(0.0);
     let stride = (val.len() / 2500).max(1);
+    // a time series of the validation set, thinned to ~2,500 points
+    let series = |label: &'static str, color: usize, f: &dyn Fn(usize) -> f64| Series {
+        label,
+        points: (0..val.len())
+            .step_by(stride)
+            .map(|k| (val.t[k] - t0, f(k)))
+            .collect(),
+        color,
+    };
     let panels: Vec<Vec<Series>> = (0..3)
         .map(|j| {
             vec![
-                Series {
-                    label: "measured",
-                    points: (0..val.len())
-                        .step_by(stride)
-                        .map(|k| (val.t[k] - t0, val.tau[k][j]))
-                        .collect(),
-                    color: 5,
-                },
-                Series {
-                    label: "predicted (ellipsoid)",
-                    points: (0..val.len())
-                        .step_by(stride)
-                        .map(|k| (val.t[k] - t0, best.validation_prediction[k][j]))
-                        .collect(),
-                    color: 0,
-                },
+                series("measured", 5, &|k| val.tau[k][j]),
+                series("predicted (ellipsoid)", 0, &|k| {
+                    best.validation_prediction[k][j]
+                }),
             ]
         })
         .collect();
@@ -212,30 +209,9 @@ pub fn run_experiment(
     let panels: Vec<Vec<Series>> = (0..3)
         .map(|j| {
             vec![
-                Series {
-                    label: "link inertia + gravity",
-                    points: (0..val.len())
-                        .step_by(stride)
-                        .map(|k| (val.t[k] - t0, c.links[k][j]))
-                        .collect(),
-                    color: 0,
-                },
-                Series {
-                    label: "rotor inertia",
-                    points: (0..val.len())
-                        .step_by(stride)
-                        .map(|k| (val.t[k] - t0, c.rotors[k][j]))
-                        .collect(),
-                    color: 1,
-                },
-                Series {
-                    label: "friction",
-                    points: (0..val.len())
-                        .step_by(stride)
-                        .map(|k| (val.t[k] - t0, c.friction[k][j]))
-                        .collect(),
-                    color: 2,
-                },
+                series("link inertia + gravity", 0, &|k| c.links[k][j]),
+                series("rotor inertia", 1, &|k| c.rotors[k][j]),
+                series("friction", 2, &|k| c.friction[k][j]),
             ]
         })
         .collect();

@@ -21,6 +21,21 @@ pub fn skew(x: &Vector3<f64>) -> Matrix3<f64> {
     Matrix3::new(0.0, -x.z, x.y, x.z, 0.0, -x.x, -x.y, x.x, 0.0)
 }
 
+/// Eigenvalues ascending and eigenvectors as the columns of a rotation.
+fn sorted_eigen(m: &Matrix3<f64>) -> (Vector3<f64>, Matrix3<f64>) {
+    let eig = SymmetricEigen::new(*m);
+    let mut idx = [0usize, 1, 2];
+    idx.sort_by(|&a, &b| eig.eigenvalues[a].total_cmp(&eig.eigenvalues[b]));
+    let mut axes = Matrix3::zeros();
+    for k in 0..3 {
+        axes.set_column(k, &eig.eigenvectors.column(idx[k]));
+    }
+    if axes.determinant() < 0.0 {
+        axes.set_column(2, &(-axes.column(2)));
+    }
+    (Vector3::from_fn(|k, _| eig.eigenvalues[idx[k]]), axes)
+}
+
 /// Inertial parameters π ∈ ℝ¹⁰ of one rigid body, in the paper's order
 /// (see the module documentation). Frame: the body frame; units SI.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -181,21 +196,9 @@ impl InertialParams {
 
     /// The covariance ellipsoid (Section IV-B).
     pub fn covariance_ellipsoid(&self) -> CovarianceEllipsoid {
-        let eig = SymmetricEigen::new(self.covariance());
-        let mut idx = [0usize, 1, 2];
-        idx.sort_by(|&a, &b| eig.eigenvalues[a].total_cmp(&eig.eigenvalues[b]));
+        let (mu, axes) = sorted_eigen(&self.covariance());
         let m = self.mass();
-        let semi = Vector3::from_fn(|k, _| {
-            let mu = eig.eigenvalues[idx[k]];
-            if mu >= 0.0 { (mu / m).sqrt() } else { f64::NAN }
-        });
-        let mut axes = Matrix3::zeros();
-        for k in 0..3 {
-            axes.set_column(k, &eig.eigenvectors.column(idx[k]));
-        }
-        if axes.determinant() < 0.0 {
-            axes.set_column(2, &(-axes.column(2)));
-        }
+        let semi = mu.map(|mu| if mu >= 0.0 { (mu / m).sqrt() } else { f64::NAN });
         CovarianceEllipsoid {
             center: self.com(),
             semi_axes: semi,
@@ -206,17 +209,7 @@ impl InertialParams {
     /// Principal moments of the inertia about the CoM, ascending, and the
     /// principal axes (columns, right-handed).
     pub fn principal_moments(&self) -> (Vector3<f64>, Matrix3<f64>) {
-        let eig = SymmetricEigen::new(self.inertia_com());
-        let mut idx = [0usize, 1, 2];
-        idx.sort_by(|&a, &b| eig.eigenvalues[a].total_cmp(&eig.eigenvalues[b]));
-        let mut axes = Matrix3::zeros();
-        for k in 0..3 {
-            axes.set_column(k, &eig.eigenvectors.column(idx[k]));
-        }
-        if axes.determinant() < 0.0 {
-            axes.set_column(2, &(-axes.column(2)));
-        }
-        (Vector3::from_fn(|k, _| eig.eigenvalues[idx[k]]), axes)
+        sorted_eigen(&self.inertia_com())
     }
 
     /// The same body expressed in another frame: `x_new = R x_old + p`
