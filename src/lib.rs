@@ -22,6 +22,7 @@ pub mod faer_lapack;
 
 pub mod cli;
 pub mod conic;
+pub mod diagnose;
 pub mod dynamics;
 pub mod identify;
 pub mod moments;

@@ -4,6 +4,7 @@
 
 mod check_cmd;
 mod demo;
+mod diagnose_cmd;
 mod identify_cmd;
 mod predict_cmd;
 mod sdpa_cmd;
@@ -116,6 +117,27 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Diagnose the gap between a nominal model and measured data (first version).
+    Diagnose {
+        /// Built-in model (cheetah3-leg) or a URDF file.
+        #[arg(long)]
+        robot: String,
+        /// TOML sidecar for a URDF.
+        #[arg(long)]
+        sidecar: Option<PathBuf>,
+        /// Measured data CSV.
+        #[arg(long)]
+        data: PathBuf,
+        /// Nominal model: cad | true (cheetah3-leg) or a parameter file (e.g. from identify --json).
+        #[arg(long)]
+        nominal: Option<String>,
+        /// Print the JSON report.
+        #[arg(long)]
+        json: bool,
+        /// Also write diagnosis.json into this folder.
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     /// Solve an SDPA sparse file (.dat-s) and print the result.
     Sdpa {
         /// The .dat-s file.
@@ -201,6 +223,21 @@ pub fn main() -> i32 {
             validate: validate.as_deref(),
             json,
         }),
+        Command::Diagnose {
+            robot,
+            sidecar,
+            data,
+            nominal,
+            json,
+            out,
+        } => diagnose_cmd::run(
+            &robot,
+            sidecar.as_deref(),
+            &data,
+            nominal.as_deref(),
+            json,
+            out.as_deref(),
+        ),
         Command::Sdpa {
             file,
             json,

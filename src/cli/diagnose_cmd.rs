@@ -1,0 +1,112 @@
+//! `momentlmi diagnose --robot MODEL --data FILE.csv [--nominal cad|true|FILE] [--json] [--out DIR]`.
+
+use crate::diagnose::{DiagnoseOptions, Diagnosis, diagnose};
+use crate::dynamics::robots::{apply_params, load_robot};
+use crate::sim::dataset::write_whole;
+use crate::sim::{Dataset, ReadOptions};
+use std::path::Path;
+
+/// Exit codes: 0 diagnosed, 2 bad input.
+pub fn run(
+    robot: &str,
+    sidecar: Option<&Path>,
+    data: &Path,
+    nominal: Option<&str>,
+    json: bool,
+    out: Option<&Path>,
+) -> i32 {
+    let res = (|| -> Result<Diagnosis, String> {
+        let mut model = load_robot(robot, sidecar).map_err(|e| e.to_string())?;
+        let friction = apply_params(&mut model, nominal).map_err(|e| e.to_string())?;
+        let names: Vec<String> = model.joint_names().iter().map(|s| s.to_string()).collect();
+        let nref: Vec<&str> = names.iter().map(String::as_str).collect();
+        let d =
+            Dataset::read_csv(data, &nref, ReadOptions::default()).map_err(|e| e.to_string())?;
+        diagnose(&model, &friction, &d, &DiagnoseOptions::default())
+    })();
+    let dg = match res {
+        Ok(d) => d,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return 2;
+        }
+    };
+    let text = serde_json::to_string_pretty(&dg).unwrap_or_default();
+    if let Some(dir) = out {
+        if let Err(e) = std::fs::create_dir_all(dir)
+            .map_err(|e| e.to_string())
+            .and_then(|_| {
+                write_whole(&dir.join("diagnosis.json"), &text).map_err(|e| e.to_string())
+            })
+        {
+            eprintln!("error: {}: {e}", dir.display());
+            return 2;
+        }
+    }
+    if json {
+        println!("{text}");
+        return 0;
+    }
+    println!("Where the gap lies (held-out part, nominal model):");
+    for s in &dg.summary {
+        println!("  {s}");
+    }
+    println!(
+        "\nWhich effects explain it (forward selection, fitted on the first part, scored on the held-out part):"
+    );
+    println!(
+        "  {:<20} {:<26} {:>6} {:>9} {:>7}  held-out RMS before → after",
+        "effect", "detail", "params", "ΔBIC", "z"
+    );
+    let mut round = 0;
+    for e in &dg.ranked_effects {
+        if e.round != round {
+            round = e.round;
+            println!("  — round {round}");
+        }
+        if !e.accepted && e.z < 3.0 {
+            continue;
+        }
+        println!(
+            "  {:<20} {:<26} {:>6} {:>9.1} {:>7.1}  {:?} → {:?}{}{}",
+            e.effect,
+            e.detail,
+            e.params,
+            e.delta_bic,
+            e.z,
+            e.heldout_rms_before
+                .iter()
+                .map(|x| format!("{x:.3}"))
+                .collect::<Vec<_>>(),
+            e.heldout_rms_after
+                .iter()
+                .map(|x| format!("{x:.3}"))
+                .collect::<Vec<_>>(),
+            if e.accepted { "  ACCEPTED" } else { "" },
+            if e.tied_with.is_empty() {
+                String::new()
+            } else {
+                format!(" (tied with {})", e.tied_with.join(", "))
+            }
+        );
+    }
+    println!("\nHow far:");
+    for (i, j) in dg.joints.iter().enumerate() {
+        println!(
+            "  {j:<10} held-out RMS {:.3} → {:.3} N·m, noise floor {:.3}, gap closed {:.0} %",
+            dg.heldout_rms_nominal[i],
+            dg.heldout_rms_final[i],
+            dg.noise_floor[i],
+            100.0 * dg.gap_closed[i]
+        );
+    }
+    if dg.unexplained {
+        println!("\nUnexplained remainder:");
+        for s in &dg.unexplained_where {
+            println!("  {s}");
+        }
+    } else {
+        println!("\nNothing left above the noise floor.");
+    }
+    0
+}

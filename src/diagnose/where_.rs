@@ -1,0 +1,272 @@
+//! Where the gap lies: the held-out residual `τ − τ_model` per joint, broken
+//! down by motion regime, position, frequency band and time, with whiteness
+//! and cross-correlation checks.
+
+use crate::sim::filter::filtfilt;
+use serde::Serialize;
+
+/// Residual statistics of one group of samples of one joint.
+#[derive(Clone, Debug, Serialize)]
+pub struct Bin {
+    /// What the group is.
+    pub label: String,
+    /// Samples in it.
+    pub samples: usize,
+    /// RMS of the residual (N·m).
+    pub rms: f64,
+    /// Mean of the residual (N·m).
+    pub bias: f64,
+}
+
+/// One joint's analysis.
+#[derive(Clone, Debug, Serialize)]
+pub struct JointWhere {
+    /// Joint name.
+    pub joint: String,
+    /// RMS of the residual (N·m).
+    pub rms: f64,
+    /// Mean of the residual (N·m).
+    pub bias: f64,
+    /// RMS of the measured torque (N·m), the scale.
+    pub torque_rms: f64,
+    /// Noise-floor estimate from first differences, `RMS(Δr)/√2` (N·m):
+    /// white measurement noise shows up here; slow model errors do not.
+    pub noise_floor: f64,
+    /// By velocity: near zero, reversals, and |q̇| bins with sign.
+    pub by_velocity: Vec<Bin>,
+    /// By acceleration magnitude.
+    pub by_acceleration: Vec<Bin>,
+    /// By position quartile.
+    pub by_position: Vec<Bin>,
+    /// By time (consecutive fifths).
+    pub by_time: Vec<Bin>,
+    /// Residual variance per frequency band, `(label, share of variance)`.
+    pub spectrum: Vec<(String, f64)>,
+    /// Autocorrelation at lags 1..=20 samples.
+    pub autocorrelation: Vec<f64>,
+    /// The 99 % band for white noise, `2.576/√N`.
+    pub whiteness_band: f64,
+    /// Ljung–Box Q over 20 lags (χ²₂₀ 99 % quantile: 37.57).
+    pub ljung_box_q: f64,
+    /// Correlation of the residual with q, q̇, sign(q̇), q̈ and τ.
+    pub cross_correlation: Vec<(String, f64)>,
+}
+
+fn stats(label: String, r: &[f64], idx: impl Iterator<Item = usize>) -> Bin {
+    let v: Vec<f64> = idx.map(|k| r[k]).collect();
+    let n = v.len().max(1) as f64;
+    Bin {
+        label,
+        samples: v.len(),
+        rms: (v.iter().map(|x| x * x).sum::<f64>() / n).sqrt(),
+        bias: v.iter().sum::<f64>() / n,
+    }
+}
+
+fn corr(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len().min(b.len()) as f64;
+    let (ma, mb) = (a.iter().sum::<f64>() / n, b.iter().sum::<f64>() / n);
+    let (mut sab, mut saa, mut sbb) = (0.0, 0.0, 0.0);
+    for (x, y) in a.iter().zip(b) {
+        sab += (x - ma) * (y - mb);
+        saa += (x - ma).powi(2);
+        sbb += (y - mb).powi(2);
+    }
+    if saa > 0.0 && sbb > 0.0 {
+        sab / (saa * sbb).sqrt()
+    } else {
+        0.0
+    }
+}
+
+fn quantile(v: &[f64], q: f64) -> f64 {
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    s[((s.len() - 1) as f64 * q) as usize]
+}
+
+/// Analyses one joint's residual `r` against its signals (sampled at `fs` Hz).
+#[allow(clippy::too_many_arguments)]
+pub fn analyse_joint(
+    joint: &str,
+    r: &[f64],
+    q: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+    tau: &[f64],
+    fs: f64,
+) -> JointWhere {
+    let n = r.len();
+    let all = stats("all".into(), r, 0..n);
+    let torque_rms = (tau.iter().map(|x| x * x).sum::<f64>() / n.max(1) as f64).sqrt();
+    let noise_floor = if n > 1 {
+        (r.windows(2).map(|w| (w[1] - w[0]).powi(2)).sum::<f64>() / (n - 1) as f64 / 2.0).sqrt()
+    } else {
+        0.0
+    };
+    let vmax = qd.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let slow = 0.05 * vmax.max(1e-9);
+    let window = (0.02 * fs).ceil() as usize;
+    let reversal: Vec<bool> = (0..n)
+        .map(|k| {
+            let lo = k.saturating_sub(window);
+            let hi = (k + window).min(n - 1);
+            (lo..hi).any(|j| qd[j].signum() != qd[j + 1].signum())
+        })
+        .collect();
+    let mut by_velocity = vec![
+        stats(
+            "near zero velocity".into(),
+            r,
+            (0..n).filter(|&k| qd[k].abs() < slow),
+        ),
+        stats(
+            "at velocity reversals".into(),
+            r,
+            (0..n).filter(|&k| reversal[k]),
+        ),
+    ];
+    for (lo, hi) in [(0.05f64, 0.35f64), (0.35, 0.7), (0.7, 1.01)] {
+        for s in [1.0, -1.0] {
+            by_velocity.push(stats(
+                format!(
+                    "{} velocity, {:.0}–{:.0} % of max",
+                    if s > 0.0 { "positive" } else { "negative" },
+                    100.0 * lo,
+                    100.0 * hi.min(1.0)
+                ),
+                r,
+                (0..n).filter(|&k| qd[k] * s > lo * vmax && qd[k] * s <= hi * vmax),
+            ));
+        }
+    }
+    let amax = qdd.iter().fold(0.0f64, |a, v| a.max(v.abs())).max(1e-9);
+    let by_acceleration = [(0.0f64, 0.2f64), (0.2, 0.5), (0.5, 1.01)]
+        .iter()
+        .map(|&(lo, hi)| {
+            stats(
+                format!("|q̈| {:.0}–{:.0} % of max", 100.0 * lo, 100.0 * hi.min(1.0)),
+                r,
+                (0..n).filter(|&k| qdd[k].abs() >= lo * amax && qdd[k].abs() < hi * amax),
+            )
+        })
+        .collect();
+    let qs = [
+        quantile(q, 0.0),
+        quantile(q, 0.25),
+        quantile(q, 0.5),
+        quantile(q, 0.75),
+        quantile(q, 1.0) + 1e-12,
+    ];
+    let by_position = (0..4)
+        .map(|b| {
+            stats(
+                format!("q in [{:.2}, {:.2}) rad", qs[b], qs[b + 1]),
+                r,
+                (0..n).filter(|&k| q[k] >= qs[b] && q[k] < qs[b + 1]),
+            )
+        })
+        .collect();
+    let by_time = (0..5)
+        .map(|b| {
+            stats(
+                format!("time fifth {}", b + 1),
+                r,
+                (b * n / 5)..((b + 1) * n / 5),
+            )
+        })
+        .collect();
+    // spectrum: variance between low-pass cut-offs
+    let edges = [0.0, 1.0, 5.0, 20.0, fs / 2.0];
+    let total_var = r.iter().map(|x| (x - all.bias).powi(2)).sum::<f64>();
+    let lp = |fc: f64| -> Vec<f64> {
+        if fc <= 0.0 {
+            vec![all.bias; n]
+        } else if fc >= fs / 2.0 {
+            r.to_vec()
+        } else {
+            filtfilt(r, fc, fs)
+        }
+    };
+    let mut spectrum = vec![];
+    let mut prev = lp(edges[0]);
+    for w in edges.windows(2) {
+        let next = lp(w[1]);
+        let e: f64 = next.iter().zip(&prev).map(|(a, b)| (a - b).powi(2)).sum();
+        spectrum.push((
+            format!("{:.0}–{:.0} Hz", w[0], w[1]),
+            if total_var > 0.0 { e / total_var } else { 0.0 },
+        ));
+        prev = next;
+    }
+    let autocorrelation: Vec<f64> = (1..=20)
+        .map(|l| {
+            if n > l {
+                corr(&r[..n - l], &r[l..])
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let ljung_box_q = n as f64
+        * (n as f64 + 2.0)
+        * autocorrelation
+            .iter()
+            .enumerate()
+            .map(|(i, rho)| rho * rho / (n - i - 1).max(1) as f64)
+            .sum::<f64>();
+    let sq: Vec<f64> = qd.iter().map(|v| v.signum()).collect();
+    let cross_correlation = vec![
+        ("q".to_string(), corr(r, q)),
+        ("q̇".to_string(), corr(r, qd)),
+        ("sign(q̇)".to_string(), corr(r, &sq)),
+        ("q̈".to_string(), corr(r, qdd)),
+        ("τ".to_string(), corr(r, tau)),
+    ];
+    JointWhere {
+        joint: joint.into(),
+        rms: all.rms,
+        bias: all.bias,
+        torque_rms,
+        noise_floor,
+        by_velocity,
+        by_acceleration,
+        by_position,
+        by_time,
+        spectrum,
+        autocorrelation,
+        whiteness_band: 2.576 / (n.max(1) as f64).sqrt(),
+        ljung_box_q,
+        cross_correlation,
+    }
+}
+
+/// A one-line summary of where a joint's gap lies.
+pub fn summarise(w: &JointWhere) -> String {
+    let worst = w
+        .by_velocity
+        .iter()
+        .filter(|b| b.samples > 20)
+        .max_by(|a, b| a.rms.total_cmp(&b.rms));
+    let band = w.spectrum.iter().max_by(|a, b| a.1.total_cmp(&b.1));
+    let white = w.ljung_box_q < 37.57;
+    let mut s = format!(
+        "{}: residual RMS {:.3} N·m ({:.0} % of the torque RMS), bias {:+.3}",
+        w.joint,
+        w.rms,
+        100.0 * w.rms / w.torque_rms.max(1e-12),
+        w.bias
+    );
+    if let Some(b) = worst {
+        s += &format!("; largest {} ({:.3} N·m)", b.label, b.rms);
+    }
+    if let Some((l, share)) = band {
+        s += &format!("; {:.0} % of its variance in {l}", 100.0 * share);
+    }
+    s += if white {
+        "; residual is white"
+    } else {
+        "; residual is correlated (structure left)"
+    };
+    s
+}
