@@ -111,7 +111,9 @@ pub fn run(out: &Path) -> i32 {
     }
     // 3. the sim-to-real gap: a "real" leg with effects the model lacks
     let real_effects = "rotor_inertia,coulomb,viscous,offset,cogging";
-    println!("\n3. Diagnosing a \"real\" leg against the identified model (ellipsoid level); the diagnoser is not told that the data contain: offset, cogging");
+    println!(
+        "\n3. Diagnosing a \"real\" leg against the identified model (ellipsoid level); the diagnoser is not told that the data contain: offset, cogging"
+    );
     let model = cheetah3::model();
     let diag = (|| -> Result<crate::diagnose::Diagnosis, String> {
         let fx = crate::sim::Effects::parse(real_effects, &[])?;
@@ -119,9 +121,21 @@ pub fn run(out: &Path) -> i32 {
         let data = crate::sim::simulate(&model, &cfg, |_, _| {})?;
         let best = results.last().ok_or("no identification result")?;
         let mut nominal = model.clone();
-        nominal.set_params(&best.theta[..10 * model.num_bodies()]).map_err(|e| e.to_string())?;
-        let d = crate::diagnose::diagnose(&nominal, &best.friction, &data, &crate::diagnose::DiagnoseOptions::default())?;
-        crate::sim::dataset::write_whole(&out.join("diagnosis.json"), &serde_json::to_string_pretty(&d).map_err(|e| e.to_string())?).map_err(|e| e.to_string())?;
+        nominal
+            .set_params(&best.theta[..10 * model.num_bodies()])
+            .map_err(|e| e.to_string())?;
+        let d = crate::diagnose::diagnose(
+            &nominal,
+            &best.friction,
+            &data,
+            &crate::diagnose::DiagnoseOptions::default(),
+        )?;
+        crate::sim::dataset::write_whole(
+            &out.join("diagnosis.json"),
+            &serde_json::to_string_pretty(&d).map_err(|e| e.to_string())?,
+        )
+        .map_err(|e| e.to_string())?;
+        crate::diagnose::plots::write_plots(&d, out)?;
         Ok(d)
     })();
     match diag {
@@ -134,17 +148,37 @@ pub fn run(out: &Path) -> i32 {
                     "   which: {} {}{} — held-out RMS {:?} → {:?} N·m",
                     e.effect,
                     e.detail,
-                    if e.tied_with.is_empty() { String::new() } else { format!(" (tied with {})", e.tied_with.join(", ")) },
-                    e.heldout_rms_before.iter().map(|x| format!("{x:.2}")).collect::<Vec<_>>(),
-                    e.heldout_rms_after.iter().map(|x| format!("{x:.2}")).collect::<Vec<_>>()
+                    if e.tied_with.is_empty() {
+                        String::new()
+                    } else {
+                        format!(" (tied with {})", e.tied_with.join(", "))
+                    },
+                    e.heldout_rms_before
+                        .iter()
+                        .map(|x| format!("{x:.2}"))
+                        .collect::<Vec<_>>(),
+                    e.heldout_rms_after
+                        .iter()
+                        .map(|x| format!("{x:.2}"))
+                        .collect::<Vec<_>>()
                 );
             }
             println!(
                 "   how far: gap above the noise floor closed {:?}; {}",
-                d.gap_closed.iter().map(|x| format!("{:.0} %", 100.0 * x)).collect::<Vec<_>>(),
-                if d.unexplained { "a remainder is unexplained (see diagnosis.json)" } else { "nothing left above the noise floor" }
+                d.gap_closed
+                    .iter()
+                    .map(|x| format!("{:.0} %", 100.0 * x))
+                    .collect::<Vec<_>>(),
+                if d.unexplained {
+                    "a remainder is unexplained (see diagnosis.json)"
+                } else {
+                    "nothing left above the noise floor"
+                }
             );
-            println!("   (full report: {})", out.join("diagnosis.json").display());
+            println!(
+                "   (full report: {}; plots: residual_<joint>.svg, effects.svg)",
+                out.join("diagnosis.json").display()
+            );
         }
         Err(e) => {
             eprintln!("error: diagnosis: {e}");

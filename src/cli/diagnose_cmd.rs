@@ -38,6 +38,7 @@ pub fn run(
             .and_then(|_| {
                 write_whole(&dir.join("diagnosis.json"), &text).map_err(|e| e.to_string())
             })
+            .and_then(|_| crate::diagnose::plots::write_plots(&dg, dir).map(|_| ()))
         {
             eprintln!("error: {}: {e}", dir.display());
             return 2;

@@ -19,6 +19,7 @@
 //! withheld-effect benchmark of the issue is not yet in the test suite.
 
 pub mod candidates;
+pub mod plots;
 pub mod where_;
 
 use crate::dynamics::Model;
@@ -105,6 +106,24 @@ pub struct Diagnosis {
     pub unexplained: bool,
     /// Where the unexplained remainder lies.
     pub unexplained_where: Vec<String>,
+    /// Held-out signals and residuals for plots (not serialised).
+    #[serde(skip)]
+    pub heldout: HeldOut,
+}
+
+/// The held-out part's signals and residuals, per joint (for plots).
+#[derive(Clone, Debug, Default)]
+pub struct HeldOut {
+    /// Time (s).
+    pub t: Vec<f64>,
+    /// Positions per joint.
+    pub q: Vec<Vec<f64>>,
+    /// Velocities per joint.
+    pub qd: Vec<Vec<f64>>,
+    /// Residual of the nominal model per joint.
+    pub nominal: Vec<Vec<f64>>,
+    /// Residual after the accepted effects per joint.
+    pub after: Vec<Vec<f64>>,
 }
 
 fn rms_per_joint(r: &[f64], n: usize) -> Vec<f64> {
@@ -318,6 +337,34 @@ pub fn diagnose(
         }
     }
     let final_rms = rms_per_joint(&r[va_rows.clone()], n);
+    let per_joint = |v: &[f64]| -> Vec<Vec<f64>> {
+        (0..n)
+            .map(|i| {
+                v[va_rows.clone()]
+                    .iter()
+                    .skip(i)
+                    .step_by(n)
+                    .copied()
+                    .collect()
+            })
+            .collect()
+    };
+    let r_nominal: Vec<f64> = flat(&data.tau)
+        .iter()
+        .zip(flat(&pred))
+        .map(|(a, b)| a - b)
+        .collect();
+    let heldout = HeldOut {
+        t: val.t.clone(),
+        q: (0..n)
+            .map(|i| val.q.iter().map(|x| x[i]).collect())
+            .collect(),
+        qd: (0..n)
+            .map(|i| val.qd.iter().map(|x| x[i]).collect())
+            .collect(),
+        nominal: per_joint(&r_nominal),
+        after: per_joint(&r),
+    };
     let where_final = where_of(&r);
     let gap_closed = (0..n)
         .map(|i| {
@@ -346,5 +393,6 @@ pub fn diagnose(
             .iter()
             .map(|&i| summarise(&where_final[i]))
             .collect(),
+        heldout,
     })
 }

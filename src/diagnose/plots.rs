@@ -1,0 +1,137 @@
+//! SVG figures of a diagnosis: per joint, the held-out residual against
+//! time, velocity and position (before and after the accepted effects) and
+//! its frequency bands; and a bar chart of what each accepted effect removed.
+
+use super::Diagnosis;
+use plotters::prelude::*;
+use std::path::{Path, PathBuf};
+
+fn range(v: impl Iterator<Item = f64> + Clone) -> (f64, f64) {
+    let lo = v.clone().fold(f64::INFINITY, f64::min);
+    let hi = v.fold(f64::NEG_INFINITY, f64::max);
+    let pad = 0.05 * (hi - lo).max(1e-9);
+    (lo - pad, hi + pad)
+}
+
+/// Writes `residual_<joint>.svg` and `effects.svg` into `dir`; returns the paths.
+pub fn write_plots(d: &Diagnosis, dir: &Path) -> Result<Vec<PathBuf>, String> {
+    let e = |x: DrawingAreaErrorKind<std::io::Error>| x.to_string();
+    let mut files = vec![];
+    let h = &d.heldout;
+    let stride = (h.t.len() / 3000).max(1);
+    let before = RGBColor(214, 39, 40).mix(0.5);
+    let after = RGBColor(31, 119, 180).mix(0.5);
+    for (i, joint) in d.joints.iter().enumerate() {
+        let path = dir.join(format!("residual_{joint}.svg"));
+        let root = SVGBackend::new(&path, (1100, 800)).into_drawing_area();
+        root.fill(&WHITE).map_err(e)?;
+        let root = root
+            .titled(
+                &format!(
+                    "{joint}: held-out residual τ − τ̂ (red: nominal, blue: with accepted effects)"
+                ),
+                ("sans-serif", 18),
+            )
+            .map_err(e)?;
+        let areas = root.split_evenly((2, 2));
+        let idx: Vec<usize> = (0..h.t.len()).step_by(stride).collect();
+        let ry = range(idx.iter().flat_map(|&k| [h.nominal[i][k], h.after[i][k]]));
+        for (panel, (xs, label)) in areas.iter().take(3).zip([
+            (&h.t, "time [s]"),
+            (&h.qd[i], "velocity [rad/s]"),
+            (&h.q[i], "position [rad]"),
+        ]) {
+            let rx = range(idx.iter().map(|&k| xs[k]));
+            let mut c = ChartBuilder::on(panel)
+                .margin(10)
+                .x_label_area_size(35)
+                .y_label_area_size(55)
+                .build_cartesian_2d(rx.0..rx.1, ry.0..ry.1)
+                .map_err(e)?;
+            c.configure_mesh()
+                .x_desc(label)
+                .y_desc("residual [N·m]")
+                .draw()
+                .map_err(e)?;
+            c.draw_series(
+                idx.iter()
+                    .map(|&k| Circle::new((xs[k], h.nominal[i][k]), 1, before.filled())),
+            )
+            .map_err(e)?;
+            c.draw_series(
+                idx.iter()
+                    .map(|&k| Circle::new((xs[k], h.after[i][k]), 1, after.filled())),
+            )
+            .map_err(e)?;
+        }
+        let spec = &d.where_[i].spectrum;
+        let mut c = ChartBuilder::on(&areas[3])
+            .margin(10)
+            .x_label_area_size(35)
+            .y_label_area_size(55)
+            .caption(
+                "share of the nominal residual's variance per band",
+                ("sans-serif", 14),
+            )
+            .build_cartesian_2d(0.0..spec.len() as f64, 0.0..1.0)
+            .map_err(e)?;
+        c.configure_mesh()
+            .x_labels(spec.len())
+            .x_label_formatter(&|x| {
+                spec.get(*x as usize)
+                    .map(|s| s.0.clone())
+                    .unwrap_or_default()
+            })
+            .draw()
+            .map_err(e)?;
+        c.draw_series(spec.iter().enumerate().map(|(k, (_, v))| {
+            Rectangle::new(
+                [(k as f64 + 0.15, 0.0), (k as f64 + 0.85, *v)],
+                RGBColor(214, 39, 40).filled(),
+            )
+        }))
+        .map_err(e)?;
+        root.present().map_err(e)?;
+        files.push(path.clone());
+    }
+    // bar chart: held-out MSE removed by each accepted effect (all joints)
+    let acc: Vec<_> = d.ranked_effects.iter().filter(|r| r.accepted).collect();
+    let path = dir.join("effects.svg");
+    let root = SVGBackend::new(&path, (900, 400)).into_drawing_area();
+    root.fill(&WHITE).map_err(e)?;
+    let vals: Vec<f64> = acc
+        .iter()
+        .map(|r| {
+            r.heldout_rms_before.iter().map(|x| x * x).sum::<f64>()
+                - r.heldout_rms_after.iter().map(|x| x * x).sum::<f64>()
+        })
+        .collect();
+    let top = vals.iter().fold(1e-9f64, |a, v| a.max(*v)) * 1.15;
+    let names: Vec<String> = acc.iter().map(|r| r.effect.clone()).collect();
+    let mut c = ChartBuilder::on(&root)
+        .margin(15)
+        .x_label_area_size(35)
+        .y_label_area_size(70)
+        .caption(
+            "held-out mean-square torque error removed by each accepted effect (sum over joints)",
+            ("sans-serif", 15),
+        )
+        .build_cartesian_2d(0.0..names.len().max(1) as f64, 0.0..top)
+        .map_err(e)?;
+    c.configure_mesh()
+        .x_labels(names.len().max(1))
+        .x_label_formatter(&|x| names.get(*x as usize).cloned().unwrap_or_default())
+        .y_desc("[N²·m²]")
+        .draw()
+        .map_err(e)?;
+    c.draw_series(vals.iter().enumerate().map(|(k, v)| {
+        Rectangle::new(
+            [(k as f64 + 0.2, 0.0), (k as f64 + 0.8, *v)],
+            RGBColor(31, 119, 180).filled(),
+        )
+    }))
+    .map_err(e)?;
+    root.present().map_err(e)?;
+    files.push(path.clone());
+    Ok(files)
+}
