@@ -114,6 +114,13 @@ fn single_effects_are_found_and_close_the_gap() {
 }
 
 #[test]
+fn soft_elasticity_is_found_by_simulating_the_hypothesis() {
+    let d = run(BASE, "elasticity", &["stiffness=300"]);
+    assert!(found(&d, "elasticity"), "accepted {:?}", d.accepted);
+    closes_most_of_the_gap(&d);
+}
+
+#[test]
 fn friction_missing_from_the_nominal_model_is_found() {
     for (base, effect) in [
         ("rotor_inertia,viscous", "coulomb"),
@@ -150,4 +157,30 @@ fn pairs_are_both_accepted() {
         assert!(found(&d, a) && found(&d, b), "{a}+{b}: {:?}", d.accepted);
         closes_most_of_the_gap(&d);
     }
+}
+
+/// An effect outside the library (a position-dependent spring-like torque
+/// 0.8 sin(3 q + 1) on every joint, which no candidate can express): the
+/// report says "unexplained" and tells where the remainder lies.
+#[test]
+fn an_effect_outside_the_library_is_reported_unexplained() {
+    let (m, f) = nominal(BASE);
+    let mut d = data(BASE, &[], 15.0, 7);
+    for k in 0..d.len() {
+        for i in 0..3 {
+            d.tau[k][i] += 0.8 * (3.0 * d.q[k][i] + 1.0).sin();
+        }
+    }
+    let dg = diagnose(&m, &f, &d, &DiagnoseOptions::default()).unwrap();
+    assert!(
+        dg.unexplained,
+        "accepted {:?}, final {:?}, floor {:?}",
+        dg.accepted, dg.heldout_rms_final, dg.noise_floor
+    );
+    assert!(!dg.unexplained_where.is_empty());
+    assert!(
+        dg.unexplained_where
+            .iter()
+            .all(|s| s.contains("residual RMS"))
+    );
 }

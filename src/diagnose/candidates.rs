@@ -165,60 +165,54 @@ pub fn build(name: &'static str, model: &Model, friction: &Friction, d: &Dataset
             }
             if cols.is_empty() { vec![] } else { one(cols) }
         }
-        "elasticity" => {
-            // a compliant transmission makes the links lag: τ ≈ τ̂ − (M/K) d²τ̂/dt²,
-            // one coefficient per joint on the second derivative of τ̂
-            let th = tau_hat();
-            let fs = if d.len() > 1 {
-                (d.len() - 1) as f64 / (d.t[d.len() - 1] - d.t[0])
+        "elasticity" | "backlash" => {
+            // simulate the hypothesis: the links driven through a spring (K)
+            // with a dead band (b) from the measured motor side; the column is
+            // the change of torque it predicts (coefficient ≈ 1 when right)
+            let grid: Vec<(f64, f64)> = if name == "elasticity" {
+                vec![(300.0, 0.0), (1000.0, 0.0), (3000.0, 0.0)]
             } else {
-                1000.0
+                vec![(2000.0, 0.002), (2000.0, 0.005), (2000.0, 0.01)]
             };
-            let mut cols = vec![];
-            for i in 0..n {
-                let x: Vec<f64> = th.iter().map(|r| r[i]).collect();
-                let x = crate::sim::filter::filtfilt(&x, 20.0, fs);
-                let dd = crate::sim::filter::differentiate(
-                    &crate::sim::filter::differentiate(&x, &d.t),
-                    &d.t,
-                );
-                let mut c = zeros(rows);
-                for k in 0..d.len() {
-                    c[k * n + i] = dd[k];
-                }
-                cols.push(c);
-            }
-            one(cols)
-        }
-        "backlash" => {
-            // a dead band of half-width b shifts the link by ∓b at each direction:
-            // τ ≈ τ̂(q − b sign q̇), one coefficient per joint on (∂τ̂/∂qᵢ) sign(q̇ᵢ)
-            let h = 1e-5;
-            let mut cols = vec![zeros(rows); n];
+            let links = match Model::new(&model.name, model.joints.clone(), vec![], model.gravity) {
+                Ok(m) => m,
+                Err(_) => return vec![],
+            };
             let zero = Friction {
                 viscous: vec![0.0; n],
                 coulomb: vec![0.0; n],
             };
-            for i in 0..n {
-                let shift = |s: f64| -> Vec<Vec<f64>> {
-                    let q: Vec<Vec<f64>> =
-                        d.q.iter()
-                            .map(|r| {
-                                let mut r = r.clone();
-                                r[i] += s;
-                                r
-                            })
-                            .collect();
-                    predict_torques(model, &zero, &q, &d.qd, &d.qdd).unwrap_or_default()
-                };
-                let (p, m) = (shift(h), shift(-h));
-                for k in 0..d.len().min(p.len()) {
-                    for j in 0..n {
-                        cols[i][k * n + j] = (p[k][j] - m[k][j]) / (2.0 * h) * sign(d.qd[k][i]);
+            let Ok(rigid) = predict_torques(&links, &zero, &d.q, &d.qd, &d.qdd) else {
+                return vec![];
+            };
+            grid.into_iter()
+                .filter_map(|(k, b)| {
+                    let c = crate::sim::compliance::Compliance {
+                        stiffness: k,
+                        damping: 5.0,
+                        backlash: b,
+                    };
+                    let ls = crate::sim::compliance::simulate_link_side_sampled(
+                        &links, &d.t, &d.q, &d.qd, &c, 2.5e-4,
+                    )
+                    .ok()?;
+                    let mut col = zeros(rows);
+                    for s in 0..d.len() {
+                        for i in 0..n {
+                            col[s * n + i] = ls[s].2[i] - rigid[s][i];
+                        }
                     }
-                }
-            }
-            one(cols)
+                    Some(Columns {
+                        name,
+                        detail: if b > 0.0 {
+                            format!("dead band ±{b} rad, K = {k} N·m/rad")
+                        } else {
+                            format!("K = {k} N·m/rad")
+                        },
+                        cols: vec![col],
+                    })
+                })
+                .collect()
         }
         _ => vec![],
     }

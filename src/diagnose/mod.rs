@@ -14,9 +14,9 @@
 //! of the gap above the noise floor that is closed, and whether a remainder
 //! is left unexplained.
 //!
-//! Status: a first version. The inertial candidates are fitted by
-//! unconstrained least squares (not yet through `identify`'s LMIs), and the
-//! withheld-effect benchmark of the issue is not yet in the test suite.
+//! Status: a first version (see `docs/diagnosis.md` for its confusion
+//! table). The inertial candidates are fitted by unconstrained least squares
+//! (not yet through `identify`'s LMIs); backlash is not yet recognised.
 
 pub mod candidates;
 pub mod plots;

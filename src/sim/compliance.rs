@@ -41,23 +41,63 @@ impl Compliance {
     }
 }
 
-/// Link-side states and transmitted torques at `times` (s): `(q_L, q̇_L, τ_s)` per sample.
+/// Link-side states and transmitted torques at `times` (s): `(q_L, q̇_L, τ_s)`
+/// per sample, the motor side following the trajectory exactly.
 pub fn simulate_link_side(
     links: &Model,
     traj: &Trajectory,
     times: &[f64],
     c: &Compliance,
 ) -> Result<Vec<(Vec<f64>, Vec<f64>, Vec<f64>)>, String> {
-    let n = links.dof();
-    let mut data = Data::new(links);
-    let t_first = times.first().copied().unwrap_or(0.0);
-    let pre = 0.5;
-    let dt: f64 = 1e-4;
     let motor = |t: f64| {
         traj.state(t)
             .map(|(q, qd, _)| (q, qd))
             .ok_or_else(|| format!("the trajectory leaves the workspace at t = {t} s"))
     };
+    integrate(links, &motor, times, c, 0.5, 1e-4)
+}
+
+/// As [`simulate_link_side`], with the motor side given by samples (linear
+/// interpolation between them, held before the first): used to test the
+/// compliance hypothesis on measured data.
+pub fn simulate_link_side_sampled(
+    links: &Model,
+    t: &[f64],
+    q: &[Vec<f64>],
+    qd: &[Vec<f64>],
+    c: &Compliance,
+    dt: f64,
+) -> Result<Vec<(Vec<f64>, Vec<f64>, Vec<f64>)>, String> {
+    let motor = |s: f64| -> Result<(Vec<f64>, Vec<f64>), String> {
+        let k = t.partition_point(|&x| x <= s).clamp(1, t.len().max(2) - 1);
+        let (a, b) = (k - 1, k.min(t.len() - 1));
+        let w = if t[b] > t[a] {
+            ((s - t[a]) / (t[b] - t[a])).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let lerp = |v: &[Vec<f64>]| {
+            v[a].iter()
+                .zip(&v[b])
+                .map(|(x, y)| x + w * (y - x))
+                .collect::<Vec<f64>>()
+        };
+        Ok((lerp(q), lerp(qd)))
+    };
+    integrate(links, &motor, t, c, 0.0, dt)
+}
+
+fn integrate(
+    links: &Model,
+    motor: &dyn Fn(f64) -> Result<(Vec<f64>, Vec<f64>), String>,
+    times: &[f64],
+    c: &Compliance,
+    pre: f64,
+    dt: f64,
+) -> Result<Vec<(Vec<f64>, Vec<f64>, Vec<f64>)>, String> {
+    let n = links.dof();
+    let mut data = Data::new(links);
+    let t_first = times.first().copied().unwrap_or(0.0);
     let (q0, qd0) = motor(t_first - pre)?;
     let mut x: Vec<f64> = q0.iter().chain(qd0.iter()).copied().collect();
     let rhs = |t: f64, x: &[f64], data: &mut Data| -> Result<(Vec<f64>, Vec<f64>), String> {
@@ -88,6 +128,9 @@ pub fn simulate_link_side(
             let (k4, _) = rhs(t + h, &add(&x, &k3, h), &mut data)?;
             for i in 0..2 * n {
                 x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+            }
+            if !x.iter().all(|v| v.is_finite()) {
+                return Err("the compliant link simulation diverged".into());
             }
             t += h;
         }
