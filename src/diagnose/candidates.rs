@@ -31,6 +31,11 @@ pub struct Columns {
     pub detail: String,
     /// Column-major: one Vec per column, rows = samples × joints.
     pub cols: Vec<Vec<f64>>,
+    /// Inertial correction: the nominal parameters of the corrected bodies
+    /// (10 columns each, in order); the fit keeps `J(π + β) ⪰ 0` for each.
+    pub bodies: Vec<[f64; 10]>,
+    /// The coefficients must be ≥ 0 (a payload mass).
+    pub nonneg: bool,
 }
 
 fn zeros(rows: usize) -> Vec<f64> {
@@ -70,6 +75,8 @@ pub fn build(name: &'static str, model: &Model, friction: &Friction, d: &Dataset
             name,
             detail: String::new(),
             cols,
+            bodies: vec![],
+            nonneg: false,
         }]
     };
     match name {
@@ -85,6 +92,8 @@ pub fn build(name: &'static str, model: &Model, friction: &Friction, d: &Dataset
                 cols: per_joint(d, |k, i| {
                     (-(d.qd[k][i] / vs).powi(2)).exp() * sign(d.qd[k][i])
                 }),
+                bodies: vec![],
+                nonneg: false,
             })
             .collect(),
         "cogging" => (1..=12)
@@ -96,6 +105,8 @@ pub fn build(name: &'static str, model: &Model, friction: &Friction, d: &Dataset
                     name,
                     detail: format!("period {p} per motor turn"),
                     cols,
+                    bodies: vec![],
+                    nonneg: false,
                 }
             })
             .collect(),
@@ -121,6 +132,8 @@ pub fn build(name: &'static str, model: &Model, friction: &Friction, d: &Dataset
                         name,
                         detail: format!("delay {:.0} ms", 1e3 * s as f64 * dt),
                         cols: vec![c],
+                        bodies: vec![],
+                        nonneg: false,
                     }
                 })
                 .collect()
@@ -163,7 +176,20 @@ pub fn build(name: &'static str, model: &Model, friction: &Friction, d: &Dataset
                     }
                 }
             }
-            if cols.is_empty() { vec![] } else { one(cols) }
+            if cols.is_empty() {
+                return vec![];
+            }
+            let p = model.params();
+            let bodies: Vec<[f64; 10]> = (lo / 10..hi / 10)
+                .map(|b| std::array::from_fn(|k| p[10 * b + k]))
+                .collect();
+            vec![Columns {
+                name,
+                detail: String::new(),
+                cols,
+                bodies,
+                nonneg: name == "payload",
+            }]
         }
         "elasticity" | "backlash" => {
             // simulate the hypothesis: the links driven through a spring (K)
@@ -210,6 +236,8 @@ pub fn build(name: &'static str, model: &Model, friction: &Friction, d: &Dataset
                             format!("K = {k} N·m/rad")
                         },
                         cols: vec![col],
+                        bodies: vec![],
+                        nonneg: false,
                     })
                 })
                 .collect()

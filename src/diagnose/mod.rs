@@ -15,8 +15,7 @@
 //! is left unexplained.
 //!
 //! Status: a first version (see `docs/diagnosis.md` for its confusion
-//! table). The inertial candidates are fitted by unconstrained least squares
-//! (not yet through `identify`'s LMIs); backlash is not yet recognised.
+//! table). Backlash is not yet recognised.
 
 pub mod candidates;
 pub mod plots;
@@ -159,6 +158,75 @@ fn fit(cols: &[Vec<f64>], rows: std::ops::Range<usize>, r: &[f64]) -> Vec<f64> {
     }
 }
 
+/// The fit of a candidate: plain least squares, or — for inertial
+/// corrections — least squares with `J(π_nominal + β) ⪰ 0` for every
+/// corrected body (and β ≥ 0 for a payload mass), through `conic` with the
+/// LMIs of `moments`, on the reduced (Gram) form of the rows.
+fn fit_candidate(c: &Columns, rows: std::ops::Range<usize>, r: &[f64]) -> Vec<f64> {
+    if c.bodies.is_empty() && !c.nonneg {
+        return fit(&c.cols, rows, r);
+    }
+    let k = c.cols.len();
+    let mut gram = Mat::<f64>::zeros(k + 1, k + 1);
+    let col = |a: usize, i: usize| if a < k { c.cols[a][i] } else { r[i] };
+    for a in 0..=k {
+        for b in a..=k {
+            let v: f64 = rows.clone().map(|i| col(a, i) * col(b, i)).sum();
+            gram[(a, b)] = v;
+            gram[(b, a)] = v;
+        }
+    }
+    let red = crate::identify::Reduced {
+        gram,
+        samples: rows.len(),
+        p: k,
+    };
+    let (f, d) = (red.r(), red.d());
+    let scale: Vec<f64> = (0..k)
+        .map(|j| {
+            (0..f.nrows())
+                .map(|i| f[(i, j)].powi(2))
+                .sum::<f64>()
+                .sqrt()
+        })
+        .map(|n| if n > 1e-12 { 1.0 / n } else { 1.0 })
+        .collect();
+    let mut p = crate::conic::Problem::new();
+    let z = p.vector("beta", k);
+    let beta: Vec<crate::conic::AffExpr> = (0..k)
+        .map(|j| crate::conic::AffExpr::term(z[j], scale[j]))
+        .collect();
+    let t = p.scalar("t");
+    let res: Vec<crate::conic::AffExpr> = (0..f.nrows())
+        .map(|i| {
+            let mut e = crate::conic::AffExpr::constant(-d[i]);
+            for j in 0..k {
+                e.add_term(z[j], f[(i, j)] * scale[j]);
+            }
+            e
+        })
+        .collect();
+    let ok = (|| -> Result<(), crate::conic::ConicError> {
+        p.add_soc(t, res)?;
+        for (b, nominal) in c.bodies.iter().enumerate() {
+            let pi = std::array::from_fn(|q| beta[10 * b + q].clone() + nominal[q]);
+            p.add_psd(&crate::moments::lmi::BodyVars::from_exprs(pi).pseudo_inertia())?;
+        }
+        if c.nonneg {
+            p.add_nonneg(beta.clone())?;
+        }
+        p.minimize(t);
+        Ok(())
+    })();
+    if ok.is_err() {
+        return fit(&c.cols, rows, r);
+    }
+    match p.solve(&crate::conic::Settings::default()) {
+        Ok(sol) if sol.status.is_solved() => beta.iter().map(|e| sol.eval(e)).collect(),
+        _ => vec![0.0; k],
+    }
+}
+
 fn apply(cols: &[Vec<f64>], beta: &[f64], r: &[f64]) -> Vec<f64> {
     let mut out = r.to_vec();
     for (c, b) in cols.iter().zip(beta) {
@@ -235,7 +303,7 @@ pub fn diagnose(
                 if accepted.contains(&v.name.to_string()) {
                     continue;
                 }
-                let beta = fit(&v.cols, tr_rows.clone(), &r);
+                let beta = fit_candidate(v, tr_rows.clone(), &r);
                 let after = apply(&v.cols, &beta, &r);
                 let rss: f64 = after[tr_rows.clone()].iter().map(|x| x * x).sum();
                 if best.as_ref().is_none_or(|b| rss < b.0) {
