@@ -11,8 +11,8 @@ compile_error!(
     "enable exactly one BLAS/LAPACK provider: `faer-lapack` (default) or `system-openblas`"
 );
 
-/// With `system-openblas`, Clarabel's BLAS/LAPACK calls resolve to the system
-/// `libopenblas` (Debian: `libopenblas-dev`).
+// With `system-openblas`, Clarabel's BLAS/LAPACK calls resolve to the system
+// `libopenblas` (Debian: `libopenblas-dev`).
 #[cfg(feature = "system-openblas")]
 #[link(name = "openblas")]
 unsafe extern "C" {}
