@@ -222,10 +222,11 @@ pub fn build(name: &'static str, model: &Model, friction: &Friction, d: &Dataset
                         &links, &d.t, &d.q, &d.qd, &c, 2.5e-4,
                     )
                     .ok()?;
-                    let mut col = zeros(rows);
+                    // one coefficient per joint (the hypothesis' torque change on its row)
+                    let mut cols = vec![zeros(rows); n];
                     for s in 0..d.len() {
                         for i in 0..n {
-                            col[s * n + i] = ls[s].2[i] - rigid[s][i];
+                            cols[i][s * n + i] = ls[s].2[i] - rigid[s][i];
                         }
                     }
                     Some(Columns {
@@ -235,7 +236,7 @@ pub fn build(name: &'static str, model: &Model, friction: &Friction, d: &Dataset
                         } else {
                             format!("K = {k} N·m/rad")
                         },
-                        cols: vec![col],
+                        cols,
                         bodies: vec![],
                         nonneg: false,
                     })
