@@ -15,17 +15,7 @@ fn bench(c: &mut Criterion) {
     let fx = Effects::parse("rotor_inertia,coulomb,viscous", &[]).unwrap();
     let cfg = SimConfig::for_model("cheetah3-leg", &model, 10.0, fx, 1);
     let d = simulate(&model, &cfg, |_, _| {}).unwrap();
-    let prior = cheetah3::model_with(&cheetah3::cad_params())
-        .unwrap()
-        .params();
-    let opts = |level| IdentifyOptions {
-        level,
-        weight: 1e-6,
-        prior: prior.clone(),
-        ellipsoids: Some(cheetah3::ellipsoids().to_vec()),
-        com_lmi: false,
-        eps: 0.0,
-    };
+    let opts = |level| IdentifyOptions::cheetah3(level, 1e-6);
     let mut g = c.benchmark_group("identify_10000_samples_6_bodies");
     g.sample_size(30);
     for level in [Level::None, Level::Consistent, Level::Ellipsoid] {

@@ -9,9 +9,6 @@ use momentlmi::sim::{Effects, SimConfig, simulate};
 
 fn main() {
     let model = cheetah3::model();
-    let prior = cheetah3::model_with(&cheetah3::cad_params())
-        .unwrap()
-        .params();
     let sim = |effects: &str, params: &[String], seconds: f64, seed: u64| {
         let cfg = SimConfig::for_model(
             "cheetah3-leg",
@@ -24,14 +21,7 @@ fn main() {
     };
     let nominal = |base: &str| {
         let d = sim(base, &[], 20.0, 101);
-        let opts = IdentifyOptions {
-            level: Level::Ellipsoid,
-            weight: 1e-6,
-            prior: prior.clone(),
-            ellipsoids: Some(cheetah3::ellipsoids().to_vec()),
-            com_lmi: false,
-            eps: 0.0,
-        };
+        let opts = IdentifyOptions::cheetah3(Level::Ellipsoid, 1e-6);
         let r = identify(&model, &d, None, &opts).unwrap();
         let mut m = model.clone();
         m.set_params(&r.theta[..60]).unwrap();

@@ -28,17 +28,7 @@ fn main() {
     )
     .unwrap();
     let tr = Trajectory::Shell(Shell::default());
-    let prior = cheetah3::model_with(&cheetah3::cad_params())
-        .unwrap()
-        .params();
-    let opts = IdentifyOptions {
-        level: Level::Ellipsoid,
-        weight: 1e-6,
-        prior,
-        ellipsoids: Some(cheetah3::ellipsoids().to_vec()),
-        com_lmi: false,
-        eps: 0.0,
-    };
+    let opts = IdentifyOptions::cheetah3(Level::Ellipsoid, 1e-6);
     // one period of states, reused (the trajectory itself is not what is measured)
     let states: Vec<_> = (0..10_000)
         .map(|k| tr.state(k as f64 * 1e-3).unwrap())

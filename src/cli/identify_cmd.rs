@@ -33,7 +33,6 @@ pub fn run(a: &IdentifyArgs) -> i32 {
     let t0 = std::time::Instant::now();
     match run_inner(a) {
         Ok(mut r) => {
-            r.total_time_s += 0.0;
             let total = t0.elapsed().as_secs_f64();
             r.total_time_s = total;
             if a.json {

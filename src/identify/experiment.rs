@@ -7,7 +7,7 @@ use super::problem::{IdentifyOptions, Level};
 use super::result::{IdentifyResult, identify};
 use crate::dynamics::cheetah3;
 use crate::sim::dataset::write_whole;
-use crate::sim::{Dataset, Effects, SimConfig, simulate};
+use crate::sim::{Effects, SimConfig, simulate};
 use serde::Serialize;
 use std::path::Path;
 
@@ -103,17 +103,7 @@ pub fn run_experiment(
     step += 1;
     let train = all.slice(0..cfg.train);
     let val = all.slice(cfg.train..cfg.train + cfg.validate);
-    let prior = cheetah3::model_with(&cheetah3::cad_params())
-        .map_err(|e| e.to_string())?
-        .params();
-    let opts = |level| IdentifyOptions {
-        level,
-        weight: cfg.weight,
-        prior: prior.clone(),
-        ellipsoids: Some(cheetah3::ellipsoids().to_vec()),
-        com_lmi: false,
-        eps: 0.0,
-    };
+    let opts = |level| IdentifyOptions::cheetah3(level, cfg.weight);
     let levels = [
         Level::None,
         Level::Semi,
@@ -289,6 +279,5 @@ pub fn run_experiment(
     )
     .map_err(|e| e.to_string())?;
     progress(total_steps, total_steps, "done");
-    let _: Option<&Dataset> = None;
     Ok((summary, results))
 }

@@ -75,6 +75,25 @@ pub struct IdentifyOptions {
     pub eps: f64,
 }
 
+impl IdentifyOptions {
+    /// The built-in `cheetah3-leg` set-up: the box CAD model as prior,
+    /// its bounding ellipsoids, no CoM LMI, `⪰ 0` LMIs.
+    pub fn cheetah3(level: Level, weight: f64) -> Self {
+        use crate::dynamics::cheetah3;
+        let prior = cheetah3::model_with(&cheetah3::cad_params())
+            .map(|m| m.params())
+            .unwrap_or_default();
+        Self {
+            level,
+            weight,
+            prior,
+            ellipsoids: Some(cheetah3::ellipsoids().to_vec()),
+            com_lmi: false,
+            eps: 0.0,
+        }
+    }
+}
+
 /// The solver's answer.
 #[derive(Clone, Debug)]
 pub struct Solved {

@@ -2,7 +2,7 @@
 //! realizable in `S = ∪ⱼ Sⱼ` iff `π = Σⱼ πⱼ` with each πⱼ realizable in Sⱼ.
 //! The split is found with one small SDP through [`conic`](crate::conic).
 
-use super::check::{DEFAULT_TOL, check_realizable};
+use super::check::check_realizable;
 use super::ellipsoid::Ellipsoid;
 use super::error::MomentsError;
 use super::lmi::BodyVars;
@@ -106,7 +106,6 @@ pub fn point_masses_on_union(
                     out.extend(four_point_masses_in(q, s)?);
                 }
             }
-            let _ = DEFAULT_TOL;
             Ok(out)
         }
     }
