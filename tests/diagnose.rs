@@ -184,3 +184,70 @@ fn an_effect_outside_the_library_is_reported_unexplained() {
             .all(|s| s.contains("residual RMS"))
     );
 }
+
+/// The compliance hypothesis' linearised link dynamics reproduce the full
+/// compliant simulation of the true robot (exact states, true model and
+/// true transmission): the mismatch is a small fraction of the effect.
+#[test]
+fn linearised_compliance_matches_the_full_simulation() {
+    use momentlmi::diagnose::compliance::{Linearisation, Transmission};
+    use momentlmi::dynamics::params_file::Friction;
+    use momentlmi::dynamics::predict::predict_torques;
+    let model = cheetah3::model();
+    for (effects, b) in [("elasticity", 0.0), ("backlash", 0.005)] {
+        let mut cfg = SimConfig::for_model(
+            "cheetah3-leg",
+            &model,
+            4.0,
+            Effects::parse(&format!("rotor_inertia,{effects}"), &[]).unwrap(),
+            3,
+        );
+        cfg.noise_sigma = 0.0;
+        cfg.encoder_counts = 0.0;
+        cfg.processed = false;
+        let d = simulate(&model, &cfg, |_, _| {}).unwrap();
+        let zero = Friction {
+            viscous: vec![0.0; 3],
+            coulomb: vec![0.0; 3],
+        };
+        let rigid = predict_torques(&model, &zero, &d.q, &d.qd, &d.qdd).unwrap();
+        let lin = Linearisation::new(&model, &d).unwrap();
+        let p = Transmission {
+            stiffness: vec![2000.0; 3],
+            damping: vec![5.0; 3],
+            backlash: vec![b; 3],
+            axial_shift: vec![0.0; 3],
+        };
+        let h = lin.simulate(&p, 0, d.len()).unwrap();
+        for i in 0..3 {
+            let (mut effect, mut miss) = (0.0, 0.0);
+            for k in 500..d.len() {
+                let e = d.tau[k][i] - rigid[k][i];
+                effect += e * e;
+                miss += (e - h[3 * k + i]).powi(2);
+            }
+            assert!(effect > 0.0);
+            // elasticity within 10 % RMS; backlash within 35 % (the impacts'
+            // timing at the dead band's edges is sensitive to the linearisation)
+            let tol = if b > 0.0 { 0.35f64 } else { 0.1 };
+            assert!(
+                miss < tol * tol * effect,
+                "{effects}, joint {i}: mismatch {:.4} of the effect",
+                (miss / effect).sqrt()
+            );
+        }
+        // a wrong stiffness does not reproduce it
+        let wrong = Transmission {
+            stiffness: vec![600.0; 3],
+            ..p.clone()
+        };
+        let h = lin.simulate(&wrong, 0, d.len()).unwrap();
+        let miss: f64 = (500 * 3..d.len() * 3)
+            .map(|q| (d.tau[q / 3][q % 3] - rigid[q / 3][q % 3] - h[q]).powi(2))
+            .sum();
+        let effect: f64 = (500 * 3..d.len() * 3)
+            .map(|q| (d.tau[q / 3][q % 3] - rigid[q / 3][q % 3]).powi(2))
+            .sum();
+        assert!(miss > 0.1 * effect, "{effects}: a wrong K fits too");
+    }
+}

@@ -335,3 +335,50 @@ fn elasticity_and_backlash_follow_their_formulas() {
         assert!(diff > 0.01, "{effects}: {diff}");
     }
 }
+
+/// The link side of a model with rotors: rotor housings welded to their
+/// mounts, spin removed. With rotors symmetric about their spin axes, the
+/// joint-space mass matrices differ on the diagonal exactly by the reflected
+/// spin inertia `N² aᵀ Ī_rotor a`, at any configuration.
+#[test]
+fn link_side_differs_by_the_reflected_spin_inertia() {
+    use momentlmi::dynamics::{Data, crba};
+    use momentlmi::moments::InertialParams;
+    let mut model = cheetah3::model();
+    for r in model.rotors.iter_mut() {
+        let a = r.axis;
+        let h = a * a.dot(&r.inertia.h());
+        let ia = a.dot(&(r.inertia.inertia() * a));
+        let i = a * a.transpose() * ia
+            + (nalgebra::Matrix3::identity() - a * a.transpose()) * (0.6 * ia + 1e-4);
+        r.inertia = InertialParams::from_mass_h_inertia(r.inertia.mass(), h, i);
+    }
+    let links = model.link_side();
+    assert!(links.rotors.is_empty());
+    // mass is conserved except for rotors on the fixed base
+    let total = |m: &momentlmi::dynamics::Model| -> f64 {
+        m.joints.iter().map(|j| j.inertia.mass()).sum::<f64>()
+            + m.rotors.iter().map(|r| r.inertia.mass()).sum::<f64>()
+    };
+    let on_base: f64 = model
+        .rotors
+        .iter()
+        .filter(|r| model.joints[r.joint].parent.is_none())
+        .map(|r| r.inertia.mass())
+        .sum();
+    assert!((total(&model) - on_base - total(&links)).abs() < 1e-12);
+    let (mut df, mut dl) = (Data::new(&model), Data::new(&links));
+    for q in [[0.0, -0.8, 1.6], [0.3, -1.1, 2.0], [-0.2, -0.5, 1.2]] {
+        crba(&model, &mut df, &q).unwrap();
+        crba(&links, &mut dl, &q).unwrap();
+        for i in 0..3 {
+            let r = model.rotor_of(i).unwrap();
+            let spin = r.gear_ratio.powi(2) * r.axis.dot(&(r.inertia.inertia() * r.axis));
+            let diff = df.mass_matrix[(i, i)] - dl.mass_matrix[(i, i)];
+            assert!(
+                (diff - spin).abs() < 1e-10 * (1.0 + spin),
+                "joint {i}: {diff} vs {spin}"
+            );
+        }
+    }
+}

@@ -191,58 +191,8 @@ pub fn build(name: &'static str, model: &Model, friction: &Friction, d: &Dataset
                 nonneg: name == "payload",
             }]
         }
-        "elasticity" | "backlash" => {
-            // simulate the hypothesis: the links driven through a spring (K)
-            // with a dead band (b) from the measured motor side; the column is
-            // the change of torque it predicts (coefficient ≈ 1 when right)
-            let grid: Vec<(f64, f64)> = if name == "elasticity" {
-                vec![(300.0, 0.0), (1000.0, 0.0), (3000.0, 0.0)]
-            } else {
-                vec![(2000.0, 0.002), (2000.0, 0.005), (2000.0, 0.01)]
-            };
-            let links = match Model::new(&model.name, model.joints.clone(), vec![], model.gravity) {
-                Ok(m) => m,
-                Err(_) => return vec![],
-            };
-            let zero = Friction {
-                viscous: vec![0.0; n],
-                coulomb: vec![0.0; n],
-            };
-            let Ok(rigid) = predict_torques(&links, &zero, &d.q, &d.qd, &d.qdd) else {
-                return vec![];
-            };
-            grid.into_iter()
-                .filter_map(|(k, b)| {
-                    let c = crate::sim::compliance::Compliance {
-                        stiffness: k,
-                        damping: 5.0,
-                        backlash: b,
-                    };
-                    let ls = crate::sim::compliance::simulate_link_side_sampled(
-                        &links, &d.t, &d.q, &d.qd, &c, 2.5e-4,
-                    )
-                    .ok()?;
-                    // one coefficient per joint (the hypothesis' torque change on its row)
-                    let mut cols = vec![zeros(rows); n];
-                    for s in 0..d.len() {
-                        for i in 0..n {
-                            cols[i][s * n + i] = ls[s].2[i] - rigid[s][i];
-                        }
-                    }
-                    Some(Columns {
-                        name,
-                        detail: if b > 0.0 {
-                            format!("dead band ±{b} rad, K = {k} N·m/rad")
-                        } else {
-                            format!("K = {k} N·m/rad")
-                        },
-                        cols,
-                        bodies: vec![],
-                        nonneg: false,
-                    })
-                })
-                .collect()
-        }
+        // fitted to the residual by `super::compliance` (see `diagnose`)
+        "elasticity" | "backlash" => vec![],
         _ => vec![],
     }
 }

@@ -208,6 +208,29 @@ impl Model {
         Ok(())
     }
 
+    /// The links as a compliant transmission drives them: each rotor's body
+    /// welded to the link it is mounted on at zero spin angle (its housing
+    /// moves with that link; a rotor on the fixed base drops out), and no
+    /// rotor spin (exact for rotors symmetric about their spin axes). The
+    /// spin terms (the rotors' motion relative to their mounts) stay with
+    /// the motor side: `full(θ) − link_side(θ)` at a rigid state.
+    pub fn link_side(&self) -> Model {
+        let mut joints = self.joints.clone();
+        for r in &self.rotors {
+            if let Some(p) = self.joints[r.joint].parent {
+                let moved = r.inertia.transformed(&r.x_tree.e.transpose(), &r.x_tree.r);
+                joints[p].inertia = joints[p].inertia.plus(&moved);
+            }
+        }
+        Model {
+            name: self.name.clone(),
+            joints,
+            rotors: vec![],
+            gravity: self.gravity,
+            rotor_of: vec![None; self.joints.len()],
+        }
+    }
+
     /// Index of the joint named `name`.
     pub fn joint_index(&self, name: &str) -> Option<usize> {
         self.joints.iter().position(|j| j.name == name)

@@ -12,8 +12,9 @@
 //!
 //! integrated with RK4 at 10 kHz (after a 0.5 s pre-roll so the start-up
 //! transient has decayed). The actuator torque then carries τ_s in place of
-//! the rigid links' torque at θ; rotor and friction terms stay on the motor
-//! side.
+//! the rigid links' torque at θ; the rotors' spin and the friction stay on
+//! the motor side, while each rotor's housing rides on the link it is
+//! mounted on ([`crate::dynamics::Model::link_side`]).
 
 use super::trajectory::Trajectory;
 use crate::dynamics::{Data, Model, forward_dynamics};

@@ -201,15 +201,11 @@ impl TrueRobot {
         })
     }
 
-    /// The links-only part of the true robot (payload included, no rotors).
+    /// The link side of the true robot driven through a compliant
+    /// transmission (payload included; rotor housings welded to the links
+    /// they are mounted on, rotor spin on the motor side): [`Model::link_side`].
     pub fn links_model(&self) -> Model {
-        Model::new(
-            &self.model.name,
-            self.model.joints.clone(),
-            vec![],
-            self.model.gravity,
-        )
-        .expect("a valid model stays valid")
+        self.model.link_side()
     }
 
     /// The delay (s) the trajectory must be sampled with for the torques.

@@ -1,0 +1,570 @@
+//! The compliance hypotheses (`elasticity`, `backlash`): the links driven
+//! from the measured motor side θ(t) through a spring–damper per joint
+//! (stiffness `K_i` N·m/rad, damping `D_i` N·m·s/rad, dead-band half-width
+//! `b_i` rad; `b = 0` for elasticity), fitted on the training part.
+//!
+//! The link side is the current model's [`Model::link_side`] (rotor housings
+//! welded to their mounts, rotor spin on the motor side). Its deflection
+//! `x = θ − q_L` is small, so the link dynamics are linearised along the
+//! measured motion (precomputed once per data set, [`Linearisation`]):
+//!
+//! ```text
+//! M(θ) ẍ = τ_L(θ, θ̇, θ̈) − G x − C ẋ − τ_s(x, ẋ)
+//! τ_s,i = K_i dz(x_i, b_i) + D_i ẋ_i [|x_i| > b_i]
+//! G = ∂τ_L/∂q,  C = ∂τ_L/∂q̇  (at the measured state)
+//! ```
+//!
+//! which is ~100× cheaper to integrate than the full link dynamics, so the
+//! hypothesis can be searched: a per-joint grid over `K_i` (and `b_i`) by
+//! coordinate descent, then Levenberg–Marquardt on `(ln K_i, ln D_i, b_i)`.
+//! The candidate's columns are, per joint, the torque the hypothesis
+//! changes: `τ_s − τ_L(θ)`. A rigid model cannot tell how the inertia about a
+//! joint axis is shared between the link and the rotor (the rotor's `N² I_zz`
+//! and the link's axial inertia enter rigid torques as one sum); the
+//! per-joint stiffness absorbs that split (the link's ringing frequency is
+//! `√(K_i / I_i)`).
+
+use super::candidates::Columns;
+use crate::dynamics::Model;
+use crate::sim::Dataset;
+use nalgebra::DMatrix;
+use rayon::prelude::*;
+
+/// Integration substeps per sample interval (RK4).
+const SUBSTEPS: usize = 1;
+/// The hypothesis starts in quasi-static deflection at the first sample;
+/// its start-up transient is left out of the fit and the columns for this
+/// long (s).
+pub const WARM_UP: f64 = 0.3;
+/// The grid search uses this much of the training part after the warm-up (s).
+const SEARCH_WINDOW: f64 = 4.0;
+
+/// Per-joint transmission parameters.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Transmission {
+    /// Stiffness K_i (N·m/rad).
+    pub stiffness: Vec<f64>,
+    /// Damping D_i (N·m·s/rad).
+    pub damping: Vec<f64>,
+    /// Dead-band half-width b_i (rad).
+    pub backlash: Vec<f64>,
+    /// Axial inertia moved from the rotor to link i (kg·m²).
+    pub axial_shift: Vec<f64>,
+}
+
+impl Transmission {
+    /// The transmitted torque of joint i at deflection x and rate xd.
+    #[inline]
+    pub fn torque(&self, i: usize, x: f64, xd: f64) -> f64 {
+        let b = self.backlash[i];
+        if x.abs() <= b {
+            0.0
+        } else {
+            self.stiffness[i] * (x - b * x.signum()) + self.damping[i] * xd
+        }
+    }
+}
+
+/// The link dynamics linearised along the measured motion, per sample.
+pub struct Linearisation {
+    n: usize,
+    t: Vec<f64>,
+    /// `M(θ)`, row-major n×n per sample.
+    m: Vec<Vec<f64>>,
+    /// `τ_L(θ, θ̇, θ̈)` per sample.
+    tau: Vec<Vec<f64>>,
+    /// `∂τ_L/∂q`, row-major.
+    g: Vec<Vec<f64>>,
+    /// `∂τ_L/∂q̇`, row-major.
+    c: Vec<Vec<f64>>,
+    /// Per joint i: `∂M/∂s_i` (row-major) and `∂τ_L/∂s_i` per sample, for a
+    /// unit axial inertia `a_i a_iᵀ` added to link i.
+    dm: Vec<Vec<Vec<f64>>>,
+    dtau: Vec<Vec<Vec<f64>>>,
+    /// Link-side `M_ii` averaged over the motion (kg·m²).
+    pub axial: Vec<f64>,
+}
+
+/// Solves the small SPD system `A y = f` in place (Cholesky, row-major A,
+/// overwritten); `false` if A is not positive definite.
+fn solve_spd(a: &mut [f64], f: &mut [f64], n: usize) -> bool {
+    for j in 0..n {
+        let mut d = a[j * n + j];
+        for k in 0..j {
+            d -= a[j * n + k] * a[j * n + k];
+        }
+        if d <= 0.0 || !d.is_finite() {
+            return false;
+        }
+        let d = d.sqrt();
+        a[j * n + j] = d;
+        for i in j + 1..n {
+            let mut s = a[i * n + j];
+            for k in 0..j {
+                s -= a[i * n + k] * a[j * n + k];
+            }
+            a[i * n + j] = s / d;
+        }
+    }
+    for i in 0..n {
+        let mut s = f[i];
+        for k in 0..i {
+            s -= a[i * n + k] * f[k];
+        }
+        f[i] = s / a[i * n + i];
+    }
+    for i in (0..n).rev() {
+        let mut s = f[i];
+        for k in i + 1..n {
+            s -= a[k * n + i] * f[k];
+        }
+        f[i] = s / a[i * n + i];
+    }
+    true
+}
+
+impl Linearisation {
+    /// Precomputes along the data (the link side of `model`).
+    pub fn new(model: &Model, d: &Dataset) -> Result<Self, String> {
+        use crate::dynamics::{Data, crba, rnea};
+        let links = model.link_side();
+        let n = links.dof();
+        // unit axial inertia on link i only
+        let units: Vec<Model> = (0..n)
+            .map(|i| {
+                let mut u = links.clone();
+                for (j, joint) in u.joints.iter_mut().enumerate() {
+                    joint.inertia = if i == j {
+                        let a = joint.axis;
+                        crate::moments::InertialParams::from_mass_h_inertia(
+                            0.0,
+                            nalgebra::Vector3::zeros(),
+                            a * a.transpose(),
+                        )
+                    } else {
+                        crate::moments::InertialParams([0.0; 10])
+                    };
+                }
+                u
+            })
+            .collect();
+        type Row = (
+            Vec<f64>,
+            Vec<f64>,
+            Vec<f64>,
+            Vec<f64>,
+            Vec<Vec<f64>>,
+            Vec<Vec<f64>>,
+        );
+        let per_sample: Vec<Row> = (0..d.len())
+            .into_par_iter()
+            .map(|k| -> Result<Row, String> {
+                let mut data = Data::new(&links);
+                let tau_at = |m: &Model, q: &[f64], qd: &[f64], data: &mut Data| {
+                    rnea(m, data, q, qd, &d.qdd[k])
+                        .map(|t| t.iter().copied().collect::<Vec<f64>>())
+                        .map_err(|e| e.to_string())
+                };
+                let mass = |m: &Model, data: &mut Data| -> Result<Vec<f64>, String> {
+                    crba(m, data, &d.q[k]).map_err(|e| e.to_string())?;
+                    Ok((0..n * n)
+                        .map(|e| data.mass_matrix[(e / n, e % n)])
+                        .collect())
+                };
+                let tau = tau_at(&links, &d.q[k], &d.qd[k], &mut data)?;
+                let m = mass(&links, &mut data)?;
+                let (mut g, mut c) = (vec![0.0; n * n], vec![0.0; n * n]);
+                let eps = 1e-6;
+                for j in 0..n {
+                    let shifted = |v: &[f64], s: f64| {
+                        let mut w = v.to_vec();
+                        w[j] += s;
+                        w
+                    };
+                    let tp = tau_at(&links, &shifted(&d.q[k], eps), &d.qd[k], &mut data)?;
+                    let tm = tau_at(&links, &shifted(&d.q[k], -eps), &d.qd[k], &mut data)?;
+                    let up = tau_at(&links, &d.q[k], &shifted(&d.qd[k], eps), &mut data)?;
+                    let um = tau_at(&links, &d.q[k], &shifted(&d.qd[k], -eps), &mut data)?;
+                    for i in 0..n {
+                        g[i * n + j] = (tp[i] - tm[i]) / (2.0 * eps);
+                        c[i * n + j] = (up[i] - um[i]) / (2.0 * eps);
+                    }
+                }
+                let mut dm = vec![];
+                let mut dtau = vec![];
+                for u in &units {
+                    dm.push(mass(u, &mut data)?);
+                    dtau.push(tau_at(u, &d.q[k], &d.qd[k], &mut data)?);
+                }
+                Ok((m, tau, g, c, dm, dtau))
+            })
+            .collect::<Result<_, String>>()?;
+        let ns = d.len().max(1) as f64;
+        let mut lin = Self {
+            n,
+            t: d.t.clone(),
+            m: vec![],
+            tau: vec![],
+            g: vec![],
+            c: vec![],
+            dm: vec![vec![]; n],
+            dtau: vec![vec![]; n],
+            axial: vec![0.0; n],
+        };
+        for (m, tau, g, c, dm, dtau) in per_sample {
+            for i in 0..n {
+                lin.axial[i] += m[i * n + i] / ns;
+            }
+            lin.m.push(m);
+            lin.tau.push(tau);
+            lin.g.push(g);
+            lin.c.push(c);
+            for (i, (a, b)) in dm.into_iter().zip(dtau).enumerate() {
+                lin.dm[i].push(a);
+                lin.dtau[i].push(b);
+            }
+        }
+        Ok(lin)
+    }
+
+    /// `τ_L(θ) + Σ s_i ∂τ_L/∂s_i` at sample k.
+    fn tau_shifted(&self, p: &Transmission, k: usize, i: usize) -> f64 {
+        self.tau[k][i]
+            + (0..self.n)
+                .map(|j| p.axial_shift[j] * self.dtau[j][k][i])
+                .sum::<f64>()
+    }
+
+    /// `τ_s − τ_L(θ)` per sample (sample-major, n per sample) for samples
+    /// `from..to`, starting in quasi-static deflection at `from`; `None` if
+    /// the integration diverges.
+    pub fn simulate(&self, p: &Transmission, from: usize, to: usize) -> Option<Vec<f64>> {
+        let n = self.n;
+        let mut x = vec![0.0; 2 * n];
+        for i in 0..n {
+            let k = p.stiffness[i].max(1e-9);
+            let t = self.tau_shifted(p, from, i);
+            x[i] = t / k + p.backlash[i] * t.signum();
+        }
+        let mut out = Vec::with_capacity((to - from) * n);
+        // the shifted mass matrix and torque at the samples used
+        let last = to.min(self.t.len() - 1);
+        let shifted = p.axial_shift.iter().any(|s| *s != 0.0);
+        let (ms, ts): (Vec<Vec<f64>>, Vec<Vec<f64>>) = (from..=last)
+            .map(|k| {
+                let mut m = self.m[k].clone();
+                let t: Vec<f64> = (0..n).map(|i| self.tau_shifted(p, k, i)).collect();
+                if shifted {
+                    for (l, sl) in p.axial_shift.iter().enumerate() {
+                        for (e, d) in m.iter_mut().zip(&self.dm[l][k]) {
+                            *e += sl * d;
+                        }
+                    }
+                }
+                (m, t)
+            })
+            .unzip();
+        let mut f = vec![0.0; n];
+        let mut a_m = vec![0.0; n * n];
+        let mut rhs = |k: usize, a: f64, x: &[f64], dx: &mut [f64]| -> bool {
+            let lerp = |u: &[f64], v: &[f64], j: usize| u[j] + a * (v[j] - u[j]);
+            let k1 = (k + 1).min(last);
+            let (r0, r1) = (k - from, k1 - from);
+            for i in 0..n {
+                let mut s = lerp(&ts[r0], &ts[r1], i) - p.torque(i, x[i], x[n + i]);
+                for j in 0..n {
+                    s -= lerp(&self.g[k], &self.g[k1], i * n + j) * x[j]
+                        + lerp(&self.c[k], &self.c[k1], i * n + j) * x[n + j];
+                    a_m[i * n + j] = lerp(&ms[r0], &ms[r1], i * n + j);
+                }
+                f[i] = s;
+            }
+            if !solve_spd(&mut a_m, &mut f, n) {
+                return false;
+            }
+            for i in 0..n {
+                dx[i] = x[n + i];
+                dx[n + i] = f[i];
+            }
+            true
+        };
+        let (mut k1, mut k2, mut k3, mut k4, mut y) = (
+            vec![0.0; 2 * n],
+            vec![0.0; 2 * n],
+            vec![0.0; 2 * n],
+            vec![0.0; 2 * n],
+            vec![0.0; 2 * n],
+        );
+        for k in from..to {
+            for i in 0..n {
+                out.push(p.torque(i, x[i], x[n + i]) - ts[k - from][i]);
+            }
+            if k + 1 >= to {
+                break;
+            }
+            let dt = self.t[k + 1] - self.t[k];
+            let h = dt / SUBSTEPS as f64;
+            for s in 0..SUBSTEPS {
+                let a0 = s as f64 / SUBSTEPS as f64;
+                let ah = (s as f64 + 0.5) / SUBSTEPS as f64;
+                let a1 = (s as f64 + 1.0) / SUBSTEPS as f64;
+                let mut ok = rhs(k, a0, &x, &mut k1);
+                for i in 0..2 * n {
+                    y[i] = x[i] + 0.5 * h * k1[i];
+                }
+                ok &= rhs(k, ah, &y, &mut k2);
+                for i in 0..2 * n {
+                    y[i] = x[i] + 0.5 * h * k2[i];
+                }
+                ok &= rhs(k, ah, &y, &mut k3);
+                for i in 0..2 * n {
+                    y[i] = x[i] + h * k3[i];
+                }
+                ok &= rhs(k, a1, &y, &mut k4);
+                if !ok {
+                    return None;
+                }
+                for i in 0..2 * n {
+                    x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+                }
+            }
+            if !x.iter().all(|v| v.is_finite() && v.abs() < 1e3) {
+                return None;
+            }
+        }
+        Some(out)
+    }
+}
+
+/// The fitted hypothesis.
+#[derive(Clone, Debug)]
+pub struct ComplianceFit {
+    /// Per-joint stiffness, damping and dead band.
+    pub transmission: Transmission,
+    /// Training residual sum of squares with the hypothesis (coefficient 1).
+    pub rss: f64,
+}
+
+/// Samples within the warm-up after sample `from`.
+fn warm_up(t: &[f64], from: usize) -> usize {
+    let t0 = t.get(from).copied().unwrap_or(0.0);
+    t.partition_point(|&s| s < t0 + WARM_UP)
+}
+
+/// Fits the hypothesis to the residual `r` (sample-major, n per sample) on
+/// samples `0..upto`; `None` when nothing simulates.
+pub fn fit(lin: &Linearisation, r: &[f64], upto: usize, backlash: bool) -> Option<ComplianceFit> {
+    let n = lin.n;
+    let warm = warm_up(&lin.t, 0).min(upto);
+    let cost_on = |p: &Transmission, to: usize| -> Option<(f64, Vec<f64>)> {
+        let h = lin.simulate(p, 0, to)?;
+        let e: Vec<f64> = (warm * n..to * n).map(|k| r[k] - h[k]).collect();
+        let v = e.iter().map(|x| x * x).sum::<f64>();
+        v.is_finite().then_some((v, e))
+    };
+    let damping_for = |k: f64, i: usize| 2.0 * 0.15 * (k * lin.axial[i].max(1e-6)).sqrt();
+    // 1. coordinate descent over a per-joint grid, on a window
+    let window = lin
+        .t
+        .partition_point(|&s| s < lin.t[warm.min(lin.t.len() - 1)] + SEARCH_WINDOW)
+        .min(upto);
+    let ks: Vec<f64> = (0..25).map(|j| 150.0 * 1.2f64.powi(j)).collect();
+    let bs: Vec<f64> = if backlash {
+        (0..9).map(|j| 0.001 * 1.4f64.powi(j)).collect()
+    } else {
+        vec![0.0]
+    };
+    let with = |p: &Transmission, i: usize, k: f64, b: f64| {
+        let mut q = p.clone();
+        q.stiffness[i] = k;
+        q.damping[i] = damping_for(k, i);
+        q.backlash[i] = b;
+        q
+    };
+    let best_of = |trials: Vec<Transmission>| -> Option<(f64, Transmission)> {
+        trials
+            .into_par_iter()
+            .filter_map(|q| cost_on(&q, window).map(|c| (c.0, q)))
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+    };
+    let rigid = Transmission {
+        stiffness: vec![1e5; n],
+        damping: (0..n).map(|i| damping_for(1e5, i)).collect(),
+        backlash: vec![0.0; n],
+        axial_shift: vec![0.0; n],
+    };
+    // (a) one transmission shared by every joint: K × b grid (the joints'
+    // ringing couples through the mass matrix, so they are searched together)
+    let shared: Vec<Transmission> = ks
+        .iter()
+        .flat_map(|&k| bs.iter().map(move |&b| (k, b)))
+        .map(|(k, b)| (0..n).fold(rigid.clone(), |q, i| with(&q, i, k, b)))
+        .collect();
+    let (mut best, mut p) = best_of(shared)?;
+    // (b) per joint, a local grid around it (coordinate descent)
+    for _sweep in 0..2 {
+        for i in 0..n {
+            let (k0, b0) = (p.stiffness[i], p.backlash[i]);
+            let mut trials = vec![];
+            for f in [0.6, 0.7, 0.8, 0.9, 1.0, 1.1, 1.25, 1.4, 1.6] {
+                for g in if backlash {
+                    vec![0.7, 0.85, 1.0, 1.2, 1.4]
+                } else {
+                    vec![1.0]
+                } {
+                    trials.push(with(&p, i, k0 * f, b0 * g));
+                }
+            }
+            if let Some((c, q)) = best_of(trials)
+                && c < best
+            {
+                best = c;
+                p = q;
+            }
+            // the rotor/link split at the same ringing frequency K_i / (M_ii + s_i)
+            let (k0, s0, mi) = (p.stiffness[i], p.axial_shift[i], lin.axial[i]);
+            let trials: Vec<Transmission> = [
+                -0.08, -0.06, -0.04, -0.03, -0.02, -0.01, 0.01, 0.02, 0.03, 0.04, 0.06, 0.08,
+            ]
+            .iter()
+            .map(|f| {
+                let s = s0 + f * mi;
+                let mut q = p.clone();
+                q.axial_shift[i] = s;
+                q.stiffness[i] = k0 * (mi + s) / (mi + s0);
+                q
+            })
+            .collect();
+            if let Some((c, q)) = best_of(trials)
+                && c < best
+            {
+                best = c;
+                p = q;
+            }
+        }
+    }
+    // 2. Levenberg–Marquardt on (ln K_i, ln D_i, b_i) over the whole training part
+    let pack = |p: &Transmission| -> Vec<f64> {
+        let mut v: Vec<f64> = p.stiffness.iter().map(|k| k.ln()).collect();
+        v.extend(p.damping.iter().map(|d| d.ln()));
+        if backlash {
+            v.extend(p.backlash.iter().copied());
+        }
+        v.extend(p.axial_shift.iter().copied());
+        v
+    };
+    let unpack = |v: &[f64]| Transmission {
+        stiffness: v[..n].iter().map(|x| x.exp()).collect(),
+        damping: v[n..2 * n].iter().map(|x| x.exp()).collect(),
+        backlash: if backlash {
+            v[2 * n..3 * n].iter().map(|b| b.max(0.0)).collect()
+        } else {
+            vec![0.0; n]
+        },
+        axial_shift: v[v.len() - n..].to_vec(),
+    };
+    let mut v = pack(&p);
+    let (mut best, mut e) = cost_on(&p, upto)?;
+    let nb = if backlash { 3 * n } else { 2 * n };
+    let steps: Vec<f64> = (0..v.len())
+        .map(|j| {
+            if j < 2 * n {
+                0.01
+            } else if j < nb {
+                2e-5
+            } else {
+                1e-3 * lin.axial[j - nb]
+            }
+        })
+        .collect();
+    let np = v.len();
+    let mut lambda = 1e-3;
+    for _ in 0..12 {
+        let jac: Option<Vec<Vec<f64>>> = (0..np)
+            .into_par_iter()
+            .map(|j| {
+                let mut w = v.clone();
+                w[j] += steps[j];
+                let (_, ej) = cost_on(&unpack(&w), upto)?;
+                Some(e.iter().zip(&ej).map(|(a, b)| (a - b) / steps[j]).collect())
+            })
+            .collect();
+        let Some(jac) = jac else { break };
+        let mut jtj = DMatrix::<f64>::zeros(np, np);
+        let mut jte = nalgebra::DVector::<f64>::zeros(np);
+        for a in 0..np {
+            for b in a..np {
+                let s: f64 = jac[a].iter().zip(&jac[b]).map(|(x, y)| x * y).sum();
+                jtj[(a, b)] = s;
+                jtj[(b, a)] = s;
+            }
+            jte[a] = jac[a].iter().zip(&e).map(|(x, y)| x * y).sum();
+        }
+        let mut improved = false;
+        for _ in 0..8 {
+            let mut m = jtj.clone();
+            for a in 0..np {
+                m[(a, a)] += lambda * jtj[(a, a)].max(1e-12);
+            }
+            let Some(step) = m.cholesky().map(|c| c.solve(&jte)) else {
+                lambda *= 10.0;
+                continue;
+            };
+            let w: Vec<f64> = v.iter().zip(step.iter()).map(|(a, b)| a + b).collect();
+            match cost_on(&unpack(&w), upto) {
+                Some((c, ew)) if c < best => {
+                    improved = (best - c) / best > 1e-5;
+                    v = w;
+                    best = c;
+                    e = ew;
+                    lambda = (lambda / 5.0).max(1e-7);
+                    break;
+                }
+                _ => lambda *= 8.0,
+            }
+        }
+        if !improved {
+            break;
+        }
+    }
+    Some(ComplianceFit {
+        transmission: unpack(&v),
+        rss: best,
+    })
+}
+
+/// The candidate's columns on all samples (one per joint) for a fitted
+/// hypothesis (zero during the warm-up).
+pub fn columns(name: &'static str, lin: &Linearisation, fit: &ComplianceFit) -> Option<Columns> {
+    let n = lin.n;
+    let ns = lin.t.len();
+    let h = lin.simulate(&fit.transmission, 0, ns)?;
+    let mut cols = vec![vec![0.0; ns * n]; n];
+    for s in warm_up(&lin.t, 0)..ns {
+        for i in 0..n {
+            cols[i][s * n + i] = h[s * n + i];
+        }
+    }
+    let p = &fit.transmission;
+    let list = |v: &[f64], digits: usize| {
+        v.iter()
+            .map(|x| format!("{x:.digits$}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let mut detail = format!(
+        "K = ({}) N·m/rad, D = ({}) N·m·s/rad",
+        list(&p.stiffness, 0),
+        list(&p.damping, 2)
+    );
+    if p.backlash.iter().any(|&b| b > 0.0) {
+        detail = format!("dead band ±({}) rad, {detail}", list(&p.backlash, 4));
+    }
+    Some(Columns {
+        name,
+        detail,
+        cols,
+        bodies: vec![],
+        nonneg: false,
+    })
+}
