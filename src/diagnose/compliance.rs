@@ -27,6 +27,7 @@
 use super::candidates::Columns;
 use crate::dynamics::Model;
 use crate::sim::Dataset;
+use crate::sim::compliance::Compliance;
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 
@@ -56,12 +57,12 @@ impl Transmission {
     /// The transmitted torque of joint i at deflection x and rate xd.
     #[inline]
     pub fn torque(&self, i: usize, x: f64, xd: f64) -> f64 {
-        let b = self.backlash[i];
-        if x.abs() <= b {
-            0.0
-        } else {
-            self.stiffness[i] * (x - b * x.signum()) + self.damping[i] * xd
+        Compliance {
+            stiffness: self.stiffness[i],
+            damping: self.damping[i],
+            backlash: self.backlash[i],
         }
+        .torque(x, xd)
     }
 }
 
@@ -250,32 +251,40 @@ impl Linearisation {
         // the shifted mass matrix and torque at the samples used
         let last = to.min(self.t.len() - 1);
         let shifted = p.axial_shift.iter().any(|s| *s != 0.0);
-        let (ms, ts): (Vec<Vec<f64>>, Vec<Vec<f64>>) = (from..=last)
-            .map(|k| {
-                let mut m = self.m[k].clone();
-                let t: Vec<f64> = (0..n).map(|i| self.tau_shifted(p, k, i)).collect();
-                if shifted {
-                    for (l, sl) in p.axial_shift.iter().enumerate() {
-                        for (e, d) in m.iter_mut().zip(&self.dm[l][k]) {
-                            *e += sl * d;
-                        }
+        // (flat: n×n and n per sample from `from`)
+        let (mut ms, mut ts) = (
+            Vec::with_capacity((last + 1 - from) * n * n),
+            Vec::with_capacity((last + 1 - from) * n),
+        );
+        for k in from..=last {
+            let start = ms.len();
+            ms.extend_from_slice(&self.m[k]);
+            if shifted {
+                for (l, sl) in p.axial_shift.iter().enumerate() {
+                    for (e, d) in ms[start..].iter_mut().zip(&self.dm[l][k]) {
+                        *e += sl * d;
                     }
                 }
-                (m, t)
-            })
-            .unzip();
+            }
+            ts.extend((0..n).map(|i| self.tau_shifted(p, k, i)));
+        }
         let mut f = vec![0.0; n];
         let mut a_m = vec![0.0; n * n];
         let mut rhs = |k: usize, a: f64, x: &[f64], dx: &mut [f64]| -> bool {
             let lerp = |u: &[f64], v: &[f64], j: usize| u[j] + a * (v[j] - u[j]);
             let k1 = (k + 1).min(last);
             let (r0, r1) = (k - from, k1 - from);
+            let (t0, t1) = (&ts[r0 * n..(r0 + 1) * n], &ts[r1 * n..(r1 + 1) * n]);
+            let (m0, m1) = (
+                &ms[r0 * n * n..(r0 + 1) * n * n],
+                &ms[r1 * n * n..(r1 + 1) * n * n],
+            );
             for i in 0..n {
-                let mut s = lerp(&ts[r0], &ts[r1], i) - p.torque(i, x[i], x[n + i]);
+                let mut s = lerp(t0, t1, i) - p.torque(i, x[i], x[n + i]);
                 for j in 0..n {
                     s -= lerp(&self.g[k], &self.g[k1], i * n + j) * x[j]
                         + lerp(&self.c[k], &self.c[k1], i * n + j) * x[n + j];
-                    a_m[i * n + j] = lerp(&ms[r0], &ms[r1], i * n + j);
+                    a_m[i * n + j] = lerp(m0, m1, i * n + j);
                 }
                 f[i] = s;
             }
@@ -297,7 +306,7 @@ impl Linearisation {
         );
         for k in from..to {
             for i in 0..n {
-                out.push(p.torque(i, x[i], x[n + i]) - ts[k - from][i]);
+                out.push(p.torque(i, x[i], x[n + i]) - ts[(k - from) * n + i]);
             }
             if k + 1 >= to {
                 break;
@@ -345,9 +354,9 @@ pub struct ComplianceFit {
     pub rss: f64,
 }
 
-/// Samples within the warm-up after sample `from`.
-fn warm_up(t: &[f64], from: usize) -> usize {
-    let t0 = t.get(from).copied().unwrap_or(0.0);
+/// Samples within the warm-up from the first sample.
+fn warm_up(t: &[f64]) -> usize {
+    let t0 = t.first().copied().unwrap_or(0.0);
     t.partition_point(|&s| s < t0 + WARM_UP)
 }
 
@@ -355,7 +364,7 @@ fn warm_up(t: &[f64], from: usize) -> usize {
 /// samples `0..upto`; `None` when nothing simulates.
 pub fn fit(lin: &Linearisation, r: &[f64], upto: usize, backlash: bool) -> Option<ComplianceFit> {
     let n = lin.n;
-    let warm = warm_up(&lin.t, 0).min(upto);
+    let warm = warm_up(&lin.t).min(upto);
     let cost_on = |p: &Transmission, to: usize| -> Option<(f64, Vec<f64>)> {
         let h = lin.simulate(p, 0, to)?;
         let e: Vec<f64> = (warm * n..to * n).map(|k| r[k] - h[k]).collect();
@@ -540,7 +549,7 @@ pub fn columns(name: &'static str, lin: &Linearisation, fit: &ComplianceFit) -> 
     let ns = lin.t.len();
     let h = lin.simulate(&fit.transmission, 0, ns)?;
     let mut cols = vec![vec![0.0; ns * n]; n];
-    for s in warm_up(&lin.t, 0)..ns {
+    for s in warm_up(&lin.t)..ns {
         for i in 0..n {
             cols[i][s * n + i] = h[s * n + i];
         }

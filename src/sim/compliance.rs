@@ -58,36 +58,6 @@ pub fn simulate_link_side(
     integrate(links, &motor, times, c, 0.5, 1e-4)
 }
 
-/// As [`simulate_link_side`], with the motor side given by samples (linear
-/// interpolation between them, held before the first): used to test the
-/// compliance hypothesis on measured data.
-pub fn simulate_link_side_sampled(
-    links: &Model,
-    t: &[f64],
-    q: &[Vec<f64>],
-    qd: &[Vec<f64>],
-    c: &Compliance,
-    dt: f64,
-) -> Result<Vec<(Vec<f64>, Vec<f64>, Vec<f64>)>, String> {
-    let motor = |s: f64| -> Result<(Vec<f64>, Vec<f64>), String> {
-        let k = t.partition_point(|&x| x <= s).clamp(1, t.len().max(2) - 1);
-        let (a, b) = (k - 1, k.min(t.len() - 1));
-        let w = if t[b] > t[a] {
-            ((s - t[a]) / (t[b] - t[a])).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        let lerp = |v: &[Vec<f64>]| {
-            v[a].iter()
-                .zip(&v[b])
-                .map(|(x, y)| x + w * (y - x))
-                .collect::<Vec<f64>>()
-        };
-        Ok((lerp(q), lerp(qd)))
-    };
-    integrate(links, &motor, t, c, 0.0, dt)
-}
-
 fn integrate(
     links: &Model,
     motor: &dyn Fn(f64) -> Result<(Vec<f64>, Vec<f64>), String>,
