@@ -41,6 +41,7 @@ fn main() {
         (base, "cogging", vec![]),
         (base, "torque_gain", vec![]),
         (base, "elasticity", vec!["stiffness=300".into()]),
+        (base, "elasticity", vec![]),
         (base, "backlash", vec![]),
         (base, "offset,cogging", vec![]),
         (base, "payload,stribeck", vec![]),

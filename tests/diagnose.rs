@@ -121,10 +121,11 @@ fn soft_elasticity_is_found_by_simulating_the_hypothesis() {
 }
 
 #[test]
-fn friction_missing_from_the_nominal_model_is_found() {
+fn base_effects_missing_from_the_nominal_model_are_found() {
     for (base, effect) in [
         ("rotor_inertia,viscous", "coulomb"),
         ("rotor_inertia,coulomb", "viscous"),
+        ("coulomb,viscous", "rotor_inertia"),
     ] {
         let d = run(base, effect, &[]);
         assert!(found(&d, effect), "{effect}: accepted {:?}", d.accepted);
@@ -145,13 +146,39 @@ fn asymmetric_coulomb_is_reported_tied_with_offset() {
     );
 }
 
+/// Backlash at the simulator's defaults (dead band ±0.005 rad, K = 2000
+/// N·m/rad, D = 5 N·m·s/rad): the links ring after each impact, which only a
+/// simulated hypothesis with the right K, D and b per joint reproduces.
+#[test]
+fn backlash_is_found_by_simulating_the_hypothesis() {
+    let d = run(BASE, "backlash", &[]);
+    assert!(found(&d, "backlash"), "accepted {:?}", d.accepted);
+    closes_most_of_the_gap(&d);
+    assert!(!d.unexplained);
+    // the gap was real: the hip's held-out RMS was far above its noise floor
+    assert!(d.heldout_rms_nominal[1] > 2.0 * d.noise_floor[1]);
+}
+
+/// Elasticity at the simulator's default stiffness (2000 N·m/rad) changes
+/// the torque by ~0.02 N·m RMS on this trajectory, against 0.3 N·m of noise:
+/// there is no gap, and the diagnoser must not invent an effect for it.
+#[test]
+fn invisible_stiff_elasticity_invents_nothing() {
+    let d = run(BASE, "elasticity", &[]);
+    for i in 0..3 {
+        assert!(d.heldout_rms_nominal[i] < d.noise_floor[i] + 0.01);
+    }
+    assert!(d.accepted.is_empty(), "{:?}", d.accepted);
+    assert!(!d.unexplained);
+}
+
 #[test]
 fn pairs_are_both_accepted() {
-    // (stribeck + time_delay is a known confusion: see docs/diagnosis.md)
     for (a, b) in [
         ("offset", "cogging"),
         ("payload", "stribeck"),
         ("torque_gain", "cogging"),
+        ("stribeck", "time_delay"),
     ] {
         let d = run(BASE, &format!("{a},{b}"), &[]);
         assert!(found(&d, a) && found(&d, b), "{a}+{b}: {:?}", d.accepted);
@@ -227,9 +254,9 @@ fn linearised_compliance_matches_the_full_simulation() {
                 miss += (e - h[3 * k + i]).powi(2);
             }
             assert!(effect > 0.0);
-            // elasticity within 10 % RMS; backlash within 35 % (the impacts'
-            // timing at the dead band's edges is sensitive to the linearisation)
-            let tol = if b > 0.0 { 0.35f64 } else { 0.1 };
+            // elasticity within 2 % RMS; backlash within 10 % (the steps
+            // across a dead band's edge are refined, not located exactly)
+            let tol = if b > 0.0 { 0.1f64 } else { 0.02 };
             assert!(
                 miss < tol * tol * effect,
                 "{effects}, joint {i}: mismatch {:.4} of the effect",

@@ -36,6 +36,9 @@ pub struct Columns {
     pub bodies: Vec<[f64; 10]>,
     /// The coefficients must be ≥ 0 (a payload mass).
     pub nonneg: bool,
+    /// Nonlinear parameters chosen by search before the linear fit (a delay,
+    /// a Stribeck velocity, a stiffness per joint, …); they count in ΔBIC.
+    pub nonlinear: usize,
 }
 
 fn zeros(rows: usize) -> Vec<f64> {
@@ -77,6 +80,7 @@ pub fn build(name: &'static str, model: &Model, friction: &Friction, d: &Dataset
             cols,
             bodies: vec![],
             nonneg: false,
+            nonlinear: 0,
         }]
     };
     match name {
@@ -94,6 +98,7 @@ pub fn build(name: &'static str, model: &Model, friction: &Friction, d: &Dataset
                 }),
                 bodies: vec![],
                 nonneg: false,
+                nonlinear: 1,
             })
             .collect(),
         "cogging" => (1..=12)
@@ -107,6 +112,7 @@ pub fn build(name: &'static str, model: &Model, friction: &Friction, d: &Dataset
                     cols,
                     bodies: vec![],
                     nonneg: false,
+                    nonlinear: 1,
                 }
             })
             .collect(),
@@ -134,6 +140,7 @@ pub fn build(name: &'static str, model: &Model, friction: &Friction, d: &Dataset
                         cols: vec![c],
                         bodies: vec![],
                         nonneg: false,
+                        nonlinear: 1,
                     }
                 })
                 .collect()
@@ -189,6 +196,7 @@ pub fn build(name: &'static str, model: &Model, friction: &Friction, d: &Dataset
                 cols,
                 bodies,
                 nonneg: name == "payload",
+                nonlinear: 0,
             }]
         }
         // fitted to the residual by `super::compliance` (see `diagnose`)

@@ -14,15 +14,27 @@
 //! G = ∂τ_L/∂q,  C = ∂τ_L/∂q̇  (at the measured state)
 //! ```
 //!
-//! which is ~100× cheaper to integrate than the full link dynamics, so the
-//! hypothesis can be searched: a per-joint grid over `K_i` (and `b_i`) by
-//! coordinate descent, then Levenberg–Marquardt on `(ln K_i, ln D_i, b_i)`.
-//! The candidate's columns are, per joint, the torque the hypothesis
-//! changes: `τ_s − τ_L(θ)`. A rigid model cannot tell how the inertia about a
-//! joint axis is shared between the link and the rotor (the rotor's `N² I_zz`
-//! and the link's axial inertia enter rigid torques as one sum); the
-//! per-joint stiffness absorbs that split (the link's ringing frequency is
-//! `√(K_i / I_i)`).
+//! which is ~100× cheaper to integrate than the full link dynamics (RK4,
+//! one step per sample; a step in which a joint enters or leaves its dead
+//! band is redone in 16 substeps, since the spring force has a kink there),
+//! so the hypothesis can be searched:
+//!
+//! 1. a grid shared by every joint over K (30 values, 150 … 8,600 N·m/rad),
+//!    damping ratio ζ (0.05 … 0.4) and, for backlash, b (13 values,
+//!    0.001 … 0.023 rad), on the first 3 s of the training part; each joint
+//!    takes the grid point that explains its own residual best (scaled by
+//!    its best coefficient, so the grid judges timing, not amplitude);
+//! 2. two sweeps of coordinate descent over the whole training part: per
+//!    joint a local (K_i, D_i, b_i) grid, then the axial split s_i at a fixed
+//!    ringing frequency K_i / (M_ii + s_i);
+//! 3. Levenberg–Marquardt on (ln K_i, ln D_i, b_i, s_i).
+//!
+//! The damping matters as much as K: the spring–damper's torque jumps by
+//! D ẋ at each impact. The candidate's columns are, per joint, the torque
+//! the hypothesis changes: `τ_s − τ_L(θ)`. A rigid model cannot tell how the
+//! inertia about a joint axis is shared between the link and the rotor (the
+//! rotor's `N² I_zz` and the link's axial inertia enter rigid torques as one
+//! sum), but the link's ringing depends on it, hence the fitted shift s_i.
 
 use super::candidates::Columns;
 use crate::dynamics::Model;
@@ -33,12 +45,15 @@ use rayon::prelude::*;
 
 /// Integration substeps per sample interval (RK4).
 const SUBSTEPS: usize = 1;
+/// Substeps for a sample interval in which a joint enters or leaves its dead
+/// band.
+const REFINED: usize = 16;
 /// The hypothesis starts in quasi-static deflection at the first sample;
 /// its start-up transient is left out of the fit and the columns for this
 /// long (s).
 pub const WARM_UP: f64 = 0.3;
 /// The grid search uses this much of the training part after the warm-up (s).
-const SEARCH_WINDOW: f64 = 4.0;
+const SEARCH_WINDOW: f64 = 3.0;
 
 /// Per-joint transmission parameters.
 #[derive(Clone, Debug, PartialEq)]
@@ -304,6 +319,8 @@ impl Linearisation {
             vec![0.0; 2 * n],
             vec![0.0; 2 * n],
         );
+        let mut x0 = vec![0.0; 2 * n];
+        let in_contact = |x: &[f64], i: usize| x[i].abs() > p.backlash[i];
         for k in from..to {
             for i in 0..n {
                 out.push(p.torque(i, x[i], x[n + i]) - ts[(k - from) * n + i]);
@@ -312,29 +329,40 @@ impl Linearisation {
                 break;
             }
             let dt = self.t[k + 1] - self.t[k];
-            let h = dt / SUBSTEPS as f64;
-            for s in 0..SUBSTEPS {
-                let a0 = s as f64 / SUBSTEPS as f64;
-                let ah = (s as f64 + 0.5) / SUBSTEPS as f64;
-                let a1 = (s as f64 + 1.0) / SUBSTEPS as f64;
-                let mut ok = rhs(k, a0, &x, &mut k1);
-                for i in 0..2 * n {
-                    y[i] = x[i] + 0.5 * h * k1[i];
+            x0.copy_from_slice(&x);
+            // one step per sample; a step across a dead band's edge (the
+            // spring force has a kink there) is redone in finer substeps
+            for substeps in [SUBSTEPS, REFINED] {
+                let h = dt / substeps as f64;
+                x.copy_from_slice(&x0);
+                for s in 0..substeps {
+                    let a0 = s as f64 / substeps as f64;
+                    let ah = (s as f64 + 0.5) / substeps as f64;
+                    let a1 = (s as f64 + 1.0) / substeps as f64;
+                    let mut ok = rhs(k, a0, &x, &mut k1);
+                    for i in 0..2 * n {
+                        y[i] = x[i] + 0.5 * h * k1[i];
+                    }
+                    ok &= rhs(k, ah, &y, &mut k2);
+                    for i in 0..2 * n {
+                        y[i] = x[i] + 0.5 * h * k2[i];
+                    }
+                    ok &= rhs(k, ah, &y, &mut k3);
+                    for i in 0..2 * n {
+                        y[i] = x[i] + h * k3[i];
+                    }
+                    ok &= rhs(k, a1, &y, &mut k4);
+                    if !ok {
+                        return None;
+                    }
+                    for i in 0..2 * n {
+                        x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+                    }
                 }
-                ok &= rhs(k, ah, &y, &mut k2);
-                for i in 0..2 * n {
-                    y[i] = x[i] + 0.5 * h * k2[i];
-                }
-                ok &= rhs(k, ah, &y, &mut k3);
-                for i in 0..2 * n {
-                    y[i] = x[i] + h * k3[i];
-                }
-                ok &= rhs(k, a1, &y, &mut k4);
-                if !ok {
-                    return None;
-                }
-                for i in 0..2 * n {
-                    x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+                let crossed =
+                    (0..n).any(|i| p.backlash[i] > 0.0 && in_contact(&x, i) != in_contact(&x0, i));
+                if !crossed {
+                    break;
                 }
             }
             if !x.iter().all(|v| v.is_finite() && v.abs() < 1e3) {
@@ -371,70 +399,114 @@ pub fn fit(lin: &Linearisation, r: &[f64], upto: usize, backlash: bool) -> Optio
         let v = e.iter().map(|x| x * x).sum::<f64>();
         v.is_finite().then_some((v, e))
     };
-    let damping_for = |k: f64, i: usize| 2.0 * 0.15 * (k * lin.axial[i].max(1e-6)).sqrt();
-    // 1. coordinate descent over a per-joint grid, on a window
+    // damping for a damping ratio ζ at stiffness k
+    let damping_for =
+        |k: f64, i: usize, zeta: f64| 2.0 * zeta * (k * lin.axial[i].max(1e-6)).sqrt();
+    // 1. grid search on a window of the training part
     let window = lin
         .t
         .partition_point(|&s| s < lin.t[warm.min(lin.t.len() - 1)] + SEARCH_WINDOW)
         .min(upto);
-    let ks: Vec<f64> = (0..25).map(|j| 150.0 * 1.2f64.powi(j)).collect();
+    let ks: Vec<f64> = (0..30).map(|j| 150.0 * 1.15f64.powi(j)).collect();
+    let zetas = [0.05, 0.1, 0.2, 0.4];
     let bs: Vec<f64> = if backlash {
-        (0..9).map(|j| 0.001 * 1.4f64.powi(j)).collect()
+        (0..13).map(|j| 0.001 * 1.3f64.powi(j)).collect()
     } else {
         vec![0.0]
     };
-    let with = |p: &Transmission, i: usize, k: f64, b: f64| {
+    let with = |p: &Transmission, i: usize, k: f64, d: f64, b: f64| {
         let mut q = p.clone();
         q.stiffness[i] = k;
-        q.damping[i] = damping_for(k, i);
+        q.damping[i] = d;
         q.backlash[i] = b;
         q
     };
     let best_of = |trials: Vec<Transmission>| -> Option<(f64, Transmission)> {
         trials
             .into_par_iter()
-            .filter_map(|q| cost_on(&q, window).map(|c| (c.0, q)))
+            .filter_map(|q| cost_on(&q, upto).map(|c| (c.0, q)))
             .min_by(|a, b| a.0.total_cmp(&b.0))
+    };
+    // per joint, the cost with the hypothesis scaled by its best β ≥ 0 (the
+    // candidate's coefficient), so that the grid sees timing, not amplitude
+    let projected = |p: &Transmission| -> Option<Vec<f64>> {
+        let h = lin.simulate(p, 0, window)?;
+        Some(
+            (0..n)
+                .map(|i| {
+                    let (mut rh, mut hh, mut rr) = (0.0, 0.0, 0.0);
+                    for k in warm..window {
+                        let (a, b) = (r[k * n + i], h[k * n + i]);
+                        rh += a * b;
+                        hh += b * b;
+                        rr += a * a;
+                    }
+                    let beta = if hh > 0.0 { (rh / hh).max(0.0) } else { 0.0 };
+                    rr - 2.0 * beta * rh + beta * beta * hh
+                })
+                .collect(),
+        )
     };
     let rigid = Transmission {
         stiffness: vec![1e5; n],
-        damping: (0..n).map(|i| damping_for(1e5, i)).collect(),
+        damping: (0..n).map(|i| damping_for(1e5, i, 0.15)).collect(),
         backlash: vec![0.0; n],
         axial_shift: vec![0.0; n],
     };
-    // (a) one transmission shared by every joint: K × b grid (the joints'
-    // ringing couples through the mass matrix, so they are searched together)
-    let shared: Vec<Transmission> = ks
+    // (a) one transmission shared by every joint: a K × ζ × b grid; each
+    // joint then takes the grid point that explains its own residual best
+    let grid: Vec<(f64, f64, f64)> = ks
         .iter()
-        .flat_map(|&k| bs.iter().map(move |&b| (k, b)))
-        .map(|(k, b)| (0..n).fold(rigid.clone(), |q, i| with(&q, i, k, b)))
+        .flat_map(|&k| zetas.iter().map(move |&z| (k, z)))
+        .flat_map(|(k, z)| bs.iter().map(move |&b| (k, z, b)))
         .collect();
-    let (mut best, mut p) = best_of(shared)?;
-    // (b) per joint, a local grid around it (coordinate descent)
-    for _sweep in 0..2 {
-        for i in 0..n {
-            let (k0, b0) = (p.stiffness[i], p.backlash[i]);
-            let mut trials = vec![];
-            for f in [0.6, 0.7, 0.8, 0.9, 1.0, 1.1, 1.25, 1.4, 1.6] {
-                for g in if backlash {
-                    vec![0.7, 0.85, 1.0, 1.2, 1.4]
+    let at = |&(k, z, b): &(f64, f64, f64)| {
+        (0..n).fold(rigid.clone(), |q, i| {
+            with(&q, i, k, damping_for(k, i, z), b)
+        })
+    };
+    let costs: Vec<Option<Vec<f64>>> = grid.par_iter().map(|g| projected(&at(g))).collect();
+    // per joint: its best grid point, and how much of its residual that explains
+    let rr: Vec<f64> = (0..n)
+        .map(|i| (warm..window).map(|k| r[k * n + i].powi(2)).sum())
+        .collect();
+    let picks: Vec<Option<(f64, Transmission)>> = (0..n)
+        .map(|i| {
+            costs
+                .iter()
+                .zip(&grid)
+                .filter_map(|(c, g)| c.as_ref().map(|c| (c[i], g)))
+                .min_by(|a, b| a.0.total_cmp(&b.0))
+                .map(|(c, g)| (rr[i] - c, at(g)))
+        })
+        .collect();
+    // (b) the joints one at a time, the most explained first (the others
+    // stay rigid until their turn, so that a poorly determined joint does not
+    // disturb a well determined one through the coupling): local grids over
+    // (K_i, D_i, b_i) and the axial split s_i
+    let descend = |p: &mut Transmission, best: &mut f64, i: usize| {
+        let (k0, d0, b0) = (p.stiffness[i], p.damping[i], p.backlash[i]);
+        let mut trials = vec![];
+        for f in [0.85, 0.93, 1.0, 1.07, 1.15] {
+            for g in [0.7, 0.85, 1.0, 1.2, 1.4] {
+                for h in if backlash {
+                    vec![0.85, 1.0, 1.15]
                 } else {
                     vec![1.0]
                 } {
-                    trials.push(with(&p, i, k0 * f, b0 * g));
+                    trials.push(with(p, i, k0 * f, d0 * g, b0 * h));
                 }
             }
-            if let Some((c, q)) = best_of(trials)
-                && c < best
-            {
-                best = c;
-                p = q;
-            }
-            // the rotor/link split at the same ringing frequency K_i / (M_ii + s_i)
-            let (k0, s0, mi) = (p.stiffness[i], p.axial_shift[i], lin.axial[i]);
-            let trials: Vec<Transmission> = [
-                -0.08, -0.06, -0.04, -0.03, -0.02, -0.01, 0.01, 0.02, 0.03, 0.04, 0.06, 0.08,
-            ]
+        }
+        if let Some((c, q)) = best_of(trials)
+            && c < *best
+        {
+            *best = c;
+            *p = q;
+        }
+        // the rotor/link split at the same ringing frequency K_i / (M_ii + s_i)
+        let (k0, s0, mi) = (p.stiffness[i], p.axial_shift[i], lin.axial[i]);
+        let trials: Vec<Transmission> = [-0.08, -0.05, -0.03, -0.015, 0.015, 0.03, 0.05, 0.08]
             .iter()
             .map(|f| {
                 let s = s0 + f * mi;
@@ -444,12 +516,23 @@ pub fn fit(lin: &Linearisation, r: &[f64], upto: usize, backlash: bool) -> Optio
                 q
             })
             .collect();
-            if let Some((c, q)) = best_of(trials)
-                && c < best
-            {
-                best = c;
-                p = q;
-            }
+        if let Some((c, q)) = best_of(trials)
+            && c < *best
+        {
+            *best = c;
+            *p = q;
+        }
+    };
+    let mut p = rigid.clone();
+    for (i, pick) in picks.iter().enumerate() {
+        if let Some((_, g)) = pick {
+            p = with(&p, i, g.stiffness[i], g.damping[i], g.backlash[i]);
+        }
+    }
+    let mut best = cost_on(&p, upto)?.0;
+    for _ in 0..2 {
+        for i in 0..n {
+            descend(&mut p, &mut best, i);
         }
     }
     // 2. Levenberg–Marquardt on (ln K_i, ln D_i, b_i) over the whole training part
@@ -575,5 +658,7 @@ pub fn columns(name: &'static str, lin: &Linearisation, fit: &ComplianceFit) -> 
         cols,
         bodies: vec![],
         nonneg: false,
+        // K, D and the axial split per joint, and the dead band for backlash
+        nonlinear: if name == "backlash" { 4 * n } else { 3 * n },
     })
 }
