@@ -466,24 +466,19 @@ pub fn fit(lin: &Linearisation, r: &[f64], upto: usize, backlash: bool) -> Optio
         })
     };
     let costs: Vec<Option<Vec<f64>>> = grid.par_iter().map(|g| projected(&at(g))).collect();
-    // per joint: its best grid point, and how much of its residual that explains
-    let rr: Vec<f64> = (0..n)
-        .map(|i| (warm..window).map(|k| r[k * n + i].powi(2)).sum())
-        .collect();
-    let picks: Vec<Option<(f64, Transmission)>> = (0..n)
+    // per joint: the grid point that explains its own residual best
+    let picks: Vec<Option<(f64, f64, f64)>> = (0..n)
         .map(|i| {
             costs
                 .iter()
                 .zip(&grid)
-                .filter_map(|(c, g)| c.as_ref().map(|c| (c[i], g)))
+                .filter_map(|(c, g)| c.as_ref().map(|c| (c[i], *g)))
                 .min_by(|a, b| a.0.total_cmp(&b.0))
-                .map(|(c, g)| (rr[i] - c, at(g)))
+                .map(|(_, g)| g)
         })
         .collect();
-    // (b) the joints one at a time, the most explained first (the others
-    // stay rigid until their turn, so that a poorly determined joint does not
-    // disturb a well determined one through the coupling): local grids over
-    // (K_i, D_i, b_i) and the axial split s_i
+    // (b) coordinate descent on the whole training part: per joint, local
+    // grids over (K_i, D_i, b_i), then the axial split s_i
     let descend = |p: &mut Transmission, best: &mut f64, i: usize| {
         let (k0, d0, b0) = (p.stiffness[i], p.damping[i], p.backlash[i]);
         let mut trials = vec![];
@@ -525,8 +520,8 @@ pub fn fit(lin: &Linearisation, r: &[f64], upto: usize, backlash: bool) -> Optio
     };
     let mut p = rigid.clone();
     for (i, pick) in picks.iter().enumerate() {
-        if let Some((_, g)) = pick {
-            p = with(&p, i, g.stiffness[i], g.damping[i], g.backlash[i]);
+        if let Some((k, z, b)) = *pick {
+            p = with(&p, i, k, damping_for(k, i, z), b);
         }
     }
     let mut best = cost_on(&p, upto)?.0;
@@ -535,7 +530,7 @@ pub fn fit(lin: &Linearisation, r: &[f64], upto: usize, backlash: bool) -> Optio
             descend(&mut p, &mut best, i);
         }
     }
-    // 2. Levenberg–Marquardt on (ln K_i, ln D_i, b_i) over the whole training part
+    // 2. Levenberg–Marquardt on (ln K_i, ln D_i, b_i, s_i) over the whole training part
     let pack = |p: &Transmission| -> Vec<f64> {
         let mut v: Vec<f64> = p.stiffness.iter().map(|k| k.ln()).collect();
         v.extend(p.damping.iter().map(|d| d.ln()));
