@@ -28,7 +28,7 @@ use crate::dynamics::predict::predict_torques;
 use crate::sim::Dataset;
 use candidates::{CANDIDATES, Columns, build, flat};
 use faer::Mat;
-use faer::prelude::Solve;
+use faer::linalg::solvers::Solve;
 use serde::Serialize;
 use where_::{JointWhere, analyse_joint, summarise};
 
