@@ -20,7 +20,6 @@ unsafe extern "C" {}
 #[cfg(feature = "faer-lapack")]
 pub mod faer_lapack;
 
-pub mod cli;
 pub mod conic;
 pub mod diagnose;
 pub mod dynamics;

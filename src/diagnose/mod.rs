@@ -19,7 +19,6 @@
 
 pub mod candidates;
 pub mod compliance;
-pub mod plots;
 pub mod where_;
 
 use crate::dynamics::Model;

@@ -6,8 +6,6 @@
 //! [`moments`](crate::moments), checks every body with `moments`, and
 //! validates on held-out data.
 
-pub mod experiment;
-pub mod plots;
 pub mod problem;
 pub mod reduce;
 pub mod result;

@@ -3,9 +3,9 @@
 //! held-out data, write figures and tables — plus a check of the leg's
 //! identified inertias.
 
-use crate::dynamics::cheetah3;
-use crate::identify::experiment::{ExperimentConfig, run_experiment};
-use crate::moments::{check_consistency, check_realizable};
+use crate::experiment::{ExperimentConfig, run_experiment};
+use momentlmi::dynamics::cheetah3;
+use momentlmi::moments::{check_consistency, check_realizable};
 use std::path::Path;
 
 /// Runs the demo; returns the exit code.
@@ -115,27 +115,27 @@ pub fn run(out: &Path) -> i32 {
         "\n3. Diagnosing a \"real\" leg against the identified model (ellipsoid level); the diagnoser is not told that the data contain: offset, cogging"
     );
     let model = cheetah3::model();
-    let diag = (|| -> Result<crate::diagnose::Diagnosis, String> {
-        let fx = crate::sim::Effects::parse(real_effects, &[])?;
-        let cfg = crate::sim::SimConfig::for_model("cheetah3-leg", &model, 15.0, fx, 2);
-        let data = crate::sim::simulate(&model, &cfg, |_, _| {})?;
+    let diag = (|| -> Result<momentlmi::diagnose::Diagnosis, String> {
+        let fx = momentlmi::sim::Effects::parse(real_effects, &[])?;
+        let cfg = momentlmi::sim::SimConfig::for_model("cheetah3-leg", &model, 15.0, fx, 2);
+        let data = momentlmi::sim::simulate(&model, &cfg, |_, _| {})?;
         let best = results.last().ok_or("no identification result")?;
         let mut nominal = model.clone();
         nominal
             .set_params(&best.theta[..10 * model.num_bodies()])
             .map_err(|e| e.to_string())?;
-        let d = crate::diagnose::diagnose(
+        let d = momentlmi::diagnose::diagnose(
             &nominal,
             &best.friction,
             &data,
-            &crate::diagnose::DiagnoseOptions::default(),
+            &momentlmi::diagnose::DiagnoseOptions::default(),
         )?;
-        crate::sim::dataset::write_whole(
+        momentlmi::sim::dataset::write_whole(
             &out.join("diagnosis.json"),
             &serde_json::to_string_pretty(&d).map_err(|e| e.to_string())?,
         )
         .map_err(|e| e.to_string())?;
-        crate::diagnose::plots::write_plots(&d, out)?;
+        crate::plots::diagnosis::write_plots(&d, out)?;
         Ok(d)
     })();
     match diag {

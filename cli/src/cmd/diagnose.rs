@@ -1,9 +1,9 @@
 //! `momentlmi diagnose --robot MODEL --data FILE.csv [--nominal cad|true|FILE] [--json] [--out DIR]`.
 
-use crate::diagnose::{DiagnoseOptions, Diagnosis, diagnose};
-use crate::dynamics::robots::{apply_params, load_robot};
-use crate::sim::dataset::write_whole;
-use crate::sim::{Dataset, ReadOptions};
+use momentlmi::diagnose::{DiagnoseOptions, Diagnosis, diagnose};
+use momentlmi::dynamics::robots::{apply_params, load_robot};
+use momentlmi::sim::dataset::write_whole;
+use momentlmi::sim::{Dataset, ReadOptions};
 use std::path::Path;
 
 /// Exit codes: 0 diagnosed, 2 bad input.
@@ -38,7 +38,7 @@ pub fn run(
             .and_then(|_| {
                 write_whole(&dir.join("diagnosis.json"), &text).map_err(|e| e.to_string())
             })
-            .and_then(|_| crate::diagnose::plots::write_plots(&dg, dir).map(|_| ()))
+            .and_then(|_| crate::plots::diagnosis::write_plots(&dg, dir).map(|_| ()))
         {
             eprintln!("error: {}: {e}", dir.display());
             return 2;

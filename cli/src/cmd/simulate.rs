@@ -1,9 +1,9 @@
 //! `momentlmi simulate --robot MODEL --seconds S --effects a,b --out FILE.csv
 //! [--seed N] [--noise SIGMA] [--effect-param NAME=VALUE …]`.
 
-use crate::dynamics::robots::load_robot;
-use crate::sim::dataset::write_whole;
-use crate::sim::{Effects, SimConfig, simulate};
+use momentlmi::dynamics::robots::load_robot;
+use momentlmi::sim::dataset::write_whole;
+use momentlmi::sim::{Effects, SimConfig, simulate};
 use std::path::Path;
 
 /// Arguments of `simulate`.

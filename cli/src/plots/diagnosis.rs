@@ -2,7 +2,7 @@
 //! time, velocity and position (before and after the accepted effects) and
 //! its frequency bands; and a bar chart of what each accepted effect removed.
 
-use super::Diagnosis;
+use momentlmi::diagnose::Diagnosis;
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
 

@@ -2,14 +2,7 @@
 //! library. Every command returns an exit code; errors are printed, never
 //! panicked.
 
-mod check_cmd;
-mod demo;
-mod diagnose_cmd;
-mod identify_cmd;
-mod predict_cmd;
-mod sdpa_cmd;
-mod simulate_cmd;
-
+use crate::cmd::{check, demo, diagnose, identify, predict, sdpa, simulate};
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 
@@ -169,7 +162,7 @@ pub fn main() -> i32 {
     };
     match cli.command {
         Command::Demo { out } => demo::run(&out),
-        Command::Check { urdf, json, repair } => check_cmd::run(&urdf, json, repair.as_deref()),
+        Command::Check { urdf, json, repair } => check::run(&urdf, json, repair.as_deref()),
         Command::Predict {
             robot,
             sidecar,
@@ -177,7 +170,7 @@ pub fn main() -> i32 {
             data,
             out,
             json,
-        } => predict_cmd::run(&predict_cmd::PredictArgs {
+        } => predict::run(&predict::PredictArgs {
             robot: &robot,
             sidecar: sidecar.as_deref(),
             params: params.as_deref(),
@@ -194,7 +187,7 @@ pub fn main() -> i32 {
             seed,
             noise,
             effect_param,
-        } => simulate_cmd::run(&simulate_cmd::SimulateArgs {
+        } => simulate::run(&simulate::SimulateArgs {
             robot: &robot,
             sidecar: sidecar.as_deref(),
             seconds,
@@ -213,7 +206,7 @@ pub fn main() -> i32 {
             weight,
             validate,
             json,
-        } => identify_cmd::run(&identify_cmd::IdentifyArgs {
+        } => identify::run(&identify::IdentifyArgs {
             robot: &robot,
             sidecar: sidecar.as_deref(),
             data: &data,
@@ -230,7 +223,7 @@ pub fn main() -> i32 {
             nominal,
             json,
             out,
-        } => diagnose_cmd::run(
+        } => diagnose::run(
             &robot,
             sidecar.as_deref(),
             &data,
@@ -244,6 +237,6 @@ pub fn main() -> i32 {
             chordal,
             qdldl,
             verbose,
-        } => sdpa_cmd::run(&file, json, chordal, qdldl, verbose),
+        } => sdpa::run(&file, json, chordal, qdldl, verbose),
     }
 }

@@ -2,12 +2,11 @@
 //! simulate, identify at every constraint level, validate on the next
 //! samples, and write the tables and figures (Fig. 4–6).
 
-use super::plots::{Series, line_panels};
-use super::problem::{IdentifyOptions, Level};
-use super::result::{IdentifyResult, identify};
-use crate::dynamics::cheetah3;
-use crate::sim::dataset::write_whole;
-use crate::sim::{Effects, SimConfig, simulate};
+use crate::plots::figures::{Series, line_panels};
+use momentlmi::dynamics::cheetah3;
+use momentlmi::identify::{IdentifyOptions, IdentifyResult, Level, identify};
+use momentlmi::sim::dataset::write_whole;
+use momentlmi::sim::{Effects, SimConfig, simulate};
 use serde::Serialize;
 use std::path::Path;
 

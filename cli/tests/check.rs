@@ -281,7 +281,7 @@ fn bad_input_exits_two_with_a_message_naming_the_problem() {
 
 #[test]
 fn panda_urdf_verdicts() {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/reference/panda.urdf");
+    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/reference/panda.urdf");
     if !p.exists() {
         println!("skipping: {} not found", p.display());
         return;

@@ -2,7 +2,7 @@
 //! constraints satisfied, friction recovered, and the sample-size study.
 
 use momentlmi::identify::Level;
-use momentlmi::identify::experiment::{ExperimentConfig, run_experiment};
+use momentlmi_cli::experiment::{ExperimentConfig, run_experiment};
 
 #[test]
 fn small_experiment_writes_figures_and_tables() {

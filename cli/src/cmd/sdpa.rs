@@ -1,7 +1,7 @@
 //! `momentlmi sdpa FILE [--json]`.
 
-use crate::conic::{KktSolver, Settings};
-use crate::sdpa::SdpaProblem;
+use momentlmi::conic::{KktSolver, Settings};
+use momentlmi::sdpa::SdpaProblem;
 use serde_json::json;
 use std::path::Path;
 

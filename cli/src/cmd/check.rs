@@ -1,6 +1,6 @@
 //! `momentlmi check ROBOT.urdf [--json] [--repair OUT.urdf]`.
 
-use crate::moments::urdf_check::{UrdfReport, check_urdf_file, check_urdf_str, repair_urdf};
+use momentlmi::moments::urdf_check::{UrdfReport, check_urdf_file, check_urdf_str, repair_urdf};
 use std::path::Path;
 
 fn fmt3(v: [f64; 3], prec: usize) -> String {

@@ -1,0 +1,4 @@
+//! The `momentlmi` binary: a thin shell over [`momentlmi_cli::main`].
+fn main() {
+    std::process::exit(momentlmi_cli::main());
+}
