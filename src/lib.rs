@@ -21,6 +21,7 @@ unsafe extern "C" {}
 pub mod faer_lapack;
 
 pub mod conic;
+pub mod data;
 pub mod diagnose;
 pub mod dynamics;
 pub mod identify;

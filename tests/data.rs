@@ -1,9 +1,9 @@
 //! Data files, the filter and differentiator, and RNEA against Euler–Lagrange.
 
+use momentlmi::data::Dataset;
+use momentlmi::data::ReadOptions;
+use momentlmi::data::filter::{Biquad, differentiate, filtfilt};
 use momentlmi::dynamics::{Data, cheetah3, crba, energy, rnea};
-use momentlmi::sim::Dataset;
-use momentlmi::sim::dataset::ReadOptions;
-use momentlmi::sim::filter::{Biquad, differentiate, filtfilt};
 
 const J: [&str; 3] = ["abad", "hip", "knee"];
 
@@ -188,4 +188,72 @@ fn rnea_with_rotors_matches_euler_lagrange() {
             );
         }
     }
+}
+
+#[test]
+fn io_errors_keep_their_source_and_outputs_are_whole() {
+    use momentlmi::data::{DataError, write_with_record};
+    use std::error::Error;
+    let e = Dataset::read_csv(
+        std::path::Path::new("/nonexistent/x.csv"),
+        &J,
+        ReadOptions::default(),
+    )
+    .unwrap_err();
+    assert!(matches!(e, DataError::Io { .. }), "{e:?}");
+    let src = e.source().expect("the io::Error is kept as the source");
+    assert!(src.downcast_ref::<std::io::Error>().is_some());
+    assert!(e.to_string().contains("/nonexistent/x.csv"));
+    // a cut-off at or above the file's Nyquist frequency is an error, not an
+    // unfiltered q̈
+    let mut s =
+        String::from("t,q_abad,qd_abad,q_hip,qd_hip,q_knee,qd_knee,tau_abad,tau_hip,tau_knee\n");
+    for k in 0..50 {
+        s += &format!("{},0,0,0,0,0,0,0,0,0\n", k as f64 * 0.02);
+    }
+    let e = Dataset::parse_csv(&s, "slow.csv", &J, ReadOptions::default()).unwrap_err();
+    assert!(matches!(e, DataError::Cutoff { .. }), "{e}");
+    assert!(
+        e.to_string().contains("slow.csv") && e.to_string().contains("25 Hz"),
+        "{e}"
+    );
+    // the data file and its record would be one file: refused, nothing written
+    let d = Dataset::parse_csv(
+        &s,
+        "slow.csv",
+        &J,
+        ReadOptions {
+            cutoff_hz: 5.0,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let dir = std::env::temp_dir().join(format!("momentlmi-data-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let clash = dir.join("x.json");
+    assert!(matches!(
+        write_with_record(&d, &clash, &"r"),
+        Err(DataError::Output { .. })
+    ));
+    assert!(!clash.exists());
+    let ok = dir.join("x.csv");
+    let rec = write_with_record(&d, &ok, &"made by a test").unwrap();
+    assert_eq!(rec, dir.join("x.json"));
+    let back = Dataset::read_csv(
+        &ok,
+        &J,
+        ReadOptions {
+            cutoff_hz: 5.0,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(back.len(), 50);
+    let leftovers: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
+        .collect();
+    assert!(leftovers.is_empty());
+    let _ = std::fs::remove_dir_all(&dir);
 }

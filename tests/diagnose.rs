@@ -2,10 +2,11 @@
 //! the nominal model lacks; the nominal model is identified on other data
 //! (another seed) with the base effects only; the diagnoser is not told.
 
+use momentlmi::data::Dataset;
 use momentlmi::diagnose::{DiagnoseOptions, Diagnosis, diagnose};
 use momentlmi::dynamics::cheetah3;
 use momentlmi::identify::{IdentifyOptions, Level, identify};
-use momentlmi::sim::{Dataset, Effects, SimConfig, simulate};
+use momentlmi::sim::{Effects, SimConfig, simulate};
 
 fn data(effects: &str, params: &[&str], seconds: f64, seed: u64) -> Dataset {
     let model = cheetah3::model();

@@ -1,8 +1,9 @@
 //! Identification on simulated Cheetah 3 leg data.
 
+use momentlmi::data::Dataset;
 use momentlmi::dynamics::{Data, cheetah3, regressor};
 use momentlmi::identify::{IdentifyOptions, Level, identify, predict_split};
-use momentlmi::sim::{Dataset, Effects, SimConfig, simulate};
+use momentlmi::sim::{Effects, SimConfig, simulate};
 
 fn data(seconds: f64, noise: f64, effects: &str, seed: u64) -> Dataset {
     let model = cheetah3::model();

@@ -3,9 +3,9 @@
 //! samples, and write the tables and figures (Fig. 4–6).
 
 use crate::plots::figures::{Series, line_panels};
+use momentlmi::data::write_whole;
 use momentlmi::dynamics::cheetah3;
 use momentlmi::identify::{IdentifyOptions, IdentifyResult, Level, identify};
-use momentlmi::sim::dataset::write_whole;
 use momentlmi::sim::{Effects, SimConfig, simulate};
 use serde::Serialize;
 use std::path::Path;

@@ -1,10 +1,10 @@
 //! The library of candidate effects, each a group of extra regressor columns
 //! built from the data and the nominal model's prediction τ̂.
 
+use crate::data::Dataset;
 use crate::dynamics::params_file::Friction;
 use crate::dynamics::predict::predict_torques;
 use crate::dynamics::{Data, Model, regressor, sign};
-use crate::sim::Dataset;
 
 /// Candidate names, in the order they are tried.
 pub const CANDIDATES: [&str; 13] = [

@@ -37,8 +37,8 @@
 //! sum), but the link's ringing depends on it, hence the fitted shift s_i.
 
 use super::candidates::Columns;
+use crate::data::Dataset;
 use crate::dynamics::Model;
-use crate::sim::Dataset;
 use crate::sim::compliance::Compliance;
 use nalgebra::DMatrix;
 use rayon::prelude::*;

@@ -21,10 +21,10 @@ pub mod candidates;
 pub mod compliance;
 pub mod where_;
 
+use crate::data::Dataset;
 use crate::dynamics::Model;
 use crate::dynamics::params_file::Friction;
 use crate::dynamics::predict::predict_torques;
-use crate::sim::Dataset;
 use candidates::{CANDIDATES, Columns, build, flat};
 use faer::Mat;
 use faer::linalg::solvers::Solve;

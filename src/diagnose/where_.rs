@@ -2,7 +2,7 @@
 //! down by motion regime, position, frequency band and time, with whiteness
 //! and cross-correlation checks.
 
-use crate::sim::filter::filtfilt;
+use crate::data::filter::filtfilt;
 use serde::Serialize;
 
 /// Residual statistics of one group of samples of one joint.

@@ -132,7 +132,7 @@ pub enum IdentifyError {
     Conic(#[from] crate::conic::ConicError),
     /// Data problems.
     #[error(transparent)]
-    Data(#[from] crate::sim::DataError),
+    Data(#[from] crate::data::DataError),
     /// Model problems.
     #[error(transparent)]
     Dynamics(#[from] crate::dynamics::DynamicsError),

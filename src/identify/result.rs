@@ -2,12 +2,12 @@
 
 use super::problem::{IdentifyError, IdentifyOptions, Level, Solved, solve_identification};
 use super::reduce::reduce_samples;
+use crate::data::Dataset;
 use crate::dynamics::params_file::{BodyParams, Friction, ParamsFile};
 use crate::dynamics::{Data, Model, regressor};
 use crate::moments::{
     ConsistencyReport, InertialParams, RealizabilityReport, check_consistency, check_realizable,
 };
-use crate::sim::Dataset;
 use serde::Serialize;
 
 /// Tolerance with which identified bodies are checked (an interior-point

@@ -1,10 +1,10 @@
 //! Generating a data set: trajectory → true robot → measurement → offline
 //! processing, plus the JSON record that reproduces it.
 
-use super::dataset::{Dataset, estimate_qdd};
-use super::filter::{differentiate, filtfilt};
 use super::robot::{Effects, TrueRobot};
 use super::trajectory::{Shell, Trajectory};
+use crate::data::filter::{differentiate, filtfilt};
+use crate::data::{Dataset, estimate_qdd};
 use crate::dynamics::Model;
 use rand::SeedableRng;
 use rand_distr::{Distribution, Normal};

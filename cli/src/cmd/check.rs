@@ -94,10 +94,8 @@ pub fn run(file: &Path, json: bool, repair: Option<&Path>) -> i32 {
                 return 2;
             }
         }
-        let tmp = out.with_extension("urdf.tmp");
-        if let Err(e) = std::fs::write(&tmp, &fixed).and_then(|_| std::fs::rename(&tmp, out)) {
-            eprintln!("error: {}: {e}", out.display());
-            let _ = std::fs::remove_file(&tmp);
+        if let Err(e) = momentlmi::data::write_whole(out, &fixed) {
+            eprintln!("error: {e}");
             return 2;
         }
         if !json {

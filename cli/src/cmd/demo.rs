@@ -130,7 +130,7 @@ pub fn run(out: &Path) -> i32 {
             &data,
             &momentlmi::diagnose::DiagnoseOptions::default(),
         )?;
-        momentlmi::sim::dataset::write_whole(
+        momentlmi::data::write_whole(
             &out.join("diagnosis.json"),
             &serde_json::to_string_pretty(&d).map_err(|e| e.to_string())?,
         )

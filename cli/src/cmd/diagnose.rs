@@ -1,9 +1,9 @@
 //! `momentlmi diagnose --robot MODEL --data FILE.csv [--nominal cad|true|FILE] [--json] [--out DIR]`.
 
+use momentlmi::data::write_whole;
+use momentlmi::data::{Dataset, ReadOptions};
 use momentlmi::diagnose::{DiagnoseOptions, Diagnosis, diagnose};
 use momentlmi::dynamics::robots::{apply_params, load_robot};
-use momentlmi::sim::dataset::write_whole;
-use momentlmi::sim::{Dataset, ReadOptions};
 use std::path::Path;
 
 /// Exit codes: 0 diagnosed, 2 bad input.

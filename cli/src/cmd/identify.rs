@@ -1,10 +1,10 @@
 //! `momentlmi identify --robot MODEL --data FILE.csv --constraints LEVEL
 //! [--prior cad|true|FILE] [--weight W] [--validate FILE.csv] [--json]`.
 
+use momentlmi::data::{Dataset, ReadOptions};
 use momentlmi::dynamics::cheetah3;
 use momentlmi::dynamics::robots::{apply_params, load_robot};
 use momentlmi::identify::{IdentifyOptions, IdentifyResult, Level, identify};
-use momentlmi::sim::{Dataset, ReadOptions};
 use std::path::Path;
 
 /// Arguments of `identify`.

@@ -1,9 +1,9 @@
 //! `momentlmi predict --robot MODEL [--params true|cad|FILE] --data FILE.csv --out PRED.csv [--json]`.
 
+use momentlmi::data::Dataset;
+use momentlmi::data::{ReadOptions, write_whole};
 use momentlmi::dynamics::predict::predict_torques;
 use momentlmi::dynamics::robots::{apply_params, load_robot};
-use momentlmi::sim::Dataset;
-use momentlmi::sim::dataset::{ReadOptions, write_whole};
 use serde_json::json;
 use std::path::Path;
 

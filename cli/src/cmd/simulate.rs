@@ -1,8 +1,8 @@
 //! `momentlmi simulate --robot MODEL --seconds S --effects a,b --out FILE.csv
 //! [--seed N] [--noise SIGMA] [--effect-param NAME=VALUE …]`.
 
+use momentlmi::data::write_with_record;
 use momentlmi::dynamics::robots::load_robot;
-use momentlmi::sim::dataset::write_whole;
 use momentlmi::sim::{Effects, SimConfig, simulate};
 use std::path::Path;
 
@@ -61,15 +61,13 @@ fn run_inner(a: &SimulateArgs) -> Result<(), String> {
     );
     let d = simulate(&model, &cfg, |done, _| bar.set_position(done as u64))?;
     bar.finish_and_clear();
-    let record = serde_json::to_string_pretty(&serde_json::json!({
+    let record = serde_json::json!({
         "generator": format!("momentlmi {}", env!("CARGO_PKG_VERSION")),
         "samples": d.len(),
         "joints": d.joints,
         "config": cfg,
-    }))
-    .map_err(|e| e.to_string())?;
-    write_whole(a.out, &d.to_csv()).map_err(|e| e.to_string())?;
-    write_whole(&a.out.with_extension("json"), &record).map_err(|e| e.to_string())?;
+    });
+    let rec = write_with_record(&d, a.out, &record).map_err(|e| e.to_string())?;
     println!(
         "wrote {} ({} samples, effects: {}) and {}",
         a.out.display(),
@@ -79,7 +77,7 @@ fn run_inner(a: &SimulateArgs) -> Result<(), String> {
         } else {
             cfg.effects.on.join(", ")
         },
-        a.out.with_extension("json").display()
+        rec.display()
     );
     Ok(())
 }

@@ -97,3 +97,22 @@ pub fn differentiate(x: &[f64], t: &[f64]) -> Vec<f64> {
         })
         .collect()
 }
+
+/// q̈ from q̇: zero-phase low-pass at `cutoff_hz`, then central differences.
+pub fn estimate_qdd(t: &[f64], qd: &[Vec<f64>], cutoff_hz: f64) -> Vec<Vec<f64>> {
+    let n = qd.first().map_or(0, |v| v.len());
+    let fs = if t.len() > 1 {
+        (t.len() - 1) as f64 / (t[t.len() - 1] - t[0])
+    } else {
+        1.0
+    };
+    let mut out = vec![vec![0.0; n]; t.len()];
+    for j in 0..n {
+        let x: Vec<f64> = qd.iter().map(|r| r[j]).collect();
+        let d = differentiate(&filtfilt(&x, cutoff_hz, fs), t);
+        for (k, v) in d.into_iter().enumerate() {
+            out[k][j] = v;
+        }
+    }
+    out
+}

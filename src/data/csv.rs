@@ -1,4 +1,4 @@
-//! Robot data sets and their CSV files.
+//! The CSV format of robot logs.
 //!
 //! Columns: `t`, then per joint `q_<joint>`, `qd_<joint>`, optionally
 //! `qdd_<joint>`, and `tau_<joint>` (SI units: s, rad, rad/s, rad/s², N·m),
@@ -7,72 +7,11 @@
 //! reject NaN/inf, missing columns, non-increasing time and ragged rows with
 //! an error naming the row and column.
 
-use super::filter::{differentiate, filtfilt};
+use super::dataset::Dataset;
+use super::error::DataError;
+use super::filter::estimate_qdd;
+use super::write::write_whole;
 use std::path::Path;
-
-/// Errors of data files, each naming the file and where it applies the row
-/// (1-based data row, the header is row 0) and column.
-#[derive(Debug, thiserror::Error)]
-#[non_exhaustive]
-pub enum DataError {
-    /// The file could not be read or written.
-    #[error("{path}: {message}")]
-    Io {
-        /// The file.
-        path: String,
-        /// The OS error.
-        message: String,
-    },
-    /// A required column is missing.
-    #[error("{path}: missing column '{column}' (header has: {header})")]
-    MissingColumn {
-        /// The file.
-        path: String,
-        /// The column.
-        column: String,
-        /// The header found.
-        header: String,
-    },
-    /// A bad value.
-    #[error("{path}: row {row}, column '{column}': {message}")]
-    Value {
-        /// The file.
-        path: String,
-        /// 1-based data row.
-        row: usize,
-        /// The column.
-        column: String,
-        /// What is wrong.
-        message: String,
-    },
-    /// A malformed row.
-    #[error("{path}: row {row}: {message}")]
-    Row {
-        /// The file.
-        path: String,
-        /// 1-based data row.
-        row: usize,
-        /// What is wrong.
-        message: String,
-    },
-}
-
-/// Samples of joint positions, velocities, accelerations and torques.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Dataset {
-    /// Joint names (column suffixes).
-    pub joints: Vec<String>,
-    /// Sample times (s), strictly increasing.
-    pub t: Vec<f64>,
-    /// Positions, one `Vec` of length n per sample.
-    pub q: Vec<Vec<f64>>,
-    /// Velocities.
-    pub qd: Vec<Vec<f64>>,
-    /// Accelerations.
-    pub qdd: Vec<Vec<f64>>,
-    /// Torques (empty when the file has none, e.g. a trajectory to predict on).
-    pub tau: Vec<Vec<f64>>,
-}
 
 /// Options for reading.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -93,41 +32,12 @@ impl Default for ReadOptions {
 }
 
 impl Dataset {
-    /// Number of samples.
-    pub fn len(&self) -> usize {
-        self.t.len()
-    }
-
-    /// Whether there are no samples.
-    pub fn is_empty(&self) -> bool {
-        self.t.is_empty()
-    }
-
-    /// The samples `range` as a new data set.
-    pub fn slice(&self, range: std::ops::Range<usize>) -> Dataset {
-        let cut = |v: &Vec<Vec<f64>>| {
-            if v.is_empty() {
-                vec![]
-            } else {
-                v[range.clone()].to_vec()
-            }
-        };
-        Dataset {
-            joints: self.joints.clone(),
-            t: self.t[range.clone()].to_vec(),
-            q: cut(&self.q),
-            qd: cut(&self.qd),
-            qdd: cut(&self.qdd),
-            tau: cut(&self.tau),
-        }
-    }
-
     /// Reads a CSV file for the given joints.
     pub fn read_csv(path: &Path, joints: &[&str], opts: ReadOptions) -> Result<Self, DataError> {
         let p = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| DataError::Io {
+        let text = std::fs::read_to_string(path).map_err(|source| DataError::Io {
             path: p.clone(),
-            message: e.to_string(),
+            source,
         })?;
         Self::parse_csv(&text, &p, joints, opts)
     }
@@ -139,7 +49,7 @@ impl Dataset {
         joints: &[&str],
         opts: ReadOptions,
     ) -> Result<Self, DataError> {
-        let mut rdr = csv::ReaderBuilder::new()
+        let mut rdr = ::csv::ReaderBuilder::new()
             .trim(csv::Trim::All)
             .flexible(true)
             .from_reader(text.as_bytes());
@@ -252,6 +162,19 @@ impl Dataset {
             });
         }
         if qddi.is_none() {
+            let n = d.len();
+            let nyquist = if n > 1 {
+                0.5 * (n - 1) as f64 / (d.t[n - 1] - d.t[0])
+            } else {
+                f64::INFINITY
+            };
+            if !(opts.cutoff_hz > 0.0 && opts.cutoff_hz < nyquist) {
+                return Err(DataError::Cutoff {
+                    path: path.into(),
+                    cutoff_hz: opts.cutoff_hz,
+                    nyquist_hz: nyquist,
+                });
+            }
             d.qdd = estimate_qdd(&d.t, &d.qd, opts.cutoff_hz);
         }
         Ok(d)
@@ -288,41 +211,4 @@ impl Dataset {
     pub fn write_csv(&self, path: &Path) -> Result<(), DataError> {
         write_whole(path, &self.to_csv())
     }
-}
-
-/// Writes `text` to `path` via a temporary file and a rename.
-pub fn write_whole(path: &Path, text: &str) -> Result<(), DataError> {
-    let p = path.display().to_string();
-    let tmp = path.with_file_name(format!(
-        ".{}.tmp",
-        path.file_name().and_then(|f| f.to_str()).unwrap_or("out")
-    ));
-    std::fs::write(&tmp, text)
-        .and_then(|_| std::fs::rename(&tmp, path))
-        .map_err(|e| {
-            let _ = std::fs::remove_file(&tmp);
-            DataError::Io {
-                path: p,
-                message: e.to_string(),
-            }
-        })
-}
-
-/// q̈ from q̇: zero-phase low-pass at `cutoff_hz`, then central differences.
-pub fn estimate_qdd(t: &[f64], qd: &[Vec<f64>], cutoff_hz: f64) -> Vec<Vec<f64>> {
-    let n = qd.first().map_or(0, |v| v.len());
-    let fs = if t.len() > 1 {
-        (t.len() - 1) as f64 / (t[t.len() - 1] - t[0])
-    } else {
-        1.0
-    };
-    let mut out = vec![vec![0.0; n]; t.len()];
-    for j in 0..n {
-        let x: Vec<f64> = qd.iter().map(|r| r[j]).collect();
-        let d = differentiate(&filtfilt(&x, cutoff_hz, fs), t);
-        for (k, v) in d.into_iter().enumerate() {
-            out[k][j] = v;
-        }
-    }
-    out
 }

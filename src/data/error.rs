@@ -1,0 +1,79 @@
+//! Errors of data files.
+
+/// Errors of data files, each naming the file and, where it applies, the
+/// row (1-based data row, the header is row 0) and column.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum DataError {
+    /// The file could not be read or written.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: String,
+        /// The OS error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// A required column is missing.
+    #[error("{path}: missing column '{column}' (header has: {header})")]
+    MissingColumn {
+        /// The file.
+        path: String,
+        /// The column.
+        column: String,
+        /// The header found.
+        header: String,
+    },
+    /// A bad value.
+    #[error("{path}: row {row}, column '{column}': {message}")]
+    Value {
+        /// The file.
+        path: String,
+        /// 1-based data row.
+        row: usize,
+        /// The column.
+        column: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A malformed row.
+    #[error("{path}: row {row}: {message}")]
+    Row {
+        /// The file.
+        path: String,
+        /// 1-based data row.
+        row: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// The q̈ filter's cut-off is not below the file's Nyquist frequency.
+    #[error(
+        "{path}: the q̈ filter cut-off {cutoff_hz} Hz must be positive and below half the sampling rate ({nyquist_hz} Hz)"
+    )]
+    Cutoff {
+        /// The file.
+        path: String,
+        /// The requested cut-off (Hz).
+        cutoff_hz: f64,
+        /// Half the file's mean sampling rate (Hz).
+        nyquist_hz: f64,
+    },
+    /// Two outputs that would be the same file (e.g. a data file named
+    /// `x.json` whose record is `x.json`).
+    #[error("{path}: {message}")]
+    Output {
+        /// The file.
+        path: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// The record could not be serialised.
+    #[error("{path}: {source}")]
+    Json {
+        /// The file.
+        path: String,
+        /// The serialiser's error.
+        #[source]
+        source: serde_json::Error,
+    },
+}

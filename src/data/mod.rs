@@ -1,0 +1,24 @@
+//! # `data`: robot logs on disk
+//!
+//! The log format every layer above reads and writes, apart from the
+//! simulator that makes logs:
+//!
+//! - [`Dataset`]: samples of t, q, q̇, q̈, τ for named joints;
+//! - [`csv`](mod@csv): the CSV format (`t, q_<joint>, qd_<joint>[, qdd_<joint>][, tau_<joint>]`,
+//!   SI units, any column order) with validation naming the row and column;
+//! - [`filter`]: the zero-phase Butterworth low-pass and the differentiator
+//!   that give q̈ (and, for raw encoders, q̇) offline;
+//! - [`write`]: outputs written whole or not at all, and the JSON record
+//!   written beside a CSV (how the data were made).
+
+pub mod csv;
+mod dataset;
+mod error;
+pub mod filter;
+pub mod write;
+
+pub use csv::ReadOptions;
+pub use dataset::Dataset;
+pub use error::DataError;
+pub use filter::estimate_qdd;
+pub use write::{record_path, write_whole, write_with_record};
