@@ -11,26 +11,33 @@ use momentlmi::sim::{Effects, SimConfig, simulate};
 use std::hint::black_box;
 
 fn bench(c: &mut Criterion) {
-    let model = cheetah3::model();
+    let leg = cheetah3::description();
+    let model = leg.model.clone();
     let fx = Effects::parse("rotor_inertia,coulomb,viscous", &[]).unwrap();
-    let cfg = SimConfig::for_model("cheetah3-leg", &model, 10.0, fx, 1);
-    let d = simulate(&model, &cfg, |_, _| {}).unwrap();
-    let opts = |level| IdentifyOptions::cheetah3(level, 1e-6);
+    let cfg = SimConfig::for_robot(&leg, 10.0, fx, 1);
+    let d = simulate(&leg, &cfg, |_, _| {}).unwrap();
+    let opts = |level| IdentifyOptions::for_robot(&leg, level, 1e-6).unwrap();
     let mut g = c.benchmark_group("identify_10000_samples_6_bodies");
     g.sample_size(30);
     for level in [Level::None, Level::Consistent, Level::Ellipsoid] {
         let o = opts(level);
         g.bench_function(format!("end_to_end/{}", level.as_str()), |b| {
             b.iter(|| {
-                let red = reduce_samples(&model, &d.q, &d.qd, &d.qdd, &d.tau, 1024);
+                let red = reduce_samples(&model, &d.q, &d.qd, &d.qdd, &d.tau, 1024).unwrap();
                 black_box(solve_identification(&model, &red, &o).unwrap().theta[0])
             })
         });
     }
     g.bench_function("reduction_only/parallel", |b| {
-        b.iter(|| black_box(reduce_samples(&model, &d.q, &d.qd, &d.qdd, &d.tau, 1024).samples))
+        b.iter(|| {
+            black_box(
+                reduce_samples(&model, &d.q, &d.qd, &d.qdd, &d.tau, 1024)
+                    .unwrap()
+                    .samples,
+            )
+        })
     });
-    let red = reduce_samples(&model, &d.q, &d.qd, &d.qdd, &d.tau, 1024);
+    let red = reduce_samples(&model, &d.q, &d.qd, &d.qdd, &d.tau, 1024).unwrap();
     let o = opts(Level::Ellipsoid);
     g.bench_function("sdp_only/ellipsoid", |b| {
         b.iter(|| black_box(solve_identification(&model, &red, &o).unwrap().theta[0]))

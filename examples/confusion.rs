@@ -8,20 +8,20 @@ use momentlmi::identify::{IdentifyOptions, Level, identify};
 use momentlmi::sim::{Effects, SimConfig, simulate};
 
 fn main() {
-    let model = cheetah3::model();
+    let leg = cheetah3::description();
+    let model = leg.model.clone();
     let sim = |effects: &str, params: &[String], seconds: f64, seed: u64| {
-        let cfg = SimConfig::for_model(
-            "cheetah3-leg",
-            &model,
+        let cfg = SimConfig::for_robot(
+            &leg,
             seconds,
             Effects::parse(effects, params).unwrap(),
             seed,
         );
-        simulate(&model, &cfg, |_, _| {}).unwrap()
+        simulate(&leg, &cfg, |_, _| {}).unwrap()
     };
     let nominal = |base: &str| {
         let d = sim(base, &[], 20.0, 101);
-        let opts = IdentifyOptions::cheetah3(Level::Ellipsoid, 1e-6);
+        let opts = IdentifyOptions::for_robot(&leg, Level::Ellipsoid, 1e-6).unwrap();
         let r = identify(&model, &d, None, &opts).unwrap();
         let mut m = model.clone();
         m.set_params(&r.theta[..60]).unwrap();

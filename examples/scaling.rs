@@ -21,14 +21,15 @@ fn peak_rss_mib() -> f64 {
 }
 
 fn main() {
-    let model = cheetah3::model();
+    let leg = cheetah3::description();
+    let model = &leg.model;
     let robot = TrueRobot::new(
-        &model,
-        Effects::parse("rotor_inertia,coulomb,viscous", &[]).unwrap(),
+        &leg,
+        &Effects::parse("rotor_inertia,coulomb,viscous", &[]).unwrap(),
     )
     .unwrap();
     let tr = Trajectory::Shell(Shell::default());
-    let opts = IdentifyOptions::cheetah3(Level::Ellipsoid, 1e-6);
+    let opts = IdentifyOptions::for_robot(&leg, Level::Ellipsoid, 1e-6).unwrap();
     // one period of states, reused (the trajectory itself is not what is measured)
     let states: Vec<_> = (0..10_000)
         .map(|k| tr.state(k as f64 * 1e-3).unwrap())
@@ -48,7 +49,7 @@ fn main() {
     );
     for n in [10_000usize, 100_000, 1_000_000] {
         let t = std::time::Instant::now();
-        let mut r = StreamReducer::new(&model, 1024);
+        let mut r = StreamReducer::new(model, 1024);
         for k in 0..n {
             let (q, qd, qdd) = &states[k % states.len()];
             r.push(q, qd, qdd, &taus[k % taus.len()]).unwrap();
@@ -56,7 +57,7 @@ fn main() {
         let red = r.finish();
         let tr = t.elapsed().as_secs_f64();
         let t = std::time::Instant::now();
-        let s = solve_identification(&model, &red, &opts).unwrap();
+        let s = solve_identification(model, &red, &opts).unwrap();
         println!(
             "{n:>10} {tr:>12.3} {:>12.1} {:>14.1}   ({})",
             1e3 * t.elapsed().as_secs_f64(),

@@ -28,3 +28,4 @@ pub mod identify;
 pub mod moments;
 pub mod sdpa;
 pub mod sim;
+pub mod urdf;

@@ -9,16 +9,10 @@ use momentlmi::identify::{IdentifyOptions, Level, identify};
 use momentlmi::sim::{Effects, SimConfig, simulate};
 
 fn data(effects: &str, params: &[&str], seconds: f64, seed: u64) -> Dataset {
-    let model = cheetah3::model();
+    let leg = cheetah3::description();
     let ov: Vec<String> = params.iter().map(|s| s.to_string()).collect();
-    let cfg = SimConfig::for_model(
-        "cheetah3-leg",
-        &model,
-        seconds,
-        Effects::parse(effects, &ov).unwrap(),
-        seed,
-    );
-    simulate(&model, &cfg, |_, _| {}).unwrap()
+    let cfg = SimConfig::for_robot(&leg, seconds, Effects::parse(effects, &ov).unwrap(), seed);
+    simulate(&leg, &cfg, |_, _| {}).unwrap()
 }
 
 /// Nominal model identified on 20 s of other data with the base effects.
@@ -30,17 +24,8 @@ fn nominal(
 ) {
     let mut model = cheetah3::model();
     let d = data(base, &[], 20.0, 101);
-    let prior = cheetah3::model_with(&cheetah3::cad_params())
-        .unwrap()
-        .params();
-    let opts = IdentifyOptions {
-        level: Level::Ellipsoid,
-        weight: 1e-6,
-        prior,
-        ellipsoids: Some(cheetah3::ellipsoids().to_vec()),
-        com_lmi: false,
-        eps: 0.0,
-    };
+    let opts =
+        IdentifyOptions::for_robot(&cheetah3::description(), Level::Ellipsoid, 1e-6).unwrap();
     let r = identify(&model, &d, None, &opts).unwrap();
     model.set_params(&r.theta[..60]).unwrap();
     (model, r.friction)
@@ -221,11 +206,11 @@ fn linearised_compliance_matches_the_full_simulation() {
     use momentlmi::diagnose::compliance::{Linearisation, Transmission};
     use momentlmi::dynamics::params_file::Friction;
     use momentlmi::dynamics::predict::predict_torques;
-    let model = cheetah3::model();
+    let leg = cheetah3::description();
+    let model = leg.model.clone();
     for (effects, b) in [("elasticity", 0.0), ("backlash", 0.005)] {
-        let mut cfg = SimConfig::for_model(
-            "cheetah3-leg",
-            &model,
+        let mut cfg = SimConfig::for_robot(
+            &leg,
             4.0,
             Effects::parse(&format!("rotor_inertia,{effects}"), &[]).unwrap(),
             3,
@@ -233,7 +218,7 @@ fn linearised_compliance_matches_the_full_simulation() {
         cfg.noise_sigma = 0.0;
         cfg.encoder_counts = 0.0;
         cfg.processed = false;
-        let d = simulate(&model, &cfg, |_, _| {}).unwrap();
+        let d = simulate(&leg, &cfg, |_, _| {}).unwrap();
         let zero = Friction {
             viscous: vec![0.0; 3],
             coulomb: vec![0.0; 3],

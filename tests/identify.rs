@@ -6,14 +6,8 @@ use momentlmi::identify::{IdentifyOptions, Level, identify, predict_split};
 use momentlmi::sim::{Effects, SimConfig, simulate};
 
 fn data(seconds: f64, noise: f64, effects: &str, seed: u64) -> Dataset {
-    let model = cheetah3::model();
-    let mut cfg = SimConfig::for_model(
-        "cheetah3-leg",
-        &model,
-        seconds,
-        Effects::parse(effects, &[]).unwrap(),
-        seed,
-    );
+    let leg = cheetah3::description();
+    let mut cfg = SimConfig::for_robot(&leg, seconds, Effects::parse(effects, &[]).unwrap(), seed);
     if noise == 0.0 {
         cfg.noise_sigma = 0.0;
         cfg.encoder_counts = 0.0;
@@ -21,19 +15,11 @@ fn data(seconds: f64, noise: f64, effects: &str, seed: u64) -> Dataset {
     } else {
         cfg.noise_sigma = noise;
     }
-    simulate(&model, &cfg, |_, _| {}).unwrap()
+    simulate(&leg, &cfg, |_, _| {}).unwrap()
 }
 
 fn opts(level: Level, weight: f64) -> IdentifyOptions {
-    let cad = cheetah3::model_with(&cheetah3::cad_params()).unwrap();
-    IdentifyOptions {
-        level,
-        weight,
-        prior: cad.params(),
-        ellipsoids: Some(cheetah3::ellipsoids().to_vec()),
-        com_lmi: false,
-        eps: 0.0,
-    }
+    IdentifyOptions::for_robot(&cheetah3::description(), level, weight).unwrap()
 }
 
 /// Noise-free data: held-out torques are reproduced to ~1e-9 relative at

@@ -1,8 +1,9 @@
 //! The simulator: inverse kinematics, the shell excitation, each effect
 //! against its formula, and the processed data.
 
+use momentlmi::dynamics::Effect;
 use momentlmi::dynamics::{Data, cheetah3, rnea};
-use momentlmi::sim::robot::{EFFECTS, Effects, TrueRobot};
+use momentlmi::sim::robot::{Effects, TrueRobot};
 use momentlmi::sim::trajectory::{Shell, Trajectory, cheetah_ik};
 use momentlmi::sim::{SimConfig, simulate};
 
@@ -73,8 +74,9 @@ fn states() -> (Vec<Vec<f64>>, Vec<Vec<f64>>, Vec<Vec<f64>>) {
 #[test]
 fn each_effect_alone_adds_its_formula_and_off_is_absent() {
     let model = cheetah3::model();
+    let leg = cheetah3::description();
     let (q, qd, qdd) = states();
-    let none = TrueRobot::new(&model, Effects::default())
+    let none = TrueRobot::new(&leg, &Effects::default())
         .unwrap()
         .torques(&q, &qd, &qdd)
         .unwrap();
@@ -100,7 +102,7 @@ fn each_effect_alone_adds_its_formula_and_off_is_absent() {
             0.0
         }
     };
-    for e in EFFECTS {
+    for e in Effect::ALL.map(Effect::name) {
         if matches!(
             e,
             "time_delay" | "payload" | "rotor_inertia" | "elasticity" | "backlash"
@@ -108,7 +110,7 @@ fn each_effect_alone_adds_its_formula_and_off_is_absent() {
             continue; // checked below through the dynamics
         }
         let fx = Effects::parse(e, &[]).unwrap();
-        let got = TrueRobot::new(&model, fx.clone())
+        let got = TrueRobot::new(&leg, &fx)
             .unwrap()
             .torques(&q, &qd, &qdd)
             .unwrap();
@@ -134,7 +136,7 @@ fn each_effect_alone_adds_its_formula_and_off_is_absent() {
         }
     }
     // rotor inertia: the full model with rotors
-    let with = TrueRobot::new(&model, Effects::parse("rotor_inertia", &[]).unwrap())
+    let with = TrueRobot::new(&leg, &Effects::parse("rotor_inertia", &[]).unwrap())
         .unwrap()
         .torques(&q, &qd, &qdd)
         .unwrap();
@@ -145,8 +147,8 @@ fn each_effect_alone_adds_its_formula_and_off_is_absent() {
     }
     // payload: 1 kg at the foot = knee link with a point mass added
     let pay = TrueRobot::new(
-        &model,
-        Effects::parse("payload", &["payload_mass=1.0".into()]).unwrap(),
+        &leg,
+        &Effects::parse("payload", &["payload_mass=1.0".into()]).unwrap(),
     )
     .unwrap()
     .torques(&q, &qd, &qdd)
@@ -171,15 +173,15 @@ fn each_effect_alone_adds_its_formula_and_off_is_absent() {
 
 #[test]
 fn time_delay_uses_the_earlier_state() {
-    let model = cheetah3::model();
+    let leg = cheetah3::description();
     let fx = Effects::parse("time_delay", &["delay=0.01".into()]).unwrap();
-    let mut cfg = SimConfig::for_model("cheetah3-leg", &model, 0.5, fx, 1);
+    let mut cfg = SimConfig::for_robot(&leg, 0.5, fx, 1);
     cfg.noise_sigma = 0.0;
     cfg.encoder_counts = 0.0;
     cfg.processed = false;
-    let d = simulate(&model, &cfg, |_, _| {}).unwrap();
+    let d = simulate(&leg, &cfg, |_, _| {}).unwrap();
     let tr = Trajectory::Shell(Shell::default());
-    let robot = TrueRobot::new(&model, Effects::default()).unwrap();
+    let robot = TrueRobot::new(&leg, &Effects::default()).unwrap();
     for k in [100usize, 250, 400] {
         let (q, qd, qdd) = tr.state(d.t[k] - 0.01).unwrap();
         let want = robot.torques(&[q], &[qd], &[qdd]).unwrap();
@@ -189,10 +191,10 @@ fn time_delay_uses_the_earlier_state() {
 
 #[test]
 fn processed_data_track_the_true_states() {
-    let model = cheetah3::model();
+    let leg = cheetah3::description();
     let fx = Effects::parse("rotor_inertia,coulomb,viscous", &[]).unwrap();
-    let cfg = SimConfig::for_model("cheetah3-leg", &model, 3.0, fx, 7);
-    let d = simulate(&model, &cfg, |_, _| {}).unwrap();
+    let cfg = SimConfig::for_robot(&leg, 3.0, fx, 7);
+    let d = simulate(&leg, &cfg, |_, _| {}).unwrap();
     let tr = Trajectory::Shell(Shell::default());
     let mut worst = [0.0f64; 3];
     for k in (200..2800).step_by(50) {
@@ -210,7 +212,7 @@ fn processed_data_track_the_true_states() {
     let clean = {
         let mut c = cfg.clone();
         c.noise_sigma = 0.0;
-        simulate(&model, &c, |_, _| {}).unwrap()
+        simulate(&leg, &c, |_, _| {}).unwrap()
     };
     let res: Vec<f64> = d
         .tau
@@ -230,6 +232,13 @@ fn multisine_excitation_stays_in_limits_for_any_robot() {
         <joint name=\"j1\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/><axis xyz=\"0 0 1\"/><limit lower=\"-0.5\" upper=\"2.0\" effort=\"1\" velocity=\"1\"/></joint>\
         <joint name=\"j2\" type=\"continuous\"><parent link=\"b\"/><child link=\"c\"/><origin xyz=\"0.3 0 0\"/><axis xyz=\"0 1 0\"/></joint></robot>";
     let model = momentlmi::dynamics::urdf::model_from_urdf_str(urdf, "r.urdf", None).unwrap();
+    let robot = momentlmi::dynamics::RobotDescription::new(
+        "r.urdf",
+        model.clone(),
+        &momentlmi::dynamics::sidecar::Sidecar::default(),
+        None,
+    )
+    .unwrap();
     for seed in 0..5 {
         let tr = Trajectory::fourier_for(&model, seed);
         for k in 0..2000 {
@@ -238,15 +247,14 @@ fn multisine_excitation_stays_in_limits_for_any_robot() {
             assert!(q[1].abs() <= 1.0 + 1e-12);
         }
     }
-    let mut cfg = SimConfig::for_model(
-        "r.urdf",
-        &model,
+    let mut cfg = SimConfig::for_robot(
+        &robot,
         2.0,
         Effects::parse("coulomb,viscous", &[]).unwrap(),
         3,
     );
     cfg.noise_sigma = 0.1;
-    let d = simulate(&model, &cfg, |_, _| {}).unwrap();
+    let d = simulate(&robot, &cfg, |_, _| {}).unwrap();
     assert_eq!(d.len(), 2000);
     assert_eq!(d.joints, vec!["j1", "j2"]);
 }
@@ -259,16 +267,17 @@ fn elasticity_and_backlash_follow_their_formulas() {
     use momentlmi::dynamics::{Data, Model, rnea};
     use momentlmi::sim::compliance::{Compliance, simulate_link_side};
     let model = cheetah3::model();
+    let leg = cheetah3::description();
     for (effects, b) in [("elasticity", 0.0), ("backlash", 0.005)] {
         let fx = Effects::parse(effects, &[]).unwrap();
-        let mut cfg = SimConfig::for_model("cheetah3-leg", &model, 1.0, fx, 1);
+        let mut cfg = SimConfig::for_robot(&leg, 1.0, fx, 1);
         cfg.noise_sigma = 0.0;
         cfg.encoder_counts = 0.0;
         cfg.processed = false;
-        let d = simulate(&model, &cfg, |_, _| {}).unwrap();
+        let d = simulate(&leg, &cfg, |_, _| {}).unwrap();
         let mut rigid_cfg = cfg.clone();
         rigid_cfg.effects = Effects::default();
-        let r = simulate(&model, &rigid_cfg, |_, _| {}).unwrap();
+        let r = simulate(&leg, &rigid_cfg, |_, _| {}).unwrap();
         let c = Compliance {
             stiffness: 2000.0,
             damping: 5.0,

@@ -4,6 +4,7 @@
 
 use crate::cmd::{check, demo, diagnose, identify, predict, sdpa, simulate};
 use clap::{Parser, Subcommand};
+use momentlmi::dynamics::Effect;
 use std::path::PathBuf;
 
 /// Physically consistent inertial parameter identification and SDP tools.
@@ -41,7 +42,9 @@ enum Command {
         /// TOML sidecar for a URDF (rotors, gear ratios, locked joints).
         #[arg(long)]
         sidecar: Option<PathBuf>,
-        /// `true` or `cad` (cheetah3-leg), or a parameter file (the JSON `identify --json` prints).
+        /// `true` (own parameters + nominal friction), `cad` (the description's
+        /// prior), or a parameter file (the JSON `identify --json` prints);
+        /// default: the model's own, no friction.
         #[arg(long)]
         params: Option<String>,
         /// Data CSV: t, q_<joint>, qd_<joint>[, qdd_<joint>]; extra columns are ignored.
@@ -65,11 +68,9 @@ enum Command {
         /// Duration in seconds (1 kHz sampling).
         #[arg(long, default_value_t = 20.0)]
         seconds: f64,
-        /// Comma-separated effects: rotor_inertia, coulomb, viscous, stribeck,
-        /// asymmetric_friction, offset, payload, time_delay, cogging, torque_gain,
-        /// elasticity, backlash.
-        #[arg(long, default_value = "")]
-        effects: String,
+        /// Comma-separated effects the true robot has (see `dynamics::effect`).
+        #[arg(long, value_enum, value_delimiter = ',')]
+        effects: Vec<Effect>,
         /// Output CSV (a JSON record of how it was made is written beside it).
         #[arg(long)]
         out: PathBuf,
@@ -79,7 +80,8 @@ enum Command {
         /// Torque noise σ in N·m (default 0.3; 0 writes exact, unprocessed states).
         #[arg(long)]
         noise: Option<f64>,
-        /// Effect parameter override NAME=VALUE (repeatable).
+        /// Effect parameter override NAME=VALUE (repeatable), e.g. `stiffness=300`;
+        /// the defaults come from the robot's description.
         #[arg(long = "effect-param")]
         effect_param: Vec<String>,
     },
@@ -97,7 +99,8 @@ enum Command {
         /// Constraint level per body: none, semi, consistent, ellipsoid.
         #[arg(long, default_value = "consistent")]
         constraints: String,
-        /// Prior π̂: cad | true (cheetah3-leg) or a parameter file (default: cad / the URDF's own).
+        /// Prior π̂: cad (the description's prior: the sidecar's, else the URDF's
+        /// own inertias; the default), true, or a parameter file.
         #[arg(long)]
         prior: Option<String>,
         /// Regularisation weight w_π toward the prior (0 turns it off).
@@ -121,7 +124,8 @@ enum Command {
         /// Measured data CSV.
         #[arg(long)]
         data: PathBuf,
-        /// Nominal model: cad | true (cheetah3-leg) or a parameter file (e.g. from identify --json).
+        /// Nominal model: cad | true or a parameter file (e.g. from identify --json);
+        /// default: the model's own parameters, no friction.
         #[arg(long)]
         nominal: Option<String>,
         /// Print the JSON report.

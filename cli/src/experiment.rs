@@ -3,8 +3,8 @@
 //! samples, and write the tables and figures (Fig. 4–6).
 
 use crate::plots::figures::{Series, line_panels};
-use momentlmi::data::write_whole;
-use momentlmi::dynamics::cheetah3;
+use momentlmi::data::{Dataset, write_whole, write_with_record};
+use momentlmi::dynamics::{Effect, RobotDescription, cheetah3};
 use momentlmi::identify::{IdentifyOptions, IdentifyResult, Level, identify};
 use momentlmi::sim::{Effects, SimConfig, simulate};
 use serde::Serialize;
@@ -74,50 +74,50 @@ fn overall(v: &[f64]) -> f64 {
     (v.iter().map(|x| x * x).sum::<f64>() / v.len().max(1) as f64).sqrt()
 }
 
-/// Runs the experiment into `out`; `progress(step, total, what)`.
-pub fn run_experiment(
+const LEVELS: [Level; 4] = [
+    Level::None,
+    Level::Semi,
+    Level::Consistent,
+    Level::Ellipsoid,
+];
+
+fn text<E: std::fmt::Display>(e: E) -> String {
+    e.to_string()
+}
+
+/// Simulates the leg (rotors, Coulomb and viscous friction) for the training
+/// and validation samples and writes `leg.csv` with its `leg.json` record.
+fn simulate_leg(
+    robot: &RobotDescription,
     out: &Path,
     cfg: &ExperimentConfig,
-    mut progress: impl FnMut(usize, usize, &str),
-) -> Result<(ExperimentSummary, Vec<IdentifyResult>), String> {
-    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
-    let model = cheetah3::model();
-    let total_steps = 2 + 4 + 4 * cfg.sizes.len();
-    let mut step = 0;
-    progress(step, total_steps, "simulating the true leg");
+) -> Result<(Dataset, String), String> {
     let seconds = (cfg.train + cfg.validate) as f64 / 1000.0;
-    let effects = Effects::parse("rotor_inertia,coulomb,viscous", &[])?;
-    let mut sim = SimConfig::for_model("cheetah3-leg", &model, seconds, effects, cfg.seed);
+    let effects = Effects::new([Effect::RotorInertia, Effect::Coulomb, Effect::Viscous]);
+    let mut sim = SimConfig::for_robot(robot, seconds, effects, cfg.seed);
     sim.noise_sigma = cfg.noise;
-    let all = simulate(&model, &sim, |_, _| {})?;
-    let mut files = vec![];
+    let all = simulate(robot, &sim, |_, _| {}).map_err(text)?;
     let data_path = out.join("leg.csv");
-    all.write_csv(&data_path).map_err(|e| e.to_string())?;
-    write_whole(
-        &out.join("leg.json"),
-        &serde_json::to_string_pretty(&sim).map_err(|e| e.to_string())?,
-    )
-    .map_err(|e| e.to_string())?;
-    files.push(data_path.display().to_string());
-    step += 1;
-    let train = all.slice(0..cfg.train);
-    let val = all.slice(cfg.train..cfg.train + cfg.validate);
-    let opts = |level| IdentifyOptions::cheetah3(level, cfg.weight);
-    let levels = [
-        Level::None,
-        Level::Semi,
-        Level::Consistent,
-        Level::Ellipsoid,
-    ];
+    write_with_record(&all, &data_path, &sim).map_err(text)?;
+    Ok((all, data_path.display().to_string()))
+}
+
+/// Identifies at every level on the whole training set, writing
+/// `identified_<level>.json`.
+fn identify_levels(
+    robot: &RobotDescription,
+    (train, val): (&Dataset, &Dataset),
+    cfg: &ExperimentConfig,
+    out: &Path,
+    files: &mut Vec<String>,
+    progress: &mut dyn FnMut(&str),
+) -> Result<(Vec<LevelSummary>, Vec<IdentifyResult>), String> {
     let mut results = vec![];
     let mut table = vec![];
-    for level in levels {
-        progress(
-            step,
-            total_steps,
-            &format!("identifying ({})", level.as_str()),
-        );
-        let r = identify(&model, &train, Some(&val), &opts(level)).map_err(|e| e.to_string())?;
+    for level in LEVELS {
+        progress(&format!("identifying ({})", level.as_str()));
+        let opts = IdentifyOptions::for_robot(robot, level, cfg.weight).map_err(text)?;
+        let r = identify(&robot.model, train, Some(val), &opts).map_err(text)?;
         let v = r.validation_rms.clone().unwrap_or_default();
         table.push(LevelSummary {
             constraints: level,
@@ -128,57 +128,65 @@ pub fn run_experiment(
             solve_time_s: r.solve_time_s,
         });
         let f = out.join(format!("identified_{}.json", level.as_str()));
-        write_whole(
-            &f,
-            &serde_json::to_string_pretty(&r).map_err(|e| e.to_string())?,
-        )
-        .map_err(|e| e.to_string())?;
+        write_whole(&f, &serde_json::to_string_pretty(&r).map_err(text)?).map_err(text)?;
         files.push(f.display().to_string());
         results.push(r);
-        step += 1;
     }
-    // Fig. 6: validation RMS vs training samples
+    Ok((table, results))
+}
+
+/// Fig. 6's data: validation RMS against the number of training samples.
+fn sample_study(
+    robot: &RobotDescription,
+    (train, val): (&Dataset, &Dataset),
+    cfg: &ExperimentConfig,
+    progress: &mut dyn FnMut(&str),
+) -> Result<Vec<(Level, usize, f64)>, String> {
     let mut study = vec![];
-    for level in levels {
+    for level in LEVELS {
+        let opts = IdentifyOptions::for_robot(robot, level, cfg.weight).map_err(text)?;
         for &n in &cfg.sizes {
-            progress(
-                step,
-                total_steps,
-                &format!("sample study ({}, {n})", level.as_str()),
-            );
+            progress(&format!("sample study ({}, {n})", level.as_str()));
             let n = n.min(cfg.train);
-            let r = identify(&model, &train.slice(0..n), Some(&val), &opts(level))
-                .map_err(|e| e.to_string())?;
+            let r = identify(&robot.model, &train.slice(0..n), Some(val), &opts).map_err(text)?;
             study.push((level, n, overall(&r.validation_rms.unwrap_or_default())));
-            step += 1;
         }
     }
-    progress(step, total_steps, "writing figures");
-    let joints = ["abad", "hip", "knee"];
-    let best = &results[3];
-    // Fig. 4: measured vs predicted validation torques
+    Ok(study)
+}
+
+/// A time series of the validation set, thinned to ~2,500 points.
+fn series<'a>(val: &Dataset, label: &'a str, color: usize, f: &dyn Fn(usize) -> f64) -> Series<'a> {
     let t0 = val.t.first().copied().unwrap_or(0.0);
     let stride = (val.len() / 2500).max(1);
-    // a time series of the validation set, thinned to ~2,500 points
-    let series = |label: &'static str, color: usize, f: &dyn Fn(usize) -> f64| Series {
+    Series {
         label,
         points: (0..val.len())
             .step_by(stride)
             .map(|k| (val.t[k] - t0, f(k)))
             .collect(),
         color,
-    };
+    }
+}
+
+/// Fig. 4 (measured vs predicted held-out torques) and Fig. 5 (the
+/// contributions) of the ellipsoid-level fit.
+fn figures_4_5(
+    best: &IdentifyResult,
+    val: &Dataset,
+    out: &Path,
+) -> Result<Vec<std::path::PathBuf>, String> {
     let panels: Vec<Vec<Series>> = (0..3)
         .map(|j| {
             vec![
-                series("measured", 5, &|k| val.tau[k][j]),
-                series("predicted (ellipsoid)", 0, &|k| {
+                series(val, "measured", 5, &|k| val.tau[k][j]),
+                series(val, "predicted (ellipsoid)", 0, &|k| {
                     best.validation_prediction[k][j]
                 }),
             ]
         })
         .collect();
-    let titles: Vec<String> = joints
+    let titles: Vec<String> = cheetah3::JOINTS
         .iter()
         .zip(best.validation_rms.clone().unwrap_or_default())
         .map(|(j, r)| format!("{j}: validation RMS {r:.3} N·m"))
@@ -193,18 +201,17 @@ pub fn run_experiment(
         &panels,
         false,
     )?;
-    // Fig. 5: contributions
     let c = &best.contributions;
     let panels: Vec<Vec<Series>> = (0..3)
         .map(|j| {
             vec![
-                series("link inertia + gravity", 0, &|k| c.links[k][j]),
-                series("rotor inertia", 1, &|k| c.rotors[k][j]),
-                series("friction", 2, &|k| c.friction[k][j]),
+                series(val, "link inertia + gravity", 0, &|k| c.links[k][j]),
+                series(val, "rotor inertia", 1, &|k| c.rotors[k][j]),
+                series(val, "friction", 2, &|k| c.friction[k][j]),
             ]
         })
         .collect();
-    let titles: Vec<String> = joints.iter().map(|j| j.to_string()).collect();
+    let titles: Vec<String> = cheetah3::JOINTS.iter().map(|j| j.to_string()).collect();
     let f5 = out.join("fig5_contributions.svg");
     line_panels(
         &f5,
@@ -215,8 +222,12 @@ pub fn run_experiment(
         &panels,
         false,
     )?;
-    // Fig. 6
-    let panel: Vec<Series> = levels
+    Ok(vec![f4, f5])
+}
+
+/// Fig. 6 and its CSV.
+fn figure_6(study: &[(Level, usize, f64)], out: &Path) -> Result<Vec<std::path::PathBuf>, String> {
+    let panel: Vec<Series> = LEVELS
         .iter()
         .enumerate()
         .map(|(i, l)| Series {
@@ -240,14 +251,25 @@ pub fn run_experiment(
         true,
     )?;
     let mut csv = String::from("constraints,samples,overall_validation_rms\n");
-    for (l, n, r) in &study {
+    for (l, n, r) in study {
         csv += &format!("{},{n},{r}\n", l.as_str());
     }
     let f6c = out.join("fig6_samples.csv");
-    write_whole(&f6c, &csv).map_err(|e| e.to_string())?;
+    write_whole(&f6c, &csv).map_err(text)?;
+    Ok(vec![f6, f6c])
+}
+
+/// The data behind Fig. 4 and 5 as CSV.
+fn figure_4_5_csv(
+    best: &IdentifyResult,
+    val: &Dataset,
+    out: &Path,
+) -> Result<std::path::PathBuf, String> {
+    let c = &best.contributions;
+    let stride = (val.len() / 2500).max(1);
     let mut csv = String::from("t,joint,measured,predicted,links,rotors,friction\n");
     for k in (0..val.len()).step_by(stride) {
-        for (j, name) in joints.iter().enumerate() {
+        for (j, name) in cheetah3::JOINTS.iter().enumerate() {
             csv += &format!(
                 "{},{name},{},{},{},{},{}\n",
                 val.t[k],
@@ -260,12 +282,38 @@ pub fn run_experiment(
         }
     }
     let f45 = out.join("fig4_fig5_data.csv");
-    write_whole(&f45, &csv).map_err(|e| e.to_string())?;
-    files.extend(
-        [f4, f5, f6, f6c, f45]
-            .iter()
-            .map(|p| p.display().to_string()),
-    );
+    write_whole(&f45, &csv).map_err(text)?;
+    Ok(f45)
+}
+
+/// Runs the experiment into `out`; `progress(step, total, what)`.
+pub fn run_experiment(
+    out: &Path,
+    cfg: &ExperimentConfig,
+    mut progress: impl FnMut(usize, usize, &str),
+) -> Result<(ExperimentSummary, Vec<IdentifyResult>), String> {
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let robot = cheetah3::description();
+    let total_steps = 2 + 4 + 4 * cfg.sizes.len();
+    let mut step = 0;
+    let mut tick = |what: &str| {
+        progress(step, total_steps, what);
+        step += 1;
+    };
+    tick("simulating the true leg");
+    let (all, data_file) = simulate_leg(&robot, out, cfg)?;
+    let mut files = vec![data_file];
+    let train = all.slice(0..cfg.train);
+    let val = all.slice(cfg.train..cfg.train + cfg.validate);
+    let (table, results) =
+        identify_levels(&robot, (&train, &val), cfg, out, &mut files, &mut tick)?;
+    let study = sample_study(&robot, (&train, &val), cfg, &mut tick)?;
+    tick("writing figures");
+    let best = &results[3];
+    let mut written = figures_4_5(best, &val, out)?;
+    written.extend(figure_6(&study, out)?);
+    written.push(figure_4_5_csv(best, &val, out)?);
+    files.extend(written.iter().map(|p| p.display().to_string()));
     let summary = ExperimentSummary {
         config: cfg.clone(),
         levels: table,
@@ -274,9 +322,9 @@ pub fn run_experiment(
     };
     write_whole(
         &out.join("summary.json"),
-        &serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())?,
+        &serde_json::to_string_pretty(&summary).map_err(text)?,
     )
-    .map_err(|e| e.to_string())?;
+    .map_err(text)?;
     progress(total_steps, total_steps, "done");
     Ok((summary, results))
 }

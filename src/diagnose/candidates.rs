@@ -1,32 +1,63 @@
 //! The library of candidate effects, each a group of extra regressor columns
 //! built from the data and the nominal model's prediction τ̂.
 
+use super::error::DiagnoseError;
 use crate::data::Dataset;
 use crate::dynamics::params_file::Friction;
 use crate::dynamics::predict::predict_torques;
-use crate::dynamics::{Data, Model, regressor, sign};
+use crate::dynamics::{Data, Effect, Model, regressor, sign};
+use crate::moments::InertialParams;
+use nalgebra::Matrix3;
+use serde::Serialize;
 
-/// Candidate names, in the order they are tried.
-pub const CANDIDATES: [&str; 13] = [
-    "coulomb",
-    "viscous",
-    "stribeck",
-    "asymmetric_friction",
-    "offset",
-    "rotor_inertia",
-    "link_inertia",
-    "payload",
-    "time_delay",
-    "cogging",
-    "torque_gain",
-    "elasticity",
-    "backlash",
-];
+/// A hypothesis the diagnoser tries: an effect of the shared vocabulary
+/// ([`Effect`]), or a refit of the link inertias.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Candidate {
+    /// An effect the nominal model lacks.
+    Effect(Effect),
+    /// The link inertias are off (a correction of every link's 10 parameters).
+    LinkInertia,
+}
+
+impl Candidate {
+    /// Every candidate, in the order they are tried.
+    pub const ALL: [Candidate; 13] = [
+        Candidate::Effect(Effect::Coulomb),
+        Candidate::Effect(Effect::Viscous),
+        Candidate::Effect(Effect::Stribeck),
+        Candidate::Effect(Effect::AsymmetricFriction),
+        Candidate::Effect(Effect::Offset),
+        Candidate::Effect(Effect::RotorInertia),
+        Candidate::LinkInertia,
+        Candidate::Effect(Effect::Payload),
+        Candidate::Effect(Effect::TimeDelay),
+        Candidate::Effect(Effect::Cogging),
+        Candidate::Effect(Effect::TorqueGain),
+        Candidate::Effect(Effect::Elasticity),
+        Candidate::Effect(Effect::Backlash),
+    ];
+
+    /// The name in reports (an effect's name, or `link_inertia`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Candidate::Effect(e) => e.name(),
+            Candidate::LinkInertia => "link_inertia",
+        }
+    }
+
+    /// Whether it is a compliance hypothesis (fitted by simulation,
+    /// [`super::compliance`]).
+    pub fn is_compliance(self) -> bool {
+        matches!(self, Candidate::Effect(e) if e.is_compliance())
+    }
+}
 
 /// Columns of one candidate: `cols[c][k·n + i]` for sample k, joint i.
 pub struct Columns {
-    /// Candidate name.
-    pub name: &'static str,
+    /// The candidate.
+    pub candidate: Candidate,
     /// Description of the chosen nonlinear parameter, if any.
     pub detail: String,
     /// Column-major: one Vec per column, rows = samples × joints.
@@ -39,6 +70,35 @@ pub struct Columns {
     /// Nonlinear parameters chosen by search before the linear fit (a delay,
     /// a Stribeck velocity, a stiffness per joint, …); they count in ΔBIC.
     pub nonlinear: usize,
+}
+
+impl Columns {
+    /// Plain linear columns (no nonlinear parameter, no constraint).
+    fn linear(candidate: Candidate, cols: Vec<Vec<f64>>) -> Self {
+        Self::variant(candidate, String::new(), cols, 0)
+    }
+
+    /// One variant of a nonlinear parameter's grid.
+    fn variant(
+        candidate: Candidate,
+        detail: String,
+        cols: Vec<Vec<f64>>,
+        nonlinear: usize,
+    ) -> Self {
+        Self {
+            candidate,
+            detail,
+            cols,
+            bodies: vec![],
+            nonneg: false,
+            nonlinear,
+        }
+    }
+
+    /// The candidate's name.
+    pub fn name(&self) -> &'static str {
+        self.candidate.name()
+    }
 }
 
 fn zeros(rows: usize) -> Vec<f64> {
@@ -64,143 +124,147 @@ pub fn flat(v: &[Vec<f64>]) -> Vec<f64> {
     v.iter().flatten().copied().collect()
 }
 
-/// Builds the columns of candidate `name` (nonlinear parameters on a grid
-/// are returned as separate variants; the caller picks the best on training data).
-pub fn build(name: &'static str, model: &Model, friction: &Friction, d: &Dataset) -> Vec<Columns> {
-    let n = d.joints.len();
-    let rows = d.len() * n;
-    let gear: Vec<f64> = (0..n)
-        .map(|i| model.rotor_of(i).map_or(1.0, |r| r.gear_ratio))
-        .collect();
-    let tau_hat = || predict_torques(model, friction, &d.q, &d.qd, &d.qdd).unwrap_or_default();
-    let one = |cols: Vec<Vec<f64>>| {
-        vec![Columns {
-            name,
-            detail: String::new(),
-            cols,
-            bodies: vec![],
-            nonneg: false,
-            nonlinear: 0,
-        }]
-    };
-    match name {
-        "coulomb" => one(per_joint(d, |k, i| sign(d.qd[k][i]))),
-        "viscous" => one(per_joint(d, |k, i| d.qd[k][i])),
-        "offset" => one(per_joint(d, |_, _| 1.0)),
-        "asymmetric_friction" => one(per_joint(d, |k, i| sign(d.qd[k][i]).abs())),
-        "stribeck" => [0.05, 0.1, 0.2, 0.5]
-            .iter()
-            .map(|&vs| Columns {
-                name,
-                detail: format!("Stribeck velocity {vs} rad/s"),
-                cols: per_joint(d, |k, i| {
+/// Builds the columns of a candidate (nonlinear parameters on a grid are
+/// returned as separate variants; the caller picks the best on training
+/// data). The compliance hypotheses are fitted by simulation instead
+/// ([`super::compliance`]) and have no columns here.
+pub fn build(
+    candidate: Candidate,
+    model: &Model,
+    friction: &Friction,
+    d: &Dataset,
+) -> Result<Vec<Columns>, DiagnoseError> {
+    let one = |cols| Ok(vec![Columns::linear(candidate, cols)]);
+    let tau_hat = || predict_torques(model, friction, &d.q, &d.qd, &d.qdd);
+    match candidate {
+        Candidate::Effect(e) => match e {
+            Effect::Coulomb => one(per_joint(d, |k, i| sign(d.qd[k][i]))),
+            Effect::Viscous => one(per_joint(d, |k, i| d.qd[k][i])),
+            Effect::Offset => one(per_joint(d, |_, _| 1.0)),
+            Effect::AsymmetricFriction => one(per_joint(d, |k, i| sign(d.qd[k][i]).abs())),
+            Effect::Stribeck => Ok(stribeck(d)),
+            Effect::Cogging => Ok(cogging(model, d)),
+            Effect::TorqueGain => one(vec![flat(&tau_hat()?)]),
+            Effect::TimeDelay => Ok(time_delay(d, &tau_hat()?)),
+            Effect::RotorInertia | Effect::Payload => inertial(candidate, model, d),
+            Effect::Elasticity | Effect::Backlash => Ok(vec![]),
+        },
+        Candidate::LinkInertia => inertial(candidate, model, d),
+    }
+}
+
+fn stribeck(d: &Dataset) -> Vec<Columns> {
+    [0.05, 0.1, 0.2, 0.5]
+        .iter()
+        .map(|&vs| {
+            Columns::variant(
+                Candidate::Effect(Effect::Stribeck),
+                format!("Stribeck velocity {vs} rad/s"),
+                per_joint(d, |k, i| {
                     (-(d.qd[k][i] / vs).powi(2)).exp() * sign(d.qd[k][i])
                 }),
-                bodies: vec![],
-                nonneg: false,
-                nonlinear: 1,
-            })
-            .collect(),
-        "cogging" => (1..=12)
-            .map(|p| {
-                let p = p as f64;
-                let mut cols = per_joint(d, |k, i| (p * gear[i] * d.q[k][i]).sin());
-                cols.extend(per_joint(d, |k, i| (p * gear[i] * d.q[k][i]).cos()));
-                Columns {
-                    name,
-                    detail: format!("period {p} per motor turn"),
-                    cols,
-                    bodies: vec![],
-                    nonneg: false,
-                    nonlinear: 1,
-                }
-            })
-            .collect(),
-        "torque_gain" => one(vec![flat(&tau_hat())]),
-        "time_delay" => {
-            let th = tau_hat();
-            let dt = if d.len() > 1 {
-                (d.t[d.len() - 1] - d.t[0]) / (d.len() - 1) as f64
-            } else {
-                1e-3
-            };
-            [1usize, 2, 3, 5, 8, 12, 20, 30]
-                .iter()
-                .map(|&s| {
-                    let mut c = zeros(rows);
-                    for k in 0..d.len() {
-                        let j = k.saturating_sub(s);
-                        for i in 0..n {
-                            c[k * n + i] = th[j][i] - th[k][i];
-                        }
-                    }
-                    Columns {
-                        name,
-                        detail: format!("delay {:.0} ms", 1e3 * s as f64 * dt),
-                        cols: vec![c],
-                        bodies: vec![],
-                        nonneg: false,
-                        nonlinear: 1,
-                    }
-                })
-                .collect()
-        }
-        "link_inertia" | "rotor_inertia" | "payload" => {
-            let nl = 10 * model.dof();
-            let nb = model.num_bodies();
-            let (lo, hi) = match name {
-                "link_inertia" => (0, nl),
-                "rotor_inertia" => (nl, 10 * nb),
-                _ => (0, 0),
-            };
-            let mut data = Data::new(model);
-            let mut cols: Vec<Vec<f64>> =
-                vec![zeros(rows); if name == "payload" { 1 } else { hi - lo }];
-            // payload: a point mass at the last body's tool point (cheetah3-leg: the foot)
-            let last = model.dof() - 1;
-            let at = if model.name == "cheetah3-leg" {
-                nalgebra::Vector3::from(crate::dynamics::cheetah3::FOOT)
-            } else {
-                nalgebra::Vector3::zeros()
-            };
-            let unit = crate::moments::InertialParams::from_mass_com_inertia(
-                1.0,
-                at,
-                nalgebra::Matrix3::zeros(),
-            );
-            for k in 0..d.len() {
-                let Ok(y) = regressor(model, &mut data, &d.q[k], &d.qd[k], &d.qdd[k]) else {
-                    continue;
-                };
-                for i in 0..n {
-                    if name == "payload" {
-                        cols[0][k * n + i] =
-                            (0..10).map(|c| y[(i, 10 * last + c)] * unit.0[c]).sum();
-                    } else {
-                        for (c, col) in cols.iter_mut().enumerate() {
-                            col[k * n + i] = y[(i, lo + c)];
-                        }
-                    }
-                }
-            }
-            if cols.is_empty() {
-                return vec![];
-            }
-            let p = model.params();
-            let bodies: Vec<[f64; 10]> = (lo / 10..hi / 10)
-                .map(|b| std::array::from_fn(|k| p[10 * b + k]))
-                .collect();
-            vec![Columns {
-                name,
-                detail: String::new(),
+                1,
+            )
+        })
+        .collect()
+}
+
+fn cogging(model: &Model, d: &Dataset) -> Vec<Columns> {
+    let gear: Vec<f64> = (0..d.joints.len())
+        .map(|i| model.rotor_of(i).map_or(1.0, |r| r.gear_ratio))
+        .collect();
+    (1..=12)
+        .map(|p| {
+            let p = p as f64;
+            let mut cols = per_joint(d, |k, i| (p * gear[i] * d.q[k][i]).sin());
+            cols.extend(per_joint(d, |k, i| (p * gear[i] * d.q[k][i]).cos()));
+            Columns::variant(
+                Candidate::Effect(Effect::Cogging),
+                format!("period {p} per motor turn"),
                 cols,
-                bodies,
-                nonneg: name == "payload",
-                nonlinear: 0,
-            }]
-        }
-        // fitted to the residual by `super::compliance` (see `diagnose`)
-        "elasticity" | "backlash" => vec![],
-        _ => vec![],
+                1,
+            )
+        })
+        .collect()
+}
+
+/// `τ̂(t − s·dt) − τ̂(t)` for a grid of shifts s.
+fn time_delay(d: &Dataset, th: &[Vec<f64>]) -> Vec<Columns> {
+    let n = d.joints.len();
+    let dt = if d.len() > 1 {
+        (d.t[d.len() - 1] - d.t[0]) / (d.len() - 1) as f64
+    } else {
+        1e-3
+    };
+    [1usize, 2, 3, 5, 8, 12, 20, 30]
+        .iter()
+        .map(|&s| {
+            let mut c = zeros(d.len() * n);
+            for k in 0..d.len() {
+                let j = k.saturating_sub(s);
+                for i in 0..n {
+                    c[k * n + i] = th[j][i] - th[k][i];
+                }
+            }
+            Columns::variant(
+                Candidate::Effect(Effect::TimeDelay),
+                format!("delay {:.0} ms", 1e3 * s as f64 * dt),
+                vec![c],
+                1,
+            )
+        })
+        .collect()
+}
+
+/// Inertial corrections as regressor columns: every link's 10 parameters,
+/// every rotor's, or a point mass at the model's tool point (none for a
+/// model without rotors).
+fn inertial(
+    candidate: Candidate,
+    model: &Model,
+    d: &Dataset,
+) -> Result<Vec<Columns>, DiagnoseError> {
+    let n = d.joints.len();
+    let rows = d.len() * n;
+    let nl = 10 * model.dof();
+    let nb = model.num_bodies();
+    let payload = candidate == Candidate::Effect(Effect::Payload);
+    let (lo, hi) = match candidate {
+        Candidate::LinkInertia => (0, nl),
+        Candidate::Effect(Effect::RotorInertia) => (nl, 10 * nb),
+        _ => (0, 0),
+    };
+    let tool = model.tool.ok_or(DiagnoseError::NoTool)?;
+    let unit = InertialParams::from_mass_com_inertia(1.0, tool.point, Matrix3::zeros());
+    let mut cols: Vec<Vec<f64>> = vec![zeros(rows); if payload { 1 } else { hi - lo }];
+    if cols.is_empty() {
+        return Ok(vec![]);
     }
+    let mut data = Data::new(model);
+    for k in 0..d.len() {
+        let y = regressor(model, &mut data, &d.q[k], &d.qd[k], &d.qdd[k])
+            .map_err(|source| DiagnoseError::Regressor { sample: k, source })?;
+        for i in 0..n {
+            if payload {
+                cols[0][k * n + i] = (0..10)
+                    .map(|c| y[(i, 10 * tool.body + c)] * unit.0[c])
+                    .sum();
+            } else {
+                for (c, col) in cols.iter_mut().enumerate() {
+                    col[k * n + i] = y[(i, lo + c)];
+                }
+            }
+        }
+    }
+    let p = model.params();
+    Ok(vec![Columns {
+        candidate,
+        detail: String::new(),
+        cols,
+        bodies: (lo / 10..hi / 10)
+            .map(|b| std::array::from_fn(|k| p[10 * b + k]))
+            .collect(),
+        nonneg: payload,
+        nonlinear: 0,
+    }])
 }

@@ -36,7 +36,7 @@
 //! rotor's `N² I_zz` and the link's axial inertia enter rigid torques as one
 //! sum), but the link's ringing depends on it, hence the fitted shift s_i.
 
-use super::candidates::Columns;
+use super::candidates::{Candidate, Columns};
 use crate::data::Dataset;
 use crate::dynamics::Model;
 use crate::sim::compliance::Compliance;
@@ -622,7 +622,7 @@ pub fn fit(lin: &Linearisation, r: &[f64], upto: usize, backlash: bool) -> Optio
 
 /// The candidate's columns on all samples (one per joint) for a fitted
 /// hypothesis (zero during the warm-up).
-pub fn columns(name: &'static str, lin: &Linearisation, fit: &ComplianceFit) -> Option<Columns> {
+pub fn columns(candidate: Candidate, lin: &Linearisation, fit: &ComplianceFit) -> Option<Columns> {
     let n = lin.n;
     let ns = lin.t.len();
     let h = lin.simulate(&fit.transmission, 0, ns)?;
@@ -648,12 +648,16 @@ pub fn columns(name: &'static str, lin: &Linearisation, fit: &ComplianceFit) -> 
         detail = format!("dead band ±({}) rad, {detail}", list(&p.backlash, 4));
     }
     Some(Columns {
-        name,
+        candidate,
         detail,
         cols,
         bodies: vec![],
         nonneg: false,
         // K, D and the axial split per joint, and the dead band for backlash
-        nonlinear: if name == "backlash" { 4 * n } else { 3 * n },
+        nonlinear: if candidate == Candidate::Effect(crate::dynamics::Effect::Backlash) {
+            4 * n
+        } else {
+            3 * n
+        },
     })
 }

@@ -19,36 +19,96 @@
 
 pub mod candidates;
 pub mod compliance;
+mod error;
+mod fit;
+mod select;
+mod split;
 pub mod where_;
+
+pub use error::{DiagnoseError, FitError};
 
 use crate::data::Dataset;
 use crate::dynamics::Model;
 use crate::dynamics::params_file::Friction;
 use crate::dynamics::predict::predict_torques;
-use candidates::{CANDIDATES, Columns, build, flat};
-use faer::Mat;
-use faer::linalg::solvers::Solve;
+use candidates::{Candidate, Columns, build, flat};
+use select::{Evaluation, choose, evaluate};
 use serde::Serialize;
+use split::{Split, rms_per_joint};
 use where_::{JointWhere, analyse_joint, summarise};
 
-/// Options.
-#[derive(Clone, Debug)]
+/// The fewest samples a diagnosis takes.
+pub const MIN_SAMPLES: usize = 100;
+
+/// Options, validated at construction ([`DiagnoseOptions::new`]).
+#[derive(Clone, Debug, PartialEq)]
 pub struct DiagnoseOptions {
-    /// Fraction of the samples (from the start) used for fitting.
-    pub train_fraction: f64,
-    /// At most this many effects are accepted.
-    pub max_effects: usize,
-    /// Blocks of the held-out block test.
-    pub blocks: usize,
+    train_fraction: f64,
+    max_effects: usize,
+    blocks: usize,
 }
 
 impl Default for DiagnoseOptions {
+    /// 60 % training, at most 4 effects, 20 held-out blocks.
     fn default() -> Self {
         Self {
             train_fraction: 0.6,
             max_effects: 4,
             blocks: 20,
         }
+    }
+}
+
+impl DiagnoseOptions {
+    /// `train_fraction` of the samples (from the start) fit, in (0.1, 0.9);
+    /// at most `max_effects` (≥ 1) effects are accepted; the held-out block
+    /// test uses `blocks` (2 … 1000) blocks.
+    pub fn new(
+        train_fraction: f64,
+        max_effects: usize,
+        blocks: usize,
+    ) -> Result<Self, DiagnoseError> {
+        if !(train_fraction >= 0.1 && train_fraction <= 0.9) {
+            return Err(DiagnoseError::Option {
+                option: "train_fraction",
+                value: train_fraction,
+                message: "must be in [0.1, 0.9] (both parts need samples)",
+            });
+        }
+        if max_effects == 0 {
+            return Err(DiagnoseError::Option {
+                option: "max_effects",
+                value: 0.0,
+                message: "must be at least 1",
+            });
+        }
+        if !(2..=1000).contains(&blocks) {
+            return Err(DiagnoseError::Option {
+                option: "blocks",
+                value: blocks as f64,
+                message: "must be in 2 … 1000",
+            });
+        }
+        Ok(Self {
+            train_fraction,
+            max_effects,
+            blocks,
+        })
+    }
+
+    /// Fraction of the samples (from the start) used for fitting.
+    pub fn train_fraction(&self) -> f64 {
+        self.train_fraction
+    }
+
+    /// At most this many effects are accepted.
+    pub fn max_effects(&self) -> usize {
+        self.max_effects
+    }
+
+    /// Blocks of the held-out block test.
+    pub fn blocks(&self) -> usize {
+        self.blocks
     }
 }
 
@@ -105,6 +165,9 @@ pub struct Diagnosis {
     pub unexplained: bool,
     /// Where the unexplained remainder lies.
     pub unexplained_where: Vec<String>,
+    /// Candidates that could not be evaluated and why (a failed fit, a
+    /// compliance hypothesis that did not simulate).
+    pub warnings: Vec<String>,
     /// Held-out signals and residuals for plots (not serialised).
     #[serde(skip)]
     pub heldout: HeldOut,
@@ -125,143 +188,143 @@ pub struct HeldOut {
     pub after: Vec<Vec<f64>>,
 }
 
-/// Resamples of the block bootstrap.
-const BOOTSTRAP: usize = 20_000;
-
-/// The held-out block test: a bootstrap over the per-block gains `d` (MSE
-/// before − after, one per consecutive block of the held-out part, so that
-/// correlated residuals stay inside a block). Returns the one-sided p-value
-/// of "the mean gain is ≤ 0", `(#{mean* ≤ 0} + 1)/(B + 1)`, as a normal
-/// quantile `z = Φ⁻¹(1 − p)` (at most ≈ 3.9 for B = 20 000). Unlike
-/// mean/SE, it does not call an effect that acts only at some moments
-/// (large gains in a few blocks, none in the others) noise. Deterministic
-/// (fixed seed).
-fn block_bootstrap_z(d: &[f64]) -> f64 {
-    use rand::{RngExt, SeedableRng};
-    use statrs::distribution::{ContinuousCDF, Normal};
-    let m = d.len();
-    if m < 2 {
-        return 0.0;
-    }
-    let mut rng = rand::rngs::StdRng::seed_from_u64(0x6d6f6d);
-    let below = (0..BOOTSTRAP)
-        .filter(|_| (0..m).map(|_| d[rng.random_range(0..m)]).sum::<f64>() <= 0.0)
-        .count();
-    let b = (BOOTSTRAP + 1) as f64;
-    let p = ((below + 1) as f64 / b).min(1.0 - 1.0 / b);
-    Normal::standard().inverse_cdf(1.0 - p)
-}
-
-fn rms_per_joint(r: &[f64], n: usize) -> Vec<f64> {
-    let m = (r.len() / n).max(1) as f64;
-    (0..n)
-        .map(|i| (r.iter().skip(i).step_by(n).map(|x| x * x).sum::<f64>() / m).sqrt())
+/// The where-analysis of every joint's held-out residual.
+fn where_of(split: &Split, data: &Dataset, r: &[f64]) -> Vec<JointWhere> {
+    let val = data.slice(split.first_heldout..split.samples);
+    let fs = (split.samples - 1) as f64 / (data.t[split.samples - 1] - data.t[0]);
+    (0..split.joints)
+        .map(|i| {
+            let col = |v: &Vec<Vec<f64>>| v.iter().map(|x| x[i]).collect::<Vec<f64>>();
+            analyse_joint(
+                &data.joints[i],
+                &split.heldout_of(r, i),
+                &col(&val.q),
+                &col(&val.qd),
+                &col(&val.qdd),
+                &col(&val.tau),
+                fs,
+            )
+        })
         .collect()
 }
 
-/// Least squares `min ‖X β − r‖` (tiny ridge for rank deficiency).
-fn fit(cols: &[Vec<f64>], rows: std::ops::Range<usize>, r: &[f64]) -> Vec<f64> {
-    let k = cols.len();
-    let mut g = Mat::<f64>::zeros(k, k);
-    let mut b = Mat::<f64>::zeros(k, 1);
-    for a in 0..k {
-        for c in a..k {
-            let v: f64 = rows.clone().map(|i| cols[a][i] * cols[c][i]).sum();
-            g[(a, c)] = v;
-            g[(c, a)] = v;
-        }
-        b[(a, 0)] = rows.clone().map(|i| cols[a][i] * r[i]).sum();
-    }
-    let tr: f64 = (0..k).map(|a| g[(a, a)]).sum::<f64>().max(1e-300);
-    for a in 0..k {
-        g[(a, a)] += 1e-10 * tr / k as f64;
-    }
-    match g.llt(faer::Side::Lower) {
-        Ok(l) => {
-            let x = l.solve(&b);
-            (0..k).map(|a| x[(a, 0)]).collect()
-        }
-        Err(_) => vec![0.0; k],
-    }
-}
-
-/// The fit of a candidate: plain least squares, or — for inertial
-/// corrections — least squares with `J(π_nominal + β) ⪰ 0` for every
-/// corrected body (and β ≥ 0 for a payload mass), through `conic` with the
-/// LMIs of `moments`, on the reduced (Gram) form of the rows.
-fn fit_candidate(c: &Columns, rows: std::ops::Range<usize>, r: &[f64]) -> Vec<f64> {
-    if c.bodies.is_empty() && !c.nonneg {
-        return fit(&c.cols, rows, r);
-    }
-    let k = c.cols.len();
-    let mut gram = Mat::<f64>::zeros(k + 1, k + 1);
-    let col = |a: usize, i: usize| if a < k { c.cols[a][i] } else { r[i] };
-    for a in 0..=k {
-        for b in a..=k {
-            let v: f64 = rows.clone().map(|i| col(a, i) * col(b, i)).sum();
-            gram[(a, b)] = v;
-            gram[(b, a)] = v;
-        }
-    }
-    let red = crate::identify::Reduced {
-        gram,
-        samples: rows.len(),
-        p: k,
-    };
-    let (f, d) = (red.r(), red.d());
-    let scale: Vec<f64> = (0..k)
-        .map(|j| {
-            (0..f.nrows())
-                .map(|i| f[(i, j)].powi(2))
-                .sum::<f64>()
-                .sqrt()
-        })
-        .map(|n| if n > 1e-12 { 1.0 / n } else { 1.0 })
-        .collect();
-    let mut p = crate::conic::Problem::new();
-    let z = p.vector("beta", k);
-    let beta: Vec<crate::conic::AffExpr> = (0..k)
-        .map(|j| crate::conic::AffExpr::term(z[j], scale[j]))
-        .collect();
-    let t = p.scalar("t");
-    let res: Vec<crate::conic::AffExpr> = (0..f.nrows())
-        .map(|i| {
-            let mut e = crate::conic::AffExpr::constant(-d[i]);
-            for j in 0..k {
-                e.add_term(z[j], f[(i, j)] * scale[j]);
+/// The candidate library's columns for this data. The compliance
+/// hypotheses are nonlinear: fitted once, to the nominal residual on the
+/// training part, then offered as per-joint columns; one that cannot be
+/// fitted is left out with a warning.
+fn library(
+    model: &Model,
+    friction: &Friction,
+    data: &Dataset,
+    r: &[f64],
+    split: &Split,
+    warnings: &mut Vec<String>,
+) -> Result<Vec<Vec<Columns>>, DiagnoseError> {
+    let lin = compliance::Linearisation::new(model, data).map_err(|e| {
+        warnings.push(format!(
+            "elasticity, backlash: no linearisation of the link dynamics: {e}"
+        ));
+    });
+    Candidate::ALL
+        .iter()
+        .map(|&c| {
+            if !c.is_compliance() {
+                return build(c, model, friction, data);
             }
-            e
+            let Ok(lin) = &lin else { return Ok(vec![]) };
+            let backlash = c.name() == "backlash";
+            let fitted = compliance::fit(lin, r, split.first_heldout, backlash)
+                .and_then(|f| compliance::columns(c, lin, &f));
+            if fitted.is_none() {
+                warnings.push(format!(
+                    "{}: {}",
+                    c.name(),
+                    FitError::Compliance("no hypothesis of the search could be simulated")
+                ));
+            }
+            Ok(fitted.into_iter().collect())
         })
-        .collect();
-    let ok = (|| -> Result<(), crate::conic::ConicError> {
-        p.add_soc(t, res)?;
-        for (b, nominal) in c.bodies.iter().enumerate() {
-            let pi = std::array::from_fn(|q| beta[10 * b + q].clone() + nominal[q]);
-            p.add_psd(&crate::moments::lmi::BodyVars::from_exprs(pi).pseudo_inertia())?;
-        }
-        if c.nonneg {
-            p.add_nonneg(beta.clone())?;
-        }
-        p.minimize(t);
-        Ok(())
-    })();
-    if ok.is_err() {
-        return fit(&c.cols, rows, r);
-    }
-    match p.solve(&crate::conic::Settings::default()) {
-        Ok(sol) if sol.status.is_solved() => beta.iter().map(|e| sol.eval(e)).collect(),
-        _ => vec![0.0; k],
-    }
+        .collect()
 }
 
-fn apply(cols: &[Vec<f64>], beta: &[f64], r: &[f64]) -> Vec<f64> {
-    let mut out = r.to_vec();
-    for (c, b) in cols.iter().zip(beta) {
-        for (o, x) in out.iter_mut().zip(c) {
-            *o -= b * x;
-        }
+/// Forward selection: each round scores every candidate not yet accepted
+/// against the current residual and accepts the chosen one (updating the
+/// residual) until nothing is significant. Returns the ranked reports, the
+/// accepted names and the final residual.
+fn forward_selection(
+    library: &[Vec<Columns>],
+    mut r: Vec<f64>,
+    split: &Split,
+    opts: &DiagnoseOptions,
+    names: &[String],
+    warnings: &mut Vec<String>,
+) -> (Vec<EffectReport>, Vec<String>, Vec<f64>) {
+    let mut ranked = vec![];
+    let mut accepted: Vec<String> = vec![];
+    for round in 1..=opts.max_effects {
+        let before = rms_per_joint(&r[split.heldout.clone()], split.joints);
+        let mut evals: Vec<Evaluation> = library
+            .iter()
+            .filter(|v| {
+                v.first()
+                    .is_some_and(|c| !accepted.iter().any(|a| a == c.name()))
+            })
+            .filter_map(|v| evaluate(v, split, &r, round, opts.blocks, names, warnings))
+            .collect();
+        let Some((chosen, tied)) = choose(&mut evals, &before) else {
+            ranked.extend(evals.into_iter().map(|e| e.report));
+            break;
+        };
+        let tied_names = tied
+            .iter()
+            .map(|&j| evals[j].report.effect.clone())
+            .collect();
+        let e = &mut evals[chosen];
+        e.report.accepted = true;
+        e.report.tied_with = tied_names;
+        r = e.after.clone();
+        accepted.push(e.report.effect.clone());
+        ranked.push(e.report.clone());
+        ranked.extend(
+            evals
+                .into_iter()
+                .enumerate()
+                .filter(|(j, _)| *j != chosen)
+                .map(|(_, e)| e.report),
+        );
     }
-    out
+    (ranked, accepted, r)
+}
+
+/// Share of the gap above the noise floor closed, per joint.
+fn gap_closed(nominal: &[f64], last: &[f64], floor: &[f64]) -> Vec<f64> {
+    (0..nominal.len())
+        .map(|i| {
+            if nominal[i] > floor[i] {
+                ((nominal[i] - last[i]) / (nominal[i] - floor[i])).clamp(-1.0, 1.0)
+            } else {
+                1.0
+            }
+        })
+        .collect()
+}
+
+/// The held-out signals and residuals, per joint, for plots.
+fn held_out(split: &Split, data: &Dataset, nominal: &[f64], after: &[f64]) -> HeldOut {
+    let val = data.slice(split.first_heldout..split.samples);
+    let n = split.joints;
+    let per_joint = |r: &[f64]| (0..n).map(|i| split.heldout_of(r, i)).collect();
+    HeldOut {
+        t: val.t.clone(),
+        q: (0..n)
+            .map(|i| val.q.iter().map(|x| x[i]).collect())
+            .collect(),
+        qd: (0..n)
+            .map(|i| val.qd.iter().map(|x| x[i]).collect())
+            .collect(),
+        nominal: per_joint(nominal),
+        after: per_joint(after),
+    }
 }
 
 /// Diagnoses `data` against the nominal `model` + `friction`.
@@ -270,220 +333,48 @@ pub fn diagnose(
     friction: &Friction,
     data: &Dataset,
     opts: &DiagnoseOptions,
-) -> Result<Diagnosis, String> {
+) -> Result<Diagnosis, DiagnoseError> {
     let n = model.dof();
-    if data.tau.len() != data.len() || data.len() < 100 {
-        return Err("diagnosis needs at least 100 samples with torques".into());
+    if data.tau.len() != data.len() || data.len() < MIN_SAMPLES {
+        return Err(DiagnoseError::TooFewSamples {
+            needed: MIN_SAMPLES,
+            found: if data.tau.len() == data.len() {
+                data.len()
+            } else {
+                0
+            },
+        });
     }
-    let ns = data.len();
-    let split = ((ns as f64) * opts.train_fraction) as usize;
-    let (tr_rows, va_rows) = (0..split * n, split * n..ns * n);
-    let pred = predict_torques(model, friction, &data.q, &data.qd, &data.qdd)
-        .map_err(|e| e.to_string())?;
-    let mut r: Vec<f64> = flat(&data.tau)
-        .iter()
-        .zip(flat(&pred))
-        .map(|(a, b)| a - b)
-        .collect();
-    let fs = (ns - 1) as f64 / (data.t[ns - 1] - data.t[0]);
-    let val = data.slice(split..ns);
-    let where_of = |r: &[f64]| -> Vec<JointWhere> {
-        (0..n)
-            .map(|i| {
-                let col = |v: &Vec<Vec<f64>>| v.iter().map(|x| x[i]).collect::<Vec<f64>>();
-                let ri: Vec<f64> = r[va_rows.clone()]
-                    .iter()
-                    .skip(i)
-                    .step_by(n)
-                    .copied()
-                    .collect();
-                analyse_joint(
-                    &data.joints[i],
-                    &ri,
-                    &col(&val.q),
-                    &col(&val.qd),
-                    &col(&val.qdd),
-                    &col(&val.tau),
-                    fs,
-                )
-            })
-            .collect()
-    };
-    let where_nominal = where_of(&r);
-    let noise_floor: Vec<f64> = where_nominal.iter().map(|w| w.noise_floor).collect();
-    let nominal = rms_per_joint(&r[va_rows.clone()], n);
-    // the compliance hypotheses are nonlinear: fitted once, to the nominal
-    // residual on the training part, then offered as per-joint columns
-    let lin = compliance::Linearisation::new(model, data).ok();
-    let all_cols: Vec<Vec<Columns>> = CANDIDATES
-        .iter()
-        .map(|&c| match (c, &lin) {
-            ("elasticity" | "backlash", Some(lin)) => {
-                compliance::fit(lin, &r, split, c == "backlash")
-                    .and_then(|f| compliance::columns(c, lin, &f))
-                    .into_iter()
-                    .collect()
-            }
-            _ => build(c, model, friction, data),
-        })
-        .collect();
-    let mut ranked = vec![];
-    let mut accepted = vec![];
-    let nt = tr_rows.len() as f64;
-    for round in 1..=opts.max_effects {
-        let before = rms_per_joint(&r[va_rows.clone()], n);
-        let rss_tr: f64 = r[tr_rows.clone()].iter().map(|x| x * x).sum();
-        let mut evals: Vec<(EffectReport, Vec<f64>, f64, f64)> = vec![];
-        for variants in &all_cols {
-            // pick the variant (nonlinear parameter) that fits the training part best
-            let mut best: Option<(f64, &Columns, Vec<f64>)> = None;
-            for v in variants {
-                if accepted.contains(&v.name.to_string()) {
-                    continue;
-                }
-                let beta = fit_candidate(v, tr_rows.clone(), &r);
-                let after = apply(&v.cols, &beta, &r);
-                let rss: f64 = after[tr_rows.clone()].iter().map(|x| x * x).sum();
-                if best.as_ref().is_none_or(|b| rss < b.0) {
-                    best = Some((rss, v, beta));
-                }
-            }
-            let Some((rss_after_tr, v, beta)) = best else {
-                continue;
-            };
-            let after = apply(&v.cols, &beta, &r);
-            let after_rms = rms_per_joint(&after[va_rows.clone()], n);
-            // block test on the held-out part
-            let per_block = (va_rows.len() / n / opts.blocks.max(2)).max(1) * n;
-            let diffs: Vec<f64> = va_rows
-                .clone()
-                .step_by(per_block)
-                .map(|s| {
-                    let e = (s + per_block).min(va_rows.end);
-                    (s..e)
-                        .map(|i| r[i] * r[i] - after[i] * after[i])
-                        .sum::<f64>()
-                        / (e - s) as f64
-                })
-                .collect();
-            let m = diffs.iter().sum::<f64>() / diffs.len() as f64;
-            let sd = (diffs.iter().map(|d| (d - m).powi(2)).sum::<f64>()
-                / (diffs.len() - 1).max(1) as f64)
-                .sqrt();
-            let z = block_bootstrap_z(&diffs);
-            let params = v.cols.len() + v.nonlinear;
-            let dbic = nt * (rss_after_tr / rss_tr.max(1e-300)).ln() + params as f64 * nt.ln();
-            let joints = (0..n)
-                .filter(|&i| after_rms[i] < 0.99 * before[i])
-                .map(|i| data.joints[i].clone())
-                .collect();
-            let rep = EffectReport {
-                effect: v.name.to_string(),
-                detail: v.detail.clone(),
-                round,
-                joints,
-                params,
-                heldout_rms_before: before.clone(),
-                heldout_rms_after: after_rms,
-                delta_bic: dbic,
-                z,
-                accepted: false,
-                tied_with: vec![],
-            };
-            evals.push((rep, after, m, sd / (diffs.len() as f64).sqrt()));
-        }
-        let total_before: f64 = before.iter().map(|x| x * x).sum();
-        let significant = |e: &(EffectReport, Vec<f64>, f64, f64)| {
-            let total_after: f64 = e.0.heldout_rms_after.iter().map(|x| x * x).sum();
-            e.0.z > 3.0 && e.0.delta_bic < -10.0 && total_after < 0.98 * total_before
-        };
-        // rank by held-out improvement per the BIC-preferred order: first the
-        // held-out gain, ties broken by fewer parameters
-        evals.sort_by(|a, b| b.2.total_cmp(&a.2));
-        let best_idx = evals.iter().position(|e| significant(e));
-        if let Some(bi) = best_idx {
-            let (bm, bse) = (evals[bi].2, evals[bi].3);
-            let tied: Vec<usize> = (0..evals.len())
-                .filter(|&j| {
-                    j != bi
-                        && significant(&evals[j])
-                        && evals[j].2 >= bm - 2.0 * bse.max(evals[j].3)
-                })
-                .collect();
-            // among tied candidates the penalised criterion decides: a
-            // 1-parameter effect beats a 30-parameter refit that explains
-            // the same on the training part
-            let mut group: Vec<usize> = tied.clone();
-            group.push(bi);
-            group.sort_by(|&a, &b| {
-                evals[a]
-                    .0
-                    .delta_bic
-                    .total_cmp(&evals[b].0.delta_bic)
-                    .then(evals[a].0.params.cmp(&evals[b].0.params))
-            });
-            let chosen = group[0];
-            let names: Vec<String> = group
-                .iter()
-                .filter(|&&j| j != chosen)
-                .map(|&j| evals[j].0.effect.clone())
-                .collect();
-            evals[chosen].0.accepted = true;
-            evals[chosen].0.tied_with = names;
-            r = evals[chosen].1.clone();
-            accepted.push(evals[chosen].0.effect.clone());
-            let chosen_rep = evals[chosen].0.clone();
-            ranked.push(chosen_rep);
-            for (j, e) in evals.iter().enumerate() {
-                if j != chosen {
-                    ranked.push(e.0.clone());
-                }
-            }
-        } else {
-            ranked.extend(evals.into_iter().map(|e| e.0));
-            break;
-        }
+    let names: Vec<String> = model.joint_names().iter().map(|s| s.to_string()).collect();
+    if data.joints != names {
+        return Err(DiagnoseError::Joints {
+            expected: names,
+            found: data.joints.clone(),
+        });
     }
-    let final_rms = rms_per_joint(&r[va_rows.clone()], n);
-    let per_joint = |v: &[f64]| -> Vec<Vec<f64>> {
-        (0..n)
-            .map(|i| {
-                v[va_rows.clone()]
-                    .iter()
-                    .skip(i)
-                    .step_by(n)
-                    .copied()
-                    .collect()
-            })
-            .collect()
-    };
+    let split = Split::new(data.len(), n, opts.train_fraction);
+    let pred = predict_torques(model, friction, &data.q, &data.qd, &data.qdd)?;
     let r_nominal: Vec<f64> = flat(&data.tau)
         .iter()
         .zip(flat(&pred))
         .map(|(a, b)| a - b)
         .collect();
-    let heldout = HeldOut {
-        t: val.t.clone(),
-        q: (0..n)
-            .map(|i| val.q.iter().map(|x| x[i]).collect())
-            .collect(),
-        qd: (0..n)
-            .map(|i| val.qd.iter().map(|x| x[i]).collect())
-            .collect(),
-        nominal: per_joint(&r_nominal),
-        after: per_joint(&r),
-    };
-    let where_final = where_of(&r);
-    let gap_closed = (0..n)
-        .map(|i| {
-            if nominal[i] > noise_floor[i] {
-                ((nominal[i] - final_rms[i]) / (nominal[i] - noise_floor[i])).clamp(-1.0, 1.0)
-            } else {
-                1.0
-            }
-        })
-        .collect();
-    let unexplained_joints: Vec<usize> = (0..n)
+    let where_nominal = where_of(&split, data, &r_nominal);
+    let noise_floor: Vec<f64> = where_nominal.iter().map(|w| w.noise_floor).collect();
+    let nominal = rms_per_joint(&r_nominal[split.heldout.clone()], n);
+    let mut warnings = vec![];
+    let library = library(model, friction, data, &r_nominal, &split, &mut warnings)?;
+    let (ranked, accepted, r) = forward_selection(
+        &library,
+        r_nominal.clone(),
+        &split,
+        opts,
+        &data.joints,
+        &mut warnings,
+    );
+    let final_rms = rms_per_joint(&r[split.heldout.clone()], n);
+    let where_final = where_of(&split, data, &r);
+    let unexplained: Vec<usize> = (0..n)
         .filter(|&i| final_rms[i] > 1.15 * noise_floor[i] && final_rms[i] - noise_floor[i] > 0.05)
         .collect();
     Ok(Diagnosis {
@@ -492,36 +383,16 @@ pub fn diagnose(
         where_: where_nominal,
         ranked_effects: ranked,
         accepted,
+        gap_closed: gap_closed(&nominal, &final_rms, &noise_floor),
         heldout_rms_nominal: nominal,
         heldout_rms_final: final_rms,
         noise_floor,
-        gap_closed,
-        unexplained: !unexplained_joints.is_empty(),
-        unexplained_where: unexplained_joints
+        unexplained: !unexplained.is_empty(),
+        unexplained_where: unexplained
             .iter()
             .map(|&i| summarise(&where_final[i]))
             .collect(),
-        heldout,
+        warnings,
+        heldout: held_out(&split, data, &r_nominal, &r),
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::block_bootstrap_z;
-
-    #[test]
-    fn block_bootstrap_separates_concentrated_gains_from_noise() {
-        // large gains in a few blocks, ~nothing elsewhere: significant
-        let concentrated = [
-            0.19, 0.001, -0.0004, 0.04, 0.8, 0.75, 0.56, 0.04, 0.03, 0.009, 0.13, 0.2, 1.05, 0.1,
-            0.007, 0.001, -0.0003, 0.07, 1.26, 0.18,
-        ];
-        assert!(block_bootstrap_z(&concentrated) > 3.0);
-        // gains of either sign around zero: not significant
-        let noise: Vec<f64> = (0..20).map(|k| ((k * 7919) % 13) as f64 - 6.0).collect();
-        assert!(block_bootstrap_z(&noise).abs() < 2.0);
-        // everything worse: strongly negative
-        let worse = block_bootstrap_z(&[-1.0; 20]);
-        assert!(worse < -3.0 && worse.is_finite());
-    }
 }

@@ -1,13 +1,28 @@
-//! The built-in `cheetah3-leg` model: one MIT Cheetah 3 leg on a fixed base,
+//! The built-in `cheetah3-leg`: one MIT Cheetah 3 leg on a fixed base,
 //! 3 links + 3 geared rotors (gear ratio 10.6), from public data
 //! (Cheetah-Software's identified parameters, the public MATLAB example's box
 //! prior, and enlarged bounding ellipsoids; see `docs/robots.md`).
+//!
+//! The kinematics, the identified inertias, the foot's inverse kinematics
+//! and the shell excitation are here; everything else known about the leg
+//! (prior, bounding ellipsoids, friction, tool point, excitation) is its
+//! sidecar [`SIDECAR`], read by the same function as a URDF robot's
+//! ([`RobotDescription::new`]). This is the only file that knows the leg.
 
+use super::description::RobotDescription;
 use super::error::DynamicsError;
 use super::model::{Joint, JointKind, Model, Rotor};
 use super::spatial::Transform;
 use crate::moments::{Ellipsoid, InertialParams};
 use nalgebra::{Matrix3, Vector3};
+use serde::{Deserialize, Serialize};
+
+/// The built-in name.
+pub const NAME: &str = "cheetah3-leg";
+
+/// The leg's sidecar (TOML): prior, bounding ellipsoids, friction, tool
+/// point and excitation.
+pub const SIDECAR: &str = include_str!("cheetah3-leg.toml");
 
 /// Gear ratio of all three actuators (the paper's 10.6:1).
 pub const GEAR_RATIO: f64 = 10.6;
@@ -107,45 +122,32 @@ pub fn true_params() -> [InertialParams; 6] {
     TRUE_SPATIAL_V2.map(InertialParams::from_spatial_v2)
 }
 
-/// The box "CAD prior": solid boxes (mass, CoM, sides), bodies as [`BODIES`].
+/// The leg's description: its kinematics with its sidecar [`SIDECAR`],
+/// loaded like any robot ([`super::robots::load_robot`]).
+pub fn description() -> RobotDescription {
+    super::robots::load_robot(NAME, None).expect("the built-in leg and its sidecar are valid")
+}
+
+/// The box "CAD prior" of the sidecar, bodies as [`BODIES`].
 pub fn cad_params() -> [InertialParams; 6] {
-    let b = |m: f64, c: [f64; 3], s: [f64; 3]| {
-        let s2 = Vector3::from(s).map(|x| x * x);
-        let ic = Matrix3::from_diagonal(&Vector3::new(s2.y + s2.z, s2.x + s2.z, s2.x + s2.y))
-            * (m / 12.0);
-        InertialParams::from_mass_com_inertia(m, Vector3::from(c), ic)
-    };
-    [
-        b(1.5, [0.0, 0.045, 0.0], [0.09, 0.09, 0.09]),
-        b(0.5, [0.0, 0.0, -0.171], [0.06, 0.06, 0.342]),
-        b(0.5, [0.0, 0.0, -0.1725], [0.06, 0.06, 0.345]),
-        b(0.5, [0.0; 3], [0.0225, 0.09, 0.09]),
-        b(0.5, [0.0; 3], [0.09, 0.0225, 0.09]),
-        b(0.5, [0.0; 3], [0.09, 0.0225, 0.09]),
-    ]
+    let p = description().prior;
+    std::array::from_fn(|k| p[k])
 }
 
-/// Bounding ellipsoids in each body's frame, bodies as [`BODIES`]. Every
-/// identified body is density realizable in its ellipsoid.
+/// The sidecar's bounding ellipsoids in each body's frame, bodies as
+/// [`BODIES`]. Every identified body is density realizable in its ellipsoid.
 pub fn ellipsoids() -> [Ellipsoid; 6] {
-    let e = |c: [f64; 3], a: [f64; 3]| {
-        Ellipsoid::new(Vector3::from(c), Vector3::from(a)).expect("valid constant")
-    };
-    [
-        e([0.0, 0.045, 0.0], [0.081, 0.081, 0.081]),
-        e([0.0, 0.0, -0.171], [0.0594, 0.0594, 0.36936]),
-        e([0.0, 0.0, -0.16], [0.12, 0.09, 0.32]),
-        e([0.0; 3], [0.081; 3]),
-        e([0.0; 3], [0.081; 3]),
-        e([0.0; 3], [0.081; 3]),
-    ]
+    let b = description().bounding;
+    std::array::from_fn(|k| b[k][0])
 }
 
-/// Identified Coulomb friction (N·m), ab/ad, hip, knee (the paper's B_c).
+/// Identified Coulomb friction (N·m), ab/ad, hip, knee (the paper's B_c, as
+/// the sidecar states it).
 pub const COULOMB: [f64; 3] = [3.12, 1.25, 0.95];
 
-/// Viscous friction used for the simulated robot (N·m·s/rad); the paper does
-/// not give one, Cheetah-Software's actuator model uses 0.1.
+/// Viscous friction used for the simulated robot (N·m·s/rad), as the sidecar
+/// states it; the paper does not give one, Cheetah-Software's actuator
+/// model uses 0.1.
 pub const VISCOUS: [f64; 3] = [0.1, 0.1, 0.1];
 
 /// Thigh and shank lengths (m).
@@ -165,8 +167,9 @@ fn rz_pi() -> Matrix3<f64> {
     Matrix3::new(-1.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, 1.0)
 }
 
-/// The leg with the given link and rotor parameters (bodies as [`BODIES`]).
-pub fn model_with(params: &[InertialParams; 6]) -> Result<Model, DynamicsError> {
+/// The leg's kinematics with the given link and rotor parameters (bodies as
+/// [`BODIES`]), before its sidecar (tool point) is applied.
+fn kinematics_with(params: &[InertialParams; 6]) -> Result<Model, DynamicsError> {
     let x = Vector3::x();
     let y = Vector3::y();
     let hip_tree = Transform::from_pose(&rz_pi(), &Vector3::from(HIP_OFFSET));
@@ -199,17 +202,25 @@ pub fn model_with(params: &[InertialParams; 6]) -> Result<Model, DynamicsError> 
         rotor("hip_rotor", 1, y, hip_tree),
         rotor("knee_rotor", 2, y, Transform::identity()),
     ];
-    Model::new(
-        "cheetah3-leg",
-        joints,
-        rotors,
-        Vector3::new(0.0, 0.0, -9.81),
-    )
+    Model::new(NAME, joints, rotors, Vector3::new(0.0, 0.0, -9.81))
 }
 
-/// The leg with its identified ("true") parameters.
+/// The leg's kinematics with its identified parameters (the registry's
+/// entry; [`model`] adds the sidecar).
+pub(crate) fn kinematics() -> Model {
+    kinematics_with(&true_params()).expect("the built-in model is valid")
+}
+
+/// The leg with the given link and rotor parameters (bodies as [`BODIES`]).
+pub fn model_with(params: &[InertialParams; 6]) -> Result<Model, DynamicsError> {
+    let mut m = model();
+    m.set_params(&params.iter().flat_map(|p| p.0).collect::<Vec<_>>())?;
+    Ok(m)
+}
+
+/// The leg with its identified ("true") parameters (the description's model).
 pub fn model() -> Model {
-    model_with(&true_params()).expect("the built-in model is valid")
+    description().model
 }
 
 /// Foot position in the base frame for joint angles q (forward kinematics).
@@ -221,4 +232,81 @@ pub fn foot_position(q: [f64; 3]) -> Vector3<f64> {
     }
     // x maps base → knee frame; the foot point in base coordinates:
     x.inverse().apply_point(&Vector3::from(FOOT))
+}
+
+/// The ellipsoidal shell the foot follows (base frame, m).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Shell {
+    /// Centre (m).
+    pub center: [f64; 3],
+    /// Semi-axes (m).
+    pub semi_axes: [f64; 3],
+    /// φ̇ = a_φ sin(ω_φ t): amplitude (rad/s) and frequency (rad/s).
+    pub phi_rate: (f64, f64),
+    /// θ̇ = a_θ sin(ω_θ t).
+    pub theta_rate: (f64, f64),
+}
+
+impl Default for Shell {
+    /// Our choice (the paper gives neither centre nor radii): centred under
+    /// the hip, 0.45 m below the ab/ad axis, semi-axes 0.12 × 0.10 × 0.12 m;
+    /// the paper's rates φ̇ = 12 sin(1.63 t), θ̇ = 3.4 sin(0.265 t).
+    fn default() -> Self {
+        Self {
+            center: [0.0, 0.045, -0.45],
+            semi_axes: [0.12, 0.10, 0.12],
+            phi_rate: (12.0, 1.63),
+            theta_rate: (3.4, 0.265),
+        }
+    }
+}
+
+impl Shell {
+    /// Spherical angles at time t: φ = (a/ω)(1 − cos ωt), θ = π/2 + (a/ω)(1 − cos ωt).
+    pub fn angles(&self, t: f64) -> (f64, f64) {
+        let (ap, wp) = self.phi_rate;
+        let (at, wt) = self.theta_rate;
+        (
+            ap / wp * (1.0 - (wp * t).cos()),
+            std::f64::consts::FRAC_PI_2 + at / wt * (1.0 - (wt * t).cos()),
+        )
+    }
+
+    /// Foot target at time t (base frame).
+    pub fn foot(&self, t: f64) -> Vector3<f64> {
+        let (phi, theta) = self.angles(t);
+        let [a, b, c] = self.semi_axes;
+        Vector3::from(self.center)
+            + Vector3::new(
+                a * theta.sin() * phi.cos(),
+                b * theta.sin() * phi.sin(),
+                c * theta.cos(),
+            )
+    }
+}
+
+/// Inverse kinematics of the Cheetah 3 leg, on the branch with the foot
+/// below the hip (in the ab/ad frame) and the knee bent to positive angles.
+/// Returns `None` when the point is out of reach.
+pub fn cheetah_ik(p: &Vector3<f64>) -> Option<[f64; 3]> {
+    let d = HIP_OFFSET[1];
+    let r2 = p.y * p.y + p.z * p.z - d * d;
+    if r2 < 0.0 {
+        return None;
+    }
+    let zp = -r2.sqrt(); // foot below the hip in the ab/ad frame
+    let qa = p.z.atan2(p.y) - zp.atan2(d);
+    let xp = p.x;
+    let (l1, l2) = (THIGH, SHANK);
+    let c = (xp * xp + zp * zp - l1 * l1 - l2 * l2) / (2.0 * l1 * l2);
+    if !(-1.0..=1.0).contains(&c) {
+        return None;
+    }
+    let qk = c.acos();
+    let qh = xp.atan2(-zp) - (l2 * qk.sin()).atan2(l1 + l2 * qk.cos());
+    let wrap = |a: f64| {
+        (a + std::f64::consts::PI).rem_euclid(2.0 * std::f64::consts::PI) - std::f64::consts::PI
+    };
+    Some([wrap(qa), wrap(qh), qk])
 }

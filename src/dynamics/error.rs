@@ -33,4 +33,43 @@ pub enum DynamicsError {
     /// The mass matrix is not positive definite (forward dynamics).
     #[error("the mass matrix is not positive definite at this state")]
     SingularMassMatrix,
+    /// A URDF that cannot be read.
+    #[error(transparent)]
+    Urdf(#[from] crate::urdf::UrdfError),
+    /// An unknown name (effect, effect parameter, built-in robot, …).
+    #[error("unknown {what} '{name}' (known: {valid})")]
+    UnknownName {
+        /// What kind of name.
+        what: &'static str,
+        /// The name given.
+        name: String,
+        /// The valid names.
+        valid: String,
+    },
+    /// An effect parameter outside its range.
+    #[error(
+        "effect parameter '{name}' = {value} is out of range (see `dynamics::effect::EffectParams`)"
+    )]
+    EffectParameter {
+        /// The parameter.
+        name: &'static str,
+        /// The value.
+        value: f64,
+    },
+    /// A malformed `NAME=VALUE` override.
+    #[error("effect parameter '{text}': {message}")]
+    Override {
+        /// The text given.
+        text: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A robot description (sidecar) entry that does not fit the model.
+    #[error("{source_name}: {message}")]
+    Description {
+        /// The sidecar or built-in robot.
+        source_name: String,
+        /// What is wrong, naming the entry.
+        message: String,
+    },
 }

@@ -56,6 +56,29 @@ pub struct Rotor {
     pub inertia: InertialParams,
 }
 
+/// A named frame rigidly attached to a body (Pinocchio's operational
+/// frames): every URDF link is one, including the links merged into a body
+/// by fixed joints and those on the base.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Frame {
+    /// Name (the URDF link name).
+    pub name: String,
+    /// The body it is attached to (joint index), `None` for the fixed base.
+    pub body: Option<usize>,
+    /// `bXf`: the frame's placement in the body (or base) frame; it maps
+    /// body coordinates to frame coordinates (`x_f = E (x_b − r)`).
+    pub placement: Transform,
+}
+
+/// The tool point: where a payload sits (a point of one body, in its frame).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ToolPoint {
+    /// The body (joint index).
+    pub body: usize,
+    /// The point in the body frame (m).
+    pub point: Vector3<f64>,
+}
+
 /// A fixed-base kinematic tree: joints in topological order (parents first),
 /// one body per joint, optional rotors, and gravity.
 #[derive(Clone, Debug, PartialEq)]
@@ -68,6 +91,10 @@ pub struct Model {
     pub rotors: Vec<Rotor>,
     /// Gravity in the base frame (m/s²), e.g. (0, 0, −9.81).
     pub gravity: Vector3<f64>,
+    /// Named frames (by default one per body, at the body frame).
+    pub frames: Vec<Frame>,
+    /// The tool point (default: the last body's origin; `None` without joints).
+    pub tool: Option<ToolPoint>,
     /// Rotor index per joint (at most one rotor per joint), derived.
     pub(crate) rotor_of: Vec<Option<usize>>,
 }
@@ -144,13 +171,93 @@ impl Model {
         if !gravity.iter().all(|g| g.is_finite()) {
             return bad("non-finite gravity".into());
         }
+        let frames = joints
+            .iter()
+            .enumerate()
+            .map(|(i, j)| Frame {
+                name: j.body.clone(),
+                body: Some(i),
+                placement: Transform::identity(),
+            })
+            .collect();
+        let tool = joints.len().checked_sub(1).map(|last| ToolPoint {
+            body: last,
+            point: Vector3::zeros(),
+        });
         Ok(Self {
             name: name.to_string(),
             joints,
             rotors,
             gravity,
+            frames,
+            tool,
             rotor_of,
         })
+    }
+
+    /// The same model with these named frames (each on an existing body, with
+    /// finite placements and unique names).
+    pub fn with_frames(mut self, frames: Vec<Frame>) -> Result<Self, DynamicsError> {
+        for (k, f) in frames.iter().enumerate() {
+            let bad = |what: String| DynamicsError::InvalidModel {
+                model: self.name.clone(),
+                message: format!("frame '{}': {what}", f.name),
+            };
+            if f.body.is_some_and(|b| b >= self.joints.len()) {
+                return Err(bad("attached to a body the model does not have".into()));
+            }
+            if !f
+                .placement
+                .r
+                .iter()
+                .chain(f.placement.e.iter())
+                .all(|x| x.is_finite())
+            {
+                return Err(bad("non-finite placement".into()));
+            }
+            if frames[..k].iter().any(|g| g.name == f.name) {
+                return Err(bad("defined twice".into()));
+            }
+        }
+        self.frames = frames;
+        Ok(self)
+    }
+
+    /// The frame named `name`.
+    pub fn frame(&self, name: &str) -> Option<&Frame> {
+        self.frames.iter().find(|f| f.name == name)
+    }
+
+    /// The same model with its tool point at `xyz` (m) in frame `frame`,
+    /// which must be on a moving body.
+    pub fn with_tool(mut self, frame: &str, xyz: [f64; 3]) -> Result<Self, DynamicsError> {
+        let bad = |message: String| DynamicsError::InvalidModel {
+            model: self.name.clone(),
+            message,
+        };
+        let f = self.frame(frame).ok_or_else(|| {
+            bad(format!(
+                "tool frame '{frame}' is not a frame of the model (frames: {})",
+                self.frames
+                    .iter()
+                    .map(|f| f.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ))
+        })?;
+        let body = f.body.ok_or_else(|| {
+            bad(format!(
+                "tool frame '{frame}' is on the fixed base; a payload there does not move"
+            ))
+        })?;
+        let x = Vector3::from(xyz);
+        if !x.iter().all(|v| v.is_finite()) {
+            return Err(bad("non-finite tool point".into()));
+        }
+        // x_body = Eᵀ x_frame + r
+        let point = f.placement.e.transpose() * x + f.placement.r;
+        self.tool = Some(ToolPoint { body, point });
+        Ok(self)
     }
 
     /// Degrees of freedom n.
@@ -196,6 +303,16 @@ impl Model {
                 found: p.len(),
             });
         }
+        if let Some(k) = p.iter().position(|x| !x.is_finite()) {
+            return Err(DynamicsError::InvalidModel {
+                model: self.name.clone(),
+                message: format!(
+                    "body '{}': non-finite parameter {}",
+                    self.body_names()[k / 10],
+                    p[k]
+                ),
+            });
+        }
         let nj = self.joints.len();
         for (k, chunk) in p.chunks(10).enumerate() {
             let v = InertialParams(std::array::from_fn(|i| chunk[i]));
@@ -227,6 +344,8 @@ impl Model {
             joints,
             rotors: vec![],
             gravity: self.gravity,
+            frames: self.frames.clone(),
+            tool: self.tool,
             rotor_of: vec![None; self.joints.len()],
         }
     }

@@ -50,6 +50,16 @@ pub struct ParamsFile {
     pub friction: Friction,
 }
 
+impl Friction {
+    /// No friction on `n` joints.
+    pub fn zeros(n: usize) -> Self {
+        Self {
+            viscous: vec![0.0; n],
+            coulomb: vec![0.0; n],
+        }
+    }
+}
+
 fn order() -> String {
     "m, hx, hy, hz, Ixx, Ixy, Ixz, Iyy, Iyz, Izz".into()
 }

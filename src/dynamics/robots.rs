@@ -1,74 +1,60 @@
-//! Loading a robot by name or path, and choosing its parameters.
+//! Loading a robot by name or path: the built-in robots (registered here by
+//! name) and URDF files with an optional sidecar, both into a
+//! [`RobotDescription`] through [`RobotDescription::new`].
 
 use super::cheetah3;
+use super::description::RobotDescription;
 use super::error::DynamicsError;
 use super::model::Model;
-use super::params_file::{Friction, ParamsFile};
-use super::urdf::model_from_urdf_file;
+use super::sidecar::Sidecar;
+use super::urdf::model_from_robot;
 use std::path::Path;
 
-/// `cheetah3-leg` (built in) or a path to a URDF file (with an optional
-/// TOML sidecar).
-pub fn load_robot(spec: &str, sidecar: Option<&Path>) -> Result<Model, DynamicsError> {
-    match spec {
-        "cheetah3-leg" => {
-            if sidecar.is_some() {
-                return Err(DynamicsError::File {
-                    path: spec.into(),
-                    message: "a sidecar applies to URDF models only".into(),
-                });
-            }
-            Ok(cheetah3::model())
-        }
-        path => {
-            let p = Path::new(path);
-            if !p.exists() {
-                return Err(DynamicsError::File {
-                    path: path.into(),
-                    message: "no such file, and not a built-in model (built in: cheetah3-leg)"
-                        .into(),
-                });
-            }
-            model_from_urdf_file(p, sidecar)
-        }
-    }
+/// A built-in robot: its name, its model and its sidecar text.
+struct BuiltIn {
+    name: &'static str,
+    model: fn() -> Model,
+    sidecar: &'static str,
 }
 
-/// Applies a parameter choice: `true` / `cad` (cheetah3-leg only), a
-/// parameter file, or `None` (the model's own). Returns the friction to use
-/// (`true`: the simulated leg's Coulomb and viscous values; `cad` and own: none).
-pub fn apply_params(model: &mut Model, choice: Option<&str>) -> Result<Friction, DynamicsError> {
-    let n = model.dof();
-    let zero = Friction {
-        viscous: vec![0.0; n],
-        coulomb: vec![0.0; n],
-    };
-    match choice {
-        None => Ok(zero),
-        Some(c @ ("true" | "cad")) => {
-            if model.name != "cheetah3-leg" {
-                return Err(DynamicsError::File {
-                    path: c.into(),
-                    message: format!(
-                        "--params {c} is defined for cheetah3-leg only; give a parameter file for '{}'",
-                        model.name
-                    ),
-                });
-            }
-            if c == "true" {
-                *model = cheetah3::model();
-                Ok(Friction {
-                    viscous: cheetah3::VISCOUS.to_vec(),
-                    coulomb: cheetah3::COULOMB.to_vec(),
-                })
-            } else {
-                *model = cheetah3::model_with(&cheetah3::cad_params())?;
-                Ok(zero)
-            }
+/// The registry of built-in robots.
+const BUILT_IN: &[BuiltIn] = &[BuiltIn {
+    name: cheetah3::NAME,
+    model: cheetah3::kinematics,
+    sidecar: cheetah3::SIDECAR,
+}];
+
+/// The built-in robots' names.
+pub fn built_in_names() -> Vec<&'static str> {
+    BUILT_IN.iter().map(|b| b.name).collect()
+}
+
+/// A built-in robot (`cheetah3-leg`) or a path to a URDF file (with an
+/// optional TOML sidecar), described.
+pub fn load_robot(spec: &str, sidecar: Option<&Path>) -> Result<RobotDescription, DynamicsError> {
+    if let Some(b) = BUILT_IN.iter().find(|b| b.name == spec) {
+        if sidecar.is_some() {
+            return Err(DynamicsError::File {
+                path: spec.into(),
+                message: "a sidecar applies to URDF models only (a built-in robot has its own)"
+                    .into(),
+            });
         }
-        Some(path) => {
-            let f = ParamsFile::read(Path::new(path))?;
-            f.apply(model, path)
-        }
+        let sc = Sidecar::parse(b.sidecar, b.name)?;
+        return RobotDescription::new(b.name, (b.model)(), &sc, None);
     }
+    let p = Path::new(spec);
+    if !p.exists() {
+        return Err(DynamicsError::File {
+            path: spec.into(),
+            message: format!(
+                "no such file, and not a built-in model (built in: {})",
+                built_in_names().join(", ")
+            ),
+        });
+    }
+    let (_, robot) = crate::urdf::read_file(p)?;
+    let sc = sidecar.map(Sidecar::read).transpose()?.unwrap_or_default();
+    let model = model_from_robot(&robot, spec, Some(&sc))?;
+    RobotDescription::new(spec, model, &sc, Some(&robot))
 }

@@ -6,10 +6,12 @@
 //! [`moments`](crate::moments), checks every body with `moments`, and
 //! validates on held-out data.
 
+mod error;
 pub mod problem;
 pub mod reduce;
 pub mod result;
 
-pub use problem::{IdentifyError, IdentifyOptions, Level, parameter_names, solve_identification};
+pub use error::IdentifyError;
+pub use problem::{IdentifyOptions, Level, parameter_names, solve_identification};
 pub use reduce::{Reduced, StreamReducer, reduce_samples};
 pub use result::{BodyResult, Contributions, IdentifyResult, identify, predict_split, rms};

@@ -14,9 +14,10 @@
 //! that every direction the data see has unit size, which keeps Clarabel's
 //! tolerances from being what limits the fit.
 
+use super::error::IdentifyError;
 use super::reduce::Reduced;
 use crate::conic::{AffExpr, Problem, Settings, Status};
-use crate::dynamics::Model;
+use crate::dynamics::{Model, RobotDescription};
 use crate::moments::{Ellipsoid, lmi::BodyVars};
 use faer::Mat;
 use serde::Serialize;
@@ -58,39 +59,142 @@ impl Level {
     }
 }
 
-/// Options of [`solve_identification`].
-#[derive(Clone, Debug)]
+/// Options of [`solve_identification`], validated at construction; what
+/// depends on the model (the prior's and the ellipsoids' lengths) is checked
+/// against it when solving.
+#[derive(Clone, Debug, PartialEq)]
 pub struct IdentifyOptions {
-    /// Constraint level for every body.
-    pub level: Level,
-    /// Regularisation weight `w_π` toward the prior (0: off).
-    pub weight: f64,
-    /// Prior π̂ (10 per body, links then rotors).
-    pub prior: Vec<f64>,
-    /// Bounding ellipsoid per body (needed for [`Level::Ellipsoid`] and the CoM LMI).
-    pub ellipsoids: Option<Vec<Ellipsoid>>,
-    /// Add the CoM-in-ellipsoid LMI (22).
-    pub com_lmi: bool,
-    /// Margin ε of the strict LMIs (0: `⪰ 0`).
-    pub eps: f64,
+    level: Level,
+    weight: f64,
+    prior: Vec<f64>,
+    ellipsoids: Option<Vec<Ellipsoid>>,
+    com_lmi: bool,
+    eps: f64,
 }
 
 impl IdentifyOptions {
-    /// The built-in `cheetah3-leg` set-up: the box CAD model as prior,
-    /// its bounding ellipsoids, no CoM LMI, `⪰ 0` LMIs.
-    pub fn cheetah3(level: Level, weight: f64) -> Self {
-        use crate::dynamics::cheetah3;
-        let prior = cheetah3::model_with(&cheetah3::cad_params())
-            .map(|m| m.params())
-            .unwrap_or_default();
+    /// `level` for every body, no regularisation, no ellipsoids, no CoM
+    /// LMI, `⪰ 0` LMIs.
+    pub fn new(level: Level) -> Self {
         Self {
             level,
-            weight,
-            prior,
-            ellipsoids: Some(cheetah3::ellipsoids().to_vec()),
+            weight: 0.0,
+            prior: vec![],
+            ellipsoids: None,
             com_lmi: false,
             eps: 0.0,
         }
+    }
+
+    /// A robot's set-up: its CAD prior with weight `weight`, and its bounding
+    /// ellipsoids when every body has exactly one (required, and an error
+    /// naming the body otherwise, for [`Level::Ellipsoid`]).
+    pub fn for_robot(
+        robot: &RobotDescription,
+        level: Level,
+        weight: f64,
+    ) -> Result<Self, IdentifyError> {
+        let opts = Self::new(level).with_prior(weight, robot.prior_vector())?;
+        match robot.single_ellipsoids() {
+            Ok(e) => Ok(opts.with_ellipsoids(e)),
+            Err(e) if level == Level::Ellipsoid => Err(e.into()),
+            Err(_) => Ok(opts),
+        }
+    }
+
+    /// Regularisation `w ‖π − π̂‖²` toward `prior` (10 per body, links then
+    /// rotors); `w` ≥ 0 and finite (0: off), the prior finite.
+    pub fn with_prior(mut self, weight: f64, prior: Vec<f64>) -> Result<Self, IdentifyError> {
+        if !(weight >= 0.0 && weight.is_finite()) {
+            return Err(IdentifyError::Option {
+                option: "weight",
+                message: format!("must be ≥ 0 and finite, got {weight}"),
+            });
+        }
+        if let Some(k) = prior.iter().position(|x| !x.is_finite()) {
+            return Err(IdentifyError::Option {
+                option: "prior",
+                message: format!("entry {k} is not finite ({})", prior[k]),
+            });
+        }
+        self.weight = weight;
+        self.prior = prior;
+        Ok(self)
+    }
+
+    /// One bounding ellipsoid per body (the ellipsoid level and the CoM LMI).
+    pub fn with_ellipsoids(mut self, ellipsoids: Vec<Ellipsoid>) -> Self {
+        self.ellipsoids = Some(ellipsoids);
+        self
+    }
+
+    /// Adds the CoM-in-ellipsoid LMI (22) (needs ellipsoids).
+    pub fn with_com_lmi(mut self, on: bool) -> Self {
+        self.com_lmi = on;
+        self
+    }
+
+    /// Margin ε of the strict LMIs `⪰ εI` (≥ 0, finite).
+    pub fn with_eps(mut self, eps: f64) -> Result<Self, IdentifyError> {
+        if !(eps >= 0.0 && eps.is_finite()) {
+            return Err(IdentifyError::Option {
+                option: "eps",
+                message: format!("must be ≥ 0 and finite, got {eps}"),
+            });
+        }
+        self.eps = eps;
+        Ok(self)
+    }
+
+    /// The constraint level.
+    pub fn level(&self) -> Level {
+        self.level
+    }
+
+    /// The regularisation weight.
+    pub fn weight(&self) -> f64 {
+        self.weight
+    }
+
+    /// The prior (10 per body).
+    pub fn prior(&self) -> &[f64] {
+        &self.prior
+    }
+
+    /// The ellipsoids, if given.
+    pub fn ellipsoids(&self) -> Option<&[Ellipsoid]> {
+        self.ellipsoids.as_deref()
+    }
+
+    /// Checks the model-dependent lengths.
+    fn check(&self, nb: usize) -> Result<(), IdentifyError> {
+        if self.weight > 0.0 && self.prior.len() != 10 * nb {
+            return Err(IdentifyError::Option {
+                option: "prior",
+                message: format!(
+                    "{} numbers for {nb} bodies (10 per body) with weight {}",
+                    self.prior.len(),
+                    self.weight
+                ),
+            });
+        }
+        let needs_e = self.level == Level::Ellipsoid || (self.com_lmi && self.level != Level::None);
+        if needs_e && self.ellipsoids.as_ref().is_none_or(|e| e.len() != nb) {
+            return Err(IdentifyError::Option {
+                option: "ellipsoids",
+                message: format!(
+                    "the {} level{} needs one bounding ellipsoid per body ({nb}), got {}",
+                    self.level.as_str(),
+                    if self.com_lmi {
+                        " with the CoM LMI"
+                    } else {
+                        ""
+                    },
+                    self.ellipsoids.as_ref().map_or(0, |e| e.len())
+                ),
+            });
+        }
+        Ok(())
     }
 }
 
@@ -111,33 +215,6 @@ pub struct Solved {
     pub rank: usize,
 }
 
-/// What can go wrong.
-#[derive(Debug, thiserror::Error)]
-#[non_exhaustive]
-pub enum IdentifyError {
-    /// Bad options or data.
-    #[error("{0}")]
-    Invalid(String),
-    /// A body whose constraint set is empty.
-    #[error("the constraint set of body '{body}' is infeasible")]
-    InfeasibleBody {
-        /// The body.
-        body: String,
-    },
-    /// The solver failed.
-    #[error("the solver ended with status {0}")]
-    Solver(Status),
-    /// The conic layer failed.
-    #[error(transparent)]
-    Conic(#[from] crate::conic::ConicError),
-    /// Data problems.
-    #[error(transparent)]
-    Data(#[from] crate::data::DataError),
-    /// Model problems.
-    #[error(transparent)]
-    Dynamics(#[from] crate::dynamics::DynamicsError),
-}
-
 /// Parameter names: `<body>.<m|hx|…>`, `viscous.<joint>`, `coulomb.<joint>`.
 pub fn parameter_names(model: &Model) -> Vec<String> {
     const P: [&str; 10] = [
@@ -154,7 +231,7 @@ pub fn parameter_names(model: &Model) -> Vec<String> {
 }
 
 /// Rank and unexcited directions of R (columns scaled to unit norm).
-fn identifiability(r: &Mat<f64>, names: &[String]) -> (usize, Vec<String>) {
+fn identifiability(r: &Mat<f64>, names: &[String]) -> Result<(usize, Vec<String>), IdentifyError> {
     let p = r.ncols();
     let scale: Vec<f64> = (0..p)
         .map(|j| {
@@ -171,9 +248,9 @@ fn identifiability(r: &Mat<f64>, names: &[String]) -> (usize, Vec<String>) {
             rs[(i, j)] = r[(i, j)] * s;
         }
     }
-    let Ok(svd) = rs.svd() else {
-        return (0, vec![]);
-    };
+    let svd = rs.svd().map_err(|_| IdentifyError::Factorisation {
+        what: "SVD of the reduced regressor (identifiability)",
+    })?;
     let s = svd.S().column_vector();
     let smax = (0..s.nrows()).map(|i| s[i]).fold(0.0, f64::max);
     let tol = 1e-8 * smax.max(f64::MIN_POSITIVE);
@@ -194,107 +271,78 @@ fn identifiability(r: &Mat<f64>, names: &[String]) -> (usize, Vec<String>) {
             .collect();
         dirs.push(terms.join(" "));
     }
-    (rank, dirs)
+    Ok((rank, dirs))
 }
 
-/// Solves (25) on reduced data.
-pub fn solve_identification(
-    model: &Model,
-    red: &Reduced,
+/// The unconstrained level: `min ‖[R/√ns; √w E] θ − [d/√ns; √w π̂]‖²`,
+/// minimum norm, by SVD (so noise-free data are fitted to round-off).
+fn solve_direct(
+    r: &Mat<f64>,
+    d: &[f64],
+    ns: f64,
     opts: &IdentifyOptions,
-) -> Result<Solved, IdentifyError> {
-    let nb = model.num_bodies();
-    let n = model.dof();
-    let p = 10 * nb + 2 * n;
-    if red.p != p {
-        return Err(IdentifyError::Invalid(format!(
-            "reduced data have {} columns, the model needs {p}",
-            red.p
-        )));
-    }
-    if red.samples == 0 {
-        return Err(IdentifyError::Invalid("no training samples".into()));
-    }
-    if !(opts.weight >= 0.0 && opts.weight.is_finite())
-        || (opts.weight > 0.0 && opts.prior.len() != 10 * nb)
-    {
-        return Err(IdentifyError::Invalid(format!(
-            "the weight must be ≥ 0 with a prior of {} numbers",
-            10 * nb
-        )));
-    }
-    let needs_e = opts.level == Level::Ellipsoid || (opts.com_lmi && opts.level != Level::None);
-    if needs_e && opts.ellipsoids.as_ref().is_none_or(|e| e.len() != nb) {
-        return Err(IdentifyError::Invalid(format!(
-            "the ellipsoid level needs one bounding ellipsoid per body ({nb})"
-        )));
-    }
-    let names = parameter_names(model);
-    let r = red.r();
-    let d = red.d();
-    let (rank, unidentifiable) = identifiability(&r, &names);
-    let ns = red.samples as f64;
-    let t0 = std::time::Instant::now();
-    if opts.level == Level::None {
-        // direct: min ‖[R/√ns; √w E] θ − [d/√ns; √w π̂]‖², min-norm via SVD
-        let w = opts.weight;
-        let extra = if w > 0.0 { 10 * nb } else { 0 };
-        let rows = r.nrows() + extra;
-        let mut a = Mat::<f64>::zeros(rows.max(p), p);
-        let mut b = Mat::<f64>::zeros(rows.max(p), 1);
-        for i in 0..r.nrows() {
-            for j in 0..p {
-                a[(i, j)] = r[(i, j)] / ns.sqrt();
-            }
-            b[(i, 0)] = d[i] / ns.sqrt();
+    nb: usize,
+) -> Result<Vec<f64>, IdentifyError> {
+    let p = r.ncols();
+    let w = opts.weight;
+    let extra = if w > 0.0 { 10 * nb } else { 0 };
+    let rows = r.nrows() + extra;
+    let mut a = Mat::<f64>::zeros(rows.max(p), p);
+    let mut b = Mat::<f64>::zeros(rows.max(p), 1);
+    for i in 0..r.nrows() {
+        for j in 0..p {
+            a[(i, j)] = r[(i, j)] / ns.sqrt();
         }
-        for k in 0..extra {
-            a[(r.nrows() + k, k)] = w.sqrt();
-            b[(r.nrows() + k, 0)] = w.sqrt() * opts.prior[k];
-        }
-        let svd = a
-            .svd()
-            .map_err(|_| IdentifyError::Invalid("SVD did not converge".into()))?;
-        let s = svd.S().column_vector();
-        let smax = (0..s.nrows()).map(|i| s[i]).fold(0.0, f64::max);
-        let u = svd.U();
-        let v = svd.V();
-        let mut theta = vec![0.0; p];
-        for k in 0..s.nrows() {
-            if s[k] <= 1e-13 * smax {
-                continue;
-            }
-            let c: f64 = (0..a.nrows()).map(|i| u[(i, k)] * b[(i, 0)]).sum::<f64>() / s[k];
-            for j in 0..p {
-                theta[j] += c * v[(j, k)];
-            }
-        }
-        return Ok(Solved {
-            theta,
-            status: Status::Solved,
-            iterations: 0,
-            solve_time_s: t0.elapsed().as_secs_f64(),
-            unidentifiable,
-            rank,
-        });
+        b[(i, 0)] = d[i] / ns.sqrt();
     }
-    // scaled variables θ = D z, D = 1 / column norms of R (1 for unexcited columns)
-    let colnorm: Vec<f64> = (0..p)
+    for k in 0..extra {
+        a[(r.nrows() + k, k)] = w.sqrt();
+        b[(r.nrows() + k, 0)] = w.sqrt() * opts.prior[k];
+    }
+    let svd = a.svd().map_err(|_| IdentifyError::Factorisation {
+        what: "SVD of the least-squares problem",
+    })?;
+    let s = svd.S().column_vector();
+    let smax = (0..s.nrows()).map(|i| s[i]).fold(0.0, f64::max);
+    let u = svd.U();
+    let v = svd.V();
+    let mut theta = vec![0.0; p];
+    for k in 0..s.nrows() {
+        if s[k] <= 1e-13 * smax {
+            continue;
+        }
+        let c: f64 = (0..a.nrows()).map(|i| u[(i, k)] * b[(i, 0)]).sum::<f64>() / s[k];
+        for j in 0..p {
+            theta[j] += c * v[(j, k)];
+        }
+    }
+    Ok(theta)
+}
+
+/// The constrained levels' SDP in scaled variables θ = D z (D = 1 / the
+/// column norms of R, 1 for unexcited columns), with its objective; returns
+/// the problem and θ as expressions of z.
+fn scaled_problem(
+    r: &Mat<f64>,
+    d: &[f64],
+    ns: f64,
+    opts: &IdentifyOptions,
+    nb: usize,
+) -> Result<(Problem, Vec<AffExpr>), IdentifyError> {
+    let p = r.ncols();
+    let dscale: Vec<f64> = (0..p)
         .map(|j| {
-            (0..r.nrows())
+            let c = (0..r.nrows())
                 .map(|i| r[(i, j)].powi(2))
                 .sum::<f64>()
                 .sqrt()
-                / ns.sqrt()
+                / ns.sqrt();
+            if c > 1e-12 { 1.0 / c } else { 1.0 }
         })
-        .collect();
-    let dscale: Vec<f64> = colnorm
-        .iter()
-        .map(|&c| if c > 1e-12 { 1.0 / c } else { 1.0 })
         .collect();
     let mut prob = Problem::new();
     let z = prob.vector("z", p);
-    let theta_expr: Vec<AffExpr> = (0..p).map(|j| AffExpr::term(z[j], dscale[j])).collect();
+    let theta: Vec<AffExpr> = (0..p).map(|j| AffExpr::term(z[j], dscale[j])).collect();
     let residual_rows: Vec<AffExpr> = (0..r.nrows())
         .map(|i| {
             let mut e = AffExpr::constant(-d[i]);
@@ -309,7 +357,7 @@ pub fn solve_identification(
     if opts.weight > 0.0 {
         prob.add_squares(1.0 / ns, residual_rows);
         for k in 0..10 * nb {
-            prob.add_square(opts.weight, theta_expr[k].clone() - opts.prior[k]);
+            prob.add_square(opts.weight, theta[k].clone() - opts.prior[k]);
         }
     } else {
         // Without regularisation, minimise the residual norm itself (same
@@ -325,11 +373,68 @@ pub fn solve_identification(
         )?;
         prob.minimize(t);
     }
+    Ok((prob, theta))
+}
+
+/// After an infeasible solve: the first body whose own constraint set is
+/// empty, else the status itself.
+fn explain_infeasible(model: &Model, opts: &IdentifyOptions, status: Status) -> IdentifyError {
+    for (b, name) in model.body_names().iter().enumerate() {
+        let mut q = Problem::new();
+        let v = BodyVars::new(&mut q, name);
+        let mut o = opts.clone();
+        o.ellipsoids = opts.ellipsoids.as_ref().map(|e| vec![e[b]]);
+        let empty = add_body_constraints(&mut q, &[v], &o, std::slice::from_ref(name))
+            .and_then(|_| Ok(q.solve(&Settings::default())?))
+            .is_ok_and(|s| s.status.is_primal_infeasible());
+        if empty {
+            return IdentifyError::InfeasibleBody { body: name.clone() };
+        }
+    }
+    IdentifyError::Solver(status)
+}
+
+/// Solves (25) on reduced data.
+pub fn solve_identification(
+    model: &Model,
+    red: &Reduced,
+    opts: &IdentifyOptions,
+) -> Result<Solved, IdentifyError> {
+    let nb = model.num_bodies();
+    let p = 10 * nb + 2 * model.dof();
+    if red.p != p {
+        return Err(IdentifyError::Columns {
+            expected: p,
+            found: red.p,
+        });
+    }
+    if red.samples == 0 {
+        return Err(IdentifyError::NoTrainingData {
+            samples: 0,
+            torques: 0,
+        });
+    }
+    opts.check(nb)?;
+    let (r, d) = red.r_d()?;
+    let (rank, unidentifiable) = identifiability(&r, &parameter_names(model))?;
+    let ns = red.samples as f64;
+    let t0 = std::time::Instant::now();
+    if opts.level == Level::None {
+        return Ok(Solved {
+            theta: solve_direct(&r, &d, ns, opts, nb)?,
+            status: Status::Solved,
+            iterations: 0,
+            solve_time_s: t0.elapsed().as_secs_f64(),
+            unidentifiable,
+            rank,
+        });
+    }
+    let (mut prob, theta_expr) = scaled_problem(&r, &d, ns, opts, nb)?;
     let bodies: Vec<BodyVars> = (0..nb)
         .map(|b| BodyVars::from_exprs(std::array::from_fn(|k| theta_expr[10 * b + k].clone())))
         .collect();
     add_body_constraints(&mut prob, &bodies, opts, &model.body_names())?;
-    prob.add_nonneg(theta_expr[10 * nb..].to_vec())?;
+    prob.add_nonneg(theta_expr[10 * nb..].to_vec())?; // B ⪰ 0, B_c ⪰ 0
     let settings = Settings::default()
         .tol_gap_abs(1e-9)
         .tol_gap_rel(1e-9)
@@ -337,31 +442,15 @@ pub fn solve_identification(
         .max_iter(300);
     let sol = prob.solve(&settings)?;
     match sol.status {
-        s if s.is_solved() => {
-            let theta = (0..p).map(|j| sol.eval(&theta_expr[j])).collect();
-            Ok(Solved {
-                theta,
-                status: sol.status,
-                iterations: sol.iterations,
-                solve_time_s: sol.setup_time_s + sol.solve_time_s,
-                unidentifiable,
-                rank,
-            })
-        }
-        s if s.is_primal_infeasible() => {
-            // find the body whose own constraint set is empty
-            for (b, name) in model.body_names().iter().enumerate() {
-                let mut q = Problem::new();
-                let v = BodyVars::new(&mut q, name);
-                let mut o = opts.clone();
-                o.ellipsoids = opts.ellipsoids.as_ref().map(|e| vec![e[b]]);
-                add_body_constraints(&mut q, &[v], &o, std::slice::from_ref(name))?;
-                if q.solve(&Settings::default())?.status.is_primal_infeasible() {
-                    return Err(IdentifyError::InfeasibleBody { body: name.clone() });
-                }
-            }
-            Err(IdentifyError::Solver(s))
-        }
+        s if s.is_solved() => Ok(Solved {
+            theta: theta_expr.iter().map(|e| sol.eval(e)).collect(),
+            status: sol.status,
+            iterations: sol.iterations,
+            solve_time_s: sol.setup_time_s + sol.solve_time_s,
+            unidentifiable,
+            rank,
+        }),
+        s if s.is_primal_infeasible() => Err(explain_infeasible(model, opts, s)),
         s => Err(IdentifyError::Solver(s)),
     }
 }

@@ -10,6 +10,7 @@
 //! of the column-scaled regressor; with the unit-diagonal scaling that costs
 //! about `ε·κ` relative accuracy in the fitted torques, far below any noise.
 
+use super::error::IdentifyError;
 use crate::dynamics::Model;
 use faer::{Mat, MatRef};
 use rayon::prelude::*;
@@ -26,8 +27,9 @@ pub struct Reduced {
 }
 
 impl Reduced {
-    /// The factor F with `FᵀF = G` ((p + 1) × (p + 1)).
-    pub fn factor(&self) -> Mat<f64> {
+    /// The factor F with `FᵀF = G` ((p + 1) × (p + 1)); an error if the
+    /// eigen-decomposition does not converge (a non-finite Gram matrix).
+    pub fn factor(&self) -> Result<Mat<f64>, IdentifyError> {
         let p1 = self.p + 1;
         let s: Vec<f64> = (0..p1).map(|i| self.gram[(i, i)].max(0.0).sqrt()).collect();
         let inv: Vec<f64> = s
@@ -35,31 +37,99 @@ impl Reduced {
             .map(|&v| if v > 0.0 { 1.0 / v } else { 0.0 })
             .collect();
         let gs = Mat::<f64>::from_fn(p1, p1, |i, j| self.gram[(i, j)] * inv[i] * inv[j]);
-        let Ok(evd) = gs.self_adjoint_eigen(faer::Side::Lower) else {
-            return Mat::zeros(p1, p1);
+        let fail = IdentifyError::Factorisation {
+            what: "eigen-decomposition of the reduced regressor's Gram matrix",
         };
+        if !(0..p1).all(|j| (0..p1).all(|i| gs[(i, j)].is_finite())) {
+            return Err(fail);
+        }
+        let evd = gs.self_adjoint_eigen(faer::Side::Lower).map_err(|_| fail)?;
         let lam = evd.S().column_vector();
         let v = evd.U();
         // F = Λ^{1/2} Vᵀ D  (rows scaled by √λ, columns by the diagonal scale)
-        Mat::<f64>::from_fn(p1, p1, |k, j| lam[k].max(0.0).sqrt() * v[(j, k)] * s[j])
+        Ok(Mat::<f64>::from_fn(p1, p1, |k, j| {
+            lam[k].max(0.0).sqrt() * v[(j, k)] * s[j]
+        }))
     }
 
-    /// R = F[:, 0..p] ((p + 1) × p).
-    pub fn r(&self) -> Mat<f64> {
-        let f = self.factor();
-        f.as_ref().submatrix(0, 0, self.p + 1, self.p).to_owned()
+    /// `(R, d)`: R = F[:, 0..p] ((p + 1) × p) and d = F[:, p].
+    pub fn r_d(&self) -> Result<(Mat<f64>, Vec<f64>), IdentifyError> {
+        let f = self.factor()?;
+        let r = f.as_ref().submatrix(0, 0, self.p + 1, self.p).to_owned();
+        let d = (0..=self.p).map(|i| f[(i, self.p)]).collect();
+        Ok((r, d))
     }
+}
 
-    /// d = F[:, p].
-    pub fn d(&self) -> Vec<f64> {
-        let f = self.factor();
-        (0..=self.p).map(|i| f[(i, self.p)]).collect()
+/// Checks that every sample has n values in each of q, q̇, q̈, τ.
+fn check_lengths(
+    n: usize,
+    q: &[Vec<f64>],
+    qd: &[Vec<f64>],
+    qdd: &[Vec<f64>],
+    tau: &[Vec<f64>],
+) -> Result<(), IdentifyError> {
+    for (what, v) in [("q", q), ("qd", qd), ("qdd", qdd), ("tau", tau)] {
+        if v.len() != q.len() {
+            return Err(IdentifyError::NoTrainingData {
+                samples: q.len(),
+                torques: tau.len(),
+            });
+        }
+        if let Some(k) = v.iter().position(|x| x.len() != n) {
+            return Err(IdentifyError::SampleLength {
+                sample: k,
+                what,
+                expected: n,
+                found: v[k].len(),
+            });
+        }
     }
+    Ok(())
+}
+
+/// The Gram matrix of samples `start..end` (rows built, multiplied, dropped).
+fn chunk_gram(
+    model: &Model,
+    samples: [&[Vec<f64>]; 4],
+    start: usize,
+    end: usize,
+) -> Result<Mat<f64>, IdentifyError> {
+    let [q, qd, qdd, tau] = samples;
+    let n = model.dof();
+    let p = 10 * model.num_bodies() + 2 * n;
+    let p1 = p + 1;
+    let mut data = crate::dynamics::Data::new(model);
+    let mut buf = vec![0.0; (end - start) * n * p1];
+    for s in start..end {
+        crate::dynamics::regressor(model, &mut data, &q[s], &qd[s], &qdd[s])
+            .map_err(|source| IdentifyError::Regressor { sample: s, source })?;
+        let y = data.regressor.as_slice(); // column-major n × p
+        for i in 0..n {
+            let row = &mut buf[((s - start) * n + i) * p1..((s - start) * n + i + 1) * p1];
+            for c in 0..p {
+                row[c] = y[c * n + i];
+            }
+            row[p] = tau[s][i];
+        }
+    }
+    let x = MatRef::from_row_major_slice(&buf, (end - start) * n, p1);
+    let mut g = Mat::<f64>::zeros(p1, p1);
+    faer::linalg::matmul::matmul(
+        g.as_mut(),
+        faer::Accum::Replace,
+        x.transpose(),
+        x,
+        1.0,
+        faer::Par::Seq,
+    );
+    Ok(g)
 }
 
 /// Reduces samples `q, q̇, q̈` with targets τ (columns: links, rotors,
 /// viscous, Coulomb, see [`crate::dynamics::regressor`]), `chunk` samples
-/// per parallel task.
+/// per parallel task. A sample the regressor cannot evaluate is an error
+/// naming it.
 pub fn reduce_samples(
     model: &Model,
     q: &[Vec<f64>],
@@ -67,53 +137,32 @@ pub fn reduce_samples(
     qdd: &[Vec<f64>],
     tau: &[Vec<f64>],
     chunk: usize,
-) -> Reduced {
+) -> Result<Reduced, IdentifyError> {
     let n = model.dof();
+    check_lengths(n, q, qd, qdd, tau)?;
     let p = 10 * model.num_bodies() + 2 * n;
-    let p1 = p + 1;
     let chunk = chunk.max(1);
     let starts: Vec<usize> = (0..q.len()).step_by(chunk).collect();
     let partial: Vec<Mat<f64>> = starts
         .par_iter()
         .map(|&start| {
-            let end = (start + chunk).min(q.len());
-            let mut data = crate::dynamics::Data::new(model);
-            let mut buf = vec![0.0; (end - start) * n * p1];
-            for s in start..end {
-                if crate::dynamics::regressor(model, &mut data, &q[s], &qd[s], &qdd[s]).is_err() {
-                    continue;
-                }
-                let y = data.regressor.as_slice(); // column-major n × p
-                for i in 0..n {
-                    let row = &mut buf[((s - start) * n + i) * p1..((s - start) * n + i + 1) * p1];
-                    for c in 0..p {
-                        row[c] = y[c * n + i];
-                    }
-                    row[p] = tau[s][i];
-                }
-            }
-            let x = MatRef::from_row_major_slice(&buf, (end - start) * n, p1);
-            let mut g = Mat::<f64>::zeros(p1, p1);
-            faer::linalg::matmul::matmul(
-                g.as_mut(),
-                faer::Accum::Replace,
-                x.transpose(),
-                x,
-                1.0,
-                faer::Par::Seq,
-            );
-            g
+            chunk_gram(
+                model,
+                [q, qd, qdd, tau],
+                start,
+                (start + chunk).min(q.len()),
+            )
         })
-        .collect();
-    let mut gram = Mat::<f64>::zeros(p1, p1);
+        .collect::<Result<_, _>>()?;
+    let mut gram = Mat::<f64>::zeros(p + 1, p + 1);
     for g in partial {
         gram += g;
     }
-    Reduced {
+    Ok(Reduced {
         gram,
         samples: q.len(),
         p,
-    }
+    })
 }
 
 /// A streaming reducer: push samples one at a time (e.g. while reading a
@@ -158,6 +207,13 @@ impl<'m> StreamReducer<'m> {
     ) -> Result<(), crate::dynamics::DynamicsError> {
         let n = self.model.dof();
         let p = self.red.p;
+        if tau.len() != n {
+            return Err(crate::dynamics::DynamicsError::Dimension {
+                what: "tau".into(),
+                expected: n,
+                found: tau.len(),
+            });
+        }
         crate::dynamics::regressor(self.model, &mut self.data, q, qd, qdd)?;
         let y = self.data.regressor.as_slice();
         for i in 0..n {

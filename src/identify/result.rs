@@ -1,6 +1,7 @@
 //! End-to-end identification from data sets, and its report.
 
-use super::problem::{IdentifyError, IdentifyOptions, Level, Solved, solve_identification};
+use super::error::IdentifyError;
+use super::problem::{IdentifyOptions, Level, Solved, solve_identification};
 use super::reduce::reduce_samples;
 use crate::data::Dataset;
 use crate::dynamics::params_file::{BodyParams, Friction, ParamsFile};
@@ -169,8 +170,59 @@ pub fn rms(a: &[Vec<f64>], b: &[Vec<f64>]) -> Vec<f64> {
         .collect()
 }
 
+/// Each body's summary and whether it satisfies its level (checked by
+/// `moments`, tolerance [`CHECK_TOL`]).
+fn body_results(model: &Model, theta: &[f64], opts: &IdentifyOptions) -> (Vec<BodyResult>, bool) {
+    let mut bodies = Vec::new();
+    let mut ok = true;
+    for (b, name) in model.body_names().into_iter().enumerate() {
+        let pi = InertialParams(std::array::from_fn(|k| theta[10 * b + k]));
+        let rep = check_consistency(&pi, CHECK_TOL);
+        let real = opts
+            .ellipsoids()
+            .map(|e| check_realizable(&pi, &e[b], CHECK_TOL));
+        ok &= match opts.level() {
+            Level::None => true,
+            Level::Semi => rep.semi_consistent && pi.mass() > 0.0,
+            Level::Consistent => rep.consistent,
+            Level::Ellipsoid => real.as_ref().is_some_and(|r| r.realizable),
+        };
+        let com = if pi.mass() > 0.0 {
+            let c = pi.to_mass_com_inertia().com;
+            [c.x, c.y, c.z]
+        } else {
+            [f64::NAN; 3]
+        };
+        let cov = pi.covariance_ellipsoid();
+        bodies.push(BodyResult {
+            name,
+            params: pi.0,
+            mass: pi.mass(),
+            com,
+            principal_moments: rep.principal_moments,
+            covariance_semi_axes: [cov.semi_axes.x, cov.semi_axes.y, cov.semi_axes.z],
+            consistent: rep.consistent,
+            consistency: rep,
+            realizability: real,
+        });
+    }
+    (bodies, ok)
+}
+
+/// Checks that a data set has torques for every sample.
+fn with_torques(d: &Dataset) -> Result<(), IdentifyError> {
+    if d.tau.len() != d.len() || d.is_empty() {
+        return Err(IdentifyError::NoTrainingData {
+            samples: d.len(),
+            torques: d.tau.len(),
+        });
+    }
+    Ok(())
+}
+
 /// Identifies `model`'s parameters from `train` (its current parameters are
-/// only used for names), optionally validating on `validate`.
+/// only used for names), optionally validating on `validate` (which then
+/// needs torques too).
 pub fn identify(
     model: &Model,
     train: &Dataset,
@@ -178,12 +230,11 @@ pub fn identify(
     opts: &IdentifyOptions,
 ) -> Result<IdentifyResult, IdentifyError> {
     let t0 = std::time::Instant::now();
-    if train.tau.len() != train.len() || train.is_empty() {
-        return Err(IdentifyError::Invalid(
-            "the training data need torques (tau_* columns) and at least one sample".into(),
-        ));
+    with_torques(train)?;
+    if let Some(v) = validate {
+        with_torques(v)?;
     }
-    let red = reduce_samples(model, &train.q, &train.qd, &train.qdd, &train.tau, 1024);
+    let red = reduce_samples(model, &train.q, &train.qd, &train.qdd, &train.tau, 1024)?;
     let reduce_time = t0.elapsed().as_secs_f64();
     let Solved {
         theta,
@@ -195,40 +246,7 @@ pub fn identify(
     } = solve_identification(model, &red, opts)?;
     let n = model.dof();
     let nb = model.num_bodies();
-    let mut bodies = Vec::new();
-    let mut ok = true;
-    for (b, name) in model.body_names().into_iter().enumerate() {
-        let pi = InertialParams(std::array::from_fn(|k| theta[10 * b + k]));
-        let rep = check_consistency(&pi, CHECK_TOL);
-        let real = opts
-            .ellipsoids
-            .as_ref()
-            .map(|e| check_realizable(&pi, &e[b], CHECK_TOL));
-        let satisfied = match opts.level {
-            Level::None => true,
-            Level::Semi => rep.semi_consistent && pi.mass() > 0.0,
-            Level::Consistent => rep.consistent,
-            Level::Ellipsoid => real.as_ref().is_some_and(|r| r.realizable),
-        };
-        ok &= satisfied;
-        let mci = if pi.mass() > 0.0 {
-            Some(pi.to_mass_com_inertia())
-        } else {
-            None
-        };
-        let cov = pi.covariance_ellipsoid();
-        bodies.push(BodyResult {
-            name,
-            params: pi.0,
-            mass: pi.mass(),
-            com: mci.map_or([f64::NAN; 3], |m| [m.com.x, m.com.y, m.com.z]),
-            principal_moments: rep.principal_moments,
-            covariance_semi_axes: [cov.semi_axes.x, cov.semi_axes.y, cov.semi_axes.z],
-            consistent: rep.consistent,
-            consistency: rep,
-            realizability: real,
-        });
-    }
+    let (bodies, ok) = body_results(model, &theta, opts);
     let friction = Friction {
         viscous: theta[10 * nb..10 * nb + n].to_vec(),
         coulomb: theta[10 * nb + n..].to_vec(),
@@ -236,18 +254,18 @@ pub fn identify(
     let (train_pred, _) = predict_split(model, &theta, train)?;
     let training_rms = rms(&train_pred, &train.tau);
     let (validation_rms, validation_prediction, contributions, vs) = match validate {
-        Some(v) if v.tau.len() == v.len() && !v.is_empty() => {
+        Some(v) => {
             let (pred, c) = predict_split(model, &theta, v)?;
             (Some(rms(&pred, &v.tau)), pred, c, v.len())
         }
-        _ => (None, vec![], Contributions::default(), 0),
+        None => (None, vec![], Contributions::default(), 0),
     };
     Ok(IdentifyResult {
         robot: model.name.clone(),
         joints: model.joint_names().iter().map(|s| s.to_string()).collect(),
         parameter_order: "m, hx, hy, hz, Ixx, Ixy, Ixz, Iyy, Iyz, Izz".into(),
-        constraints: opts.level,
-        weight: opts.weight,
+        constraints: opts.level(),
+        weight: opts.weight(),
         bodies,
         friction,
         constraints_satisfied: ok,

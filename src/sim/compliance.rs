@@ -16,6 +16,7 @@
 //! the motor side, while each rotor's housing rides on the link it is
 //! mounted on ([`crate::dynamics::Model::link_side`]).
 
+use super::error::SimError;
 use super::trajectory::Trajectory;
 use crate::dynamics::{Data, Model, forward_dynamics};
 
@@ -49,35 +50,34 @@ pub fn simulate_link_side(
     traj: &Trajectory,
     times: &[f64],
     c: &Compliance,
-) -> Result<Vec<(Vec<f64>, Vec<f64>, Vec<f64>)>, String> {
+) -> Result<Vec<(Vec<f64>, Vec<f64>, Vec<f64>)>, SimError> {
     let motor = |t: f64| {
         traj.state(t)
             .map(|(q, qd, _)| (q, qd))
-            .ok_or_else(|| format!("the trajectory leaves the workspace at t = {t} s"))
+            .ok_or(SimError::Workspace { t })
     };
     integrate(links, &motor, times, c, 0.5, 1e-4)
 }
 
 fn integrate(
     links: &Model,
-    motor: &dyn Fn(f64) -> Result<(Vec<f64>, Vec<f64>), String>,
+    motor: &dyn Fn(f64) -> Result<(Vec<f64>, Vec<f64>), SimError>,
     times: &[f64],
     c: &Compliance,
     pre: f64,
     dt: f64,
-) -> Result<Vec<(Vec<f64>, Vec<f64>, Vec<f64>)>, String> {
+) -> Result<Vec<(Vec<f64>, Vec<f64>, Vec<f64>)>, SimError> {
     let n = links.dof();
     let mut data = Data::new(links);
     let t_first = times.first().copied().unwrap_or(0.0);
     let (q0, qd0) = motor(t_first - pre)?;
     let mut x: Vec<f64> = q0.iter().chain(qd0.iter()).copied().collect();
-    let rhs = |t: f64, x: &[f64], data: &mut Data| -> Result<(Vec<f64>, Vec<f64>), String> {
+    let rhs = |t: f64, x: &[f64], data: &mut Data| -> Result<(Vec<f64>, Vec<f64>), SimError> {
         let (th, thd) = motor(t)?;
         let tau: Vec<f64> = (0..n)
             .map(|i| c.torque(th[i] - x[i], thd[i] - x[n + i]))
             .collect();
-        let qdd =
-            forward_dynamics(links, data, &x[..n], &x[n..], &tau).map_err(|e| e.to_string())?;
+        let qdd = forward_dynamics(links, data, &x[..n], &x[n..], &tau)?;
         let mut dx = x[n..].to_vec();
         dx.extend(qdd.iter());
         Ok((dx, tau))
@@ -101,7 +101,7 @@ fn integrate(
                 x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
             }
             if !x.iter().all(|v| v.is_finite()) {
-                return Err("the compliant link simulation diverged".into());
+                return Err(SimError::Diverged { t });
             }
             t += h;
         }

@@ -1,132 +1,94 @@
-//! The simulated "true robot": the model's rigid-body torques plus
-//! switchable effects the nominal model may lack. Every effect is off by
-//! default; each adds a documented term to the joint torque (i = joint,
-//! q̇ᵢ in rad/s, N the gear ratio, sign(0) = 0):
-//!
-//! | effect | term | parameters (default) |
-//! |---|---|---|
-//! | `rotor_inertia` | the rotors are part of the robot (else links only) | — |
-//! | `coulomb` | `B_c,i sign(q̇ᵢ)` | `coulomb_scale` (1: the robot's B_c; cheetah3-leg (3.12, 1.25, 0.95) N·m, others 0.5 N·m) |
-//! | `viscous` | `B_i q̇ᵢ` | `viscous` (0.1 N·m·s/rad) |
-//! | `stribeck` | `F_s e^{−(q̇ᵢ/v_s)²} sign(q̇ᵢ)` | `stribeck_force` (1.0 N·m), `stribeck_velocity` (0.2 rad/s) |
-//! | `asymmetric_friction` | `a B_c,i \|sign(q̇ᵢ)\|` (Coulomb (1 + a)·B_c forward, (1 − a)·B_c backward) | `asymmetry` (0.3) |
-//! | `offset` | `cᵢ` | `offset` (0.5 N·m) |
-//! | `payload` | a point mass at the foot / last body's origin, in the dynamics | `payload_mass` (0.5 kg) |
-//! | `time_delay` | the torque is that of the state at `t − δ` | `delay` (0.005 s) |
-//! | `cogging` | `A sin(p N qᵢ)` | `cogging_amplitude` (0.2 N·m), `cogging_period` p (6 per motor turn) |
-//! | `torque_gain` | measured `(1 + ε) τ` | `gain_error` ε (0.1) |
-//!
-//! | `elasticity` | the links are driven through a spring–damper from the motor side ([`super::compliance`]) | `stiffness` (2000 N·m/rad), `damping` (5 N·m·s/rad) |
-//! | `backlash` | as elasticity, with a dead band of half-width b | `backlash_width` b (0.005 rad), and the two above |
+//! The simulated "true robot": the description's model with its own
+//! parameters as the truth, plus switchable effects the nominal model may
+//! lack (their terms and parameters: [`crate::dynamics::effect`]). Every
+//! effect is off by default. Friction magnitudes come from the robot
+//! description's nominal friction, the payload sits at the model's tool
+//! point, and every other magnitude is the description's default unless
+//! overridden.
 
+use super::compliance::Compliance;
+use super::error::SimError;
+use crate::dynamics::effect::parse_override;
 use crate::dynamics::predict::predict_torques;
-use crate::dynamics::{Model, cheetah3, params_file::Friction, sign};
+use crate::dynamics::{
+    DynamicsError, Effect, EffectParams, Model, Param, RobotDescription, params_file::Friction,
+    sign,
+};
 use crate::moments::InertialParams;
-use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
-/// The effects the simulator knows.
-pub const EFFECTS: [&str; 12] = [
-    "rotor_inertia",
-    "coulomb",
-    "viscous",
-    "stribeck",
-    "asymmetric_friction",
-    "offset",
-    "payload",
-    "time_delay",
-    "cogging",
-    "torque_gain",
-    "elasticity",
-    "backlash",
-];
-
-/// Effects not implemented yet (accepted names that are rejected with a message).
-pub const NOT_YET: [&str; 0] = [];
-
-fn default_param(name: &str) -> Option<f64> {
-    Some(match name {
-        "coulomb_scale" => 1.0,
-        "viscous" => 0.1,
-        "stribeck_force" => 1.0,
-        "stribeck_velocity" => 0.2,
-        "asymmetry" => 0.3,
-        "offset" => 0.5,
-        "payload_mass" => 0.5,
-        "delay" => 0.005,
-        "cogging_amplitude" => 0.2,
-        "cogging_period" => 6.0,
-        "gain_error" => 0.1,
-        "stiffness" => 2000.0,
-        "damping" => 5.0,
-        "backlash_width" => 0.005,
-        _ => return None,
-    })
-}
-
-/// Which effects are on and their parameters (documented in the module).
+/// Which effects are on, and the magnitudes the user set.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Default)]
 pub struct Effects {
-    /// Effects switched on.
-    pub on: Vec<String>,
-    /// Parameter overrides by name.
-    pub params: BTreeMap<String, f64>,
+    /// Effects switched on, in the order given.
+    pub on: Vec<Effect>,
+    /// Overrides of the robot's default magnitudes.
+    pub overrides: BTreeMap<Param, f64>,
 }
 
 impl Effects {
-    /// Parses `a,b,c` and `NAME=VALUE` overrides, rejecting unknown names.
-    pub fn parse(list: &str, overrides: &[String]) -> Result<Self, String> {
-        let mut on = Vec::new();
-        for e in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
-            if NOT_YET.contains(&e) {
-                return Err(format!(
-                    "effect '{e}' is not implemented yet (it needs a state-carrying simulation)"
-                ));
-            }
-            if !EFFECTS.contains(&e) {
-                return Err(format!(
-                    "unknown effect '{e}' (known: {})",
-                    EFFECTS.join(", ")
-                ));
-            }
-            if !on.iter().any(|x| x == e) {
-                on.push(e.to_string());
+    /// These effects, with the robot's default magnitudes.
+    pub fn new(on: impl IntoIterator<Item = Effect>) -> Self {
+        let mut e = Self::default();
+        for x in on {
+            if !e.on.contains(&x) {
+                e.on.push(x);
             }
         }
-        let mut params = BTreeMap::new();
+        e
+    }
+
+    /// Parses `a,b,c` and `NAME=VALUE` overrides. An unknown effect or
+    /// parameter name is an error listing the valid ones; so is a parameter
+    /// of an effect that is not on, and a value outside its range.
+    pub fn parse(list: &str, overrides: &[String]) -> Result<Self, DynamicsError> {
+        let on = list
+            .split(',')
+            .map(str::trim)
+            .filter(|s| !s.is_empty())
+            .map(str::parse)
+            .collect::<Result<Vec<Effect>, _>>()?;
+        let mut e = Self::new(on);
         for o in overrides {
-            let (k, v) = o
-                .split_once('=')
-                .ok_or_else(|| format!("effect parameter '{o}': expected NAME=VALUE"))?;
-            let k = k.trim();
-            if default_param(k).is_none() {
-                return Err(format!("unknown effect parameter '{k}'"));
-            }
-            let v: f64 = v
-                .trim()
-                .parse()
-                .map_err(|_| format!("effect parameter '{k}': '{v}' is not a number"))?;
-            if !v.is_finite() {
-                return Err(format!("effect parameter '{k}': not finite"));
-            }
-            params.insert(k.to_string(), v);
+            let (p, v) = parse_override(o)?;
+            e = e.with(p, v)?;
         }
-        Ok(Self { on, params })
+        Ok(e)
+    }
+
+    /// Overrides one magnitude (checked: in range, and its effect is on).
+    pub fn with(mut self, p: Param, v: f64) -> Result<Self, DynamicsError> {
+        if !p.effects().iter().any(|x| self.has(*x)) {
+            return Err(DynamicsError::Override {
+                text: format!("{p}={v}"),
+                message: format!(
+                    "belongs to {}, which is not switched on",
+                    p.effects()
+                        .iter()
+                        .map(|e| e.name())
+                        .collect::<Vec<_>>()
+                        .join(" / ")
+                ),
+            });
+        }
+        EffectParams::default().set(p, v)?;
+        self.overrides.insert(p, v);
+        Ok(self)
     }
 
     /// Whether an effect is on.
-    pub fn has(&self, e: &str) -> bool {
-        self.on.iter().any(|x| x == e)
+    pub fn has(&self, e: Effect) -> bool {
+        self.on.contains(&e)
     }
 
-    /// A parameter (override or default).
-    pub fn param(&self, name: &str) -> f64 {
-        self.params
-            .get(name)
-            .copied()
-            .or_else(|| default_param(name))
-            .unwrap_or(0.0)
+    /// The magnitudes: `defaults` (a robot description's) with the overrides.
+    pub fn params(&self, defaults: &EffectParams) -> Result<EffectParams, DynamicsError> {
+        let mut p = defaults.clone();
+        for (&k, &v) in &self.overrides {
+            p.set(k, v)?;
+        }
+        Ok(p)
     }
 }
 
@@ -135,49 +97,52 @@ impl Effects {
 pub struct TrueRobot {
     model: Model,
     effects: Effects,
-    coulomb: Vec<f64>,
+    params: EffectParams,
+    friction: Friction,
     gear: Vec<f64>,
 }
 
 impl TrueRobot {
-    /// Builds the robot for `model` (its own parameters are the truth).
-    pub fn new(model: &Model, effects: Effects) -> Result<Self, String> {
+    /// Builds the robot for `robot` (its model's own parameters are the truth).
+    pub fn new(robot: &RobotDescription, effects: &Effects) -> Result<Self, SimError> {
+        let model = &robot.model;
+        let params = effects.params(&robot.effects)?;
         let n = model.dof();
         let gear: Vec<f64> = (0..n)
             .map(|i| model.rotor_of(i).map_or(1.0, |r| r.gear_ratio))
             .collect();
         let mut joints = model.joints.clone();
-        if effects.has("payload") {
-            let m = effects.param("payload_mass");
-            let last = n - 1;
-            let at = if model.name == "cheetah3-leg" {
-                Vector3::from(cheetah3::FOOT)
-            } else {
-                Vector3::zeros()
-            };
-            let p = InertialParams::from_mass_com_inertia(m, at, nalgebra::Matrix3::zeros());
-            joints[last].inertia = joints[last].inertia.plus(&p);
+        if effects.has(Effect::Payload) {
+            let tool = model.tool.ok_or_else(|| SimError::Setting {
+                setting: "payload",
+                value: params.payload_mass,
+                message: "the model has no moving body to carry it".into(),
+            })?;
+            let p = InertialParams::from_mass_com_inertia(
+                params.payload_mass,
+                tool.point,
+                nalgebra::Matrix3::zeros(),
+            );
+            joints[tool.body].inertia = joints[tool.body].inertia.plus(&p);
         }
-        let rotors = if effects.has("rotor_inertia") {
+        let rotors = if effects.has(Effect::RotorInertia) {
             model.rotors.clone()
         } else {
             vec![]
         };
-        let m =
-            Model::new(&model.name, joints, rotors, model.gravity).map_err(|e| e.to_string())?;
-        let base: Vec<f64> = if model.name == "cheetah3-leg" {
-            cheetah3::COULOMB.to_vec()
-        } else {
-            vec![0.5; n]
+        let mut m = Model::new(&model.name, joints, rotors, model.gravity)?;
+        m.frames = model.frames.clone();
+        m.tool = model.tool;
+        let scale = |v: &[f64], s: f64| v.iter().map(|c| c * s).collect::<Vec<f64>>();
+        let friction = Friction {
+            viscous: scale(&robot.friction.viscous, params.viscous_scale),
+            coulomb: scale(&robot.friction.coulomb, params.coulomb_scale),
         };
-        let coulomb = base
-            .iter()
-            .map(|c| c * effects.param("coulomb_scale"))
-            .collect();
         Ok(Self {
             model: m,
-            effects,
-            coulomb,
+            effects: effects.clone(),
+            params,
+            friction,
             gear,
         })
     }
@@ -187,18 +152,33 @@ impl TrueRobot {
         &self.effects
     }
 
+    /// The magnitudes in use.
+    pub fn params(&self) -> &EffectParams {
+        &self.params
+    }
+
     /// The compliance of the transmission, when `elasticity` or `backlash` is on.
-    pub fn compliance(&self) -> Option<super::compliance::Compliance> {
+    pub fn compliance(&self) -> Option<Compliance> {
         let e = &self.effects;
-        (e.has("elasticity") || e.has("backlash")).then(|| super::compliance::Compliance {
-            stiffness: e.param("stiffness"),
-            damping: e.param("damping"),
-            backlash: if e.has("backlash") {
-                e.param("backlash_width")
+        let p = &self.params;
+        (e.has(Effect::Elasticity) || e.has(Effect::Backlash)).then(|| Compliance {
+            stiffness: p.stiffness,
+            damping: p.damping,
+            backlash: if e.has(Effect::Backlash) {
+                p.backlash_width
             } else {
                 0.0
             },
         })
+    }
+
+    /// The measured-torque gain `1 + ε` (1 without `torque_gain`).
+    pub fn gain(&self) -> f64 {
+        if self.effects.has(Effect::TorqueGain) {
+            1.0 + self.params.gain_error
+        } else {
+            1.0
+        }
     }
 
     /// The link side of the true robot driven through a compliant
@@ -210,10 +190,44 @@ impl TrueRobot {
 
     /// The delay (s) the trajectory must be sampled with for the torques.
     pub fn delay(&self) -> f64 {
-        if self.effects.has("time_delay") {
-            self.effects.param("delay")
+        if self.effects.has(Effect::TimeDelay) {
+            self.params.delay
         } else {
             0.0
+        }
+    }
+
+    /// The friction the true robot has (nominal, scaled; zero where the
+    /// effect is off).
+    fn friction_on(&self) -> Friction {
+        let n = self.model.dof();
+        let on = |e: Effect, v: &[f64]| {
+            if self.effects.has(e) {
+                v.to_vec()
+            } else {
+                vec![0.0; n]
+            }
+        };
+        Friction {
+            viscous: on(Effect::Viscous, &self.friction.viscous),
+            coulomb: on(Effect::Coulomb, &self.friction.coulomb),
+        }
+    }
+
+    /// Adds the per-joint effect terms of joint i to its torque `t`.
+    fn add_terms(&self, t: &mut f64, i: usize, q: f64, v: f64) {
+        let (e, p) = (&self.effects, &self.params);
+        if e.has(Effect::Stribeck) {
+            *t += p.stribeck_force * (-(v / p.stribeck_velocity).powi(2)).exp() * sign(v);
+        }
+        if e.has(Effect::AsymmetricFriction) {
+            *t += p.asymmetry * self.friction.coulomb[i] * sign(v).abs();
+        }
+        if e.has(Effect::Offset) {
+            *t += p.offset;
+        }
+        if e.has(Effect::Cogging) {
+            *t += p.cogging_amplitude * (p.cogging_period * self.gear[i] * q).sin();
         }
     }
 
@@ -223,45 +237,14 @@ impl TrueRobot {
         q: &[Vec<f64>],
         qd: &[Vec<f64>],
         qdd: &[Vec<f64>],
-    ) -> Result<Vec<Vec<f64>>, String> {
+    ) -> Result<Vec<Vec<f64>>, SimError> {
         let n = self.model.dof();
-        let e = &self.effects;
-        let fr = Friction {
-            viscous: vec![
-                if e.has("viscous") {
-                    e.param("viscous")
-                } else {
-                    0.0
-                };
-                n
-            ],
-            coulomb: if e.has("coulomb") {
-                self.coulomb.clone()
-            } else {
-                vec![0.0; n]
-            },
-        };
-        let mut tau = predict_torques(&self.model, &fr, q, qd, qdd).map_err(|e| e.to_string())?;
+        let mut tau = predict_torques(&self.model, &self.friction_on(), q, qd, qdd)?;
+        let gain = self.gain();
         for (k, t) in tau.iter_mut().enumerate() {
             for i in 0..n {
-                let v = qd[k][i];
-                if e.has("stribeck") {
-                    let vs = e.param("stribeck_velocity");
-                    t[i] += e.param("stribeck_force") * (-(v / vs).powi(2)).exp() * sign(v);
-                }
-                if e.has("asymmetric_friction") {
-                    t[i] += e.param("asymmetry") * self.coulomb[i] * sign(v).abs();
-                }
-                if e.has("offset") {
-                    t[i] += e.param("offset");
-                }
-                if e.has("cogging") {
-                    t[i] += e.param("cogging_amplitude")
-                        * (e.param("cogging_period") * self.gear[i] * q[k][i]).sin();
-                }
-                if e.has("torque_gain") {
-                    t[i] *= 1.0 + e.param("gain_error");
-                }
+                self.add_terms(&mut t[i], i, q[k][i], qd[k][i]);
+                t[i] *= gain;
             }
         }
         Ok(tau)

@@ -1,14 +1,22 @@
 //! Generating a data set: trajectory → true robot → measurement → offline
-//! processing, plus the JSON record that reproduces it.
+//! processing. The [`SimConfig`] (written beside the data as JSON) is what
+//! reproduces it together with the robot description.
 
+use super::error::SimError;
 use super::robot::{Effects, TrueRobot};
-use super::trajectory::{Shell, Trajectory};
+use super::trajectory::Trajectory;
 use crate::data::filter::{differentiate, filtfilt};
 use crate::data::{Dataset, estimate_qdd};
-use crate::dynamics::Model;
+use crate::dynamics::params_file::Friction;
+use crate::dynamics::predict::predict_torques;
+use crate::dynamics::{Model, RobotDescription};
 use rand::SeedableRng;
 use rand_distr::{Distribution, Normal};
 use serde::{Deserialize, Serialize};
+
+/// The most samples one simulation makes (memory stays bounded: ~ 1 kB per
+/// sample for a 9-joint robot).
+pub const MAX_SAMPLES: usize = 10_000_000;
 
 /// How a data set is made (written beside it as JSON).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -39,25 +47,14 @@ pub struct SimConfig {
 }
 
 impl SimConfig {
-    /// Defaults for a robot: 1 kHz, σ = 0.3 N·m, 2¹⁴ counts, 30 Hz cut-off;
-    /// the shell for cheetah3-leg, a multi-sine otherwise.
-    pub fn for_model(
-        robot: &str,
-        model: &Model,
-        seconds: f64,
-        effects: Effects,
-        seed: u64,
-    ) -> Self {
-        let trajectory = if model.name == "cheetah3-leg" {
-            Trajectory::Shell(Shell::default())
-        } else {
-            Trajectory::fourier_for(model, seed)
-        };
+    /// Defaults for a robot: 1 kHz, σ = 0.3 N·m, 2¹⁴ counts, 30 Hz cut-off,
+    /// the description's excitation.
+    pub fn for_robot(robot: &RobotDescription, seconds: f64, effects: Effects, seed: u64) -> Self {
         Self {
-            robot: robot.into(),
+            robot: robot.source.clone(),
             seconds,
             rate_hz: 1000.0,
-            trajectory,
+            trajectory: Trajectory::for_excitation(&robot.excitation, &robot.model, seed),
             effects,
             noise_sigma: 0.3,
             encoder_counts: 16384.0,
@@ -66,133 +63,205 @@ impl SimConfig {
             processed: true,
         }
     }
+
+    /// Checks every setting; returns the number of samples.
+    pub fn validate(&self, model: &Model) -> Result<usize, SimError> {
+        let bad = |setting, value, message: &str| {
+            Err(SimError::Setting {
+                setting,
+                value,
+                message: message.into(),
+            })
+        };
+        if !(self.seconds > 0.0 && self.seconds.is_finite()) {
+            return bad("seconds", self.seconds, "must be positive and finite");
+        }
+        if !(self.rate_hz > 0.0 && self.rate_hz.is_finite()) {
+            return bad("rate_hz", self.rate_hz, "must be positive and finite");
+        }
+        if !(self.noise_sigma >= 0.0 && self.noise_sigma.is_finite()) {
+            return bad("noise_sigma", self.noise_sigma, "must be ≥ 0 and finite");
+        }
+        if !(self.encoder_counts >= 0.0 && self.encoder_counts.is_finite()) {
+            return bad(
+                "encoder_counts",
+                self.encoder_counts,
+                "must be ≥ 0 and finite",
+            );
+        }
+        if self.processed && !(self.cutoff_hz > 0.0 && self.cutoff_hz < 0.5 * self.rate_hz) {
+            return bad(
+                "cutoff_hz",
+                self.cutoff_hz,
+                "must be positive and below half the rate",
+            );
+        }
+        let samples = (self.seconds * self.rate_hz).round();
+        if samples > MAX_SAMPLES as f64 {
+            return bad(
+                "seconds",
+                self.seconds,
+                &format!("{samples} samples at this rate; at most {MAX_SAMPLES}"),
+            );
+        }
+        if self.trajectory.joints() != model.dof() {
+            return Err(SimError::Excitation {
+                expected: model.dof(),
+                found: self.trajectory.joints(),
+            });
+        }
+        Ok(samples as usize)
+    }
 }
 
-/// Simulates; `progress(done, total)` is called every 1000 samples.
-pub fn simulate(
+/// The exact states at the sample times, and the states at `t − delay`
+/// (the ones the torque is measured at).
+struct States {
+    t: Vec<f64>,
+    exact: [Vec<Vec<f64>>; 3],
+    delayed: [Vec<Vec<f64>>; 3],
+}
+
+fn sample_states(
     model: &Model,
     cfg: &SimConfig,
-    mut progress: impl FnMut(usize, usize),
-) -> Result<Dataset, String> {
-    if !(cfg.seconds > 0.0
-        && cfg.rate_hz > 0.0
-        && cfg.noise_sigma >= 0.0
-        && cfg.encoder_counts >= 0.0)
-    {
-        return Err(
-            "seconds and rate must be positive, noise and encoder counts non-negative".into(),
-        );
-    }
-    let robot = TrueRobot::new(model, cfg.effects.clone())?;
-    let n = (cfg.seconds * cfg.rate_hz).round() as usize;
-    let nj = model.dof();
+    samples: usize,
+    delay: f64,
+    progress: &mut impl FnMut(usize, usize),
+) -> Result<States, SimError> {
     let dt = 1.0 / cfg.rate_hz;
-    let mut d = Dataset {
-        joints: model.joint_names().iter().map(|s| s.to_string()).collect(),
-        t: vec![],
-        q: vec![],
-        qd: vec![],
-        qdd: vec![],
-        tau: vec![],
+    let state = |t: f64| cfg.trajectory.state(t).ok_or(SimError::Workspace { t });
+    let mut s = States {
+        t: Vec::with_capacity(samples),
+        exact: Default::default(),
+        delayed: Default::default(),
     };
-    let (mut qs, mut qds, mut qdds) = (vec![], vec![], vec![]);
-    for k in 0..n {
+    for k in 0..samples {
         let t = k as f64 * dt;
-        let (q, qd, qdd) = cfg
-            .trajectory
-            .state(t)
-            .ok_or_else(|| format!("the trajectory leaves the workspace at t = {t} s"))?;
-        let (qx, qdx, qddx) = if robot.delay() > 0.0 {
-            cfg.trajectory
-                .state(t - robot.delay())
-                .ok_or("delay outside the workspace")?
+        let (q, qd, qdd) = state(t)?;
+        let (qx, qdx, qddx) = if delay > 0.0 {
+            state(t - delay)?
         } else {
             (q.clone(), qd.clone(), qdd.clone())
         };
         for (i, j) in model.joints.iter().enumerate() {
             if q[i] < j.limits.0 || q[i] > j.limits.1 {
-                return Err(format!(
-                    "joint '{}' leaves its limits at t = {t} s (q = {})",
-                    j.name, q[i]
-                ));
+                return Err(SimError::Limits {
+                    joint: j.name.clone(),
+                    t,
+                    q: q[i],
+                });
             }
         }
-        d.t.push(t);
-        d.q.push(q);
-        d.qd.push(qd);
-        d.qdd.push(qdd);
-        qs.push(qx);
-        qds.push(qdx);
-        qdds.push(qddx);
+        s.t.push(t);
+        for (v, x) in s.exact.iter_mut().zip([q, qd, qdd]) {
+            v.push(x);
+        }
+        for (v, x) in s.delayed.iter_mut().zip([qx, qdx, qddx]) {
+            v.push(x);
+        }
         if k % 1000 == 999 {
-            progress(k + 1, n);
+            progress(k + 1, samples);
         }
     }
-    d.tau = robot.torques(&qs, &qds, &qdds)?;
-    if let Some(c) = robot.compliance() {
-        // the links' rigid torque at the motor-side state is replaced by the
-        // spring torque that actually drives them
-        let links = robot.links_model();
-        let rigid = crate::dynamics::predict::predict_torques(
-            &links,
-            &crate::dynamics::params_file::Friction {
-                viscous: vec![0.0; nj],
-                coulomb: vec![0.0; nj],
-            },
-            &qs,
-            &qds,
-            &qdds,
-        )
-        .map_err(|e| e.to_string())?;
-        let times: Vec<f64> = d.t.iter().map(|t| t - robot.delay()).collect();
-        let link_side = super::compliance::simulate_link_side(&links, &cfg.trajectory, &times, &c)?;
-        let gain = if robot.effects().has("torque_gain") {
-            1.0 + robot.effects().param("gain_error")
-        } else {
-            1.0
-        };
-        for k in 0..n {
-            for i in 0..nj {
-                d.tau[k][i] += gain * (link_side[k].2[i] - rigid[k][i]);
-            }
+    Ok(s)
+}
+
+/// With a compliant transmission, the links' rigid torque at the
+/// motor-side state is replaced by the spring torque that actually drives them.
+fn add_compliance(
+    robot: &TrueRobot,
+    cfg: &SimConfig,
+    s: &States,
+    tau: &mut [Vec<f64>],
+) -> Result<(), SimError> {
+    let Some(c) = robot.compliance() else {
+        return Ok(());
+    };
+    let links = robot.links_model();
+    let nj = links.dof();
+    let [qs, qds, qdds] = &s.delayed;
+    let rigid = predict_torques(&links, &Friction::zeros(nj), qs, qds, qdds)?;
+    let times: Vec<f64> = s.t.iter().map(|t| t - robot.delay()).collect();
+    let link_side = super::compliance::simulate_link_side(&links, &cfg.trajectory, &times, &c)?;
+    let gain = robot.gain();
+    for (k, row) in tau.iter_mut().enumerate() {
+        for i in 0..nj {
+            row[i] += gain * (link_side[k].2[i] - rigid[k][i]);
         }
     }
+    Ok(())
+}
+
+fn add_noise(cfg: &SimConfig, tau: &mut [Vec<f64>]) {
     let mut rng = rand::rngs::StdRng::seed_from_u64(cfg.seed);
     if cfg.noise_sigma > 0.0 {
-        let normal = Normal::new(0.0, cfg.noise_sigma).map_err(|e| e.to_string())?;
-        for row in d.tau.iter_mut() {
+        let normal = Normal::new(0.0, cfg.noise_sigma).expect("σ checked by validate");
+        for row in tau.iter_mut() {
             for v in row.iter_mut() {
                 *v += normal.sample(&mut rng);
             }
         }
     }
-    if cfg.processed {
-        for j in 0..nj {
-            let gear = model.rotor_of(j).map_or(1.0, |r| r.gear_ratio);
-            let res = if cfg.encoder_counts > 0.0 {
-                2.0 * std::f64::consts::PI / (cfg.encoder_counts * gear)
-            } else {
-                0.0
-            };
-            let raw: Vec<f64> =
-                d.q.iter()
-                    .map(|q| {
-                        if res > 0.0 {
-                            (q[j] / res).round() * res
-                        } else {
-                            q[j]
-                        }
-                    })
-                    .collect();
-            let qf = filtfilt(&raw, cfg.cutoff_hz, cfg.rate_hz);
-            let qd = filtfilt(&differentiate(&raw, &d.t), cfg.cutoff_hz, cfg.rate_hz);
-            for k in 0..n {
-                d.q[k][j] = qf[k];
-                d.qd[k][j] = qd[k];
-            }
+}
+
+/// Encoder quantisation per motor turn, then the offline processing: q and
+/// q̇ from the zero-phase filtered positions and their derivative, q̈ from q̇.
+fn process(model: &Model, cfg: &SimConfig, d: &mut Dataset) {
+    for j in 0..model.dof() {
+        let gear = model.rotor_of(j).map_or(1.0, |r| r.gear_ratio);
+        let res = if cfg.encoder_counts > 0.0 {
+            2.0 * std::f64::consts::PI / (cfg.encoder_counts * gear)
+        } else {
+            0.0
+        };
+        let raw: Vec<f64> =
+            d.q.iter()
+                .map(|q| {
+                    if res > 0.0 {
+                        (q[j] / res).round() * res
+                    } else {
+                        q[j]
+                    }
+                })
+                .collect();
+        let qf = filtfilt(&raw, cfg.cutoff_hz, cfg.rate_hz);
+        let qd = filtfilt(&differentiate(&raw, &d.t), cfg.cutoff_hz, cfg.rate_hz);
+        for k in 0..d.len() {
+            d.q[k][j] = qf[k];
+            d.qd[k][j] = qd[k];
         }
-        d.qdd = estimate_qdd(&d.t, &d.qd, cfg.cutoff_hz);
     }
-    progress(n, n);
+    d.qdd = estimate_qdd(&d.t, &d.qd, cfg.cutoff_hz);
+}
+
+/// Simulates `robot` (its model's own parameters are the truth);
+/// `progress(done, total)` is called every 1000 samples.
+pub fn simulate(
+    robot: &RobotDescription,
+    cfg: &SimConfig,
+    mut progress: impl FnMut(usize, usize),
+) -> Result<Dataset, SimError> {
+    let model = &robot.model;
+    let samples = cfg.validate(model)?;
+    let truth = TrueRobot::new(robot, &cfg.effects)?;
+    let states = sample_states(model, cfg, samples, truth.delay(), &mut progress)?;
+    let [qs, qds, qdds] = &states.delayed;
+    let mut tau = truth.torques(qs, qds, qdds)?;
+    add_compliance(&truth, cfg, &states, &mut tau)?;
+    add_noise(cfg, &mut tau);
+    let [q, qd, qdd] = states.exact;
+    let mut d = Dataset {
+        joints: model.joint_names().iter().map(|s| s.to_string()).collect(),
+        t: states.t,
+        q,
+        qd,
+        qdd,
+        tau,
+    };
+    if cfg.processed {
+        process(model, cfg, &mut d);
+    }
+    progress(samples, samples);
     Ok(d)
 }

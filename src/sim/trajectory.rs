@@ -1,89 +1,14 @@
 //! Excitation trajectories: the paper's foot-on-an-ellipsoidal-shell motion
-//! for `cheetah3-leg`, and a multi-sine (Fourier series) per joint for any
-//! robot. Both give exact q(t); q̇ and q̈ come from 4th-order central
+//! for `cheetah3-leg` (through its inverse kinematics, [`cheetah_ik`]), and a
+//! multi-sine (Fourier series) per joint for any robot; a robot
+//! description's [`Excitation`] says which. Both give exact q(t); q̇ and q̈ come from 4th-order central
 //! differences of it with a 0.1 ms step (error far below any noise level).
 
 use crate::dynamics::Model;
-use crate::dynamics::cheetah3::{HIP_OFFSET, SHANK, THIGH};
-use nalgebra::Vector3;
+pub use crate::dynamics::cheetah3::{Shell, cheetah_ik};
+use crate::dynamics::sidecar::{Excitation, MultiSine};
 use rand::{RngExt, SeedableRng};
 use serde::{Deserialize, Serialize};
-
-/// The ellipsoidal shell the foot follows (base frame, m).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Shell {
-    /// Centre (m).
-    pub center: [f64; 3],
-    /// Semi-axes (m).
-    pub semi_axes: [f64; 3],
-    /// φ̇ = a_φ sin(ω_φ t): amplitude (rad/s) and frequency (rad/s).
-    pub phi_rate: (f64, f64),
-    /// θ̇ = a_θ sin(ω_θ t).
-    pub theta_rate: (f64, f64),
-}
-
-impl Default for Shell {
-    /// Our choice (the paper gives neither centre nor radii): centred under
-    /// the hip, 0.45 m below the ab/ad axis, semi-axes 0.12 × 0.10 × 0.12 m;
-    /// the paper's rates φ̇ = 12 sin(1.63 t), θ̇ = 3.4 sin(0.265 t).
-    fn default() -> Self {
-        Self {
-            center: [0.0, 0.045, -0.45],
-            semi_axes: [0.12, 0.10, 0.12],
-            phi_rate: (12.0, 1.63),
-            theta_rate: (3.4, 0.265),
-        }
-    }
-}
-
-impl Shell {
-    /// Spherical angles at time t: φ = (a/ω)(1 − cos ωt), θ = π/2 + (a/ω)(1 − cos ωt).
-    pub fn angles(&self, t: f64) -> (f64, f64) {
-        let (ap, wp) = self.phi_rate;
-        let (at, wt) = self.theta_rate;
-        (
-            ap / wp * (1.0 - (wp * t).cos()),
-            std::f64::consts::FRAC_PI_2 + at / wt * (1.0 - (wt * t).cos()),
-        )
-    }
-
-    /// Foot target at time t (base frame).
-    pub fn foot(&self, t: f64) -> Vector3<f64> {
-        let (phi, theta) = self.angles(t);
-        let [a, b, c] = self.semi_axes;
-        Vector3::from(self.center)
-            + Vector3::new(
-                a * theta.sin() * phi.cos(),
-                b * theta.sin() * phi.sin(),
-                c * theta.cos(),
-            )
-    }
-}
-
-/// Inverse kinematics of the Cheetah 3 leg, on the branch with the foot
-/// below the hip (in the ab/ad frame) and the knee bent to positive angles.
-/// Returns `None` when the point is out of reach.
-pub fn cheetah_ik(p: &Vector3<f64>) -> Option<[f64; 3]> {
-    let d = HIP_OFFSET[1];
-    let r2 = p.y * p.y + p.z * p.z - d * d;
-    if r2 < 0.0 {
-        return None;
-    }
-    let zp = -r2.sqrt(); // foot below the hip in the ab/ad frame
-    let qa = p.z.atan2(p.y) - zp.atan2(d);
-    let xp = p.x;
-    let (l1, l2) = (THIGH, SHANK);
-    let c = (xp * xp + zp * zp - l1 * l1 - l2 * l2) / (2.0 * l1 * l2);
-    if !(-1.0..=1.0).contains(&c) {
-        return None;
-    }
-    let qk = c.acos();
-    let qh = xp.atan2(-zp) - (l2 * qk.sin()).atan2(l1 + l2 * qk.cos());
-    let wrap = |a: f64| {
-        (a + std::f64::consts::PI).rem_euclid(2.0 * std::f64::consts::PI) - std::f64::consts::PI
-    };
-    Some([wrap(qa), wrap(qh), qk])
-}
 
 /// A trajectory q(t) with derivatives.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -105,11 +30,26 @@ pub enum Trajectory {
 }
 
 impl Trajectory {
-    /// A random multi-sine (5 harmonics of 0.1 Hz·2π… with `seed`) kept inside
+    /// The robot's default excitation for `seed`.
+    pub fn for_excitation(e: &Excitation, model: &Model, seed: u64) -> Self {
+        match e {
+            Excitation::MultiSine(m) => Self::multi_sine(model, m, seed),
+            Excitation::LegShell(s) => Trajectory::Shell(*s),
+        }
+    }
+
+    /// A random multi-sine (5 harmonics of 0.2 Hz with `seed`) kept inside
     /// 90 % of each joint's range (±1 rad around 0 for unlimited joints).
     pub fn fourier_for(model: &Model, seed: u64) -> Self {
+        Self::multi_sine(model, &MultiSine::default(), seed)
+    }
+
+    /// A random multi-sine with `seed`: coefficients uniform in ±1/k for
+    /// harmonic k, scaled so that each joint stays inside
+    /// `range_fraction` of its range (±1 rad around 0 for unlimited joints).
+    pub fn multi_sine(model: &Model, spec: &MultiSine, seed: u64) -> Self {
         let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
-        let harmonics = 5;
+        let harmonics = spec.harmonics;
         let mut offset = vec![];
         let (mut a, mut b) = (vec![], vec![]);
         for j in &model.joints {
@@ -126,7 +66,7 @@ impl Trajectory {
                 .map(|k| rng.random_range(-1.0..1.0) / (k + 1) as f64)
                 .collect();
             let total: f64 = aj.iter().chain(&bj).map(|x| x.abs()).sum();
-            let s = 0.9 * half / total;
+            let s = spec.range_fraction * half / total;
             aj.iter_mut().for_each(|x| *x *= s);
             bj.iter_mut().for_each(|x| *x *= s);
             offset.push(mid);
@@ -134,10 +74,18 @@ impl Trajectory {
             b.push(bj);
         }
         Trajectory::Fourier {
-            omega: 2.0 * std::f64::consts::PI * 0.2,
+            omega: 2.0 * std::f64::consts::PI * spec.base_hz,
             offset,
             a,
             b,
+        }
+    }
+
+    /// Number of joints it moves.
+    pub fn joints(&self) -> usize {
+        match self {
+            Trajectory::Shell(_) => 3,
+            Trajectory::Fourier { offset, .. } => offset.len(),
         }
     }
 

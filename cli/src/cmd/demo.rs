@@ -1,28 +1,36 @@
 //! `momentlmi demo [--out DIR]`: the paper's experiment on a simulated
 //! Cheetah 3 leg — simulate, identify at every constraint level, validate on
 //! held-out data, write figures and tables — plus a check of the leg's
-//! identified inertias.
+//! identified inertias and a diagnosis of a "real" leg.
 
-use crate::experiment::{ExperimentConfig, run_experiment};
-use momentlmi::dynamics::cheetah3;
+use crate::experiment::{ExperimentConfig, ExperimentSummary, run_experiment};
+use momentlmi::diagnose::{DiagnoseOptions, Diagnosis, diagnose};
+use momentlmi::dynamics::{Effect, RobotDescription, cheetah3};
+use momentlmi::identify::IdentifyResult;
 use momentlmi::moments::{check_consistency, check_realizable};
+use momentlmi::sim::{Effects, SimConfig, simulate};
 use std::path::Path;
 
-/// Runs the demo; returns the exit code.
-pub fn run(out: &Path) -> i32 {
-    println!(
-        "momentlmi demo — physically consistent identification of a Cheetah 3 leg (Wensing, Kim & Slotine 2017)\n"
-    );
+/// The effects the "real" leg has that the identified model lacks.
+const WITHHELD: [Effect; 2] = [Effect::Offset, Effect::Cogging];
+
+fn fmt_list(v: &[f64], digits: usize) -> Vec<String> {
+    v.iter().map(|x| format!("{x:.digits$}")).collect()
+}
+
+/// 1. The leg's identified inertias, checked.
+fn check_leg(robot: &RobotDescription) {
     println!(
         "1. The leg's identified inertias, checked (J ≻ 0 and tr(JQ) ≥ 0 in each bounding ellipsoid):"
     );
-    for ((name, pi), e) in cheetah3::BODIES
-        .iter()
-        .zip(cheetah3::true_params())
-        .zip(cheetah3::ellipsoids())
-    {
+    let params = robot.model.params();
+    for (k, name) in robot.model.body_names().iter().enumerate() {
+        let pi = momentlmi::moments::InertialParams(std::array::from_fn(|i| params[10 * k + i]));
+        let Some(e) = robot.bounding[k].first() else {
+            continue;
+        };
         let c = check_consistency(&pi, 1e-12);
-        let r = check_realizable(&pi, &e, 1e-12);
+        let r = check_realizable(&pi, e, 1e-12);
         println!(
             "   {name:<11} mass {:.3} kg  λmin(J) {:>9.2e}  tr(JQ) {:>7.3}  {}",
             pi.mass(),
@@ -35,7 +43,13 @@ pub fn run(out: &Path) -> i32 {
             }
         );
     }
-    let cfg = ExperimentConfig::default();
+}
+
+/// 2. The experiment, with a progress bar.
+fn experiment(
+    out: &Path,
+    cfg: &ExperimentConfig,
+) -> Result<(ExperimentSummary, Vec<IdentifyResult>), String> {
     println!(
         "\n2. Simulating {} + {} samples at 1 kHz (shell excitation, rotors, Coulomb + viscous friction, σ = {} N·m), identifying with w = {:e} toward the CAD prior…",
         cfg.train, cfg.validate, cfg.noise, cfg.weight
@@ -44,19 +58,16 @@ pub fn run(out: &Path) -> i32 {
     if let Ok(style) = indicatif::ProgressStyle::with_template("   {bar:40} {pos}/{len} {msg}") {
         bar.set_style(style);
     }
-    let res = run_experiment(out, &cfg, |step, total, what| {
+    let res = run_experiment(out, cfg, |step, total, what| {
         bar.set_length(total as u64);
         bar.set_position(step as u64);
         bar.set_message(what.to_string());
     });
     bar.finish_and_clear();
-    let (summary, results) = match res {
-        Ok(x) => x,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return 2;
-        }
-    };
+    res
+}
+
+fn print_levels(summary: &ExperimentSummary, cfg: &ExperimentConfig) {
     println!(
         "\n   validation RMS on the next {} samples (N·m):",
         cfg.validate
@@ -91,10 +102,12 @@ pub fn run(out: &Path) -> i32 {
         "   (true B_c = (3.12, 1.25, 0.95); the noise floor is σ = {} N·m)",
         cfg.noise
     );
+}
+
+fn print_study(summary: &ExperimentSummary, cfg: &ExperimentConfig, out: &Path) {
     println!("\n   validation RMS vs training samples (Fig. 6):");
-    let sizes = &cfg.sizes;
     print!("   {:<11}", "samples");
-    for n in sizes {
+    for n in &cfg.sizes {
         print!(" {n:>7}");
     }
     println!();
@@ -109,77 +122,103 @@ pub fn run(out: &Path) -> i32 {
     for f in &summary.files {
         println!("     {f}");
     }
-    // 3. the sim-to-real gap: a "real" leg with effects the model lacks
-    let real_effects = "rotor_inertia,coulomb,viscous,offset,cogging";
-    println!(
-        "\n3. Diagnosing a \"real\" leg against the identified model (ellipsoid level); the diagnoser is not told that the data contain: offset, cogging"
+}
+
+/// 3. A "real" leg with effects the model lacks, diagnosed against the
+/// ellipsoid-level fit; writes `diagnosis.json` and the plots.
+fn diagnose_real_leg(
+    robot: &RobotDescription,
+    best: &IdentifyResult,
+    out: &Path,
+) -> Result<Diagnosis, String> {
+    let effects = Effects::new(
+        [Effect::RotorInertia, Effect::Coulomb, Effect::Viscous]
+            .into_iter()
+            .chain(WITHHELD),
     );
-    let model = cheetah3::model();
-    let diag = (|| -> Result<momentlmi::diagnose::Diagnosis, String> {
-        let fx = momentlmi::sim::Effects::parse(real_effects, &[])?;
-        let cfg = momentlmi::sim::SimConfig::for_model("cheetah3-leg", &model, 15.0, fx, 2);
-        let data = momentlmi::sim::simulate(&model, &cfg, |_, _| {})?;
-        let best = results.last().ok_or("no identification result")?;
-        let mut nominal = model.clone();
-        nominal
-            .set_params(&best.theta[..10 * model.num_bodies()])
-            .map_err(|e| e.to_string())?;
-        let d = momentlmi::diagnose::diagnose(
-            &nominal,
-            &best.friction,
-            &data,
-            &momentlmi::diagnose::DiagnoseOptions::default(),
-        )?;
-        momentlmi::data::write_whole(
-            &out.join("diagnosis.json"),
-            &serde_json::to_string_pretty(&d).map_err(|e| e.to_string())?,
-        )
+    let cfg = SimConfig::for_robot(robot, 15.0, effects, 2);
+    let data = simulate(robot, &cfg, |_, _| {}).map_err(|e| e.to_string())?;
+    let mut nominal = robot.model.clone();
+    nominal
+        .set_params(&best.theta[..10 * nominal.num_bodies()])
         .map_err(|e| e.to_string())?;
-        crate::plots::diagnosis::write_plots(&d, out)?;
-        Ok(d)
-    })();
-    match diag {
-        Ok(d) => {
-            for s in &d.summary {
-                println!("   where: {s}");
-            }
-            for e in d.ranked_effects.iter().filter(|e| e.accepted) {
-                println!(
-                    "   which: {} {}{} — held-out RMS {:?} → {:?} N·m",
-                    e.effect,
-                    e.detail,
-                    if e.tied_with.is_empty() {
-                        String::new()
-                    } else {
-                        format!(" (tied with {})", e.tied_with.join(", "))
-                    },
-                    e.heldout_rms_before
-                        .iter()
-                        .map(|x| format!("{x:.2}"))
-                        .collect::<Vec<_>>(),
-                    e.heldout_rms_after
-                        .iter()
-                        .map(|x| format!("{x:.2}"))
-                        .collect::<Vec<_>>()
-                );
-            }
-            println!(
-                "   how far: gap above the noise floor closed {:?}; {}",
-                d.gap_closed
-                    .iter()
-                    .map(|x| format!("{:.0} %", 100.0 * x))
-                    .collect::<Vec<_>>(),
-                if d.unexplained {
-                    "a remainder is unexplained (see diagnosis.json)"
-                } else {
-                    "nothing left above the noise floor"
-                }
-            );
-            println!(
-                "   (full report: {}; plots: residual_<joint>.svg, effects.svg)",
-                out.join("diagnosis.json").display()
-            );
+    let d = diagnose(&nominal, &best.friction, &data, &DiagnoseOptions::default())
+        .map_err(|e| e.to_string())?;
+    momentlmi::data::write_whole(
+        &out.join("diagnosis.json"),
+        &serde_json::to_string_pretty(&d).map_err(|e| e.to_string())?,
+    )
+    .map_err(|e| e.to_string())?;
+    crate::plots::diagnosis::write_plots(&d, out)?;
+    Ok(d)
+}
+
+fn print_diagnosis(d: &Diagnosis, out: &Path) {
+    for s in &d.summary {
+        println!("   where: {s}");
+    }
+    for e in d.ranked_effects.iter().filter(|e| e.accepted) {
+        println!(
+            "   which: {} {}{} — held-out RMS {:?} → {:?} N·m",
+            e.effect,
+            e.detail,
+            if e.tied_with.is_empty() {
+                String::new()
+            } else {
+                format!(" (tied with {})", e.tied_with.join(", "))
+            },
+            fmt_list(&e.heldout_rms_before, 2),
+            fmt_list(&e.heldout_rms_after, 2),
+        );
+    }
+    println!(
+        "   how far: gap above the noise floor closed {:?}; {}",
+        d.gap_closed
+            .iter()
+            .map(|x| format!("{:.0} %", 100.0 * x))
+            .collect::<Vec<_>>(),
+        if d.unexplained {
+            "a remainder is unexplained (see diagnosis.json)"
+        } else {
+            "nothing left above the noise floor"
         }
+    );
+    for w in &d.warnings {
+        println!("   warning: {w}");
+    }
+    println!(
+        "   (full report: {}; plots: residual_<joint>.svg, effects.svg)",
+        out.join("diagnosis.json").display()
+    );
+}
+
+/// Runs the demo; returns the exit code.
+pub fn run(out: &Path) -> i32 {
+    println!(
+        "momentlmi demo — physically consistent identification of a Cheetah 3 leg (Wensing, Kim & Slotine 2017)\n"
+    );
+    let robot = cheetah3::description();
+    check_leg(&robot);
+    let cfg = ExperimentConfig::default();
+    let (summary, results) = match experiment(out, &cfg) {
+        Ok(x) => x,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return 2;
+        }
+    };
+    print_levels(&summary, &cfg);
+    print_study(&summary, &cfg, out);
+    println!(
+        "\n3. Diagnosing a \"real\" leg against the identified model (ellipsoid level); the diagnoser is not told that the data contain: {}",
+        WITHHELD.map(Effect::name).join(", ")
+    );
+    let Some(best) = results.last() else {
+        eprintln!("error: no identification result");
+        return 2;
+    };
+    match diagnose_real_leg(&robot, best, out) {
+        Ok(d) => print_diagnosis(&d, out),
         Err(e) => {
             eprintln!("error: diagnosis: {e}");
             return 2;

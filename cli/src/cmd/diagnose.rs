@@ -3,7 +3,8 @@
 use momentlmi::data::write_whole;
 use momentlmi::data::{Dataset, ReadOptions};
 use momentlmi::diagnose::{DiagnoseOptions, Diagnosis, diagnose};
-use momentlmi::dynamics::robots::{apply_params, load_robot};
+use momentlmi::dynamics::ParamChoice;
+use momentlmi::dynamics::robots::load_robot;
 use std::path::Path;
 
 /// Exit codes: 0 diagnosed, 2 bad input.
@@ -16,13 +17,12 @@ pub fn run(
     out: Option<&Path>,
 ) -> i32 {
     let res = (|| -> Result<Diagnosis, String> {
-        let mut model = load_robot(robot, sidecar).map_err(|e| e.to_string())?;
-        let friction = apply_params(&mut model, nominal).map_err(|e| e.to_string())?;
-        let names: Vec<String> = model.joint_names().iter().map(|s| s.to_string()).collect();
-        let nref: Vec<&str> = names.iter().map(String::as_str).collect();
-        let d =
-            Dataset::read_csv(data, &nref, ReadOptions::default()).map_err(|e| e.to_string())?;
-        diagnose(&model, &friction, &d, &DiagnoseOptions::default())
+        let robot = load_robot(robot, sidecar).map_err(|e| e.to_string())?;
+        let choice = nominal.map_or(ParamChoice::Own, |p| p.parse().expect("infallible"));
+        let (model, friction) = robot.parameters(&choice).map_err(|e| e.to_string())?;
+        let d = Dataset::read_csv(data, &model.joint_names(), ReadOptions::default())
+            .map_err(|e| e.to_string())?;
+        diagnose(&model, &friction, &d, &DiagnoseOptions::default()).map_err(|e| e.to_string())
     })();
     let dg = match res {
         Ok(d) => d,
@@ -31,7 +31,16 @@ pub fn run(
             return 2;
         }
     };
-    let text = serde_json::to_string_pretty(&dg).unwrap_or_default();
+    for w in &dg.warnings {
+        eprintln!("warning: {w}");
+    }
+    let text = match serde_json::to_string_pretty(&dg) {
+        Ok(t) => t,
+        Err(e) => {
+            eprintln!("error: the report: {e}");
+            return 2;
+        }
+    };
     if let Some(dir) = out {
         if let Err(e) = std::fs::create_dir_all(dir)
             .map_err(|e| e.to_string())

@@ -2,8 +2,8 @@
 //! [--prior cad|true|FILE] [--weight W] [--validate FILE.csv] [--json]`.
 
 use momentlmi::data::{Dataset, ReadOptions};
-use momentlmi::dynamics::cheetah3;
-use momentlmi::dynamics::robots::{apply_params, load_robot};
+use momentlmi::dynamics::ParamChoice;
+use momentlmi::dynamics::robots::load_robot;
 use momentlmi::identify::{IdentifyOptions, IdentifyResult, Level, identify};
 use std::path::Path;
 
@@ -65,49 +65,28 @@ fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
             a.constraints
         )
     })?;
-    let mut model = load_robot(a.robot, a.sidecar).map_err(|e| e.to_string())?;
-    let names = model
-        .joint_names()
-        .iter()
-        .map(|s| s.to_string())
-        .collect::<Vec<_>>();
-    let nref: Vec<&str> = names.iter().map(String::as_str).collect();
+    let robot = load_robot(a.robot, a.sidecar).map_err(|e| e.to_string())?;
+    let names = robot.model.joint_names();
     let train =
-        Dataset::read_csv(a.data, &nref, ReadOptions::default()).map_err(|e| e.to_string())?;
+        Dataset::read_csv(a.data, &names, ReadOptions::default()).map_err(|e| e.to_string())?;
     let val = a
         .validate
-        .map(|p| Dataset::read_csv(p, &nref, ReadOptions::default()))
+        .map(|p| Dataset::read_csv(p, &names, ReadOptions::default()))
         .transpose()
         .map_err(|e| e.to_string())?;
-    let prior_choice = a.prior.or(if model.name == "cheetah3-leg" {
-        Some("cad")
-    } else {
-        None
-    });
-    let ellipsoids = if model.name == "cheetah3-leg" {
-        Some(cheetah3::ellipsoids().to_vec())
-    } else {
-        None
-    };
-    if level == Level::Ellipsoid && ellipsoids.is_none() {
-        return Err(format!(
-            "--constraints ellipsoid needs bounding ellipsoids; '{}' has none (built in: cheetah3-leg)",
-            model.name
-        ));
+    let choice: ParamChoice = a.prior.unwrap_or("cad").parse().expect("infallible");
+    let (prior, _) = robot.parameters(&choice).map_err(|e| e.to_string())?;
+    let mut opts = IdentifyOptions::new(level)
+        .with_prior(a.weight, prior.params())
+        .map_err(|e| format!("--weight / --prior: {e}"))?;
+    match robot.single_ellipsoids() {
+        Ok(e) => opts = opts.with_ellipsoids(e),
+        Err(e) if level == Level::Ellipsoid => {
+            return Err(format!("--constraints ellipsoid: {e}"));
+        }
+        Err(_) => {}
     }
-    apply_params(&mut model, prior_choice).map_err(|e| e.to_string())?;
-    if !(a.weight >= 0.0 && a.weight.is_finite()) {
-        return Err(format!("--weight must be ≥ 0, got {}", a.weight));
-    }
-    let opts = IdentifyOptions {
-        level,
-        weight: a.weight,
-        prior: model.params(),
-        ellipsoids,
-        com_lmi: false,
-        eps: 0.0,
-    };
-    identify(&model, &train, val.as_ref(), &opts).map_err(|e| e.to_string())
+    identify(&robot.model, &train, val.as_ref(), &opts).map_err(|e| e.to_string())
 }
 
 /// A short human report.

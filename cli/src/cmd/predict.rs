@@ -2,8 +2,9 @@
 
 use momentlmi::data::Dataset;
 use momentlmi::data::{ReadOptions, write_whole};
+use momentlmi::dynamics::ParamChoice;
 use momentlmi::dynamics::predict::predict_torques;
-use momentlmi::dynamics::robots::{apply_params, load_robot};
+use momentlmi::dynamics::robots::load_robot;
 use serde_json::json;
 use std::path::Path;
 
@@ -35,8 +36,11 @@ pub fn run(a: &PredictArgs) -> i32 {
 }
 
 fn run_inner(a: &PredictArgs) -> Result<(), String> {
-    let mut model = load_robot(a.robot, a.sidecar).map_err(|e| e.to_string())?;
-    let friction = apply_params(&mut model, a.params).map_err(|e| e.to_string())?;
+    let robot = load_robot(a.robot, a.sidecar).map_err(|e| e.to_string())?;
+    let choice = a
+        .params
+        .map_or(ParamChoice::Own, |p| p.parse().expect("infallible"));
+    let (model, friction) = robot.parameters(&choice).map_err(|e| e.to_string())?;
     let names = model.joint_names();
     let d = Dataset::read_csv(
         a.data,

@@ -2,6 +2,8 @@
 //! [--seed N] [--noise SIGMA] [--effect-param NAME=VALUE …]`.
 
 use momentlmi::data::write_with_record;
+use momentlmi::dynamics::Effect;
+use momentlmi::dynamics::effect::parse_override;
 use momentlmi::dynamics::robots::load_robot;
 use momentlmi::sim::{Effects, SimConfig, simulate};
 use std::path::Path;
@@ -14,8 +16,8 @@ pub struct SimulateArgs<'a> {
     pub sidecar: Option<&'a Path>,
     /// Duration (s).
     pub seconds: f64,
-    /// Comma-separated effects.
-    pub effects: &'a str,
+    /// Effects.
+    pub effects: &'a [Effect],
     /// NAME=VALUE overrides.
     pub effect_params: &'a [String],
     /// Output CSV (a JSON record is written beside it).
@@ -38,34 +40,49 @@ pub fn run(a: &SimulateArgs) -> i32 {
 }
 
 fn run_inner(a: &SimulateArgs) -> Result<(), String> {
-    let model = load_robot(a.robot, a.sidecar).map_err(|e| e.to_string())?;
-    let effects = Effects::parse(a.effects, a.effect_params)?;
-    if !(a.seconds > 0.0 && a.seconds.is_finite()) {
-        return Err(format!("--seconds must be positive, got {}", a.seconds));
+    let robot = load_robot(a.robot, a.sidecar).map_err(|e| e.to_string())?;
+    let mut effects = Effects::new(a.effects.iter().copied());
+    for o in a.effect_params {
+        let (p, v) = parse_override(o).map_err(|e| e.to_string())?;
+        effects = effects.with(p, v).map_err(|e| e.to_string())?;
     }
-    let mut cfg = SimConfig::for_model(a.robot, &model, a.seconds, effects, a.seed);
+    let mut cfg = SimConfig::for_robot(&robot, a.seconds, effects, a.seed);
     if let Some(s) = a.noise {
-        if !(s >= 0.0 && s.is_finite()) {
-            return Err(format!("--noise must be ≥ 0, got {s}"));
-        }
         cfg.noise_sigma = s;
         if s == 0.0 {
             cfg.encoder_counts = 0.0;
             cfg.processed = false;
         }
     }
-    let bar = indicatif::ProgressBar::new((cfg.seconds * cfg.rate_hz) as u64);
+    let samples = cfg.validate(&robot.model).map_err(|e| e.to_string())?;
+    for w in &robot.warnings {
+        eprintln!("warning: {}: {w}", robot.source);
+    }
+    let bar = indicatif::ProgressBar::new(samples as u64);
     bar.set_style(
         indicatif::ProgressStyle::with_template("simulating {bar:40} {pos}/{len} samples")
             .map_err(|e| e.to_string())?,
     );
-    let d = simulate(&model, &cfg, |done, _| bar.set_position(done as u64))?;
+    let d = simulate(&robot, &cfg, |done, _| bar.set_position(done as u64))
+        .map_err(|e| e.to_string())?;
     bar.finish_and_clear();
+    // the record states what the robot description filled in
+    let magnitudes = cfg
+        .effects
+        .params(&robot.effects)
+        .map_err(|e| e.to_string())?;
     let record = serde_json::json!({
         "generator": format!("momentlmi {}", env!("CARGO_PKG_VERSION")),
         "samples": d.len(),
         "joints": d.joints,
         "config": cfg,
+        "effect_magnitudes": magnitudes,
+        "nominal_friction": robot.friction,
+        "tool": robot.model.tool.map(|t| serde_json::json!({
+            "body": robot.model.joints[t.body].body,
+            "point": [t.point.x, t.point.y, t.point.z],
+        })),
+        "warnings": robot.warnings,
     });
     let rec = write_with_record(&d, a.out, &record).map_err(|e| e.to_string())?;
     println!(
@@ -75,7 +92,12 @@ fn run_inner(a: &SimulateArgs) -> Result<(), String> {
         if cfg.effects.on.is_empty() {
             "none".to_string()
         } else {
-            cfg.effects.on.join(", ")
+            cfg.effects
+                .on
+                .iter()
+                .map(|e| e.name())
+                .collect::<Vec<_>>()
+                .join(", ")
         },
         rec.display()
     );

@@ -1,0 +1,75 @@
+//! Errors of the diagnosis.
+
+use crate::dynamics::DynamicsError;
+
+/// What stops a diagnosis. (A candidate whose fit fails does not stop it: it
+/// is skipped with a warning in [`super::Diagnosis::warnings`].)
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum DiagnoseError {
+    /// Too few samples, or no torques.
+    #[error("diagnosis needs at least {needed} samples with torques, the data have {found}")]
+    TooFewSamples {
+        /// The minimum.
+        needed: usize,
+        /// The samples with torques.
+        found: usize,
+    },
+    /// The data's joints are not the model's.
+    #[error("the data have joints {found:?}, the model {expected:?}")]
+    Joints {
+        /// The model's joints.
+        expected: Vec<String>,
+        /// The data's joints.
+        found: Vec<String>,
+    },
+    /// An option out of range.
+    #[error("diagnosis option '{option}' = {value}: {message}")]
+    Option {
+        /// The option.
+        option: &'static str,
+        /// Its value.
+        value: f64,
+        /// What it must be.
+        message: &'static str,
+    },
+    /// The nominal model's prediction failed.
+    #[error("the nominal model's torques: {0}")]
+    Predict(#[source] DynamicsError),
+    /// The regressor failed at a sample.
+    #[error("the regressor at sample {sample}: {source}")]
+    Regressor {
+        /// The sample (0-based).
+        sample: usize,
+        /// Why.
+        #[source]
+        source: DynamicsError,
+    },
+    /// The model has no tool point (no moving body) for the payload candidate.
+    #[error("the model has no tool point (no moving body) for the payload candidate")]
+    NoTool,
+}
+
+impl From<DynamicsError> for DiagnoseError {
+    fn from(e: DynamicsError) -> Self {
+        DiagnoseError::Predict(e)
+    }
+}
+
+/// Why one candidate's fit failed (the candidate is then skipped, with a warning).
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum FitError {
+    /// The normal equations could not be factorised (non-finite columns).
+    #[error("the least-squares normal equations could not be factorised")]
+    Factorisation,
+    /// The constrained fit could not be built or solved.
+    #[error(transparent)]
+    Conic(#[from] crate::conic::ConicError),
+    /// The constrained fit ended without a solution.
+    #[error("the constrained fit ended with status {0}")]
+    Status(crate::conic::Status),
+    /// The compliance hypothesis could not be simulated.
+    #[error("{0}")]
+    Compliance(&'static str),
+}

@@ -1,0 +1,126 @@
+//! Fitting one candidate's columns to the residual: plain least squares, or
+//! least squares with the pseudo-inertia LMIs for inertial corrections.
+
+use super::candidates::Columns;
+use super::error::FitError;
+use crate::conic::{AffExpr, Problem, Settings};
+use crate::identify::Reduced;
+use crate::moments::lmi::BodyVars;
+use faer::Mat;
+use faer::linalg::solvers::Solve;
+
+/// Least squares `min ‖X β − r‖` over `rows` (tiny ridge for rank deficiency).
+pub fn least_squares(
+    cols: &[Vec<f64>],
+    rows: std::ops::Range<usize>,
+    r: &[f64],
+) -> Result<Vec<f64>, FitError> {
+    let k = cols.len();
+    let mut g = Mat::<f64>::zeros(k, k);
+    let mut b = Mat::<f64>::zeros(k, 1);
+    for a in 0..k {
+        for c in a..k {
+            let v: f64 = rows.clone().map(|i| cols[a][i] * cols[c][i]).sum();
+            g[(a, c)] = v;
+            g[(c, a)] = v;
+        }
+        b[(a, 0)] = rows.clone().map(|i| cols[a][i] * r[i]).sum();
+    }
+    let tr: f64 = (0..k).map(|a| g[(a, a)]).sum::<f64>().max(1e-300);
+    for a in 0..k {
+        g[(a, a)] += 1e-10 * tr / k as f64;
+    }
+    let l = g
+        .llt(faer::Side::Lower)
+        .map_err(|_| FitError::Factorisation)?;
+    let x = l.solve(&b);
+    let beta: Vec<f64> = (0..k).map(|a| x[(a, 0)]).collect();
+    if beta.iter().all(|v| v.is_finite()) {
+        Ok(beta)
+    } else {
+        Err(FitError::Factorisation)
+    }
+}
+
+/// The Gram form `[X r]ᵀ[X r]` of the candidate's rows.
+fn reduced(c: &Columns, rows: std::ops::Range<usize>, r: &[f64]) -> Reduced {
+    let k = c.cols.len();
+    let mut gram = Mat::<f64>::zeros(k + 1, k + 1);
+    let col = |a: usize, i: usize| if a < k { c.cols[a][i] } else { r[i] };
+    for a in 0..=k {
+        for b in a..=k {
+            let v: f64 = rows.clone().map(|i| col(a, i) * col(b, i)).sum();
+            gram[(a, b)] = v;
+            gram[(b, a)] = v;
+        }
+    }
+    Reduced {
+        gram,
+        samples: rows.len(),
+        p: k,
+    }
+}
+
+/// The fit of a candidate: plain least squares, or — for inertial
+/// corrections — least squares with `J(π_nominal + β) ⪰ 0` for every
+/// corrected body (and β ≥ 0 for a payload mass), through `conic` with the
+/// LMIs of `moments`, on the reduced (Gram) form of the rows.
+pub fn fit_candidate(
+    c: &Columns,
+    rows: std::ops::Range<usize>,
+    r: &[f64],
+) -> Result<Vec<f64>, FitError> {
+    if c.bodies.is_empty() && !c.nonneg {
+        return least_squares(&c.cols, rows, r);
+    }
+    let k = c.cols.len();
+    let red = reduced(c, rows, r);
+    let (f, d) = red.r_d().map_err(|_| FitError::Factorisation)?;
+    let scale: Vec<f64> = (0..k)
+        .map(|j| {
+            (0..f.nrows())
+                .map(|i| f[(i, j)].powi(2))
+                .sum::<f64>()
+                .sqrt()
+        })
+        .map(|n| if n > 1e-12 { 1.0 / n } else { 1.0 })
+        .collect();
+    let mut p = Problem::new();
+    let z = p.vector("beta", k);
+    let beta: Vec<AffExpr> = (0..k).map(|j| AffExpr::term(z[j], scale[j])).collect();
+    let t = p.scalar("t");
+    let res: Vec<AffExpr> = (0..f.nrows())
+        .map(|i| {
+            let mut e = AffExpr::constant(-d[i]);
+            for j in 0..k {
+                e.add_term(z[j], f[(i, j)] * scale[j]);
+            }
+            e
+        })
+        .collect();
+    p.add_soc(t, res)?;
+    for (b, nominal) in c.bodies.iter().enumerate() {
+        let pi = std::array::from_fn(|q| beta[10 * b + q].clone() + nominal[q]);
+        p.add_psd(&BodyVars::from_exprs(pi).pseudo_inertia())?;
+    }
+    if c.nonneg {
+        p.add_nonneg(beta.clone())?;
+    }
+    p.minimize(t);
+    let sol = p.solve(&Settings::default())?;
+    if !sol.status.is_solved() {
+        return Err(FitError::Status(sol.status));
+    }
+    Ok(beta.iter().map(|e| sol.eval(e)).collect())
+}
+
+/// `r − Σ βᵢ colᵢ`.
+pub fn apply(cols: &[Vec<f64>], beta: &[f64], r: &[f64]) -> Vec<f64> {
+    let mut out = r.to_vec();
+    for (c, b) in cols.iter().zip(beta) {
+        for (o, x) in out.iter_mut().zip(c) {
+            *o -= b * x;
+        }
+    }
+    out
+}

@@ -1,0 +1,359 @@
+//! The robot description: everything known about a robot besides its
+//! kinematics and inertias, in one value, built by one function
+//! ([`RobotDescription::new`]) from a model and a sidecar — for a URDF robot
+//! and for the built-in leg alike.
+
+use super::effect::EffectParams;
+use super::error::DynamicsError;
+use super::model::Model;
+use super::params_file::{Friction, ParamsFile};
+use super::sidecar::{Excitation, PriorSpec, Sidecar, SidecarBody};
+use crate::moments::{Ellipsoid, InertialParams, rpy_rotation};
+use nalgebra::{Matrix3, Vector3};
+use std::path::PathBuf;
+use std::str::FromStr;
+
+/// Placeholder nominal Coulomb friction (N·m or N) of a joint that neither
+/// the sidecar nor the URDF describes (reported in [`RobotDescription::warnings`]).
+pub const PLACEHOLDER_COULOMB: f64 = 0.5;
+/// Placeholder nominal viscous friction (N·m·s/rad or N·s/m), likewise.
+pub const PLACEHOLDER_VISCOUS: f64 = 0.1;
+
+/// A robot: its model (kinematics, rotors, its own inertias, frames, tool
+/// point, joint limits) and what else is known about it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RobotDescription {
+    /// Where it came from (a built-in name or the URDF path).
+    pub source: String,
+    /// The model with its own parameters (the built-in's identified values,
+    /// a URDF's inertias).
+    pub model: Model,
+    /// The CAD prior per body (links then rotors, body frames): the
+    /// sidecar's, else the model's own.
+    pub prior: Vec<InertialParams>,
+    /// Bounding ellipsoids per body (body frames; several: their union;
+    /// none: unknown).
+    pub bounding: Vec<Vec<Ellipsoid>>,
+    /// Nominal friction per joint (what the simulator's `coulomb` and
+    /// `viscous` effects apply, and `--params true` includes).
+    pub friction: Friction,
+    /// The default excitation of the simulator.
+    pub excitation: Excitation,
+    /// Default effect magnitudes.
+    pub effects: EffectParams,
+    /// What the description had to fill in (placeholder friction, …).
+    pub warnings: Vec<String>,
+}
+
+/// Which parameters a model gets (`--params`, `--prior`, `--nominal`).
+#[derive(Clone, Debug, PartialEq)]
+pub enum ParamChoice {
+    /// The model's own parameters, no friction.
+    Own,
+    /// The model's own parameters and the nominal friction (the simulated
+    /// robot's truth).
+    True,
+    /// The CAD prior, no friction.
+    Cad,
+    /// A parameter file (JSON, [`ParamsFile`]).
+    File(PathBuf),
+}
+
+impl FromStr for ParamChoice {
+    type Err = std::convert::Infallible;
+
+    /// `true`, `cad`, or a path.
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Ok(match s {
+            "true" => ParamChoice::True,
+            "cad" => ParamChoice::Cad,
+            path => ParamChoice::File(PathBuf::from(path)),
+        })
+    }
+}
+
+impl RobotDescription {
+    /// Applies a sidecar's description entries to `model` (whose kinematic
+    /// entries — gravity, locks, rotors — were applied when it was built);
+    /// `urdf` gives `<dynamics>` friction where the sidecar gives none.
+    /// `source` names the robot in errors.
+    pub fn new(
+        source: &str,
+        model: Model,
+        sidecar: &Sidecar,
+        urdf: Option<&crate::urdf::Robot>,
+    ) -> Result<Self, DynamicsError> {
+        let err = |message: String| DynamicsError::Description {
+            source_name: source.to_string(),
+            message,
+        };
+        let model = with_limits(model, sidecar, &err)?;
+        let model = match &sidecar.tool {
+            Some(t) => model
+                .with_tool(&t.frame, t.xyz)
+                .map_err(|e| err(format!("[tool]: {e}")))?,
+            None => model,
+        };
+        let (friction, warnings) = nominal_friction(&model, sidecar, urdf);
+        let bodies = body_entries(&model, &sidecar.bodies, &err)?;
+        let prior = bodies
+            .iter()
+            .enumerate()
+            .map(|(k, b)| prior_of(&model, k, *b, &err))
+            .collect::<Result<_, _>>()?;
+        let bounding = bodies
+            .iter()
+            .map(|b| bounding_of(*b, &err))
+            .collect::<Result<_, _>>()?;
+        let excitation = sidecar.excitation.clone().unwrap_or_default();
+        check_excitation(&model, &excitation, &err)?;
+        let effects = sidecar.effects.clone().unwrap_or_default();
+        effects
+            .validate()
+            .map_err(|e| err(format!("[effects]: {e}")))?;
+        Ok(Self {
+            source: source.to_string(),
+            model,
+            prior,
+            bounding,
+            friction,
+            excitation,
+            effects,
+            warnings,
+        })
+    }
+
+    /// The prior as one vector (10 per body, links then rotors).
+    pub fn prior_vector(&self) -> Vec<f64> {
+        self.prior.iter().flat_map(|p| p.0).collect()
+    }
+
+    /// One bounding ellipsoid per body (the ellipsoid constraint level), or
+    /// an error naming the first body that has none or several.
+    pub fn single_ellipsoids(&self) -> Result<Vec<Ellipsoid>, DynamicsError> {
+        let names = self.model.body_names();
+        self.bounding
+            .iter()
+            .zip(&names)
+            .map(|(b, name)| match b.as_slice() {
+                [e] => Ok(*e),
+                [] => Err(DynamicsError::Description {
+                    source_name: self.source.clone(),
+                    message: format!(
+                        "body '{name}' has no bounding ellipsoid (give one in the sidecar's [[body]] bounding)"
+                    ),
+                }),
+                many => Err(DynamicsError::Description {
+                    source_name: self.source.clone(),
+                    message: format!(
+                        "body '{name}' has {} bounding ellipsoids; this needs exactly one",
+                        many.len()
+                    ),
+                }),
+            })
+            .collect()
+    }
+
+    /// The model and friction for a parameter choice.
+    pub fn parameters(&self, choice: &ParamChoice) -> Result<(Model, Friction), DynamicsError> {
+        let n = self.model.dof();
+        let mut model = self.model.clone();
+        let friction = match choice {
+            ParamChoice::Own => Friction::zeros(n),
+            ParamChoice::True => self.friction.clone(),
+            ParamChoice::Cad => {
+                model.set_params(&self.prior_vector())?;
+                Friction::zeros(n)
+            }
+            ParamChoice::File(path) => {
+                ParamsFile::read(path)?.apply(&mut model, &path.display().to_string())?
+            }
+        };
+        Ok((model, friction))
+    }
+}
+
+/// Replaces the limits the sidecar's `[[joint]]` entries give.
+fn with_limits(
+    mut model: Model,
+    sidecar: &Sidecar,
+    err: &dyn Fn(String) -> DynamicsError,
+) -> Result<Model, DynamicsError> {
+    for j in &sidecar.joints {
+        let i = model.joint_index(&j.name).ok_or_else(|| {
+            err(format!(
+                "[[joint]] '{}' is not a moving joint of the model (joints: {})",
+                j.name,
+                model.joint_names().join(", ")
+            ))
+        })?;
+        if let Some([lo, hi]) = j.limits {
+            if !(lo < hi) || lo.is_nan() || hi.is_nan() {
+                return Err(err(format!(
+                    "[[joint]] '{}': limits [{lo}, {hi}] must be increasing",
+                    j.name
+                )));
+            }
+            model.joints[i].limits = (lo, hi);
+        }
+    }
+    Ok(model)
+}
+
+/// Nominal friction per joint: the sidecar's, else the URDF's `<dynamics>`,
+/// else a placeholder (with a warning).
+fn nominal_friction(
+    model: &Model,
+    sidecar: &Sidecar,
+    urdf: Option<&crate::urdf::Robot>,
+) -> (Friction, Vec<String>) {
+    let mut f = Friction::zeros(model.dof());
+    let mut placeholders = vec![];
+    for (i, joint) in model.joints.iter().enumerate() {
+        let side = sidecar.joints.iter().find(|j| j.name == joint.name);
+        let dynamics = urdf
+            .and_then(|r| r.joints.iter().find(|j| j.name == joint.name))
+            .and_then(|j| j.dynamics);
+        let pick = |s: Option<f64>, u: Option<f64>, placeholder: f64| match (s, u) {
+            (Some(v), _) | (None, Some(v)) => (v, false),
+            (None, None) => (placeholder, true),
+        };
+        let (c, pc) = pick(
+            side.and_then(|j| j.coulomb),
+            dynamics.map(|d| d.friction),
+            PLACEHOLDER_COULOMB,
+        );
+        let (v, pv) = pick(
+            side.and_then(|j| j.viscous),
+            dynamics.map(|d| d.damping),
+            PLACEHOLDER_VISCOUS,
+        );
+        f.coulomb[i] = c;
+        f.viscous[i] = v;
+        if pc || pv {
+            placeholders.push(joint.name.as_str());
+        }
+    }
+    let warnings = if placeholders.is_empty() {
+        vec![]
+    } else {
+        vec![format!(
+            "no nominal friction for joint(s) {} in the sidecar ([[joint]] coulomb/viscous) or the URDF (<dynamics>): placeholders {PLACEHOLDER_COULOMB} N·m Coulomb, {PLACEHOLDER_VISCOUS} N·m·s/rad viscous",
+            placeholders.join(", ")
+        )]
+    };
+    (f, warnings)
+}
+
+/// The sidecar's `[[body]]` entry of each body (links then rotors), checking
+/// that every entry names a body and none is given twice.
+fn body_entries<'s>(
+    model: &Model,
+    bodies: &'s [SidecarBody],
+    err: &dyn Fn(String) -> DynamicsError,
+) -> Result<Vec<Option<&'s SidecarBody>>, DynamicsError> {
+    let names = model.body_names();
+    for (k, b) in bodies.iter().enumerate() {
+        if !names.contains(&b.name) {
+            return Err(err(format!(
+                "[[body]] '{}' is not a body of the model (bodies: {})",
+                b.name,
+                names.join(", ")
+            )));
+        }
+        if bodies[..k].iter().any(|c| c.name == b.name) {
+            return Err(err(format!("[[body]] '{}' is given twice", b.name)));
+        }
+    }
+    Ok(names
+        .iter()
+        .map(|n| bodies.iter().find(|b| &b.name == n))
+        .collect())
+}
+
+/// Body k's prior: the sidecar's, else the model's own.
+fn prior_of(
+    model: &Model,
+    k: usize,
+    entry: Option<&SidecarBody>,
+    err: &dyn Fn(String) -> DynamicsError,
+) -> Result<InertialParams, DynamicsError> {
+    let own = InertialParams(std::array::from_fn(|i| model.params()[10 * k + i]));
+    let Some((name, spec)) = entry.and_then(|b| b.prior.as_ref().map(|p| (&b.name, p))) else {
+        return Ok(own);
+    };
+    let pi = prior_from_spec(spec).map_err(|m| err(format!("[[body]] '{name}': prior: {m}")))?;
+    if !pi.is_finite() {
+        return Err(err(format!("[[body]] '{name}': prior: non-finite numbers")));
+    }
+    Ok(pi)
+}
+
+fn prior_from_spec(spec: &PriorSpec) -> Result<InertialParams, String> {
+    let com = Vector3::from(spec.com.unwrap_or([0.0; 3]));
+    match (spec.params, spec.mass, spec.inertia, spec.box_sides) {
+        (Some(p), None, None, None) if spec.com.is_none() => Ok(InertialParams(p)),
+        (None, Some(m), Some(i), None) => Ok(InertialParams::from_urdf(m, com.into(), [0.0; 3], i)),
+        (None, Some(m), None, Some(s)) => {
+            // a solid box about its centre: I = m/12 diag(b² + c², a² + c², a² + b²)
+            let s2 = Vector3::from(s).map(|x| x * x);
+            let ic = Matrix3::from_diagonal(&Vector3::new(s2.y + s2.z, s2.x + s2.z, s2.x + s2.y))
+                * (m / 12.0);
+            Ok(InertialParams::from_mass_com_inertia(m, com, ic))
+        }
+        _ => Err("give exactly one of: params; mass + inertia (+ com); mass + box (+ com)".into()),
+    }
+}
+
+/// Body's bounding ellipsoids from its sidecar entry.
+fn bounding_of(
+    entry: Option<&SidecarBody>,
+    err: &dyn Fn(String) -> DynamicsError,
+) -> Result<Vec<Ellipsoid>, DynamicsError> {
+    let Some(b) = entry else {
+        return Ok(vec![]);
+    };
+    b.bounding
+        .iter()
+        .map(|e| {
+            Ellipsoid::with_rotation(
+                Vector3::from(e.center),
+                Vector3::from(e.semi_axes),
+                rpy_rotation(e.rpy),
+            )
+            .map_err(|m| err(format!("[[body]] '{}': bounding: {m}", b.name)))
+        })
+        .collect()
+}
+
+fn check_excitation(
+    model: &Model,
+    e: &Excitation,
+    err: &dyn Fn(String) -> DynamicsError,
+) -> Result<(), DynamicsError> {
+    match e {
+        Excitation::MultiSine(m) => {
+            if !(m.harmonics > 0
+                && m.harmonics <= 100
+                && m.base_hz > 0.0
+                && m.base_hz.is_finite()
+                && m.range_fraction > 0.0
+                && m.range_fraction <= 1.0)
+            {
+                return Err(err(format!(
+                    "[excitation] multi_sine: need 1 ≤ harmonics ≤ 100, base_hz > 0 and 0 < range_fraction ≤ 1, got {m:?}"
+                )));
+            }
+        }
+        Excitation::LegShell(_) => {
+            if model.dof() != 3 {
+                return Err(err(format!(
+                    "[excitation] leg_shell drives the {} leg's 3 joints through its inverse kinematics; this model has {}",
+                    super::cheetah3::NAME,
+                    model.dof()
+                )));
+            }
+        }
+    }
+    Ok(())
+}

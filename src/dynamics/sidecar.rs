@@ -1,0 +1,204 @@
+//! The sidecar (TOML): what a URDF cannot say about a robot. Every field is
+//! optional and unknown keys are errors; `docs/robots.md` shows a whole file.
+//!
+//! Two kinds of entries:
+//! - kinematics, read while the model is built from the URDF
+//!   ([`super::urdf`]): `gravity`, `lock`, `[[rotor]]`;
+//! - the robot description ([`super::RobotDescription`]), read the same way
+//!   for a URDF robot and for the built-in leg (whose own sidecar is
+//!   `src/dynamics/cheetah3-leg.toml`): `[tool]`, `[[joint]]` (nominal
+//!   friction, limits), `[[body]]` (CAD prior, bounding ellipsoids),
+//!   `[excitation]`, `[effects]` (default effect magnitudes).
+
+use super::cheetah3::Shell;
+use super::effect::EffectParams;
+use super::error::DynamicsError;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// The sidecar file.
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Sidecar {
+    /// Gravity in the base frame (m/s²); default (0, 0, −9.81).
+    pub gravity: Option<[f64; 3]>,
+    /// Movable joints to lock at 0 and merge like fixed joints.
+    #[serde(default)]
+    pub lock: Vec<String>,
+    /// Rotors.
+    #[serde(default, rename = "rotor")]
+    pub rotors: Vec<SidecarRotor>,
+    /// The tool (payload) point.
+    pub tool: Option<SidecarTool>,
+    /// Per-joint facts: nominal friction, limits.
+    #[serde(default, rename = "joint")]
+    pub joints: Vec<SidecarJoint>,
+    /// Per-body facts: CAD prior, bounding ellipsoids.
+    #[serde(default, rename = "body")]
+    pub bodies: Vec<SidecarBody>,
+    /// The default excitation of `simulate`.
+    pub excitation: Option<Excitation>,
+    /// Default effect magnitudes of `simulate` (over the built-in defaults).
+    pub effects: Option<EffectParams>,
+}
+
+/// One rotor.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SidecarRotor {
+    /// The driven joint.
+    pub joint: String,
+    /// Rotor name (default `<joint>_rotor`).
+    pub name: Option<String>,
+    /// Gear ratio N (default: the joint's `<transmission>` reduction).
+    pub gear_ratio: Option<f64>,
+    /// Rotor frame origin in the joint's parent body frame (default: the joint frame's).
+    pub xyz: Option<[f64; 3]>,
+    /// Rotor frame orientation, roll-pitch-yaw (default: the joint frame's).
+    pub rpy: Option<[f64; 3]>,
+    /// Spin axis in the rotor frame (default: the joint axis).
+    pub axis: Option<[f64; 3]>,
+    /// Inertial parameters in the paper's order, rotor frame.
+    pub params: Option<[f64; 10]>,
+    /// Or: mass (kg) …
+    pub mass: Option<f64>,
+    /// … CoM in the rotor frame (m) …
+    pub com: Option<[f64; 3]>,
+    /// … and inertia about the CoM `[ixx, ixy, ixz, iyy, iyz, izz]` (kg·m²).
+    pub inertia: Option<[f64; 6]>,
+}
+
+/// The tool point: where a payload sits.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SidecarTool {
+    /// A frame of the model: a URDF link name (merged links included) or a
+    /// body name.
+    pub frame: String,
+    /// The point in that frame (m); default its origin.
+    #[serde(default)]
+    pub xyz: [f64; 3],
+}
+
+/// One joint's facts.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SidecarJoint {
+    /// The joint.
+    pub name: String,
+    /// Nominal Coulomb friction B_c (N·m or N).
+    pub coulomb: Option<f64>,
+    /// Nominal viscous friction B (N·m·s/rad or N·s/m).
+    pub viscous: Option<f64>,
+    /// Position limits `[lower, upper]` (rad or m), replacing the URDF's; they
+    /// bound the default excitation.
+    pub limits: Option<[f64; 2]>,
+}
+
+/// One body's facts (a link by its URDF link name, or a rotor by its name).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SidecarBody {
+    /// The body.
+    pub name: String,
+    /// The CAD prior (default: the model's own parameters).
+    pub prior: Option<PriorSpec>,
+    /// Bounding ellipsoids in the body frame (several: their union).
+    #[serde(default)]
+    pub bounding: Vec<EllipsoidSpec>,
+}
+
+/// A prior in one of three forms: `params` (the paper's order, body frame);
+/// or `mass` + `com` + `inertia` (about the CoM, body axes,
+/// `[ixx, ixy, ixz, iyy, iyz, izz]`); or `mass` + `com` + `box` (a solid box
+/// with those side lengths, centred at the CoM, body axes).
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PriorSpec {
+    /// π in the paper's order (kg, kg·m, kg·m²).
+    pub params: Option<[f64; 10]>,
+    /// Mass (kg).
+    pub mass: Option<f64>,
+    /// CoM in the body frame (m); default the origin.
+    pub com: Option<[f64; 3]>,
+    /// Inertia about the CoM (kg·m²).
+    pub inertia: Option<[f64; 6]>,
+    /// Side lengths of a solid box (m).
+    #[serde(rename = "box")]
+    pub box_sides: Option<[f64; 3]>,
+}
+
+/// An ellipsoid `{ center, semi_axes, rpy }` in the body frame (m, rad).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EllipsoidSpec {
+    /// Centre (m); default the origin.
+    #[serde(default)]
+    pub center: [f64; 3],
+    /// Semi-axes (m), > 0.
+    pub semi_axes: [f64; 3],
+    /// Orientation of the axes, roll-pitch-yaw (rad); default aligned.
+    #[serde(default)]
+    pub rpy: [f64; 3],
+}
+
+/// The default excitation of `simulate`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Excitation {
+    /// A random multi-sine per joint inside its limits (any robot).
+    MultiSine(MultiSine),
+    /// The paper's foot-on-an-ellipsoidal-shell motion through the
+    /// `cheetah3-leg`'s inverse kinematics (that leg's kinematics only).
+    LegShell(Shell),
+}
+
+/// `qⱼ(t) = cⱼ + Σₖ aⱼₖ sin(k ω t) + bⱼₖ cos(k ω t)` with random
+/// coefficients (per seed) scaled to a fraction of each joint's range.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct MultiSine {
+    /// Number of harmonics.
+    pub harmonics: usize,
+    /// Base frequency ω/2π (Hz).
+    pub base_hz: f64,
+    /// The motion stays inside this fraction of each joint's range (±1 rad
+    /// about 0 for an unlimited joint), in (0, 1].
+    pub range_fraction: f64,
+}
+
+impl Default for MultiSine {
+    fn default() -> Self {
+        Self {
+            harmonics: 5,
+            base_hz: 0.2,
+            range_fraction: 0.9,
+        }
+    }
+}
+
+impl Default for Excitation {
+    fn default() -> Self {
+        Excitation::MultiSine(MultiSine::default())
+    }
+}
+
+impl Sidecar {
+    /// Parses sidecar text; `path` names it in errors.
+    pub fn parse(text: &str, path: &str) -> Result<Self, DynamicsError> {
+        toml::from_str(text).map_err(|e| DynamicsError::File {
+            path: path.to_string(),
+            message: format!("invalid sidecar: {e}"),
+        })
+    }
+
+    /// Reads a sidecar file.
+    pub fn read(path: &Path) -> Result<Self, DynamicsError> {
+        let p = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| DynamicsError::File {
+            path: p.clone(),
+            message: e.to_string(),
+        })?;
+        Self::parse(&text, &p)
+    }
+}

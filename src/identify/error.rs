@@ -1,0 +1,81 @@
+//! Errors of the identification.
+
+use crate::conic::Status;
+use crate::dynamics::DynamicsError;
+
+/// What can stop an identification.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum IdentifyError {
+    /// An option out of range.
+    #[error("identification option '{option}': {message}")]
+    Option {
+        /// The option.
+        option: &'static str,
+        /// What is wrong.
+        message: String,
+    },
+    /// The training data have no samples or no torques.
+    #[error(
+        "the training data need torques (tau_* columns) and at least one sample ({samples} samples, {torques} with torques)"
+    )]
+    NoTrainingData {
+        /// Samples.
+        samples: usize,
+        /// Samples with torques.
+        torques: usize,
+    },
+    /// A sample with the wrong number of values.
+    #[error("sample {sample}: {what} has {found} values, the model has {expected} joints")]
+    SampleLength {
+        /// The sample (0-based).
+        sample: usize,
+        /// Which vector.
+        what: &'static str,
+        /// Joints.
+        expected: usize,
+        /// Values found.
+        found: usize,
+    },
+    /// Reduced data of another model.
+    #[error("reduced data have {found} columns, the model needs {expected}")]
+    Columns {
+        /// The model's regressor columns.
+        expected: usize,
+        /// The reduced data's.
+        found: usize,
+    },
+    /// The regressor failed at a sample.
+    #[error("the regressor at sample {sample}: {source}")]
+    Regressor {
+        /// The sample (0-based).
+        sample: usize,
+        /// Why.
+        #[source]
+        source: DynamicsError,
+    },
+    /// A dense factorisation did not converge.
+    #[error("the {what} did not converge")]
+    Factorisation {
+        /// Which (the eigen-decomposition of the Gram matrix, the SVD, …).
+        what: &'static str,
+    },
+    /// A body whose constraint set is empty.
+    #[error("the constraint set of body '{body}' is infeasible")]
+    InfeasibleBody {
+        /// The body.
+        body: String,
+    },
+    /// The solver ended without a solution.
+    #[error("the solver ended with status {0}")]
+    Solver(Status),
+    /// The conic layer failed.
+    #[error(transparent)]
+    Conic(#[from] crate::conic::ConicError),
+    /// Data problems.
+    #[error(transparent)]
+    Data(#[from] crate::data::DataError),
+    /// Model problems.
+    #[error(transparent)]
+    Dynamics(#[from] DynamicsError),
+}

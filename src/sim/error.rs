@@ -1,0 +1,52 @@
+//! Errors of the simulator.
+
+use crate::dynamics::DynamicsError;
+
+/// What can stop a simulation; nothing is written when one happens.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum SimError {
+    /// The model or an effect is invalid.
+    #[error(transparent)]
+    Dynamics(#[from] DynamicsError),
+    /// A setting out of range.
+    #[error("simulation setting '{setting}' = {value}: {message}")]
+    Setting {
+        /// The setting (`seconds`, `rate_hz`, …).
+        setting: &'static str,
+        /// Its value.
+        value: f64,
+        /// What it must be.
+        message: String,
+    },
+    /// The excitation cannot be evaluated (the leg's foot target out of reach).
+    #[error("the excitation leaves the workspace at t = {t} s")]
+    Workspace {
+        /// Time (s).
+        t: f64,
+    },
+    /// The excitation does not fit the model.
+    #[error("the excitation moves {found} joints, the model has {expected}")]
+    Excitation {
+        /// The model's joints.
+        expected: usize,
+        /// The excitation's joints.
+        found: usize,
+    },
+    /// A joint leaves its limits.
+    #[error("joint '{joint}' leaves its limits at t = {t} s (q = {q})")]
+    Limits {
+        /// The joint.
+        joint: String,
+        /// Time (s).
+        t: f64,
+        /// Its position (rad or m).
+        q: f64,
+    },
+    /// The compliant link-side simulation diverged.
+    #[error("the compliant link simulation diverged at t = {t} s")]
+    Diverged {
+        /// Time (s).
+        t: f64,
+    },
+}
