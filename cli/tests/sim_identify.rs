@@ -203,3 +203,153 @@ fn simulate_then_identify_then_predict() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// An unknown effect or effect parameter is an error listing the valid names.
+#[test]
+fn unknown_effect_names_list_the_valid_ones() {
+    let dir = std::env::temp_dir().join(format!("momentlmi-cli-fx-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("x.csv");
+    let run = |extra: &[&str]| {
+        let o = bin()
+            .args(["simulate", "--robot", "cheetah3-leg", "--seconds", "0.5"])
+            .args(extra)
+            .args(["--out", out.to_str().unwrap()])
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(2), "{extra:?}");
+        assert!(!out.exists(), "nothing written");
+        String::from_utf8_lossy(&o.stderr).to_string()
+    };
+    let e = run(&["--effects", "coulomb,warp_drive"]);
+    assert!(
+        e.contains("warp_drive") && e.contains("rotor_inertia") && e.contains("backlash"),
+        "{e}"
+    );
+    let e = run(&["--effects", "stribeck", "--effect-param", "stribek_force=2"]);
+    assert!(
+        e.contains("stribek_force") && e.contains("stribeck_force") && e.contains("gain_error"),
+        "{e}"
+    );
+    let e = run(&["--effects", "offset", "--effect-param", "delay=0.01"]);
+    assert!(
+        e.contains("time_delay") && e.contains("not switched on"),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A URDF robot with a sidecar: simulate, then identify at the ellipsoid
+/// level with the sidecar's prior and ellipsoids, as for the leg.
+#[test]
+fn urdf_robot_with_a_sidecar_end_to_end() {
+    let dir = std::env::temp_dir().join(format!("momentlmi-cli-urdf-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let urdf = dir.join("pend.urdf");
+    std::fs::write(
+        &urdf,
+        r#"<robot name="pend"><link name="base"/>
+<link name="arm"><inertial><origin xyz="0.2 0 0"/><mass value="1.5"/>
+<inertia ixx="0.001" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.02"/></inertial></link>
+<link name="tip"><inertial><origin xyz="0.1 0 0"/><mass value="0.5"/>
+<inertia ixx="0.0005" ixy="0" ixz="0" iyy="0.002" iyz="0" izz="0.002"/></inertial></link>
+<joint name="j1" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 1 0"/>
+<limit lower="-2" upper="2" effort="10" velocity="5"/></joint>
+<joint name="j2" type="revolute"><parent link="arm"/><child link="tip"/><origin xyz="0.4 0 0"/>
+<axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="10" velocity="5"/></joint></robot>"#,
+    )
+    .unwrap();
+    let sidecar = dir.join("pend.toml");
+    std::fs::write(
+        &sidecar,
+        r#"[[joint]]
+name = "j1"
+coulomb = 0.4
+viscous = 0.05
+[[joint]]
+name = "j2"
+coulomb = 0.3
+viscous = 0.02
+[[body]]
+name = "arm"
+prior = { mass = 1.4, com = [0.2, 0.0, 0.0], box = [0.4, 0.05, 0.05] }
+bounding = [{ center = [0.2, 0.0, 0.0], semi_axes = [0.3, 0.06, 0.06] }]
+[[body]]
+name = "tip"
+bounding = [{ center = [0.1, 0.0, 0.0], semi_axes = [0.2, 0.08, 0.08] }]
+"#,
+    )
+    .unwrap();
+    let data = dir.join("pend.csv");
+    let o = bin()
+        .args(["simulate", "--robot", urdf.to_str().unwrap()])
+        .args(["--sidecar", sidecar.to_str().unwrap()])
+        .args([
+            "--seconds",
+            "10",
+            "--effects",
+            "coulomb,viscous",
+            "--noise",
+            "0.02",
+        ])
+        .args(["--out", data.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let record: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("pend.json")).unwrap()).unwrap();
+    assert_eq!(record["nominal_friction"]["coulomb"][1], 0.3);
+    let o = bin()
+        .args(["identify", "--robot", urdf.to_str().unwrap()])
+        .args(["--sidecar", sidecar.to_str().unwrap()])
+        .args([
+            "--data",
+            data.to_str().unwrap(),
+            "--constraints",
+            "ellipsoid",
+            "--json",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["constraints_satisfied"], true);
+    for b in v["bodies"].as_array().unwrap() {
+        assert_eq!(b["realizability"]["realizable"], true, "{}", b["name"]);
+    }
+    let c: Vec<f64> = v["friction"]["coulomb"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    assert!(
+        (c[0] - 0.4).abs() < 0.03 && (c[1] - 0.3).abs() < 0.03,
+        "{c:?}"
+    );
+    // without the sidecar the ellipsoid level names the body that has none
+    let o = bin()
+        .args(["identify", "--robot", urdf.to_str().unwrap()])
+        .args([
+            "--data",
+            data.to_str().unwrap(),
+            "--constraints",
+            "ellipsoid",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(e.contains("body 'arm' has no bounding ellipsoid"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

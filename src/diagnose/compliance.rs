@@ -38,7 +38,7 @@
 
 use super::candidates::{Candidate, Columns};
 use crate::data::Dataset;
-use crate::dynamics::Model;
+use crate::dynamics::{DynamicsError, Model};
 use crate::sim::compliance::Compliance;
 use nalgebra::DMatrix;
 use rayon::prelude::*;
@@ -141,7 +141,7 @@ fn solve_spd(a: &mut [f64], f: &mut [f64], n: usize) -> bool {
 
 impl Linearisation {
     /// Precomputes along the data (the link side of `model`).
-    pub fn new(model: &Model, d: &Dataset) -> Result<Self, String> {
+    pub fn new(model: &Model, d: &Dataset) -> Result<Self, DynamicsError> {
         use crate::dynamics::{Data, crba, rnea};
         let links = model.link_side();
         let n = links.dof();
@@ -174,15 +174,13 @@ impl Linearisation {
         );
         let per_sample: Vec<Row> = (0..d.len())
             .into_par_iter()
-            .map(|k| -> Result<Row, String> {
+            .map(|k| -> Result<Row, DynamicsError> {
                 let mut data = Data::new(&links);
                 let tau_at = |m: &Model, q: &[f64], qd: &[f64], data: &mut Data| {
-                    rnea(m, data, q, qd, &d.qdd[k])
-                        .map(|t| t.iter().copied().collect::<Vec<f64>>())
-                        .map_err(|e| e.to_string())
+                    rnea(m, data, q, qd, &d.qdd[k]).map(|t| t.iter().copied().collect::<Vec<f64>>())
                 };
-                let mass = |m: &Model, data: &mut Data| -> Result<Vec<f64>, String> {
-                    crba(m, data, &d.q[k]).map_err(|e| e.to_string())?;
+                let mass = |m: &Model, data: &mut Data| -> Result<Vec<f64>, DynamicsError> {
+                    crba(m, data, &d.q[k])?;
                     Ok((0..n * n)
                         .map(|e| data.mass_matrix[(e / n, e % n)])
                         .collect())
@@ -214,7 +212,7 @@ impl Linearisation {
                 }
                 Ok((m, tau, g, c, dm, dtau))
             })
-            .collect::<Result<_, String>>()?;
+            .collect::<Result<_, DynamicsError>>()?;
         let ns = d.len().max(1) as f64;
         let mut lin = Self {
             n,
@@ -388,55 +386,64 @@ fn warm_up(t: &[f64]) -> usize {
     t.partition_point(|&s| s < t0 + WARM_UP)
 }
 
-/// Fits the hypothesis to the residual `r` (sample-major, n per sample) on
-/// samples `0..upto`; `None` when nothing simulates.
-pub fn fit(lin: &Linearisation, r: &[f64], upto: usize, backlash: bool) -> Option<ComplianceFit> {
-    let n = lin.n;
-    let warm = warm_up(&lin.t).min(upto);
-    let cost_on = |p: &Transmission, to: usize| -> Option<(f64, Vec<f64>)> {
-        let h = lin.simulate(p, 0, to)?;
-        let e: Vec<f64> = (warm * n..to * n).map(|k| r[k] - h[k]).collect();
+/// The search over transmissions for one residual: what every stage shares.
+struct Search<'a> {
+    lin: &'a Linearisation,
+    r: &'a [f64],
+    /// First sample fitted (after the warm-up).
+    warm: usize,
+    /// Samples `0..upto` are the training part.
+    upto: usize,
+    backlash: bool,
+}
+
+impl Search<'_> {
+    /// The training cost `Σ (r − h)²` of a hypothesis simulated to `to`, and
+    /// its error vector; `None` if it does not simulate.
+    fn cost_on(&self, p: &Transmission, to: usize) -> Option<(f64, Vec<f64>)> {
+        let n = self.lin.n;
+        let h = self.lin.simulate(p, 0, to)?;
+        let e: Vec<f64> = (self.warm * n..to * n).map(|k| self.r[k] - h[k]).collect();
         let v = e.iter().map(|x| x * x).sum::<f64>();
         v.is_finite().then_some((v, e))
-    };
-    // damping for a damping ratio ζ at stiffness k
-    let damping_for =
-        |k: f64, i: usize, zeta: f64| 2.0 * zeta * (k * lin.axial[i].max(1e-6)).sqrt();
-    // 1. grid search on a window of the training part
-    let window = lin
-        .t
-        .partition_point(|&s| s < lin.t[warm.min(lin.t.len() - 1)] + SEARCH_WINDOW)
-        .min(upto);
-    let ks: Vec<f64> = (0..30).map(|j| 150.0 * 1.15f64.powi(j)).collect();
-    let zetas = [0.05, 0.1, 0.2, 0.4];
-    let bs: Vec<f64> = if backlash {
-        (0..13).map(|j| 0.001 * 1.3f64.powi(j)).collect()
-    } else {
-        vec![0.0]
-    };
-    let with = |p: &Transmission, i: usize, k: f64, d: f64, b: f64| {
-        let mut q = p.clone();
-        q.stiffness[i] = k;
-        q.damping[i] = d;
-        q.backlash[i] = b;
-        q
-    };
-    let best_of = |trials: Vec<Transmission>| -> Option<(f64, Transmission)> {
+    }
+
+    /// Damping for a damping ratio ζ at stiffness k on joint i.
+    fn damping_for(&self, k: f64, i: usize, zeta: f64) -> f64 {
+        2.0 * zeta * (k * self.lin.axial[i].max(1e-6)).sqrt()
+    }
+
+    /// A stiff transmission (the start of every search).
+    fn rigid(&self) -> Transmission {
+        let n = self.lin.n;
+        Transmission {
+            stiffness: vec![1e5; n],
+            damping: (0..n).map(|i| self.damping_for(1e5, i, 0.15)).collect(),
+            backlash: vec![0.0; n],
+            axial_shift: vec![0.0; n],
+        }
+    }
+
+    /// The cheapest of `trials` on the whole training part.
+    fn best_of(&self, trials: Vec<Transmission>) -> Option<(f64, Transmission)> {
         trials
             .into_par_iter()
-            .filter_map(|q| cost_on(&q, upto).map(|c| (c.0, q)))
+            .filter_map(|q| self.cost_on(&q, self.upto).map(|c| (c.0, q)))
             .min_by(|a, b| a.0.total_cmp(&b.0))
-    };
-    // per joint, the cost with the hypothesis scaled by its best β ≥ 0 (the
-    // candidate's coefficient), so that the grid sees timing, not amplitude
-    let projected = |p: &Transmission| -> Option<Vec<f64>> {
-        let h = lin.simulate(p, 0, window)?;
+    }
+
+    /// Per joint, the cost on the search window with the hypothesis scaled
+    /// by its best β ≥ 0 (the candidate's coefficient), so that the grid
+    /// judges timing, not amplitude.
+    fn projected(&self, p: &Transmission, window: usize) -> Option<Vec<f64>> {
+        let n = self.lin.n;
+        let h = self.lin.simulate(p, 0, window)?;
         Some(
             (0..n)
                 .map(|i| {
                     let (mut rh, mut hh, mut rr) = (0.0, 0.0, 0.0);
-                    for k in warm..window {
-                        let (a, b) = (r[k * n + i], h[k * n + i]);
+                    for k in self.warm..window {
+                        let (a, b) = (self.r[k * n + i], h[k * n + i]);
                         rh += a * b;
                         hh += b * b;
                         rr += a * a;
@@ -446,61 +453,79 @@ pub fn fit(lin: &Linearisation, r: &[f64], upto: usize, backlash: bool) -> Optio
                 })
                 .collect(),
         )
-    };
-    let rigid = Transmission {
-        stiffness: vec![1e5; n],
-        damping: (0..n).map(|i| damping_for(1e5, i, 0.15)).collect(),
-        backlash: vec![0.0; n],
-        axial_shift: vec![0.0; n],
-    };
-    // (a) one transmission shared by every joint: a K × ζ × b grid; each
-    // joint then takes the grid point that explains its own residual best
-    let grid: Vec<(f64, f64, f64)> = ks
-        .iter()
-        .flat_map(|&k| zetas.iter().map(move |&z| (k, z)))
-        .flat_map(|(k, z)| bs.iter().map(move |&b| (k, z, b)))
-        .collect();
-    let at = |&(k, z, b): &(f64, f64, f64)| {
-        (0..n).fold(rigid.clone(), |q, i| {
-            with(&q, i, k, damping_for(k, i, z), b)
-        })
-    };
-    let costs: Vec<Option<Vec<f64>>> = grid.par_iter().map(|g| projected(&at(g))).collect();
-    // per joint: the grid point that explains its own residual best
-    let picks: Vec<Option<(f64, f64, f64)>> = (0..n)
-        .map(|i| {
-            costs
+    }
+
+    /// Stage 1: one transmission shared by every joint over a K × ζ × b grid
+    /// on the search window; each joint takes the grid point that explains
+    /// its own residual best.
+    fn grid_start(&self) -> Transmission {
+        let n = self.lin.n;
+        let t = &self.lin.t;
+        let window = t
+            .partition_point(|&s| s < t[self.warm.min(t.len() - 1)] + SEARCH_WINDOW)
+            .min(self.upto);
+        let ks: Vec<f64> = (0..30).map(|j| 150.0 * 1.15f64.powi(j)).collect();
+        let zetas = [0.05, 0.1, 0.2, 0.4];
+        let bs: Vec<f64> = if self.backlash {
+            (0..13).map(|j| 0.001 * 1.3f64.powi(j)).collect()
+        } else {
+            vec![0.0]
+        };
+        let grid: Vec<(f64, f64, f64)> = ks
+            .iter()
+            .flat_map(|&k| zetas.iter().map(move |&z| (k, z)))
+            .flat_map(|(k, z)| bs.iter().map(move |&b| (k, z, b)))
+            .collect();
+        let rigid = self.rigid();
+        let at = |&(k, z, b): &(f64, f64, f64)| {
+            (0..n).fold(rigid.clone(), |q, i| {
+                with(&q, i, k, self.damping_for(k, i, z), b)
+            })
+        };
+        let costs: Vec<Option<Vec<f64>>> = grid
+            .par_iter()
+            .map(|g| self.projected(&at(g), window))
+            .collect();
+        let mut p = rigid.clone();
+        for i in 0..n {
+            let pick = costs
                 .iter()
                 .zip(&grid)
                 .filter_map(|(c, g)| c.as_ref().map(|c| (c[i], *g)))
                 .min_by(|a, b| a.0.total_cmp(&b.0))
-                .map(|(_, g)| g)
-        })
-        .collect();
-    // (b) coordinate descent on the whole training part: per joint, local
-    // grids over (K_i, D_i, b_i), then the axial split s_i
-    let descend = |p: &mut Transmission, best: &mut f64, i: usize| {
+                .map(|(_, g)| g);
+            if let Some((k, z, b)) = pick {
+                p = with(&p, i, k, self.damping_for(k, i, z), b);
+            }
+        }
+        p
+    }
+
+    /// Stage 2, one joint: a local (K_i, D_i, b_i) grid on the whole
+    /// training part, then the rotor/link axial split s_i at the same
+    /// ringing frequency K_i / (M_ii + s_i).
+    fn descend(&self, p: &mut Transmission, best: &mut f64, i: usize) {
         let (k0, d0, b0) = (p.stiffness[i], p.damping[i], p.backlash[i]);
+        let hs = if self.backlash {
+            vec![0.85, 1.0, 1.15]
+        } else {
+            vec![1.0]
+        };
         let mut trials = vec![];
         for f in [0.85, 0.93, 1.0, 1.07, 1.15] {
             for g in [0.7, 0.85, 1.0, 1.2, 1.4] {
-                for h in if backlash {
-                    vec![0.85, 1.0, 1.15]
-                } else {
-                    vec![1.0]
-                } {
+                for &h in &hs {
                     trials.push(with(p, i, k0 * f, d0 * g, b0 * h));
                 }
             }
         }
-        if let Some((c, q)) = best_of(trials)
+        if let Some((c, q)) = self.best_of(trials)
             && c < *best
         {
             *best = c;
             *p = q;
         }
-        // the rotor/link split at the same ringing frequency K_i / (M_ii + s_i)
-        let (k0, s0, mi) = (p.stiffness[i], p.axial_shift[i], lin.axial[i]);
+        let (k0, s0, mi) = (p.stiffness[i], p.axial_shift[i], self.lin.axial[i]);
         let trials: Vec<Transmission> = [-0.08, -0.05, -0.03, -0.015, 0.015, 0.03, 0.05, 0.08]
             .iter()
             .map(|f| {
@@ -511,72 +536,73 @@ pub fn fit(lin: &Linearisation, r: &[f64], upto: usize, backlash: bool) -> Optio
                 q
             })
             .collect();
-        if let Some((c, q)) = best_of(trials)
+        if let Some((c, q)) = self.best_of(trials)
             && c < *best
         {
             *best = c;
             *p = q;
         }
-    };
-    let mut p = rigid.clone();
-    for (i, pick) in picks.iter().enumerate() {
-        if let Some((k, z, b)) = *pick {
-            p = with(&p, i, k, damping_for(k, i, z), b);
-        }
     }
-    let mut best = cost_on(&p, upto)?.0;
-    for _ in 0..2 {
-        for i in 0..n {
-            descend(&mut p, &mut best, i);
-        }
-    }
-    // 2. Levenberg–Marquardt on (ln K_i, ln D_i, b_i, s_i) over the whole training part
-    let pack = |p: &Transmission| -> Vec<f64> {
+
+    /// The LM parameter vector (ln K_i, ln D_i, b_i, s_i).
+    fn pack(&self, p: &Transmission) -> Vec<f64> {
         let mut v: Vec<f64> = p.stiffness.iter().map(|k| k.ln()).collect();
         v.extend(p.damping.iter().map(|d| d.ln()));
-        if backlash {
+        if self.backlash {
             v.extend(p.backlash.iter().copied());
         }
         v.extend(p.axial_shift.iter().copied());
         v
-    };
-    let unpack = |v: &[f64]| Transmission {
-        stiffness: v[..n].iter().map(|x| x.exp()).collect(),
-        damping: v[n..2 * n].iter().map(|x| x.exp()).collect(),
-        backlash: if backlash {
-            v[2 * n..3 * n].iter().map(|b| b.max(0.0)).collect()
-        } else {
-            vec![0.0; n]
-        },
-        axial_shift: v[v.len() - n..].to_vec(),
-    };
-    let mut v = pack(&p);
-    let (mut best, mut e) = cost_on(&p, upto)?;
-    let nb = if backlash { 3 * n } else { 2 * n };
-    let steps: Vec<f64> = (0..v.len())
-        .map(|j| {
-            if j < 2 * n {
-                0.01
-            } else if j < nb {
-                2e-5
+    }
+
+    fn unpack(&self, v: &[f64]) -> Transmission {
+        let n = self.lin.n;
+        Transmission {
+            stiffness: v[..n].iter().map(|x| x.exp()).collect(),
+            damping: v[n..2 * n].iter().map(|x| x.exp()).collect(),
+            backlash: if self.backlash {
+                v[2 * n..3 * n].iter().map(|b| b.max(0.0)).collect()
             } else {
-                1e-3 * lin.axial[j - nb]
-            }
-        })
-        .collect();
-    let np = v.len();
-    let mut lambda = 1e-3;
-    for _ in 0..12 {
-        let jac: Option<Vec<Vec<f64>>> = (0..np)
+                vec![0.0; n]
+            },
+            axial_shift: v[v.len() - n..].to_vec(),
+        }
+    }
+
+    /// Forward-difference steps of the LM parameters.
+    fn steps(&self, np: usize) -> Vec<f64> {
+        let n = self.lin.n;
+        let nb = if self.backlash { 3 * n } else { 2 * n };
+        (0..np)
+            .map(|j| {
+                if j < 2 * n {
+                    0.01
+                } else if j < nb {
+                    2e-5
+                } else {
+                    1e-3 * self.lin.axial[j - nb]
+                }
+            })
+            .collect()
+    }
+
+    /// `(JᵀJ, Jᵀe)` of the forward-difference Jacobian at `v` (error `e`).
+    fn normal_equations(
+        &self,
+        v: &[f64],
+        e: &[f64],
+        steps: &[f64],
+    ) -> Option<(DMatrix<f64>, nalgebra::DVector<f64>)> {
+        let np = v.len();
+        let jac: Vec<Vec<f64>> = (0..np)
             .into_par_iter()
             .map(|j| {
-                let mut w = v.clone();
+                let mut w = v.to_vec();
                 w[j] += steps[j];
-                let (_, ej) = cost_on(&unpack(&w), upto)?;
+                let (_, ej) = self.cost_on(&self.unpack(&w), self.upto)?;
                 Some(e.iter().zip(&ej).map(|(a, b)| (a - b) / steps[j]).collect())
             })
-            .collect();
-        let Some(jac) = jac else { break };
+            .collect::<Option<_>>()?;
         let mut jtj = DMatrix::<f64>::zeros(np, np);
         let mut jte = nalgebra::DVector::<f64>::zeros(np);
         for a in 0..np {
@@ -585,39 +611,82 @@ pub fn fit(lin: &Linearisation, r: &[f64], upto: usize, backlash: bool) -> Optio
                 jtj[(a, b)] = s;
                 jtj[(b, a)] = s;
             }
-            jte[a] = jac[a].iter().zip(&e).map(|(x, y)| x * y).sum();
+            jte[a] = jac[a].iter().zip(e).map(|(x, y)| x * y).sum();
         }
-        let mut improved = false;
-        for _ in 0..8 {
-            let mut m = jtj.clone();
-            for a in 0..np {
-                m[(a, a)] += lambda * jtj[(a, a)].max(1e-12);
-            }
-            let Some(step) = m.cholesky().map(|c| c.solve(&jte)) else {
-                lambda *= 10.0;
-                continue;
+        Some((jtj, jte))
+    }
+
+    /// Stage 3: Levenberg–Marquardt on (ln K_i, ln D_i, b_i, s_i) over the
+    /// whole training part, from `p`.
+    fn levenberg_marquardt(&self, p: &Transmission) -> Option<(Transmission, f64)> {
+        let mut v = self.pack(p);
+        let (mut best, mut e) = self.cost_on(p, self.upto)?;
+        let steps = self.steps(v.len());
+        let mut lambda = 1e-3;
+        for _ in 0..12 {
+            let Some((jtj, jte)) = self.normal_equations(&v, &e, &steps) else {
+                break;
             };
-            let w: Vec<f64> = v.iter().zip(step.iter()).map(|(a, b)| a + b).collect();
-            match cost_on(&unpack(&w), upto) {
-                Some((c, ew)) if c < best => {
-                    improved = (best - c) / best > 1e-5;
-                    v = w;
-                    best = c;
-                    e = ew;
-                    lambda = (lambda / 5.0).max(1e-7);
-                    break;
+            let mut improved = false;
+            for _ in 0..8 {
+                let mut m = jtj.clone();
+                for a in 0..v.len() {
+                    m[(a, a)] += lambda * jtj[(a, a)].max(1e-12);
                 }
-                _ => lambda *= 8.0,
+                let Some(step) = m.cholesky().map(|c| c.solve(&jte)) else {
+                    lambda *= 10.0;
+                    continue;
+                };
+                let w: Vec<f64> = v.iter().zip(step.iter()).map(|(a, b)| a + b).collect();
+                match self.cost_on(&self.unpack(&w), self.upto) {
+                    Some((c, ew)) if c < best => {
+                        improved = (best - c) / best > 1e-5;
+                        v = w;
+                        best = c;
+                        e = ew;
+                        lambda = (lambda / 5.0).max(1e-7);
+                        break;
+                    }
+                    _ => lambda *= 8.0,
+                }
+            }
+            if !improved {
+                break;
             }
         }
-        if !improved {
-            break;
+        Some((self.unpack(&v), best))
+    }
+}
+
+/// `p` with joint i's stiffness, damping and dead band replaced.
+fn with(p: &Transmission, i: usize, k: f64, d: f64, b: f64) -> Transmission {
+    let mut q = p.clone();
+    q.stiffness[i] = k;
+    q.damping[i] = d;
+    q.backlash[i] = b;
+    q
+}
+
+/// Fits the hypothesis to the residual `r` (sample-major, n per sample) on
+/// samples `0..upto`: a grid start, two sweeps of coordinate descent, then
+/// Levenberg–Marquardt (see the module docs); `None` when nothing simulates.
+pub fn fit(lin: &Linearisation, r: &[f64], upto: usize, backlash: bool) -> Option<ComplianceFit> {
+    let search = Search {
+        lin,
+        r,
+        warm: warm_up(&lin.t).min(upto),
+        upto,
+        backlash,
+    };
+    let mut p = search.grid_start();
+    let mut best = search.cost_on(&p, upto)?.0;
+    for _ in 0..2 {
+        for i in 0..lin.n {
+            search.descend(&mut p, &mut best, i);
         }
     }
-    Some(ComplianceFit {
-        transmission: unpack(&v),
-        rss: best,
-    })
+    let (transmission, rss) = search.levenberg_marquardt(&p)?;
+    Some(ComplianceFit { transmission, rss })
 }
 
 /// The candidate's columns on all samples (one per joint) for a fitted

@@ -70,6 +70,15 @@ pub fn fit_candidate(
     rows: std::ops::Range<usize>,
     r: &[f64],
 ) -> Result<Vec<f64>, FitError> {
+    fit_with(c, rows, r, &Settings::default())
+}
+
+fn fit_with(
+    c: &Columns,
+    rows: std::ops::Range<usize>,
+    r: &[f64],
+    settings: &Settings,
+) -> Result<Vec<f64>, FitError> {
     if c.bodies.is_empty() && !c.nonneg {
         return least_squares(&c.cols, rows, r);
     }
@@ -107,7 +116,7 @@ pub fn fit_candidate(
         p.add_nonneg(beta.clone())?;
     }
     p.minimize(t);
-    let sol = p.solve(&Settings::default())?;
+    let sol = p.solve(settings)?;
     if !sol.status.is_solved() {
         return Err(FitError::Status(sol.status));
     }
@@ -123,4 +132,43 @@ pub fn apply(cols: &[Vec<f64>], beta: &[f64], r: &[f64]) -> Vec<f64> {
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diagnose::candidates::Candidate;
+    use crate::dynamics::Effect;
+
+    fn columns(cols: Vec<Vec<f64>>, nonneg: bool) -> Columns {
+        Columns {
+            candidate: Candidate::Effect(Effect::Payload),
+            detail: String::new(),
+            cols,
+            bodies: vec![],
+            nonneg,
+            nonlinear: 0,
+        }
+    }
+
+    #[test]
+    fn a_fit_that_fails_is_an_error_not_zeros() {
+        let x: Vec<f64> = (0..50).map(|k| (k as f64 * 0.3).sin()).collect();
+        let r: Vec<f64> = x.iter().map(|v| 2.0 * v + 0.01).collect();
+        // the plain fit works and is not zero
+        let b = fit_candidate(&columns(vec![x.clone()], false), 0..50, &r).unwrap();
+        assert!((b[0] - 2.0).abs() < 0.05, "{b:?}");
+        // non-finite columns: the normal equations cannot be factorised
+        let mut bad = x.clone();
+        bad[7] = f64::NAN;
+        let e = fit_candidate(&columns(vec![bad], false), 0..50, &r).unwrap_err();
+        assert!(matches!(e, FitError::Factorisation), "{e}");
+        // a constrained fit (β ≥ 0) whose solver stops early: its status, not zeros
+        let tight = Settings::default().max_iter(1);
+        let e = fit_with(&columns(vec![x.clone()], true), 0..50, &r, &tight).unwrap_err();
+        assert!(matches!(e, FitError::Status(s) if !s.is_solved()), "{e}");
+        // and with the default settings the same fit is solved
+        let b = fit_candidate(&columns(vec![x], true), 0..50, &r).unwrap();
+        assert!((b[0] - 2.0).abs() < 0.05, "{b:?}");
+    }
 }

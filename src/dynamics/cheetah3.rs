@@ -211,6 +211,20 @@ pub(crate) fn kinematics() -> Model {
     kinematics_with(&true_params()).expect("the built-in model is valid")
 }
 
+/// Whether `model` has the leg's kinematics (joint axes and placements), so
+/// that the leg's inverse kinematics and shell excitation apply to it.
+pub fn has_leg_kinematics(model: &Model) -> bool {
+    let leg = kinematics();
+    model.dof() == leg.dof()
+        && model.joints.iter().zip(&leg.joints).all(|(a, b)| {
+            a.parent == b.parent
+                && a.kind == b.kind
+                && (a.axis - b.axis).norm() < 1e-9
+                && (a.x_tree.r - b.x_tree.r).norm() < 1e-9
+                && (a.x_tree.e - b.x_tree.e).norm() < 1e-9
+        })
+}
+
 /// The leg with the given link and rotor parameters (bodies as [`BODIES`]).
 pub fn model_with(params: &[InertialParams; 6]) -> Result<Model, DynamicsError> {
     let mut m = model();

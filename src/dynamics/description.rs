@@ -346,11 +346,10 @@ fn check_excitation(
             }
         }
         Excitation::LegShell(_) => {
-            if model.dof() != 3 {
+            if !super::cheetah3::has_leg_kinematics(model) {
                 return Err(err(format!(
-                    "[excitation] leg_shell drives the {} leg's 3 joints through its inverse kinematics; this model has {}",
-                    super::cheetah3::NAME,
-                    model.dof()
+                    "[excitation] leg_shell moves the foot of the built-in {} through its inverse kinematics; this model does not have that leg's joints",
+                    super::cheetah3::NAME
                 )));
             }
         }

@@ -70,6 +70,17 @@ pub struct IdentifyOptions {
     ellipsoids: Option<Vec<Ellipsoid>>,
     com_lmi: bool,
     eps: f64,
+    settings: Settings,
+}
+
+/// The solver settings of the constrained levels: tolerances 1e-9, at most
+/// 300 iterations.
+pub fn default_settings() -> Settings {
+    Settings::default()
+        .tol_gap_abs(1e-9)
+        .tol_gap_rel(1e-9)
+        .tol_feas(1e-9)
+        .max_iter(300)
 }
 
 impl IdentifyOptions {
@@ -83,6 +94,7 @@ impl IdentifyOptions {
             ellipsoids: None,
             com_lmi: false,
             eps: 0.0,
+            settings: default_settings(),
         }
     }
 
@@ -143,6 +155,14 @@ impl IdentifyOptions {
             });
         }
         self.eps = eps;
+        Ok(self)
+    }
+
+    /// The solver settings of the constrained levels (default
+    /// [`default_settings`]); validated here.
+    pub fn with_settings(mut self, settings: Settings) -> Result<Self, IdentifyError> {
+        settings.validate()?;
+        self.settings = settings;
         Ok(self)
     }
 
@@ -435,12 +455,7 @@ pub fn solve_identification(
         .collect();
     add_body_constraints(&mut prob, &bodies, opts, &model.body_names())?;
     prob.add_nonneg(theta_expr[10 * nb..].to_vec())?; // B ⪰ 0, B_c ⪰ 0
-    let settings = Settings::default()
-        .tol_gap_abs(1e-9)
-        .tol_gap_rel(1e-9)
-        .tol_feas(1e-9)
-        .max_iter(300);
-    let sol = prob.solve(&settings)?;
+    let sol = prob.solve(&opts.settings)?;
     match sol.status {
         s if s.is_solved() => Ok(Solved {
             theta: theta_expr.iter().map(|e| sol.eval(e)).collect(),

@@ -85,11 +85,17 @@ pub fn nearest_consistent(
         };
         if g.is_finite() && g > 0.0 { g } else { 0.1 }
     });
-    if !(l.is_finite() && l > 0.0 && opts.eps.is_finite() && opts.eps >= 0.0) {
-        return Err(MomentsError::NotConsistent(format!(
-            "invalid options: length scale {l}, eps {}",
-            opts.eps
-        )));
+    if !(l.is_finite() && l > 0.0) {
+        return Err(MomentsError::InvalidOption {
+            option: "length_scale",
+            value: l,
+        });
+    }
+    if !(opts.eps.is_finite() && opts.eps >= 0.0) {
+        return Err(MomentsError::InvalidOption {
+            option: "eps",
+            value: opts.eps,
+        });
     }
     let d = DMatrix::from_diagonal(&nalgebra::DVector::from_vec(vec![
         1.0 / l,

@@ -40,10 +40,9 @@ fn psd_factor(j: &Matrix4<f64>, tol: f64) -> Result<Matrix4<f64>, MomentsError> 
     let e = SymmetricEigen::new(*j);
     let lmax = e.eigenvalues.max().max(0.0);
     if e.eigenvalues.min() < -tol * lmax.max(f64::MIN_POSITIVE) || !(lmax > 0.0) {
-        return Err(MomentsError::NotConsistent(format!(
-            "the pseudo-inertia is not positive semidefinite (smallest eigenvalue {:.3e})",
-            e.eigenvalues.min()
-        )));
+        return Err(MomentsError::NotPositiveSemidefinite {
+            min_eig: e.eigenvalues.min(),
+        });
     }
     let d = e.eigenvalues.map(|l| l.max(0.0).sqrt());
     Ok(e.eigenvectors * Matrix4::from_diagonal(&d))
@@ -63,9 +62,7 @@ fn points_from(l: &Matrix4<f64>, u: &Matrix4<f64>) -> Result<[PointMass; 4], Mom
             if norm <= 1e-300 {
                 continue; // a zero column: a massless point
             }
-            return Err(MomentsError::NotConsistent(
-                "a point would lie at infinity".into(),
-            ));
+            return Err(MomentsError::PointAtInfinity);
         }
         out[k] = PointMass {
             mass: b * b,
@@ -97,7 +94,7 @@ pub fn four_point_masses(pi: &InertialParams) -> Result<[PointMass; 4], MomentsE
     let b: Vector4<f64> = l.row(3).transpose();
     let nb = b.norm();
     if nb == 0.0 {
-        return Err(MomentsError::NotConsistent("zero mass".into()));
+        return Err(MomentsError::ZeroMass);
     }
     let h = Matrix4::new(
         1.0, 1.0, 1.0, 1.0, 1.0, -1.0, 1.0, -1.0, 1.0, 1.0, -1.0, -1.0, 1.0, -1.0, -1.0, 1.0,
@@ -154,9 +151,7 @@ pub fn four_point_masses_in(
     let q = s.q_matrix();
     let tr = (j * q).trace();
     if tr < -FACTOR_TOL * pi.mass().abs() {
-        return Err(MomentsError::NotConsistent(format!(
-            "not realizable in the ellipsoid: tr(J Q) = {tr:.3e} < 0"
-        )));
+        return Err(MomentsError::OutsideEllipsoid { trace_jq: tr });
     }
     let l = psd_factor(&j, FACTOR_TOL)?;
     let m = l.transpose() * q * l;

@@ -96,9 +96,7 @@ pub fn point_masses_on_union(
     parts: &[Ellipsoid],
 ) -> Result<Vec<PointMass>, MomentsError> {
     match realize_on_union(pi, parts)? {
-        UnionRealization::NotRealizable => Err(MomentsError::NotConsistent(
-            "not density realizable in the union of ellipsoids".into(),
-        )),
+        UnionRealization::NotRealizable => Err(MomentsError::OutsideUnion { parts: parts.len() }),
         UnionRealization::Realizable(pieces) => {
             let mut out = Vec::new();
             for (q, s) in pieces.iter().zip(parts) {

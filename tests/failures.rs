@@ -1,0 +1,178 @@
+//! Failures that used to pass silently (a skipped sample counted, a zero
+//! factor, zeros for a failed fit, a panic on an option) are named errors now.
+
+use momentlmi::data::Dataset;
+use momentlmi::diagnose::{DiagnoseError, DiagnoseOptions, diagnose};
+use momentlmi::dynamics::params_file::Friction;
+use momentlmi::dynamics::{DynamicsError, Effect, cheetah3};
+use momentlmi::identify::{
+    IdentifyError, IdentifyOptions, Level, StreamReducer, identify, reduce_samples,
+    solve_identification,
+};
+use momentlmi::sim::{Effects, SimConfig, SimError, simulate};
+
+fn leg_data(seconds: f64) -> Dataset {
+    let leg = cheetah3::description();
+    let fx = Effects::new([Effect::RotorInertia, Effect::Coulomb, Effect::Viscous]);
+    simulate(&leg, &SimConfig::for_robot(&leg, seconds, fx, 3), |_, _| {}).unwrap()
+}
+
+#[test]
+fn a_sample_the_regressor_cannot_evaluate_is_named() {
+    let model = cheetah3::model();
+    let mut d = leg_data(1.0);
+    d.q[7].pop();
+    let e = reduce_samples(&model, &d.q, &d.qd, &d.qdd, &d.tau, 64).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            IdentifyError::SampleLength {
+                sample: 7,
+                what: "q",
+                expected: 3,
+                found: 2
+            }
+        ),
+        "{e}"
+    );
+    assert!(e.to_string().contains("sample 7"), "{e}");
+    let opts = IdentifyOptions::new(Level::None);
+    assert!(identify(&model, &d, None, &opts).is_err());
+    // the streaming reducer checks the torque too
+    let mut s = StreamReducer::new(&model, 16);
+    let e = s
+        .push(&d.q[0], &d.qd[0], &d.qdd[0], &[1.0, 2.0])
+        .unwrap_err();
+    assert!(matches!(e, DynamicsError::Dimension { .. }), "{e}");
+    // the diagnosis reports the sample instead of a zero row or a panic
+    let e = diagnose(&model, &Friction::zeros(3), &d, &DiagnoseOptions::default()).unwrap_err();
+    assert!(matches!(e, DiagnoseError::Predict(_)), "{e}");
+}
+
+#[test]
+fn a_failed_factorisation_is_an_error() {
+    let model = cheetah3::model();
+    let d = leg_data(1.0);
+    let mut red = reduce_samples(&model, &d.q, &d.qd, &d.qdd, &d.tau, 256).unwrap();
+    assert!(red.factor().is_ok());
+    red.gram[(3, 5)] = f64::NAN;
+    red.gram[(5, 3)] = f64::NAN;
+    assert!(matches!(
+        red.factor(),
+        Err(IdentifyError::Factorisation { .. })
+    ));
+    let e =
+        solve_identification(&model, &red, &IdentifyOptions::new(Level::Consistent)).unwrap_err();
+    assert!(matches!(e, IdentifyError::Factorisation { .. }), "{e}");
+    assert!(e.to_string().contains("did not converge"), "{e}");
+}
+
+#[test]
+fn a_solver_that_stops_early_is_its_status() {
+    let leg = cheetah3::description();
+    let d = leg_data(2.0);
+    let opts = IdentifyOptions::for_robot(&leg, Level::Ellipsoid, 1e-6)
+        .unwrap()
+        .with_settings(momentlmi::conic::Settings::default().max_iter(2))
+        .unwrap();
+    let e = identify(&leg.model, &d, None, &opts).unwrap_err();
+    assert!(
+        matches!(e, IdentifyError::Solver(s) if !s.is_solved()),
+        "{e}"
+    );
+    // the same problem with the default settings is solved
+    let opts = IdentifyOptions::for_robot(&leg, Level::Ellipsoid, 1e-6).unwrap();
+    assert!(
+        identify(&leg.model, &d, None, &opts)
+            .unwrap()
+            .constraints_satisfied
+    );
+}
+
+#[test]
+fn options_out_of_range_are_refused_at_construction() {
+    for (f, m, b, opt) in [
+        (1.5, 4, 20, "train_fraction"),
+        (-0.2, 4, 20, "train_fraction"),
+        (f64::NAN, 4, 20, "train_fraction"),
+        (0.6, 0, 20, "max_effects"),
+        (0.6, 4, 1, "blocks"),
+    ] {
+        match DiagnoseOptions::new(f, m, b) {
+            Err(DiagnoseError::Option { option, .. }) => assert_eq!(option, opt),
+            other => panic!("{f} {m} {b}: {other:?}"),
+        }
+    }
+    assert_eq!(
+        DiagnoseOptions::new(0.6, 4, 20).unwrap(),
+        DiagnoseOptions::default()
+    );
+    let base = IdentifyOptions::new(Level::Consistent);
+    assert!(base.clone().with_prior(-1.0, vec![0.0; 60]).is_err());
+    assert!(
+        base.clone()
+            .with_prior(f64::INFINITY, vec![0.0; 60])
+            .is_err()
+    );
+    assert!(base.clone().with_prior(1e-6, vec![f64::NAN; 60]).is_err());
+    assert!(base.clone().with_eps(-1e-3).is_err());
+    // a prior of the wrong length is refused when solving, naming the counts
+    let model = cheetah3::model();
+    let d = leg_data(0.5);
+    let short = base.with_prior(1e-6, vec![0.1; 10]).unwrap();
+    let e = identify(&model, &d, None, &short).unwrap_err().to_string();
+    assert!(e.contains("10 numbers for 6 bodies"), "{e}");
+    // the simulator's settings
+    let leg = cheetah3::description();
+    for (seconds, what) in [(-1.0, "seconds"), (1e9, "seconds"), (f64::NAN, "seconds")] {
+        let cfg = SimConfig::for_robot(&leg, seconds, Effects::default(), 1);
+        match simulate(&leg, &cfg, |_, _| {}) {
+            Err(SimError::Setting { setting, .. }) => assert_eq!(setting, what),
+            other => panic!("{seconds}: {other:?}"),
+        }
+    }
+    let mut cfg = SimConfig::for_robot(&leg, 1.0, Effects::default(), 1);
+    cfg.cutoff_hz = 600.0;
+    assert!(matches!(
+        simulate(&leg, &cfg, |_, _| {}),
+        Err(SimError::Setting {
+            setting: "cutoff_hz",
+            ..
+        })
+    ));
+}
+
+#[test]
+fn unknown_effects_and_parameters_list_the_valid_names() {
+    let e = Effects::parse("coulomb,warp_drive", &[])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("warp_drive") && e.contains("rotor_inertia") && e.contains("backlash"),
+        "{e}"
+    );
+    let e = Effects::parse("stribeck", &["stribek_force=2".into()])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("stribek_force") && e.contains("stribeck_force") && e.contains("backlash_width"),
+        "{e}"
+    );
+    // a parameter of an effect that is not on is not silently ignored
+    let e = Effects::parse("offset", &["stiffness=300".into()])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("elasticity") && e.contains("not switched on"),
+        "{e}"
+    );
+    // out of its range
+    let e = Effects::parse("elasticity", &["stiffness=-3".into()])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("stiffness"), "{e}");
+    assert!(Effects::parse("offset", &["offset".into()]).is_err());
+    let ok = Effects::parse("elasticity, backlash", &["stiffness=300".into()]).unwrap();
+    assert_eq!(ok.on, vec![Effect::Elasticity, Effect::Backlash]);
+    assert_eq!(ok.params(&Default::default()).unwrap().stiffness, 300.0);
+}
