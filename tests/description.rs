@@ -339,3 +339,19 @@ fn description_errors_name_the_entry() {
         "the URDF's <dynamics> still counts"
     );
 }
+
+/// The sidecar shown in docs/robots.md is a valid sidecar.
+#[test]
+fn the_documented_sidecar_parses() {
+    let doc = include_str!("../docs/robots.md");
+    let start = doc.find("```toml\n").expect("a toml block") + 8;
+    let text = &doc[start..start + doc[start..].find("```").unwrap()];
+    let sc = momentlmi::dynamics::sidecar::Sidecar::parse(text, "docs/robots.md").unwrap();
+    assert_eq!(sc.rotors.len(), 1);
+    assert_eq!(sc.joints[0].limits, Some([-2.8, 2.8]));
+    assert_eq!(sc.bodies[0].bounding.len(), 1);
+    assert_eq!(
+        sc.effects.unwrap(),
+        momentlmi::dynamics::EffectParams::default()
+    );
+}
