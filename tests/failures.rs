@@ -176,3 +176,97 @@ fn unknown_effects_and_parameters_list_the_valid_names() {
     assert_eq!(ok.on, vec![Effect::Elasticity, Effect::Backlash]);
     assert_eq!(ok.params(&Default::default()).unwrap().stiffness, 300.0);
 }
+
+#[test]
+fn inputs_that_would_index_out_of_range_or_go_unnoticed_are_errors() {
+    use momentlmi::data::{DataError, ReadOptions};
+    use momentlmi::dynamics::sidecar::{MultiSine, Sidecar};
+    use momentlmi::dynamics::urdf::model_from_urdf_str;
+    use momentlmi::dynamics::{RobotDescription, cheetah3};
+    use momentlmi::sim::trajectory::Trajectory;
+    // ellipsoids of the wrong length at a level that does not need them
+    let model = cheetah3::model();
+    let d = leg_data(0.5);
+    let e2 = cheetah3::ellipsoids()[..2].to_vec();
+    let opts = IdentifyOptions::new(Level::Consistent).with_ellipsoids(e2);
+    let e = identify(&model, &d, None, &opts).unwrap_err().to_string();
+    assert!(e.contains("2 bounding ellipsoids for 6 bodies"), "{e}");
+    // a partial set of qdd_* columns is not silently replaced by estimates
+    let csv = "t,q_abad,qd_abad,qdd_abad,q_hip,qd_hip,q_knee,qd_knee,tau_abad,tau_hip,tau_knee\n0,0,0,0,0,0,0,0,0,0,0\n";
+    let e =
+        Dataset::parse_csv(csv, "p.csv", &cheetah3::JOINTS, ReadOptions::default()).unwrap_err();
+    assert!(
+        matches!(&e, DataError::MissingColumn { column, .. } if column == "qdd_hip"),
+        "{e}"
+    );
+    // a mechanicalReduction that is not a number is named when it is needed
+    let urdf = r#"<robot name="r"><link name="a"/><link name="b"/>
+        <joint name="j" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/></joint>
+        <transmission name="t"><joint name="j"/><actuator name="m"><mechanicalReduction>fifty</mechanicalReduction></actuator></transmission></robot>"#;
+    let sc = Sidecar::parse(
+        "[[rotor]]\njoint = \"j\"\nmass = 0.1\ninertia = [1e-4, 0, 0, 1e-4, 0, 1e-4]\n",
+        "s.toml",
+    )
+    .unwrap();
+    let e = model_from_urdf_str(urdf, "r.urdf", Some(&sc))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("'fifty'") && e.contains("not a number"), "{e}");
+    // <dynamics damping> alone: the missing friction is a placeholder, not a zero
+    let urdf = r#"<robot name="r"><link name="a"/><link name="b"><inertial><mass value="1"/>
+        <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+        <joint name="j" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/>
+        <limit lower="-1" upper="1" effort="1" velocity="1"/><dynamics damping="0.7"/></joint></robot>"#;
+    let robot = momentlmi::urdf::read_str(urdf, "r.urdf").unwrap();
+    let m = model_from_urdf_str(urdf, "r.urdf", None).unwrap();
+    let r = RobotDescription::new("r.urdf", m.clone(), &Sidecar::default(), Some(&robot)).unwrap();
+    assert_eq!(r.friction.viscous, vec![0.7]);
+    assert_eq!(r.friction.coulomb, vec![0.5]);
+    assert!(r.warnings.iter().any(|w| w.contains("placeholder")));
+    // an excitation with a non-finite coefficient: an error, not NaN data
+    let mut cfg = SimConfig::for_robot(&r, 1.0, Effects::default(), 1);
+    cfg.trajectory = Trajectory::multi_sine(&m, &MultiSine::default(), 1);
+    if let Trajectory::Fourier { a, .. } = &mut cfg.trajectory {
+        a[0][2] = f64::NAN;
+    }
+    let res = simulate(&r, &cfg, |_, _| {});
+    assert!(matches!(res, Err(SimError::NonFinite { .. })), "{res:?}");
+    // the leg's shell on another 3-joint robot is refused
+    let mut cfg = SimConfig::for_robot(&cheetah3::description(), 1.0, Effects::default(), 1);
+    cfg.robot = "r.urdf".into();
+    let three = r#"<robot name="r3"><link name="a"/><link name="b"/><link name="c"/><link name="d"/>
+        <joint name="j1" type="continuous"><parent link="a"/><child link="b"/></joint>
+        <joint name="j2" type="continuous"><parent link="b"/><child link="c"/></joint>
+        <joint name="j3" type="continuous"><parent link="c"/><child link="d"/></joint></robot>"#;
+    let m3 = model_from_urdf_str(three, "r3.urdf", None).unwrap();
+    let r3 = RobotDescription::new("r3.urdf", m3, &Sidecar::default(), None).unwrap();
+    assert!(matches!(
+        simulate(&r3, &cfg, |_, _| {}),
+        Err(SimError::Setting {
+            setting: "trajectory",
+            ..
+        })
+    ));
+}
+
+#[test]
+fn a_repair_refuses_a_report_of_another_text() {
+    use momentlmi::moments::urdf_check::{check_urdf_str, repair_urdf};
+    let link = |name: &str, ixx: &str| {
+        format!(
+            "<link name=\"{name}\"><inertial><mass value=\"1\"/><inertia ixx=\"{ixx}\" ixy=\"0\" ixz=\"0\" iyy=\"1\" iyz=\"0\" izz=\"0.1\"/></inertial></link>"
+        )
+    };
+    let bad = format!("<robot name=\"r\">{}</robot>", link("arm", "0.1"));
+    let report = check_urdf_str(&bad, "a.urdf").unwrap();
+    assert!(!report.consistent);
+    let (fixed, names) = repair_urdf(&bad, &report, "a.urdf").unwrap();
+    assert_eq!(names, vec!["arm".to_string()]);
+    assert!(check_urdf_str(&fixed, "b.urdf").unwrap().consistent);
+    // the same report against another text: refused, not a garbled file
+    let other = format!(
+        "<robot name=\"somewhat longer\">   {}</robot>",
+        link("arm", "0.1")
+    );
+    assert!(repair_urdf(&other, &report, "c.urdf").is_err());
+}

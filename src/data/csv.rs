@@ -63,34 +63,7 @@ impl Dataset {
             .iter()
             .map(str::to_string)
             .collect();
-        let col = |name: &str| header.iter().position(|h| h == name);
-        let need = |name: String| -> Result<usize, DataError> {
-            col(&name).ok_or_else(|| DataError::MissingColumn {
-                path: path.into(),
-                column: name,
-                header: header.join(","),
-            })
-        };
-        let ti = need("t".into())?;
-        let qi: Vec<usize> = joints
-            .iter()
-            .map(|j| need(format!("q_{j}")))
-            .collect::<Result<_, _>>()?;
-        let qdi: Vec<usize> = joints
-            .iter()
-            .map(|j| need(format!("qd_{j}")))
-            .collect::<Result<_, _>>()?;
-        let qddi: Option<Vec<usize>> = joints.iter().map(|j| col(&format!("qdd_{j}"))).collect();
-        let taui: Option<Vec<usize>> = if opts.require_tau {
-            Some(
-                joints
-                    .iter()
-                    .map(|j| need(format!("tau_{j}")))
-                    .collect::<Result<_, _>>()?,
-            )
-        } else {
-            joints.iter().map(|j| col(&format!("tau_{j}"))).collect()
-        };
+        let cols = Columns::find(&header, path, joints, opts.require_tau)?;
         let mut d = Dataset {
             joints: joints.iter().map(|s| s.to_string()).collect(),
             t: vec![],
@@ -100,59 +73,12 @@ impl Dataset {
             tau: vec![],
         };
         for (r, rec) in rdr.records().enumerate() {
-            let row = r + 1;
             let rec = rec.map_err(|e| DataError::Row {
                 path: path.into(),
-                row,
+                row: r + 1,
                 message: e.to_string(),
             })?;
-            if rec.len() != header.len() {
-                return Err(DataError::Row {
-                    path: path.into(),
-                    row,
-                    message: format!("has {} fields, the header has {}", rec.len(), header.len()),
-                });
-            }
-            let get = |c: usize| -> Result<f64, DataError> {
-                let raw = &rec[c];
-                let v: f64 = raw.parse().map_err(|_| DataError::Value {
-                    path: path.into(),
-                    row,
-                    column: header[c].clone(),
-                    message: format!("'{raw}' is not a number"),
-                })?;
-                if !v.is_finite() {
-                    return Err(DataError::Value {
-                        path: path.into(),
-                        row,
-                        column: header[c].clone(),
-                        message: format!("non-finite value '{raw}'"),
-                    });
-                }
-                Ok(v)
-            };
-            let t = get(ti)?;
-            if let Some(&prev) = d.t.last() {
-                if t <= prev {
-                    return Err(DataError::Value {
-                        path: path.into(),
-                        row,
-                        column: "t".into(),
-                        message: format!("time {t} is not after the previous row's {prev}"),
-                    });
-                }
-            }
-            d.t.push(t);
-            d.q.push(qi.iter().map(|&c| get(c)).collect::<Result<_, _>>()?);
-            d.qd.push(qdi.iter().map(|&c| get(c)).collect::<Result<_, _>>()?);
-            if let Some(ix) = &qddi {
-                d.qdd
-                    .push(ix.iter().map(|&c| get(c)).collect::<Result<_, _>>()?);
-            }
-            if let Some(ix) = &taui {
-                d.tau
-                    .push(ix.iter().map(|&c| get(c)).collect::<Result<_, _>>()?);
-            }
+            cols.push_row(&mut d, &rec, &header, path, r + 1)?;
         }
         if d.t.is_empty() {
             return Err(DataError::Row {
@@ -161,21 +87,8 @@ impl Dataset {
                 message: "no data rows".into(),
             });
         }
-        if qddi.is_none() {
-            let n = d.len();
-            let nyquist = if n > 1 {
-                0.5 * (n - 1) as f64 / (d.t[n - 1] - d.t[0])
-            } else {
-                f64::INFINITY
-            };
-            if !(opts.cutoff_hz > 0.0 && opts.cutoff_hz < nyquist) {
-                return Err(DataError::Cutoff {
-                    path: path.into(),
-                    cutoff_hz: opts.cutoff_hz,
-                    nyquist_hz: nyquist,
-                });
-            }
-            d.qdd = estimate_qdd(&d.t, &d.qd, opts.cutoff_hz);
+        if cols.qdd.is_none() {
+            d.qdd = qdd_of(&d, path, opts.cutoff_hz)?;
         }
         Ok(d)
     }
@@ -211,4 +124,130 @@ impl Dataset {
     pub fn write_csv(&self, path: &Path) -> Result<(), DataError> {
         write_whole(path, &self.to_csv())
     }
+}
+
+/// Where each quantity's columns are in the header.
+struct Columns {
+    t: usize,
+    q: Vec<usize>,
+    qd: Vec<usize>,
+    qdd: Option<Vec<usize>>,
+    tau: Option<Vec<usize>>,
+}
+
+impl Columns {
+    /// `t`, `q_*`, `qd_*` (and `tau_*` when required) must be there;
+    /// `qdd_*` (and optional `tau_*`) are all there or none is.
+    fn find(
+        header: &[String],
+        path: &str,
+        joints: &[&str],
+        require_tau: bool,
+    ) -> Result<Self, DataError> {
+        let col = |name: &str| header.iter().position(|h| h == name);
+        let need = |name: String| -> Result<usize, DataError> {
+            col(&name).ok_or_else(|| DataError::MissingColumn {
+                path: path.into(),
+                column: name,
+                header: header.join(","),
+            })
+        };
+        let all = |p: &str| -> Result<Vec<usize>, DataError> {
+            joints.iter().map(|j| need(format!("{p}_{j}"))).collect()
+        };
+        // optional columns: all of them or none (a partial set is an error)
+        let any = |p: &str| -> Result<Option<Vec<usize>>, DataError> {
+            if joints.iter().any(|j| col(&format!("{p}_{j}")).is_some()) {
+                all(p).map(Some)
+            } else {
+                Ok(None)
+            }
+        };
+        Ok(Self {
+            t: need("t".into())?,
+            q: all("q")?,
+            qd: all("qd")?,
+            qdd: any("qdd")?,
+            tau: if require_tau {
+                Some(all("tau")?)
+            } else {
+                any("tau")?
+            },
+        })
+    }
+
+    /// Reads one record (1-based data `row`) into `d`, checking its length,
+    /// every value and that time increases.
+    fn push_row(
+        &self,
+        d: &mut Dataset,
+        rec: &::csv::StringRecord,
+        header: &[String],
+        path: &str,
+        row: usize,
+    ) -> Result<(), DataError> {
+        if rec.len() != header.len() {
+            return Err(DataError::Row {
+                path: path.into(),
+                row,
+                message: format!("has {} fields, the header has {}", rec.len(), header.len()),
+            });
+        }
+        let get = |c: usize| -> Result<f64, DataError> {
+            let raw = &rec[c];
+            let bad = |message: String| DataError::Value {
+                path: path.into(),
+                row,
+                column: header[c].clone(),
+                message,
+            };
+            let v: f64 = raw
+                .parse()
+                .map_err(|_| bad(format!("'{raw}' is not a number")))?;
+            if !v.is_finite() {
+                return Err(bad(format!("non-finite value '{raw}'")));
+            }
+            Ok(v)
+        };
+        let many = |ix: &[usize]| ix.iter().map(|&c| get(c)).collect::<Result<Vec<f64>, _>>();
+        let t = get(self.t)?;
+        if let Some(&prev) = d.t.last()
+            && t <= prev
+        {
+            return Err(DataError::Value {
+                path: path.into(),
+                row,
+                column: "t".into(),
+                message: format!("time {t} is not after the previous row's {prev}"),
+            });
+        }
+        d.t.push(t);
+        d.q.push(many(&self.q)?);
+        d.qd.push(many(&self.qd)?);
+        if let Some(ix) = &self.qdd {
+            d.qdd.push(many(ix)?);
+        }
+        if let Some(ix) = &self.tau {
+            d.tau.push(many(ix)?);
+        }
+        Ok(())
+    }
+}
+
+/// q̈ from q̇ with a cut-off below the file's Nyquist frequency.
+fn qdd_of(d: &Dataset, path: &str, cutoff_hz: f64) -> Result<Vec<Vec<f64>>, DataError> {
+    let n = d.len();
+    let nyquist = if n > 1 {
+        0.5 * (n - 1) as f64 / (d.t[n - 1] - d.t[0])
+    } else {
+        f64::INFINITY
+    };
+    if !(cutoff_hz > 0.0 && cutoff_hz < nyquist) {
+        return Err(DataError::Cutoff {
+            path: path.into(),
+            cutoff_hz,
+            nyquist_hz: nyquist,
+        });
+    }
+    Ok(estimate_qdd(&d.t, &d.qd, cutoff_hz))
 }

@@ -53,6 +53,9 @@ impl Biquad {
 }
 
 /// Zero-phase low-pass of `x` (sampled at `fs` Hz) with −6 dB at `cutoff` Hz.
+/// Fewer than 3 samples, or a cut-off that is not in (0, fs/2), return `x`
+/// unchanged: callers check the cut-off against the rate first (the CSV
+/// reader and `SimConfig::validate` make that an error).
 pub fn filtfilt(x: &[f64], cutoff: f64, fs: f64) -> Vec<f64> {
     let n = x.len();
     if n < 3 || !(cutoff > 0.0 && cutoff < fs / 2.0) {

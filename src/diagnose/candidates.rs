@@ -135,7 +135,8 @@ pub fn build(
     d: &Dataset,
 ) -> Result<Vec<Columns>, DiagnoseError> {
     let one = |cols| Ok(vec![Columns::linear(candidate, cols)]);
-    let tau_hat = || predict_torques(model, friction, &d.q, &d.qd, &d.qdd);
+    let tau_hat =
+        || predict_torques(model, friction, &d.q, &d.qd, &d.qdd).map_err(DiagnoseError::Predict);
     match candidate {
         Candidate::Effect(e) => match e {
             Effect::Coulomb => one(per_joint(d, |k, i| sign(d.qd[k][i]))),

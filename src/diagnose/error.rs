@@ -50,12 +50,6 @@ pub enum DiagnoseError {
     NoTool,
 }
 
-impl From<DynamicsError> for DiagnoseError {
-    fn from(e: DynamicsError) -> Self {
-        DiagnoseError::Predict(e)
-    }
-}
-
 /// Why one candidate's fit failed (the candidate is then skipped, with a warning).
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]

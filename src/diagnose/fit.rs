@@ -3,7 +3,7 @@
 
 use super::candidates::Columns;
 use super::error::FitError;
-use crate::conic::{AffExpr, Problem, Settings};
+use crate::conic::{AffExpr, Problem, Settings, Status};
 use crate::identify::Reduced;
 use crate::moments::lmi::BodyVars;
 use faer::Mat;
@@ -64,13 +64,23 @@ fn reduced(c: &Columns, rows: std::ops::Range<usize>, r: &[f64]) -> Reduced {
 /// The fit of a candidate: plain least squares, or — for inertial
 /// corrections — least squares with `J(π_nominal + β) ⪰ 0` for every
 /// corrected body (and β ≥ 0 for a payload mass), through `conic` with the
-/// LMIs of `moments`, on the reduced (Gram) form of the rows.
+/// LMIs of `moments`, on the reduced (Gram) form of the rows. A status that
+/// is not solved is an error; an inaccurate solve is flagged.
 pub fn fit_candidate(
     c: &Columns,
     rows: std::ops::Range<usize>,
     r: &[f64],
-) -> Result<Vec<f64>, FitError> {
+) -> Result<Fit, FitError> {
     fit_with(c, rows, r, &Settings::default())
+}
+
+/// A candidate's coefficients.
+#[derive(Debug)]
+pub struct Fit {
+    /// β, one per column.
+    pub beta: Vec<f64>,
+    /// The constrained fit was solved only to Clarabel's reduced tolerances.
+    pub inaccurate: bool,
 }
 
 fn fit_with(
@@ -78,9 +88,12 @@ fn fit_with(
     rows: std::ops::Range<usize>,
     r: &[f64],
     settings: &Settings,
-) -> Result<Vec<f64>, FitError> {
+) -> Result<Fit, FitError> {
     if c.bodies.is_empty() && !c.nonneg {
-        return least_squares(&c.cols, rows, r);
+        return least_squares(&c.cols, rows, r).map(|beta| Fit {
+            beta,
+            inaccurate: false,
+        });
     }
     let k = c.cols.len();
     let red = reduced(c, rows, r);
@@ -117,10 +130,17 @@ fn fit_with(
     }
     p.minimize(t);
     let sol = p.solve(settings)?;
-    if !sol.status.is_solved() {
-        return Err(FitError::Status(sol.status));
+    match sol.status {
+        Status::Solved => Ok(Fit {
+            beta: beta.iter().map(|e| sol.eval(e)).collect(),
+            inaccurate: false,
+        }),
+        Status::SolvedInaccurately => Ok(Fit {
+            beta: beta.iter().map(|e| sol.eval(e)).collect(),
+            inaccurate: true,
+        }),
+        s => Err(FitError::Status(s)),
     }
-    Ok(beta.iter().map(|e| sol.eval(e)).collect())
 }
 
 /// `r − Σ βᵢ colᵢ`.
@@ -156,7 +176,9 @@ mod tests {
         let x: Vec<f64> = (0..50).map(|k| (k as f64 * 0.3).sin()).collect();
         let r: Vec<f64> = x.iter().map(|v| 2.0 * v + 0.01).collect();
         // the plain fit works and is not zero
-        let b = fit_candidate(&columns(vec![x.clone()], false), 0..50, &r).unwrap();
+        let b = fit_candidate(&columns(vec![x.clone()], false), 0..50, &r)
+            .unwrap()
+            .beta;
         assert!((b[0] - 2.0).abs() < 0.05, "{b:?}");
         // non-finite columns: the normal equations cannot be factorised
         let mut bad = x.clone();
@@ -168,7 +190,9 @@ mod tests {
         let e = fit_with(&columns(vec![x.clone()], true), 0..50, &r, &tight).unwrap_err();
         assert!(matches!(e, FitError::Status(s) if !s.is_solved()), "{e}");
         // and with the default settings the same fit is solved
-        let b = fit_candidate(&columns(vec![x], true), 0..50, &r).unwrap();
+        let b = fit_candidate(&columns(vec![x], true), 0..50, &r)
+            .unwrap()
+            .beta;
         assert!((b[0] - 2.0).abs() < 0.05, "{b:?}");
     }
 }

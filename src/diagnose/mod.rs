@@ -28,9 +28,9 @@ pub mod where_;
 pub use error::{DiagnoseError, FitError};
 
 use crate::data::Dataset;
-use crate::dynamics::Model;
 use crate::dynamics::params_file::Friction;
 use crate::dynamics::predict::predict_torques;
+use crate::dynamics::{Effect, Model};
 use candidates::{Candidate, Columns, build, flat};
 use select::{Evaluation, choose, evaluate};
 use serde::Serialize;
@@ -60,7 +60,7 @@ impl Default for DiagnoseOptions {
 }
 
 impl DiagnoseOptions {
-    /// `train_fraction` of the samples (from the start) fit, in (0.1, 0.9);
+    /// `train_fraction` of the samples (from the start) fit, in [0.1, 0.9];
     /// at most `max_effects` (≥ 1) effects are accepted; the held-out block
     /// test uses `blocks` (2 … 1000) blocks.
     pub fn new(
@@ -232,7 +232,7 @@ fn library(
                 return build(c, model, friction, data);
             }
             let Ok(lin) = &lin else { return Ok(vec![]) };
-            let backlash = c.name() == "backlash";
+            let backlash = c == Candidate::Effect(Effect::Backlash);
             let fitted = compliance::fit(lin, r, split.first_heldout, backlash)
                 .and_then(|f| compliance::columns(c, lin, &f));
             if fitted.is_none() {
@@ -353,7 +353,8 @@ pub fn diagnose(
         });
     }
     let split = Split::new(data.len(), n, opts.train_fraction);
-    let pred = predict_torques(model, friction, &data.q, &data.qd, &data.qdd)?;
+    let pred = predict_torques(model, friction, &data.q, &data.qd, &data.qdd)
+        .map_err(DiagnoseError::Predict)?;
     let r_nominal: Vec<f64> = flat(&data.tau)
         .iter()
         .zip(flat(&pred))

@@ -58,7 +58,16 @@ fn best_variant<'c>(
     let mut best: Option<(f64, &Columns, Vec<f64>)> = None;
     for v in variants {
         let beta = match fit_candidate(v, split.train.clone(), r) {
-            Ok(b) => b,
+            Ok(f) => {
+                if f.inaccurate {
+                    warnings.push(format!(
+                        "round {round}: candidate '{}' {}: the constrained fit was solved only to reduced tolerances",
+                        v.name(),
+                        v.detail
+                    ));
+                }
+                f.beta
+            }
             Err(e) => {
                 warnings.push(format!(
                     "round {round}: candidate '{}' {} skipped: {e}",
@@ -182,7 +191,63 @@ pub fn choose(evals: &mut [Evaluation], before: &[f64]) -> Option<(usize, Vec<us
 
 #[cfg(test)]
 mod tests {
-    use super::block_bootstrap_z;
+    use super::{Split, block_bootstrap_z, evaluate};
+    use crate::diagnose::candidates::{Candidate, Columns};
+    use crate::dynamics::Effect;
+
+    /// A candidate whose fit fails is skipped with a warning naming it, and
+    /// the variant that fits is still scored.
+    #[test]
+    fn a_failed_variant_is_a_warning_not_a_zero() {
+        let n = 1;
+        let x: Vec<f64> = (0..400).map(|k| (k as f64 * 0.05).sin()).collect();
+        let r: Vec<f64> = x.iter().map(|v| 0.5 * v).collect();
+        let mut bad = x.clone();
+        bad[3] = f64::NAN;
+        let variant = |cols, detail: &str| Columns {
+            candidate: Candidate::Effect(Effect::Offset),
+            detail: detail.into(),
+            cols,
+            bodies: vec![],
+            nonneg: false,
+            nonlinear: 0,
+        };
+        let split = Split::new(400, n, 0.6);
+        let names = vec!["j".to_string()];
+        let mut warnings = vec![];
+        let e = evaluate(
+            &[
+                variant(vec![bad.clone()], "broken"),
+                variant(vec![x], "good"),
+            ],
+            &split,
+            &r,
+            1,
+            20,
+            &names,
+            &mut warnings,
+        )
+        .expect("the good variant is scored");
+        assert_eq!(e.report.detail, "good");
+        assert!(e.report.heldout_rms_after[0] < 1e-6, "{:?}", e.report);
+        assert_eq!(warnings.len(), 1);
+        assert!(
+            warnings[0].contains("'offset' broken skipped"),
+            "{warnings:?}"
+        );
+        // nothing fits: no evaluation, and the warning says so
+        let mut warnings = vec![];
+        let none = evaluate(
+            &[variant(vec![bad], "broken")],
+            &split,
+            &r,
+            2,
+            20,
+            &names,
+            &mut warnings,
+        );
+        assert!(none.is_none() && warnings.len() == 1);
+    }
 
     #[test]
     fn block_bootstrap_separates_concentrated_gains_from_noise() {

@@ -123,9 +123,13 @@ pub fn true_params() -> [InertialParams; 6] {
 }
 
 /// The leg's description: its kinematics with its sidecar [`SIDECAR`],
-/// loaded like any robot ([`super::robots::load_robot`]).
+/// loaded like any robot ([`super::robots::load_robot`]) once per process.
 pub fn description() -> RobotDescription {
-    super::robots::load_robot(NAME, None).expect("the built-in leg and its sidecar are valid")
+    static LEG: std::sync::OnceLock<RobotDescription> = std::sync::OnceLock::new();
+    LEG.get_or_init(|| {
+        super::robots::load_robot(NAME, None).expect("the built-in leg and its sidecar are valid")
+    })
+    .clone()
 }
 
 /// The box "CAD prior" of the sidecar, bodies as [`BODIES`].

@@ -179,7 +179,10 @@ fn with_limits(
     sidecar: &Sidecar,
     err: &dyn Fn(String) -> DynamicsError,
 ) -> Result<Model, DynamicsError> {
-    for j in &sidecar.joints {
+    for (k, j) in sidecar.joints.iter().enumerate() {
+        if sidecar.joints[..k].iter().any(|o| o.name == j.name) {
+            return Err(err(format!("[[joint]] '{}' is given twice", j.name)));
+        }
         let i = model.joint_index(&j.name).ok_or_else(|| {
             err(format!(
                 "[[joint]] '{}' is not a moving joint of the model (joints: {})",
@@ -220,12 +223,12 @@ fn nominal_friction(
         };
         let (c, pc) = pick(
             side.and_then(|j| j.coulomb),
-            dynamics.map(|d| d.friction),
+            dynamics.and_then(|d| d.friction),
             PLACEHOLDER_COULOMB,
         );
         let (v, pv) = pick(
             side.and_then(|j| j.viscous),
-            dynamics.map(|d| d.damping),
+            dynamics.and_then(|d| d.damping),
             PLACEHOLDER_VISCOUS,
         );
         f.coulomb[i] = c;

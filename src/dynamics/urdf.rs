@@ -214,7 +214,7 @@ fn walk(
 fn rotor(
     r: &SidecarRotor,
     joints: &[Joint],
-    reductions: &HashMap<&str, f64>,
+    reductions: &HashMap<&str, &Result<f64, String>>,
     path: &str,
 ) -> Result<Rotor, DynamicsError> {
     let Some(ji) = joints.iter().position(|j| j.name == r.joint) else {
@@ -230,9 +230,28 @@ fn rotor(
         .name
         .clone()
         .unwrap_or_else(|| format!("{}_rotor", r.joint));
-    let n = r.gear_ratio.or_else(|| reductions.get(r.joint.as_str()).copied()).ok_or_else(|| {
-        ferr(path, format!("sidecar rotor '{name}': no gear_ratio and no <transmission> mechanicalReduction for joint '{}'", r.joint))
-    })?;
+    let n = match (r.gear_ratio, reductions.get(r.joint.as_str())) {
+        (Some(n), _) => n,
+        (None, Some(Ok(n))) => *n,
+        (None, Some(Err(text))) => {
+            return Err(ferr(
+                path,
+                format!(
+                    "sidecar rotor '{name}': the <transmission> mechanicalReduction '{text}' of joint '{}' is not a number",
+                    r.joint
+                ),
+            ));
+        }
+        (None, None) => {
+            return Err(ferr(
+                path,
+                format!(
+                    "sidecar rotor '{name}': no gear_ratio and no <transmission> mechanicalReduction for joint '{}'",
+                    r.joint
+                ),
+            ));
+        }
+    };
     let inertia = match (r.params, r.mass, r.inertia) {
         (Some(p), None, None) => InertialParams(p),
         (None, Some(m), Some(i)) => {
@@ -278,10 +297,10 @@ pub fn model_from_robot(
     let (children, root) = tree(robot, sc, path)?;
     let (joints, frames) = walk(robot, &children, root, sc, path)?;
     // `<transmission>` reductions by joint name (the last one wins)
-    let reductions: HashMap<&str, f64> = robot
+    let reductions: HashMap<&str, &Result<f64, String>> = robot
         .transmissions
         .iter()
-        .filter_map(|t| Some((t.joint.as_deref()?, t.reduction?)))
+        .filter_map(|t| Some((t.joint.as_deref()?, t.reduction.as_ref()?)))
         .collect();
     let rotors = sc
         .rotors

@@ -25,6 +25,16 @@ pub enum IdentifyError {
         /// Samples with torques.
         torques: usize,
     },
+    /// Sample vectors of different lengths (q, q̇, q̈, τ).
+    #[error("{what} has {found} samples, q has {expected}")]
+    SampleCount {
+        /// Which vector.
+        what: &'static str,
+        /// q's samples.
+        expected: usize,
+        /// Its samples.
+        found: usize,
+    },
     /// A sample with the wrong number of values.
     #[error("sample {sample}: {what} has {found} values, the model has {expected} joints")]
     SampleLength {

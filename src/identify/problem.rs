@@ -199,18 +199,18 @@ impl IdentifyOptions {
             });
         }
         let needs_e = self.level == Level::Ellipsoid || (self.com_lmi && self.level != Level::None);
-        if needs_e && self.ellipsoids.as_ref().is_none_or(|e| e.len() != nb) {
+        let wrong_len = self.ellipsoids.as_ref().is_some_and(|e| e.len() != nb);
+        if wrong_len || (needs_e && self.ellipsoids.is_none()) {
             return Err(IdentifyError::Option {
                 option: "ellipsoids",
                 message: format!(
-                    "the {} level{} needs one bounding ellipsoid per body ({nb}), got {}",
-                    self.level.as_str(),
-                    if self.com_lmi {
-                        " with the CoM LMI"
+                    "{} bounding ellipsoids for {nb} bodies; give one per body{}",
+                    self.ellipsoids.as_ref().map_or(0, |e| e.len()),
+                    if needs_e {
+                        format!(" (the {} level needs them)", self.level.as_str())
                     } else {
-                        ""
-                    },
-                    self.ellipsoids.as_ref().map_or(0, |e| e.len())
+                        String::new()
+                    }
                 ),
             });
         }
@@ -398,20 +398,22 @@ fn scaled_problem(
 
 /// After an infeasible solve: the first body whose own constraint set is
 /// empty, else the status itself.
-fn explain_infeasible(model: &Model, opts: &IdentifyOptions, status: Status) -> IdentifyError {
+fn explain_infeasible(
+    model: &Model,
+    opts: &IdentifyOptions,
+    status: Status,
+) -> Result<IdentifyError, IdentifyError> {
     for (b, name) in model.body_names().iter().enumerate() {
         let mut q = Problem::new();
         let v = BodyVars::new(&mut q, name);
         let mut o = opts.clone();
         o.ellipsoids = opts.ellipsoids.as_ref().map(|e| vec![e[b]]);
-        let empty = add_body_constraints(&mut q, &[v], &o, std::slice::from_ref(name))
-            .and_then(|_| Ok(q.solve(&Settings::default())?))
-            .is_ok_and(|s| s.status.is_primal_infeasible());
-        if empty {
-            return IdentifyError::InfeasibleBody { body: name.clone() };
+        add_body_constraints(&mut q, &[v], &o, std::slice::from_ref(name))?;
+        if q.solve(&opts.settings)?.status.is_primal_infeasible() {
+            return Ok(IdentifyError::InfeasibleBody { body: name.clone() });
         }
     }
-    IdentifyError::Solver(status)
+    Ok(IdentifyError::Solver(status))
 }
 
 /// Solves (25) on reduced data.
@@ -465,7 +467,7 @@ pub fn solve_identification(
             unidentifiable,
             rank,
         }),
-        s if s.is_primal_infeasible() => Err(explain_infeasible(model, opts, s)),
+        s if s.is_primal_infeasible() => Err(explain_infeasible(model, opts, s)?),
         s => Err(IdentifyError::Solver(s)),
     }
 }

@@ -70,6 +70,8 @@ pub struct IdentifyResult {
     pub constraints_satisfied: bool,
     /// Solver status.
     pub status: String,
+    /// What the caller should know (an inaccurate solve, …).
+    pub warnings: Vec<String>,
     /// Interior-point iterations.
     pub iterations: u32,
     /// Numerical rank of the regressor / number of parameters.
@@ -270,6 +272,14 @@ pub fn identify(
         friction,
         constraints_satisfied: ok,
         status: status.as_str().into(),
+        warnings: if status == crate::conic::Status::SolvedInaccurately {
+            vec![format!(
+                "the SDP was solved only to Clarabel's reduced tolerances ({} iterations)",
+                iterations
+            )]
+        } else {
+            vec![]
+        },
         iterations,
         rank,
         num_parameters: theta.len(),

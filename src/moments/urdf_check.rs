@@ -45,6 +45,9 @@ pub struct LinkReport {
     /// Density realizable in the bounding ellipsoid(s) of the primitives
     /// (`None` without primitives or when the inertia is not consistent).
     pub realizable_in_geometry: Option<bool>,
+    /// Shapes whose geometry could not be used, and why (a mesh, which is
+    /// not read; an unreadable or degenerate primitive; a failed union solve).
+    pub geometry_notes: Vec<String>,
     /// The parameters in the paper's order (link frame).
     pub params: [f64; 10],
     #[serde(skip)]
@@ -95,40 +98,50 @@ fn pose_of(p: &Pose) -> (nalgebra::Matrix3<f64>, Vector3<f64>) {
     (rpy_rotation(p.rpy), Vector3::from(p.xyz))
 }
 
-/// The bounding ellipsoid of one primitive shape, in the link frame (`None`
-/// for meshes and unreadable geometry).
-fn shape_ellipsoid(s: &Shape) -> Option<Ellipsoid> {
+/// The bounding ellipsoid of one primitive shape, in the link frame, or why
+/// there is none.
+fn shape_ellipsoid(s: &Shape) -> Result<Ellipsoid, String> {
     let e = match &s.geometry {
         Geometry::Box { size } => Ellipsoid::bounding_box(Vector3::from(*size)),
         Geometry::Cylinder { radius, length } => Ellipsoid::bounding_cylinder(*radius, *length),
         Geometry::Capsule { radius, length } => Ellipsoid::bounding_capsule(*radius, *length),
         Geometry::Sphere { radius } => Ellipsoid::bounding_sphere(*radius),
-        Geometry::Mesh { .. } | Geometry::Invalid { .. } => return None,
+        Geometry::Mesh { filename, .. } => return Err(format!("mesh '{filename}' is not read")),
+        Geometry::Invalid { message } => return Err(message.clone()),
     }
-    .ok()?;
+    .map_err(|e| e.to_string())?;
     let (r, p) = pose_of(&s.origin);
-    Some(e.transformed(&r, &p))
+    Ok(e.transformed(&r, &p))
 }
 
-/// Bounding ellipsoids of a link's primitive shapes (collision, else visual).
-fn geometry_ellipsoids(link: &crate::urdf::Link) -> Vec<Ellipsoid> {
-    let shapes = if link.collisions.is_empty() {
-        &link.visuals
+/// Bounding ellipsoids of a link's primitive shapes (collision, else
+/// visual), and notes on the shapes that gave none.
+fn geometry_ellipsoids(link: &crate::urdf::Link) -> (Vec<Ellipsoid>, Vec<String>) {
+    let (shapes, kind) = if link.collisions.is_empty() {
+        (&link.visuals, "visual")
     } else {
-        &link.collisions
+        (&link.collisions, "collision")
     };
-    shapes.iter().filter_map(shape_ellipsoid).collect()
+    let mut es = vec![];
+    let mut notes = vec![];
+    for (k, s) in shapes.iter().enumerate() {
+        match shape_ellipsoid(s) {
+            Ok(e) => es.push(e),
+            Err(m) => notes.push(format!("{kind} {}: {m}", k + 1)),
+        }
+    }
+    (es, notes)
 }
 
 /// Whether π is density realizable in the ellipsoids (one: Theorem 4;
 /// several: their union, Corollary 2); `None` when there are none.
-fn realizable_in(pi: &InertialParams, ellipsoids: &[Ellipsoid]) -> Option<bool> {
+fn realizable_in(pi: &InertialParams, ellipsoids: &[Ellipsoid]) -> Result<Option<bool>, String> {
     match ellipsoids {
-        [] => None,
-        [e] => Some(check_realizable(pi, e, 1e-9).realizable),
+        [] => Ok(None),
+        [e] => Ok(Some(check_realizable(pi, e, 1e-9).realizable)),
         many => realize_on_union(pi, many)
-            .ok()
-            .map(|r| matches!(r, UnionRealization::Realizable(_))),
+            .map(|r| Some(matches!(r, UnionRealization::Realizable(_))))
+            .map_err(|e| format!("the union test failed: {e}")),
     }
 }
 
@@ -149,10 +162,13 @@ fn link_report(link: &crate::urdf::Link, path: &str) -> Result<Option<LinkReport
         inertial.origin.rpy,
         inertial.inertia,
     );
-    let ellipsoids = geometry_ellipsoids(link);
+    let (ellipsoids, mut geometry_notes) = geometry_ellipsoids(link);
     let rep = check_consistency(&pi, DEFAULT_TOL);
     let realizable = if rep.consistent {
-        realizable_in(&pi, &ellipsoids)
+        realizable_in(&pi, &ellipsoids).unwrap_or_else(|m| {
+            geometry_notes.push(m);
+            None
+        })
     } else {
         None
     };
@@ -171,6 +187,7 @@ fn link_report(link: &crate::urdf::Link, path: &str) -> Result<Option<LinkReport
         pseudo_inertia_min_eig: rep.pseudo_inertia_min_eig,
         geometry_primitives: ellipsoids.len(),
         realizable_in_geometry: realizable,
+        geometry_notes,
         params: pi.0,
         verdict: rep.verdict,
         ellipsoids,
@@ -213,37 +230,53 @@ pub fn check_urdf_file(path: &Path) -> Result<(String, UrdfReport), UrdfError> {
 
 /// The nearest consistent replacement of one link's inertial (mass kept,
 /// inside its single bounding ellipsoid when it has one), as URDF text
-/// indented like the element it replaces.
-fn repaired_inertial(text: &str, rep: &LinkReport, path: &str) -> Result<String, UrdfError> {
+/// indented like the element it replaces, and a note when the ellipsoid had
+/// to be dropped.
+fn repaired_inertial(
+    text: &str,
+    rep: &LinkReport,
+    path: &str,
+) -> Result<(String, Option<&'static str>), UrdfError> {
     let pi = InertialParams(rep.params);
+    let fail = |e: crate::moments::MomentsError| UrdfError::Link {
+        path: path.into(),
+        link: rep.name.clone(),
+        message: format!("repair failed: {e}"),
+    };
+    let inside = (rep.ellipsoids.len() == 1).then(|| rep.ellipsoids[0]);
     let opts = NearestOptions {
-        ellipsoid: (rep.ellipsoids.len() == 1).then(|| rep.ellipsoids[0]),
+        ellipsoid: inside,
         ..Default::default()
     };
-    let fixed = nearest_consistent(&pi, &opts)
-        .or_else(|_| nearest_consistent(&pi, &NearestOptions::default()))
-        .map_err(|e| UrdfError::Link {
-            path: path.into(),
-            link: rep.name.clone(),
-            message: format!("repair failed: {e}"),
-        })?;
+    let (fixed, note) = match nearest_consistent(&pi, &opts) {
+        Ok(f) => (f, None),
+        Err(_) if inside.is_some() => (
+            nearest_consistent(&pi, &NearestOptions::default()).map_err(fail)?,
+            Some("not inside its geometry's bounding ellipsoid"),
+        ),
+        Err(e) => return Err(fail(e)),
+    };
     let (m, c, i) = fixed.params.to_urdf();
     let indent = text[..rep.inertial_range.start]
         .rsplit('\n')
         .next()
         .unwrap_or("");
     let pad = if indent.trim().is_empty() { indent } else { "" };
-    Ok(format!(
-        "<inertial>\n{pad}  <!-- repaired by momentlmi check: nearest physically consistent inertia -->\n{pad}  <origin xyz=\"{:e} {:e} {:e}\" rpy=\"0 0 0\"/>\n{pad}  <mass value=\"{:e}\"/>\n{pad}  <inertia ixx=\"{:e}\" ixy=\"{:e}\" ixz=\"{:e}\" iyy=\"{:e}\" iyz=\"{:e}\" izz=\"{:e}\"/>\n{pad}</inertial>",
-        c[0], c[1], c[2], m, i[0], i[1], i[2], i[3], i[4], i[5]
+    Ok((
+        format!(
+            "<inertial>\n{pad}  <!-- repaired by momentlmi check: nearest physically consistent inertia -->\n{pad}  <origin xyz=\"{:e} {:e} {:e}\" rpy=\"0 0 0\"/>\n{pad}  <mass value=\"{:e}\"/>\n{pad}  <inertia ixx=\"{:e}\" ixy=\"{:e}\" ixz=\"{:e}\" iyy=\"{:e}\" iyz=\"{:e}\" izz=\"{:e}\"/>\n{pad}</inertial>",
+            c[0], c[1], c[2], m, i[0], i[1], i[2], i[3], i[4], i[5]
+        ),
+        note,
     ))
 }
 
 /// The URDF text with every inconsistent (non-placeholder, positive-mass)
 /// inertial replaced by the nearest consistent one (mass kept, strict margin
 /// 1e-6, see [`nearest_consistent`]). Everything else in the file is kept
-/// byte for byte. `report` must come from this `text`. Returns the text and
-/// the names of the repaired links.
+/// byte for byte. `report` must come from this `text` (checked). Returns the
+/// text and the repaired links (with a note where the repair could not keep
+/// the link inside its bounding ellipsoid).
 pub fn repair_urdf(
     text: &str,
     report: &UrdfReport,
@@ -258,11 +291,25 @@ pub fn repair_urdf(
         ) {
             continue;
         }
-        edits.push((
-            rep.inertial_range.clone(),
-            repaired_inertial(text, rep, path)?,
-        ));
-        repaired.push(rep.name.clone());
+        let r = rep.inertial_range.clone();
+        if !text
+            .get(r.clone())
+            .is_some_and(|s| s.starts_with("<inertial"))
+        {
+            return Err(UrdfError::Link {
+                path: path.into(),
+                link: rep.name.clone(),
+                message:
+                    "the report is not of this text (its <inertial> is not where the report says)"
+                        .into(),
+            });
+        }
+        let (xml, note) = repaired_inertial(text, rep, path)?;
+        edits.push((r, xml));
+        repaired.push(match note {
+            Some(n) => format!("{} ({n})", rep.name),
+            None => rep.name.clone(),
+        });
     }
     let mut out = text.to_string();
     edits.sort_by_key(|e| std::cmp::Reverse(e.0.start));

@@ -25,6 +25,12 @@ pub enum SimError {
         /// Time (s).
         t: f64,
     },
+    /// The excitation gives a non-finite state.
+    #[error("the excitation gives a non-finite state at t = {t} s")]
+    NonFinite {
+        /// Time (s).
+        t: f64,
+    },
     /// The excitation does not fit the model.
     #[error("the excitation moves {found} joints, the model has {expected}")]
     Excitation {

@@ -147,6 +147,24 @@ impl TrueRobot {
         })
     }
 
+    /// Effects that are on but change nothing (a friction effect whose
+    /// nominal friction is zero on every joint).
+    pub fn warnings(&self) -> Vec<String> {
+        let mut w = vec![];
+        for (e, v) in [
+            (Effect::Coulomb, &self.friction.coulomb),
+            (Effect::Viscous, &self.friction.viscous),
+            (Effect::AsymmetricFriction, &self.friction.coulomb),
+        ] {
+            if self.effects.has(e) && v.iter().all(|x| *x == 0.0) {
+                w.push(format!(
+                    "effect '{e}' is on but the robot's nominal friction it scales is zero on every joint"
+                ));
+            }
+        }
+        w
+    }
+
     /// The effects.
     pub fn effects(&self) -> &Effects {
         &self.effects

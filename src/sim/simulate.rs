@@ -110,6 +110,15 @@ impl SimConfig {
                 found: self.trajectory.joints(),
             });
         }
+        if matches!(self.trajectory, Trajectory::Shell(_))
+            && !crate::dynamics::cheetah3::has_leg_kinematics(model)
+        {
+            return Err(SimError::Setting {
+                setting: "trajectory",
+                value: f64::NAN,
+                message: "the leg shell drives the built-in leg's foot through its inverse kinematics; this model does not have that leg's joints".into(),
+            });
+        }
         Ok(samples as usize)
     }
 }
@@ -144,6 +153,9 @@ fn sample_states(
         } else {
             (q.clone(), qd.clone(), qdd.clone())
         };
+        if !q.iter().chain(&qd).chain(&qdd).all(|v| v.is_finite()) {
+            return Err(SimError::NonFinite { t });
+        }
         for (i, j) in model.joints.iter().enumerate() {
             if q[i] < j.limits.0 || q[i] > j.limits.1 {
                 return Err(SimError::Limits {

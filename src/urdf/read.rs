@@ -266,9 +266,14 @@ fn read_joint(path: &str, node: Node) -> Result<Joint, UrdfError> {
         .transpose()?;
     let dynamics = child(node, "dynamics")
         .map(|d| -> Result<JointDynamics, UrdfError> {
+            let opt = |name: &str| -> Result<Option<f64>, UrdfError> {
+                d.attribute(name)
+                    .map(|raw| cx.parse_number(raw, "dynamics", name))
+                    .transpose()
+            };
             Ok(JointDynamics {
-                damping: cx.number_or(d, "damping", 0.0)?,
-                friction: cx.number_or(d, "friction", 0.0)?,
+                damping: opt("damping")?,
+                friction: opt("friction")?,
             })
         })
         .transpose()?;
@@ -297,9 +302,13 @@ fn read_transmission(node: Node) -> Transmission {
         reduction: node
             .descendants()
             .find(|c| c.has_tag_name("mechanicalReduction"))
-            .and_then(|r| r.text())
-            .and_then(|s| s.trim().parse::<f64>().ok())
-            .filter(|r| r.is_finite()),
+            .map(|r| {
+                let text = r.text().unwrap_or("").trim();
+                text.parse::<f64>()
+                    .ok()
+                    .filter(|v| v.is_finite())
+                    .ok_or_else(|| text.to_string())
+            }),
     }
 }
 

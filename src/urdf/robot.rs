@@ -136,13 +136,13 @@ pub struct Mimic {
 }
 
 /// `<dynamics damping friction>`: viscous (N·m·s/rad) and Coulomb (N·m)
-/// friction of the joint.
+/// friction of the joint, each as written (absent: `None`).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct JointDynamics {
     /// Viscous damping.
-    pub damping: f64,
+    pub damping: Option<f64>,
     /// Coulomb friction.
-    pub friction: f64,
+    pub friction: Option<f64>,
 }
 
 /// A `<joint>`.
@@ -175,8 +175,8 @@ pub struct Transmission {
     pub name: String,
     /// The joint (`<joint name>`), if given.
     pub joint: Option<String>,
-    /// `<mechanicalReduction>`, if given and a finite number.
-    pub reduction: Option<f64>,
+    /// `<mechanicalReduction>`, if given: the number, or the text that is not one.
+    pub reduction: Option<Result<f64, String>>,
 }
 
 /// A whole URDF: the elements a robot description needs, in file order.

@@ -7,6 +7,30 @@ use momentlmi::dynamics::ParamChoice;
 use momentlmi::dynamics::robots::load_robot;
 use std::path::Path;
 
+fn diagnosis(
+    robot: &str,
+    sidecar: Option<&Path>,
+    data: &Path,
+    nominal: Option<&str>,
+) -> Result<Diagnosis, String> {
+    let robot = load_robot(robot, sidecar).map_err(|e| e.to_string())?;
+    if nominal == Some("true") {
+        super::warn_robot(&robot);
+    }
+    let choice = nominal.map_or(ParamChoice::Own, |p| p.parse().expect("infallible"));
+    let (model, friction) = robot.parameters(&choice).map_err(|e| e.to_string())?;
+    let d = Dataset::read_csv(data, &model.joint_names(), ReadOptions::default())
+        .map_err(|e| e.to_string())?;
+    diagnose(&model, &friction, &d, &DiagnoseOptions::default()).map_err(|e| e.to_string())
+}
+
+/// `diagnosis.json` and the plots into `dir`.
+fn write_outputs(dg: &Diagnosis, text: &str, dir: &Path) -> Result<(), String> {
+    std::fs::create_dir_all(dir).map_err(|e| e.to_string())?;
+    write_whole(&dir.join("diagnosis.json"), text).map_err(|e| e.to_string())?;
+    crate::plots::diagnosis::write_plots(dg, dir).map(|_| ())
+}
+
 /// Exit codes: 0 diagnosed, 2 bad input.
 pub fn run(
     robot: &str,
@@ -16,15 +40,7 @@ pub fn run(
     json: bool,
     out: Option<&Path>,
 ) -> i32 {
-    let res = (|| -> Result<Diagnosis, String> {
-        let robot = load_robot(robot, sidecar).map_err(|e| e.to_string())?;
-        let choice = nominal.map_or(ParamChoice::Own, |p| p.parse().expect("infallible"));
-        let (model, friction) = robot.parameters(&choice).map_err(|e| e.to_string())?;
-        let d = Dataset::read_csv(data, &model.joint_names(), ReadOptions::default())
-            .map_err(|e| e.to_string())?;
-        diagnose(&model, &friction, &d, &DiagnoseOptions::default()).map_err(|e| e.to_string())
-    })();
-    let dg = match res {
+    let dg = match diagnosis(robot, sidecar, data, nominal) {
         Ok(d) => d,
         Err(e) => {
             eprintln!("error: {e}");
@@ -41,22 +57,22 @@ pub fn run(
             return 2;
         }
     };
-    if let Some(dir) = out {
-        if let Err(e) = std::fs::create_dir_all(dir)
-            .map_err(|e| e.to_string())
-            .and_then(|_| {
-                write_whole(&dir.join("diagnosis.json"), &text).map_err(|e| e.to_string())
-            })
-            .and_then(|_| crate::plots::diagnosis::write_plots(&dg, dir).map(|_| ()))
-        {
-            eprintln!("error: {}: {e}", dir.display());
-            return 2;
-        }
+    if let Some(dir) = out
+        && let Err(e) = write_outputs(&dg, &text, dir)
+    {
+        eprintln!("error: {}: {e}", dir.display());
+        return 2;
     }
     if json {
         println!("{text}");
-        return 0;
+    } else {
+        print_report(&dg);
     }
+    0
+}
+
+/// The human report: where, which, how far.
+fn print_report(dg: &Diagnosis) {
     println!("Where the gap lies (held-out part, nominal model):");
     for s in &dg.summary {
         println!("  {s}");
@@ -118,5 +134,4 @@ pub fn run(
     } else {
         println!("\nNothing left above the noise floor.");
     }
-    0
 }

@@ -46,6 +46,9 @@ pub fn run(a: &IdentifyArgs) -> i32 {
             } else {
                 print_report(&r);
             }
+            for w in &r.warnings {
+                eprintln!("warning: {w}");
+            }
             for d in &r.unidentifiable_directions {
                 eprintln!("warning: not excited by the data (set by the prior/constraints): {d}");
             }

@@ -8,3 +8,10 @@ pub mod identify;
 pub mod predict;
 pub mod sdpa;
 pub mod simulate;
+
+/// Prints what the robot description filled in (placeholder friction, …).
+pub(crate) fn warn_robot(robot: &momentlmi::dynamics::RobotDescription) {
+    for w in &robot.warnings {
+        eprintln!("warning: {}: {w}", robot.source);
+    }
+}

@@ -37,6 +37,9 @@ pub fn run(a: &PredictArgs) -> i32 {
 
 fn run_inner(a: &PredictArgs) -> Result<(), String> {
     let robot = load_robot(a.robot, a.sidecar).map_err(|e| e.to_string())?;
+    if a.params.is_some_and(|p| p == "true") {
+        super::warn_robot(&robot);
+    }
     let choice = a
         .params
         .map_or(ParamChoice::Own, |p| p.parse().expect("infallible"));

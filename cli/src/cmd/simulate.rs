@@ -5,7 +5,7 @@ use momentlmi::data::write_with_record;
 use momentlmi::dynamics::Effect;
 use momentlmi::dynamics::effect::parse_override;
 use momentlmi::dynamics::robots::load_robot;
-use momentlmi::sim::{Effects, SimConfig, simulate};
+use momentlmi::sim::{Effects, SimConfig, TrueRobot, simulate};
 use std::path::Path;
 
 /// Arguments of `simulate`.
@@ -55,8 +55,10 @@ fn run_inner(a: &SimulateArgs) -> Result<(), String> {
         }
     }
     let samples = cfg.validate(&robot.model).map_err(|e| e.to_string())?;
-    for w in &robot.warnings {
-        eprintln!("warning: {}: {w}", robot.source);
+    super::warn_robot(&robot);
+    let truth = TrueRobot::new(&robot, &cfg.effects).map_err(|e| e.to_string())?;
+    for w in truth.warnings() {
+        eprintln!("warning: {w}");
     }
     let bar = indicatif::ProgressBar::new(samples as u64);
     bar.set_style(
