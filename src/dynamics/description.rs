@@ -203,8 +203,8 @@ fn with_limits(
     Ok(model)
 }
 
-/// Nominal friction per joint: the sidecar's, else the URDF's `<dynamics>`,
-/// else a placeholder (with a warning).
+/// Nominal friction per joint: the sidecar's, else the URDF's `<dynamics>`
+/// when positive, else a placeholder (with a warning).
 fn nominal_friction(
     model: &Model,
     sidecar: &Sidecar,
@@ -217,9 +217,11 @@ fn nominal_friction(
         let dynamics = urdf
             .and_then(|r| r.joints.iter().find(|j| j.name == joint.name))
             .and_then(|j| j.dynamics);
+        // a zero in a URDF's <dynamics> is commonly "not given": it counts as absent
         let pick = |s: Option<f64>, u: Option<f64>, placeholder: f64| match (s, u) {
-            (Some(v), _) | (None, Some(v)) => (v, false),
-            (None, None) => (placeholder, true),
+            (Some(v), _) => (v, false),
+            (None, Some(v)) if v > 0.0 => (v, false),
+            _ => (placeholder, true),
         };
         let (c, pc) = pick(
             side.and_then(|j| j.coulomb),
@@ -241,7 +243,7 @@ fn nominal_friction(
         vec![]
     } else {
         vec![format!(
-            "no nominal friction for joint(s) {} in the sidecar ([[joint]] coulomb/viscous) or the URDF (<dynamics>): placeholders {PLACEHOLDER_COULOMB} N·m Coulomb, {PLACEHOLDER_VISCOUS} N·m·s/rad viscous",
+            "no nominal friction for joint(s) {} in the sidecar ([[joint]] coulomb/viscous) or the URDF (<dynamics>, positive values): placeholders {PLACEHOLDER_COULOMB} N·m Coulomb, {PLACEHOLDER_VISCOUS} N·m·s/rad viscous where missing",
             placeholders.join(", ")
         )]
     };
