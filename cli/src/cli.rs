@@ -3,9 +3,21 @@
 //! panicked.
 
 use crate::cmd::{check, demo, diagnose, identify, predict, sdpa, simulate};
-use clap::{Parser, Subcommand};
+use clap::{Args, Parser, Subcommand};
 use momentlmi::dynamics::Effect;
 use std::path::PathBuf;
+
+/// Which robot: a built-in name or a URDF with its sidecar.
+#[derive(Args, Debug)]
+struct RobotArgs {
+    /// Built-in robot (cheetah3-leg) or a URDF file.
+    #[arg(long)]
+    robot: String,
+    /// TOML sidecar for a URDF: rotors, locked joints, prior, bounding
+    /// ellipsoids, friction, tool point (docs/robots.md).
+    #[arg(long)]
+    sidecar: Option<PathBuf>,
+}
 
 /// Physically consistent inertial parameter identification and SDP tools.
 #[derive(Parser, Debug)]
@@ -36,12 +48,8 @@ enum Command {
     },
     /// Model joint torques for every sample of a data file (the "sim" side).
     Predict {
-        /// Built-in model (cheetah3-leg) or a URDF file.
-        #[arg(long)]
-        robot: String,
-        /// TOML sidecar for a URDF (rotors, gear ratios, locked joints).
-        #[arg(long)]
-        sidecar: Option<PathBuf>,
+        #[command(flatten)]
+        robot: RobotArgs,
         /// `true` (own parameters + nominal friction), `cad` (the description's
         /// prior), or a parameter file (the JSON `identify --json` prints);
         /// default: the model's own, no friction.
@@ -59,12 +67,8 @@ enum Command {
     },
     /// Simulate a robot with switchable unmodelled effects and write a data file.
     Simulate {
-        /// Built-in model (cheetah3-leg) or a URDF file.
-        #[arg(long)]
-        robot: String,
-        /// TOML sidecar for a URDF.
-        #[arg(long)]
-        sidecar: Option<PathBuf>,
+        #[command(flatten)]
+        robot: RobotArgs,
         /// Duration in seconds (1 kHz sampling).
         #[arg(long, default_value_t = 20.0)]
         seconds: f64,
@@ -87,12 +91,8 @@ enum Command {
     },
     /// Identify link and rotor inertias and friction from data (the paper's SDP (25)).
     Identify {
-        /// Built-in model (cheetah3-leg) or a URDF file.
-        #[arg(long)]
-        robot: String,
-        /// TOML sidecar for a URDF.
-        #[arg(long)]
-        sidecar: Option<PathBuf>,
+        #[command(flatten)]
+        robot: RobotArgs,
         /// Training data CSV.
         #[arg(long)]
         data: PathBuf,
@@ -115,12 +115,8 @@ enum Command {
     },
     /// Diagnose the gap between a nominal model and measured data (first version).
     Diagnose {
-        /// Built-in model (cheetah3-leg) or a URDF file.
-        #[arg(long)]
-        robot: String,
-        /// TOML sidecar for a URDF.
-        #[arg(long)]
-        sidecar: Option<PathBuf>,
+        #[command(flatten)]
+        robot: RobotArgs,
         /// Measured data CSV.
         #[arg(long)]
         data: PathBuf,
@@ -168,8 +164,7 @@ pub fn main() -> i32 {
         Command::Demo { out } => demo::run(&out),
         Command::Check { urdf, json, repair } => check::run(&urdf, json, repair.as_deref()),
         Command::Predict {
-            robot,
-            sidecar,
+            robot: RobotArgs { robot, sidecar },
             params,
             data,
             out,
@@ -183,8 +178,7 @@ pub fn main() -> i32 {
             json,
         }),
         Command::Simulate {
-            robot,
-            sidecar,
+            robot: RobotArgs { robot, sidecar },
             seconds,
             effects,
             out,
@@ -202,8 +196,7 @@ pub fn main() -> i32 {
             noise,
         }),
         Command::Identify {
-            robot,
-            sidecar,
+            robot: RobotArgs { robot, sidecar },
             data,
             constraints,
             prior,
@@ -221,8 +214,7 @@ pub fn main() -> i32 {
             json,
         }),
         Command::Diagnose {
-            robot,
-            sidecar,
+            robot: RobotArgs { robot, sidecar },
             data,
             nominal,
             json,

@@ -130,15 +130,26 @@ impl FromStr for Effect {
     type Err = DynamicsError;
 
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Self::ALL
-            .into_iter()
-            .find(|e| e.name() == s.trim())
-            .ok_or_else(|| DynamicsError::UnknownName {
-                what: "effect",
-                name: s.trim().to_string(),
-                valid: Self::names(),
-            })
+        by_name(&Self::ALL, Effect::name, s, "effect", Self::names)
     }
+}
+
+/// The item of `all` named `s` (trimmed), or an error listing the valid names.
+fn by_name<T: Copy>(
+    all: &[T],
+    name: fn(T) -> &'static str,
+    s: &str,
+    what: &'static str,
+    valid: fn() -> String,
+) -> Result<T, DynamicsError> {
+    all.iter()
+        .copied()
+        .find(|x| name(*x) == s.trim())
+        .ok_or_else(|| DynamicsError::UnknownName {
+            what,
+            name: s.trim().to_string(),
+            valid: valid(),
+        })
 }
 
 /// Defines [`Param`] and [`EffectParams`] from one table: field, variant,
@@ -260,15 +271,7 @@ impl FromStr for Param {
     type Err = DynamicsError;
 
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Self::ALL
-            .iter()
-            .copied()
-            .find(|p| p.name() == s.trim())
-            .ok_or_else(|| DynamicsError::UnknownName {
-                what: "effect parameter",
-                name: s.trim().to_string(),
-                valid: Self::names(),
-            })
+        by_name(Self::ALL, Param::name, s, "effect parameter", Self::names)
     }
 }
 

@@ -22,6 +22,15 @@ pub enum DynamicsError {
         /// Found length.
         found: usize,
     },
+    /// A file that could not be read.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: String,
+        /// The OS error.
+        #[source]
+        source: std::io::Error,
+    },
     /// A URDF or sidecar file problem, naming the element.
     #[error("{path}: {message}")]
     File {
@@ -72,4 +81,12 @@ pub enum DynamicsError {
         /// What is wrong, naming the entry.
         message: String,
     },
+}
+
+/// The text of a file, or an error naming it (with the OS error as source).
+pub(crate) fn read_text(path: &std::path::Path) -> Result<String, DynamicsError> {
+    std::fs::read_to_string(path).map_err(|source| DynamicsError::Io {
+        path: path.display().to_string(),
+        source,
+    })
 }

@@ -10,7 +10,7 @@
 //!   "friction": { "viscous": [n numbers], "coulomb": [n numbers] } }
 //! ```
 
-use super::error::DynamicsError;
+use super::error::{DynamicsError, read_text};
 use super::model::Model;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -87,13 +87,8 @@ impl ParamsFile {
 
     /// Reads a file.
     pub fn read(path: &Path) -> Result<Self, DynamicsError> {
-        let p = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| DynamicsError::File {
-            path: p.clone(),
-            message: e.to_string(),
-        })?;
-        serde_json::from_str(&text).map_err(|e| DynamicsError::File {
-            path: p,
+        serde_json::from_str(&read_text(path)?).map_err(|e| DynamicsError::File {
+            path: path.display().to_string(),
             message: format!("invalid parameter file: {e}"),
         })
     }

@@ -12,7 +12,7 @@
 
 use super::cheetah3::Shell;
 use super::effect::EffectParams;
-use super::error::DynamicsError;
+use super::error::{DynamicsError, read_text};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -194,11 +194,6 @@ impl Sidecar {
 
     /// Reads a sidecar file.
     pub fn read(path: &Path) -> Result<Self, DynamicsError> {
-        let p = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| DynamicsError::File {
-            path: p.clone(),
-            message: e.to_string(),
-        })?;
-        Self::parse(&text, &p)
+        Self::parse(&read_text(path)?, &path.display().to_string())
     }
 }
