@@ -25,12 +25,12 @@ fn small_sdp() -> Problem {
     let mut p = Problem::new();
     let x = p.symmetric("X", n);
     let xe = x.expr();
-    p.add_eq(xe.trace().unwrap(), 1.0).unwrap();
+    p.add_eq(xe.trace(), 1.0).unwrap();
     for (i, j) in edges {
         p.add_eq(xe.get(i, j).unwrap().clone(), 0.0).unwrap();
     }
     p.add_psd(&xe).unwrap();
-    p.maximize(xe.dot(&DMatrix::from_element(n, n, 1.0)).unwrap());
+    p.maximize(xe.dot(&DMatrix::from_element(n, n, 1.0)));
     p
 }
 
@@ -55,7 +55,7 @@ fn tall_least_squares(rows: &[Vec<f64>], y: &[f64]) -> Problem {
         w,
         rows.iter()
             .zip(y)
-            .map(|(r, &yy)| AffExpr::linear(&th, r, -yy)),
+            .map(|(r, &yy)| AffExpr::linear(&th, r, -yy).unwrap()),
     );
     p
 }

@@ -3,7 +3,7 @@
 //!
 //! Run: `cargo run --release --example conic_basics`
 
-use momentlmi::conic::{Dual, MatExpr, Problem, Settings, check_optimality};
+use momentlmi::conic::{MatExpr, Problem, Settings, check_optimality};
 use nalgebra::DMatrix;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -17,12 +17,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!(
         "status {}, λmax = {:.9} (exact 2 + √2 = {:.9})",
         sol.status,
-        sol.value(t),
+        sol.value(t)?,
         2.0 + 2f64.sqrt()
     );
-    if let Some(Dual::Matrix(z)) = sol.dual(lmi) {
-        println!("dual Z (trace {:.6}):{z:.6}", z.trace());
-    }
+    let z = sol.dual_matrix(lmi)?;
+    println!("dual Z (trace {:.6}):{z:.6}", z.trace());
     println!("optimality residuals: {:?}", check_optimality(&p, &sol));
     Ok(())
 }

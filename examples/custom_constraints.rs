@@ -28,14 +28,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         p.add_eq(hx, 1.2 * 0.12)?; // known CoM
         p.add_eq(hy, 0.0)?;
         p.add_eq(hz, 0.0)?;
-        let izz = pi.pi[9].clone();
+        let izz = pi.izz();
         if maximise {
             p.maximize(izz)
         } else {
             p.minimize(izz)
         }
         let sol = p.solve(&Settings::default())?;
-        let v = pi.value(&sol);
+        let sol = sol.solved()?;
+        let v = pi.value(&sol)?;
         println!(
             "{} Izz about the joint axis: {:.6} kg·m² ({})",
             if maximise { "largest " } else { "smallest" },

@@ -19,8 +19,8 @@ proptest! {
     ) {
         let mut p = Problem::new();
         let v = p.vector("v", 4);
-        let ea = AffExpr::linear(&v, &a, ca);
-        let eb = AffExpr::linear(&v, &b, cb);
+        let ea = AffExpr::linear(&v, &a, ca).unwrap();
+        let eb = AffExpr::linear(&v, &b, cb).unwrap();
         let va = ea.eval(&xs);
         let vb = eb.eval(&xs);
         let tol = 1e-9 * (1.0 + va.abs() + vb.abs()) * (1.0 + s.abs());
@@ -55,8 +55,8 @@ proptest! {
         prop_assert!(close(&s.transpose().eval(&xs), &sval.transpose()));
         prop_assert!(close(&s.try_add(&MatExpr::constant(&c)).unwrap().eval(&xs), &(&sval + &c)));
         prop_assert!(close(&(&s * 2.5).eval(&xs), &(&sval * 2.5)));
-        prop_assert!((s.trace().unwrap().eval(&xs) - sval.trace()).abs() < 1e-9 * (1.0 + sval.abs().max()));
-        prop_assert!((s.dot(&c).unwrap().eval(&xs) - sval.dot(&c)).abs() < 1e-8 * (1.0 + sval.abs().max() * c.abs().max()));
+        prop_assert!((s.trace().eval(&xs) - sval.trace()).abs() < 1e-9 * (1.0 + sval.abs().max()));
+        prop_assert!((s.dot(&c).eval(&xs) - sval.dot(&c)).abs() < 1e-8 * (1.0 + sval.abs().max() * c.abs().max()));
         // congruence keeps symmetry
         prop_assert!(s.congruence(&c).unwrap().symmetry_defect(1e-9 * (1.0 + c.abs().max().powi(2))).is_none());
         // svec round trip (√2 scaling of off-diagonals)

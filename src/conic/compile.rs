@@ -36,6 +36,9 @@ pub struct Compiled {
     /// First row of each user constraint, plus the end.
     pub(crate) offsets: Vec<usize>,
     pub(crate) kinds: Vec<ConeKind>,
+    pub(crate) names: Vec<String>,
+    pub(crate) flipped: Vec<bool>,
+    pub(crate) problem: u32,
     pub(crate) sense: Sense,
     pub(crate) settings: Settings,
     compile_time: f64,
@@ -106,6 +109,9 @@ impl Problem {
             ));
         }
         let check = |e: &AffExpr, what: String| -> Result<(), ConicError> {
+            if !self.owns(e) {
+                return Err(ConicError::ForeignHandle { what });
+            }
             if !e.is_finite() {
                 return Err(ConicError::NonFinite { what });
             }
@@ -121,8 +127,9 @@ impl Problem {
         check(&self.linear, "the objective".into())?;
         for (k, (w, e)) in self.squares.iter().enumerate() {
             if !(w.is_finite() && *w >= 0.0) {
-                return Err(ConicError::NonFinite {
-                    what: format!("weight of square #{k} (must be finite and ≥ 0, got {w})"),
+                return Err(ConicError::NegativeWeight {
+                    square: k,
+                    weight: *w,
                 });
             }
             check(e, format!("square #{k} of the objective"))?;
@@ -235,6 +242,9 @@ impl Problem {
             n_user: self.nvars,
             offsets,
             kinds: self.constraints.iter().map(|c| c.kind).collect(),
+            names: self.constraints.iter().map(|c| c.name.clone()).collect(),
+            flipped: self.constraints.iter().map(|c| c.flipped).collect(),
+            problem: self.id,
             sense: self.sense,
             settings: settings.clone(),
             compile_time: t0.elapsed().as_secs_f64(),
@@ -332,6 +342,10 @@ impl Compiled {
             x: s.x[..self.n_user].to_vec(),
             raw_duals: duals,
             kinds: self.kinds.clone(),
+            names: self.names.clone(),
+            flipped: self.flipped.clone(),
+            problem: self.problem,
+            sense: self.sense,
             iterations: s.iterations,
             primal_residual: s.r_prim,
             dual_residual: s.r_dual,

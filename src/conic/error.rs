@@ -52,6 +52,39 @@ pub enum ConicError {
         /// Number of variables in the problem.
         count: usize,
     },
+    /// A variable, expression or constraint handle of another problem (or
+    /// an expression that mixes two problems' variables).
+    #[error("{what} belongs to another problem")]
+    ForeignHandle {
+        /// What was used.
+        what: String,
+    },
+    /// A solution without values: its status is not solved.
+    #[error("the solver ended with status {status}: there is no {what} to read")]
+    NotSolved {
+        /// The status.
+        status: super::Status,
+        /// What was asked for (values, duals).
+        what: &'static str,
+    },
+    /// A negative weight of a least-squares term.
+    #[error("weight of square #{square} is {weight}: it must be finite and ≥ 0")]
+    NegativeWeight {
+        /// The square's index.
+        square: usize,
+        /// The weight.
+        weight: f64,
+    },
+    /// A dual asked for as the wrong kind (a matrix of a scalar constraint, …).
+    #[error("{constraint}: its dual is {found}, not {asked}")]
+    DualKind {
+        /// The constraint's name.
+        constraint: String,
+        /// What was asked for.
+        asked: &'static str,
+        /// What it is.
+        found: String,
+    },
     /// A problem with no variables.
     #[error("the problem is empty: it has no variables")]
     EmptyProblem,

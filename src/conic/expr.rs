@@ -1,16 +1,39 @@
 //! Affine scalar expressions `a·x + c` over the problem's variables.
 
+use super::error::ConicError;
 use std::ops::{Add, AddAssign, Mul, Neg, Sub, SubAssign};
 
-/// A scalar decision variable: an index into the problem's variable vector.
-/// Created by [`Problem`](super::Problem); copy it freely.
+/// The owner of an expression with no variables.
+pub(crate) const NO_OWNER: u32 = 0;
+/// The owner of an expression that mixes variables of two problems.
+pub(crate) const MIXED: u32 = u32::MAX;
+
+/// The owner of `a` and `b` combined.
+#[inline]
+pub(crate) fn merge_owner(a: u32, b: u32) -> u32 {
+    if a == NO_OWNER || a == b {
+        b
+    } else if b == NO_OWNER {
+        a
+    } else {
+        MIXED
+    }
+}
+
+/// A scalar decision variable of one [`Problem`](super::Problem): its index
+/// in that problem's variable vector and the problem's identity. Copy it
+/// freely; using it with another problem or its solution is an error
+/// ([`ConicError::ForeignHandle`]), never an alias.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct Var(pub(crate) usize);
+pub struct Var {
+    pub(crate) problem: u32,
+    pub(crate) index: usize,
+}
 
 impl Var {
     /// Index of this variable in the solver's primal vector `x`.
     pub fn index(self) -> usize {
-        self.0
+        self.index
     }
 }
 
@@ -25,6 +48,9 @@ pub struct AffExpr {
     pub(crate) terms: Vec<(usize, f64)>,
     /// The constant `c`.
     pub(crate) constant: f64,
+    /// The problem its variables belong to ([`NO_OWNER`] without variables,
+    /// [`MIXED`] if they come from two problems).
+    pub(crate) owner: u32,
 }
 
 impl AffExpr {
@@ -38,23 +64,33 @@ impl AffExpr {
         Self {
             terms: Vec::new(),
             constant: c,
+            owner: NO_OWNER,
         }
     }
 
     /// `coef · v`.
     pub fn term(v: Var, coef: f64) -> Self {
         Self {
-            terms: vec![(v.0, coef)],
+            terms: vec![(v.index, coef)],
             constant: 0.0,
+            owner: v.problem,
         }
     }
 
-    /// `Σ coefs[i] · vars[i] + c` (lengths must match; extra entries are ignored).
-    pub fn linear(vars: &[Var], coefs: &[f64], c: f64) -> Self {
-        Self {
-            terms: vars.iter().zip(coefs).map(|(v, &a)| (v.0, a)).collect(),
-            constant: c,
+    /// `Σ coefs[i] · vars[i] + c`; the lengths must match.
+    pub fn linear(vars: &[Var], coefs: &[f64], c: f64) -> Result<Self, ConicError> {
+        if vars.len() != coefs.len() {
+            return Err(ConicError::DimensionMismatch {
+                what: "AffExpr::linear".into(),
+                expected: format!("{} coefficients (one per variable)", vars.len()),
+                found: format!("{}", coefs.len()),
+            });
         }
+        let mut e = Self::constant(c);
+        for (v, &a) in vars.iter().zip(coefs) {
+            e.add_term(*v, a);
+        }
+        Ok(e)
     }
 
     /// The constant part `c`.
@@ -66,12 +102,24 @@ impl AffExpr {
     pub fn coefficients(&self) -> Vec<(Var, f64)> {
         let mut e = self.clone();
         e.compact();
-        e.terms.into_iter().map(|(i, a)| (Var(i), a)).collect()
+        e.terms
+            .into_iter()
+            .map(|(index, a)| {
+                (
+                    Var {
+                        problem: self.owner,
+                        index,
+                    },
+                    a,
+                )
+            })
+            .collect()
     }
 
     /// Adds `coef · v` in place.
     pub fn add_term(&mut self, v: Var, coef: f64) {
-        self.terms.push((v.0, coef));
+        self.terms.push((v.index, coef));
+        self.owner = merge_owner(self.owner, v.problem);
     }
 
     /// Sorts terms by variable, merges repeats and drops exact zeros.
@@ -117,6 +165,7 @@ impl AffExpr {
 
     /// `self += s · other`.
     pub fn axpy(&mut self, s: f64, other: &AffExpr) {
+        self.owner = merge_owner(self.owner, other.owner);
         self.constant += s * other.constant;
         self.terms
             .extend(other.terms.iter().map(|&(i, a)| (i, s * a)));
@@ -155,6 +204,7 @@ impl From<&AffExpr> for AffExpr {
 impl<T: Into<AffExpr>> AddAssign<T> for AffExpr {
     fn add_assign(&mut self, rhs: T) {
         let r = rhs.into();
+        self.owner = merge_owner(self.owner, r.owner);
         self.constant += r.constant;
         self.terms.extend(r.terms);
     }
@@ -222,8 +272,32 @@ impl Sub<AffExpr> for f64 {
 
 /// `Σ exprs`.
 pub fn sum<I: IntoIterator<Item = AffExpr>>(exprs: I) -> AffExpr {
-    exprs.into_iter().fold(AffExpr::zero(), |mut a, e| {
-        a += e;
-        a
-    })
+    exprs.into_iter().sum()
+}
+
+impl std::iter::Sum for AffExpr {
+    fn sum<I: Iterator<Item = AffExpr>>(iter: I) -> Self {
+        iter.fold(AffExpr::zero(), |mut a, e| {
+            a += e;
+            a
+        })
+    }
+}
+
+impl<'a> std::iter::Sum<&'a AffExpr> for AffExpr {
+    fn sum<I: Iterator<Item = &'a AffExpr>>(iter: I) -> Self {
+        iter.fold(AffExpr::zero(), |mut a, e| {
+            a.axpy(1.0, e);
+            a
+        })
+    }
+}
+
+impl std::iter::Sum<Var> for AffExpr {
+    fn sum<I: Iterator<Item = Var>>(iter: I) -> Self {
+        iter.fold(AffExpr::zero(), |mut a, v| {
+            a.add_term(v, 1.0);
+            a
+        })
+    }
 }

@@ -10,7 +10,7 @@
 use super::error::ConicError;
 use super::expr::AffExpr;
 use nalgebra::DMatrix;
-use std::ops::{Add, Mul, Neg, Sub};
+use std::ops::{Add, Index, IndexMut, Mul, Neg, Sub};
 
 /// A dense `rows × cols` matrix of affine expressions (column-major).
 #[derive(Clone, Debug, PartialEq)]
@@ -62,6 +62,21 @@ impl MatExpr {
             n,
             |i, j| if i == j { e.clone() } else { AffExpr::zero() },
         )
+    }
+
+    /// The `n × n` identity.
+    pub fn identity(n: usize) -> Self {
+        Self::scaled_identity(n, 1.0)
+    }
+
+    /// The diagonal matrix with these entries.
+    pub fn diag(entries: Vec<AffExpr>) -> Self {
+        let n = entries.len();
+        let mut m = Self::zeros(n, n);
+        for (i, e) in entries.into_iter().enumerate() {
+            m.data[i + i * n] = e;
+        }
+        m
     }
 
     /// A column vector of expressions.
@@ -222,8 +237,14 @@ impl MatExpr {
         self.left_mul(c)?.right_mul(&c.transpose())
     }
 
+    /// `tr M`; panics if M is not square ([`MatExpr::try_trace`] returns an error).
+    pub fn trace(&self) -> AffExpr {
+        self.try_trace()
+            .unwrap_or_else(|e| panic!("MatExpr::trace: {e}"))
+    }
+
     /// `tr M` (square only).
-    pub fn trace(&self) -> Result<AffExpr, ConicError> {
+    pub fn try_trace(&self) -> Result<AffExpr, ConicError> {
         if self.rows != self.cols {
             return Err(mismatch(
                 "trace (square matrix)",
@@ -238,8 +259,20 @@ impl MatExpr {
         Ok(e)
     }
 
-    /// The inner product `⟨C, M⟩ = Σᵢⱼ Cᵢⱼ Mᵢⱼ = tr(Cᵀ M)`.
-    pub fn dot(&self, c: &DMatrix<f64>) -> Result<AffExpr, ConicError> {
+    /// `Σᵢⱼ Mᵢⱼ`.
+    pub fn sum(&self) -> AffExpr {
+        self.data.iter().sum()
+    }
+
+    /// The inner product `⟨C, M⟩ = Σᵢⱼ Cᵢⱼ Mᵢⱼ = tr(Cᵀ M)`; panics on a shape
+    /// mismatch ([`MatExpr::try_dot`] returns an error).
+    pub fn dot(&self, c: &DMatrix<f64>) -> AffExpr {
+        self.try_dot(c)
+            .unwrap_or_else(|e| panic!("MatExpr::dot: {e}"))
+    }
+
+    /// The inner product `⟨C, M⟩`, or an error on a shape mismatch.
+    pub fn try_dot(&self, c: &DMatrix<f64>) -> Result<AffExpr, ConicError> {
         if c.shape() != self.shape() {
             return Err(mismatch("inner product ⟨C, M⟩", self.shape(), c.shape()));
         }
@@ -378,19 +411,55 @@ impl MatExpr {
     }
 }
 
+/// Operators panic on a shape mismatch (as nalgebra's do); the `try_`
+/// methods return [`ConicError::DimensionMismatch`] instead.
+fn or_panic(r: Result<MatExpr, ConicError>, op: &str) -> MatExpr {
+    r.unwrap_or_else(|e| panic!("MatExpr {op}: {e}"))
+}
+
 impl Add<&MatExpr> for &MatExpr {
-    type Output = Result<MatExpr, ConicError>;
-    fn add(self, rhs: &MatExpr) -> Self::Output {
-        self.try_add(rhs)
+    type Output = MatExpr;
+    fn add(self, rhs: &MatExpr) -> MatExpr {
+        or_panic(self.try_add(rhs), "+")
     }
 }
 impl Sub<&MatExpr> for &MatExpr {
-    type Output = Result<MatExpr, ConicError>;
-    fn sub(self, rhs: &MatExpr) -> Self::Output {
-        self.try_sub(rhs)
+    type Output = MatExpr;
+    fn sub(self, rhs: &MatExpr) -> MatExpr {
+        or_panic(self.try_sub(rhs), "−")
+    }
+}
+impl Add<MatExpr> for MatExpr {
+    type Output = MatExpr;
+    fn add(self, rhs: MatExpr) -> MatExpr {
+        &self + &rhs
+    }
+}
+impl Sub<MatExpr> for MatExpr {
+    type Output = MatExpr;
+    fn sub(self, rhs: MatExpr) -> MatExpr {
+        &self - &rhs
+    }
+}
+impl Add<&MatExpr> for MatExpr {
+    type Output = MatExpr;
+    fn add(self, rhs: &MatExpr) -> MatExpr {
+        &self + rhs
+    }
+}
+impl Sub<&MatExpr> for MatExpr {
+    type Output = MatExpr;
+    fn sub(self, rhs: &MatExpr) -> MatExpr {
+        &self - rhs
     }
 }
 impl Mul<f64> for &MatExpr {
+    type Output = MatExpr;
+    fn mul(self, s: f64) -> MatExpr {
+        self.scaled(s)
+    }
+}
+impl Mul<f64> for MatExpr {
     type Output = MatExpr;
     fn mul(self, s: f64) -> MatExpr {
         self.scaled(s)
@@ -403,15 +472,44 @@ impl Mul<&MatExpr> for f64 {
     }
 }
 impl Mul<&MatExpr> for &DMatrix<f64> {
-    type Output = Result<MatExpr, ConicError>;
-    fn mul(self, m: &MatExpr) -> Self::Output {
-        m.left_mul(self)
+    type Output = MatExpr;
+    fn mul(self, m: &MatExpr) -> MatExpr {
+        or_panic(m.left_mul(self), "constant × expression")
     }
 }
 impl Mul<&DMatrix<f64>> for &MatExpr {
-    type Output = Result<MatExpr, ConicError>;
-    fn mul(self, c: &DMatrix<f64>) -> Self::Output {
-        self.right_mul(c)
+    type Output = MatExpr;
+    fn mul(self, c: &DMatrix<f64>) -> MatExpr {
+        or_panic(self.right_mul(c), "expression × constant")
+    }
+}
+impl Index<(usize, usize)> for MatExpr {
+    type Output = AffExpr;
+    /// Entry `(i, j)`; panics out of range ([`MatExpr::get`] returns an error).
+    fn index(&self, (i, j): (usize, usize)) -> &AffExpr {
+        assert!(
+            i < self.rows && j < self.cols,
+            "MatExpr index ({i}, {j}) out of range for {}×{}",
+            self.rows,
+            self.cols
+        );
+        &self.data[i + j * self.rows]
+    }
+}
+impl IndexMut<(usize, usize)> for MatExpr {
+    fn index_mut(&mut self, (i, j): (usize, usize)) -> &mut AffExpr {
+        assert!(
+            i < self.rows && j < self.cols,
+            "MatExpr index ({i}, {j}) out of range for {}×{}",
+            self.rows,
+            self.cols
+        );
+        &mut self.data[i + j * self.rows]
+    }
+}
+impl From<&MatExpr> for MatExpr {
+    fn from(m: &MatExpr) -> MatExpr {
+        m.clone()
     }
 }
 impl Neg for &MatExpr {

@@ -14,8 +14,10 @@
 //! ([`Compiled`]), with PSD cones as √2-scaled upper triangles.
 //!
 //! Dual sign convention: for a constraint `s(x) ∈ K` the dual `z ∈ K*`
-//! satisfies `∇f(x) = Σ Ds(x)ᵀ z` at the optimum of the minimised objective;
-//! [`check_optimality`] verifies this for any result.
+//! satisfies `∇f(x) = Σ Ds(x)ᵀ z` at the optimum of the minimised objective
+//! (under `maximize`, of its negation); [`Solution::sensitivity`] gives a
+//! scalar constraint's shadow price in the user's sense; [`check_optimality`]
+//! verifies the convention for any result.
 //!
 //! ```
 //! use momentlmi::conic::{MatExpr, Problem, Settings};
@@ -24,12 +26,19 @@
 //! let a = DMatrix::from_row_slice(2, 2, &[2.0, 1.0, 1.0, 2.0]);
 //! let mut p = Problem::new();
 //! let t = p.scalar("t");
-//! let m = MatExpr::scaled_identity(2, t).try_sub(&MatExpr::constant(&a)).unwrap();
-//! p.add_psd(&m).unwrap();
+//! let lmi = p.add_psd(MatExpr::scaled_identity(2, t) - MatExpr::constant(&a))?;
 //! p.minimize(t);
-//! let sol = p.solve(&Settings::default()).unwrap();
-//! assert!((sol.value(t) - 3.0).abs() < 1e-7);
+//! let sol = p.solve(&Settings::default())?.solved()?;
+//! assert!((sol.value(t)? - 3.0).abs() < 1e-7);
+//! // the dual: the projector on the top eigenvector
+//! assert!((sol.dual_matrix(lmi)?.trace() - 1.0).abs() < 1e-6);
+//! # Ok::<(), momentlmi::conic::ConicError>(())
 //! ```
+//!
+//! Handles ([`Var`], [`ConstraintId`]) carry their problem's identity: using
+//! one with another problem or its solution is [`ConicError::ForeignHandle`].
+//! Matrix operators panic on a shape mismatch, as nalgebra's do; the `try_`
+//! methods return [`ConicError::DimensionMismatch`].
 
 mod compile;
 mod error;

@@ -1,8 +1,12 @@
 //! The problem builder: variables, constraints, objective.
 
 use super::error::ConicError;
-use super::expr::{AffExpr, Var};
+use super::expr::{AffExpr, MIXED, NO_OWNER, Var};
 use super::matexpr::MatExpr;
+use std::sync::atomic::{AtomicU32, Ordering};
+
+/// Problem identities: 1, 2, … (0 and `u32::MAX` are reserved).
+static NEXT_PROBLEM: AtomicU32 = AtomicU32::new(1);
 
 /// The cone a constraint's affine rows `s(x)` must lie in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -22,9 +26,13 @@ pub enum ConeKind {
     },
 }
 
-/// Handle of a constraint, for its dual and name.
+/// Handle of a constraint of one problem, for its dual and name; using it
+/// with another problem or its solution is an error, never an alias.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct ConstraintId(pub(crate) usize);
+pub struct ConstraintId {
+    pub(crate) problem: u32,
+    pub(crate) index: usize,
+}
 
 /// A symmetric matrix variable, stored as its upper triangle
 /// (`n(n+1)/2` scalar variables).
@@ -41,7 +49,7 @@ impl SymVar {
         self.n
     }
 
-    /// The scalar variable at `(i, j)` (either triangle).
+    /// The scalar variable at `(i, j)` (either triangle); `None` out of range.
     pub fn var(&self, i: usize, j: usize) -> Option<Var> {
         let (i, j) = if i <= j { (i, j) } else { (j, i) };
         (j < self.n).then(|| self.vars[j * (j + 1) / 2 + i])
@@ -50,8 +58,30 @@ impl SymVar {
     /// The full symmetric matrix as an expression.
     pub fn expr(&self) -> MatExpr {
         MatExpr::from_fn(self.n, self.n, |i, j| {
-            AffExpr::from(self.var(i, j).unwrap_or(Var(0)))
+            let (i, j) = if i <= j { (i, j) } else { (j, i) };
+            AffExpr::from(self.vars[j * (j + 1) / 2 + i])
         })
+    }
+}
+
+impl std::ops::Index<(usize, usize)> for SymVar {
+    type Output = Var;
+    /// The variable at `(i, j)` (either triangle); panics out of range
+    /// ([`SymVar::var`] returns `None`).
+    fn index(&self, (i, j): (usize, usize)) -> &Var {
+        let (i, j) = if i <= j { (i, j) } else { (j, i) };
+        assert!(
+            j < self.n,
+            "SymVar index ({i}, {j}) out of range for {0}×{0}",
+            self.n
+        );
+        &self.vars[j * (j + 1) / 2 + i]
+    }
+}
+
+impl From<&SymVar> for MatExpr {
+    fn from(s: &SymVar) -> MatExpr {
+        s.expr()
     }
 }
 
@@ -59,6 +89,8 @@ impl SymVar {
 pub(crate) struct ConstraintData {
     pub name: String,
     pub kind: ConeKind,
+    /// The rows are `rhs − lhs` (an `add_le`).
+    pub flipped: bool,
     /// The cone's rows `s(x)`, affine in x.
     pub rows: Vec<AffExpr>,
 }
@@ -93,10 +125,12 @@ pub enum Sense {
 /// p.minimize(x + 0.0);
 /// let sol = p.solve(&Settings::default()).unwrap();
 /// assert_eq!(sol.status, Status::Solved);
-/// assert!((sol.value(x) - 0.0).abs() < 1e-6 || sol.primal_objective < 1.0);
+/// assert!((sol.value(x).unwrap() - 0.0).abs() < 1e-6 || sol.primal_objective < 1.0);
 /// ```
 #[derive(Clone, Debug)]
 pub struct Problem {
+    /// Identity of this problem (its clones share it and its variables).
+    pub(crate) id: u32,
     pub(crate) nvars: usize,
     pub(crate) var_names: Vec<String>,
     pub(crate) constraints: Vec<ConstraintData>,
@@ -114,7 +148,11 @@ impl Default for Problem {
 impl Problem {
     /// An empty problem (minimise 0).
     pub fn new() -> Self {
+        let id = NEXT_PROBLEM.fetch_add(1, Ordering::Relaxed);
+        // (after 4·10⁹ problems the identities wrap; 0 and MAX stay reserved)
+        let id = if id == NO_OWNER || id == MIXED { 1 } else { id };
         Self {
+            id,
             nvars: 0,
             var_names: Vec::new(),
             constraints: Vec::new(),
@@ -134,16 +172,22 @@ impl Problem {
         self.constraints.len()
     }
 
-    /// Name of a scalar variable.
+    /// Name of a scalar variable (`None` for another problem's).
     pub fn var_name(&self, v: Var) -> Option<&str> {
-        self.var_names.get(v.0).map(String::as_str)
+        if v.problem != self.id {
+            return None;
+        }
+        self.var_names.get(v.index).map(String::as_str)
     }
 
     /// A new free scalar variable.
     pub fn scalar(&mut self, name: &str) -> Var {
         self.var_names.push(name.to_string());
         self.nvars += 1;
-        Var(self.nvars - 1)
+        Var {
+            problem: self.id,
+            index: self.nvars - 1,
+        }
     }
 
     /// `n` new free scalar variables `name[0]..name[n-1]`.
@@ -164,7 +208,17 @@ impl Problem {
         SymVar { n, vars }
     }
 
+    /// Whether `e`'s variables are this problem's.
+    pub(crate) fn owns(&self, e: &AffExpr) -> bool {
+        e.owner == NO_OWNER || e.owner == self.id
+    }
+
     fn check_expr(&self, e: &AffExpr, what: &str) -> Result<(), ConicError> {
+        if !self.owns(e) {
+            return Err(ConicError::ForeignHandle {
+                what: what.to_string(),
+            });
+        }
         if !e.is_finite() {
             return Err(ConicError::NonFinite {
                 what: what.to_string(),
@@ -197,25 +251,43 @@ impl Problem {
                 e
             })
             .collect();
-        self.constraints.push(ConstraintData { name, kind, rows });
-        Ok(ConstraintId(self.constraints.len() - 1))
+        self.constraints.push(ConstraintData {
+            name,
+            kind,
+            flipped: false,
+            rows,
+        });
+        Ok(ConstraintId {
+            problem: self.id,
+            index: self.constraints.len() - 1,
+        })
+    }
+
+    /// This problem's constraint `id`, or [`ConicError::ForeignHandle`].
+    fn constraint(&self, id: ConstraintId) -> Result<&ConstraintData, ConicError> {
+        (id.problem == self.id)
+            .then(|| self.constraints.get(id.index))
+            .flatten()
+            .ok_or_else(|| ConicError::ForeignHandle {
+                what: format!("constraint handle #{}", id.index),
+            })
     }
 
     /// Names a constraint (used in error messages and reports).
-    pub fn set_name(&mut self, id: ConstraintId, name: &str) {
-        if let Some(c) = self.constraints.get_mut(id.0) {
-            c.name = name.to_string();
-        }
+    pub fn set_name(&mut self, id: ConstraintId, name: &str) -> Result<(), ConicError> {
+        self.constraint(id)?;
+        self.constraints[id.index].name = name.to_string();
+        Ok(())
     }
 
     /// Name of a constraint.
-    pub fn constraint_name(&self, id: ConstraintId) -> Option<&str> {
-        self.constraints.get(id.0).map(|c| c.name.as_str())
+    pub fn constraint_name(&self, id: ConstraintId) -> Result<&str, ConicError> {
+        Ok(self.constraint(id)?.name.as_str())
     }
 
     /// Cone of a constraint.
-    pub fn constraint_kind(&self, id: ConstraintId) -> Option<ConeKind> {
-        self.constraints.get(id.0).map(|c| c.kind)
+    pub fn constraint_kind(&self, id: ConstraintId) -> Result<ConeKind, ConicError> {
+        Ok(self.constraint(id)?.kind)
     }
 
     /// `lhs = rhs`. Dual z: `∇f = Σ z ∇(lhs − rhs)`.
@@ -233,7 +305,9 @@ impl Problem {
         lhs: impl Into<AffExpr>,
         rhs: impl Into<AffExpr>,
     ) -> Result<ConstraintId, ConicError> {
-        self.push(ConeKind::Nonnegative, vec![rhs.into() - lhs.into()], "≤")
+        let id = self.push(ConeKind::Nonnegative, vec![rhs.into() - lhs.into()], "≤")?;
+        self.constraints[id.index].flipped = true;
+        Ok(id)
     }
 
     /// `lhs ≥ rhs`, as `lhs − rhs ≥ 0`; its dual is ≥ 0.
@@ -266,14 +340,20 @@ impl Problem {
         self.push(ConeKind::SecondOrder, rows, "SOC")
     }
 
-    /// `M ⪰ 0` for a symmetric `n × n` expression. Its dual is a symmetric
-    /// PSD matrix Z with `∇f = Σ ⟨Z, ∇M⟩`.
-    pub fn add_psd(&mut self, m: &MatExpr) -> Result<ConstraintId, ConicError> {
+    /// `M ⪰ 0` for a symmetric `n × n` expression (a `&MatExpr`, a
+    /// `MatExpr` or a `&SymVar`). Its dual is a symmetric PSD matrix Z with
+    /// `∇f = Σ ⟨Z, ∇M⟩`.
+    pub fn add_psd(&mut self, m: impl Into<MatExpr>) -> Result<ConstraintId, ConicError> {
         self.add_psd_eps(m, 0.0)
     }
 
     /// `M ⪰ εI`, the usual stand-in for a strict LMI `M ≻ 0`.
-    pub fn add_psd_eps(&mut self, m: &MatExpr, eps: f64) -> Result<ConstraintId, ConicError> {
+    pub fn add_psd_eps(
+        &mut self,
+        m: impl Into<MatExpr>,
+        eps: f64,
+    ) -> Result<ConstraintId, ConicError> {
+        let m = &m.into();
         let label = if eps == 0.0 {
             "⪰ 0".to_string()
         } else {
@@ -326,6 +406,17 @@ impl Problem {
         self.push(ConeKind::Psd { n }, rows, &label)
     }
 
+    /// `A = B` entry by entry (one constraint, one dual per entry, column-major).
+    pub fn add_eq_mat(
+        &mut self,
+        a: impl Into<MatExpr>,
+        b: impl Into<MatExpr>,
+    ) -> Result<ConstraintId, ConicError> {
+        let (a, b) = (a.into(), b.into());
+        let d = a.try_sub(&b)?;
+        self.push(ConeKind::Zero, d.entries().to_vec(), "matrix =")
+    }
+
     /// Sets the objective to minimise `e` (replacing any linear objective;
     /// squares added with [`Problem::add_square`] are kept).
     pub fn minimize(&mut self, e: impl Into<AffExpr>) {
@@ -348,6 +439,12 @@ impl Problem {
     /// Adds `weight · Σ eᵢ²`.
     pub fn add_squares(&mut self, weight: f64, exprs: impl IntoIterator<Item = AffExpr>) {
         self.squares.extend(exprs.into_iter().map(|e| (weight, e)));
+    }
+
+    /// Adds `weight · ‖M‖²_F = weight · Σᵢⱼ Mᵢⱼ²` (e.g. `M = X − C` for the
+    /// nearest X to C in the Frobenius norm).
+    pub fn add_frobenius(&mut self, weight: f64, m: impl Into<MatExpr>) {
+        self.add_squares(weight, m.into().entries().iter().cloned());
     }
 
     /// Objective value at x (in the user's sense).

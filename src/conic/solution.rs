@@ -1,8 +1,9 @@
 //! Solver results: status, values, duals, statistics.
 
-use super::expr::{AffExpr, Var};
+use super::error::ConicError;
+use super::expr::{AffExpr, NO_OWNER, Var};
 use super::matexpr::MatExpr;
-use super::problem::{ConeKind, ConstraintId, SymVar};
+use super::problem::{ConeKind, ConstraintId, Sense, SymVar};
 use nalgebra::DMatrix;
 use serde::Serialize;
 
@@ -87,9 +88,23 @@ pub enum Dual {
     Matrix(DMatrix<f64>),
 }
 
-/// The result of a solve. Values are meaningful when
-/// [`Status::is_solved`]; for an infeasible status the duals (primal
-/// infeasibility) or x (dual infeasibility) hold Clarabel's certificate.
+/// The result of a solve.
+///
+/// Values ([`value`](Self::value), [`eval`](Self::eval), …) are read only
+/// when the status is solved (accurately or not); otherwise they are
+/// [`ConicError::NotSolved`]. Duals are also read after a primal-infeasible
+/// status (they hold Clarabel's certificate); [`x`](Self::x) is always the
+/// raw primal vector (after a dual-infeasible status, the certificate).
+/// [`solved`](Self::solved) turns any other status into an error in one call.
+///
+/// **Dual sign convention.** For a constraint `s(x) ∈ K` the dual is
+/// `z ∈ K*` (≥ 0 for an inequality, PSD for an LMI) with `∇f(x) = Σ Ds(x)ᵀ z`
+/// for the *minimised* objective f — under [`maximize`](super::Problem::maximize)
+/// that is the negated objective, so an equality's dual comes back with the
+/// opposite sign of its shadow price. [`sensitivity`](Self::sensitivity)
+/// gives the shadow price in the user's sense for either direction.
+/// Handles of another problem are [`ConicError::ForeignHandle`]; no method
+/// panics on any handle.
 #[derive(Clone, Debug)]
 pub struct Solution {
     /// How the solver ended.
@@ -101,6 +116,11 @@ pub struct Solution {
     pub(crate) x: Vec<f64>,
     pub(crate) raw_duals: Vec<Vec<f64>>,
     pub(crate) kinds: Vec<ConeKind>,
+    pub(crate) names: Vec<String>,
+    /// Per constraint: its rows are `rhs − lhs` (a `≤`), not `lhs − rhs`.
+    pub(crate) flipped: Vec<bool>,
+    pub(crate) problem: u32,
+    pub(crate) sense: Sense,
     /// Interior-point iterations.
     pub iterations: u32,
     /// Clarabel's primal residual.
@@ -114,48 +134,185 @@ pub struct Solution {
 }
 
 impl Solution {
-    /// The primal point x (one entry per scalar variable).
+    /// The solution if its status is solved (accurately or not), else
+    /// [`ConicError::NotSolved`] with the status.
+    pub fn solved(self) -> Result<Self, ConicError> {
+        if self.status.is_solved() {
+            Ok(self)
+        } else {
+            Err(ConicError::NotSolved {
+                status: self.status,
+                what: "solution",
+            })
+        }
+    }
+
+    /// The direction the problem was optimised in.
+    pub fn sense(&self) -> Sense {
+        self.sense
+    }
+
+    /// The raw primal point x (one entry per scalar variable), whatever the
+    /// status.
     pub fn x(&self) -> &[f64] {
         &self.x
     }
 
+    fn values_ok(&self) -> Result<(), ConicError> {
+        if self.status.is_solved() {
+            Ok(())
+        } else {
+            Err(ConicError::NotSolved {
+                status: self.status,
+                what: "primal value",
+            })
+        }
+    }
+
+    fn owned(&self, e: &AffExpr, what: &str) -> Result<(), ConicError> {
+        if e.owner == NO_OWNER || e.owner == self.problem {
+            Ok(())
+        } else {
+            Err(ConicError::ForeignHandle { what: what.into() })
+        }
+    }
+
     /// Value of a scalar variable.
-    pub fn value(&self, v: Var) -> f64 {
-        self.x[v.0]
+    pub fn value(&self, v: Var) -> Result<f64, ConicError> {
+        self.values_ok()?;
+        if v.problem != self.problem {
+            return Err(ConicError::ForeignHandle {
+                what: format!("variable #{}", v.index),
+            });
+        }
+        Ok(self.x[v.index])
     }
 
     /// Values of several variables.
-    pub fn values(&self, vs: &[Var]) -> Vec<f64> {
-        vs.iter().map(|&v| self.x[v.0]).collect()
+    pub fn values(&self, vs: &[Var]) -> Result<Vec<f64>, ConicError> {
+        vs.iter().map(|&v| self.value(v)).collect()
     }
 
     /// Value of an affine expression.
-    pub fn eval(&self, e: &AffExpr) -> f64 {
-        e.eval(&self.x)
+    pub fn eval(&self, e: &AffExpr) -> Result<f64, ConicError> {
+        self.values_ok()?;
+        self.owned(e, "an expression")?;
+        Ok(e.eval(&self.x))
+    }
+
+    /// Values of affine expressions.
+    pub fn eval_all<'a>(
+        &self,
+        es: impl IntoIterator<Item = &'a AffExpr>,
+    ) -> Result<Vec<f64>, ConicError> {
+        es.into_iter().map(|e| self.eval(e)).collect()
     }
 
     /// Value of a matrix expression.
-    pub fn eval_mat(&self, m: &MatExpr) -> DMatrix<f64> {
-        m.eval(&self.x)
+    pub fn eval_mat(&self, m: &MatExpr) -> Result<DMatrix<f64>, ConicError> {
+        self.values_ok()?;
+        for e in m.entries() {
+            self.owned(e, "a matrix expression")?;
+        }
+        Ok(m.eval(&self.x))
     }
 
     /// Value of a symmetric matrix variable.
-    pub fn sym_value(&self, s: &SymVar) -> DMatrix<f64> {
+    pub fn sym_value(&self, s: &SymVar) -> Result<DMatrix<f64>, ConicError> {
         self.eval_mat(&s.expr())
     }
 
-    /// The dual of a constraint (see [`Dual`]); `None` for a foreign id.
-    pub fn dual(&self, id: ConstraintId) -> Option<Dual> {
-        let z = self.raw_duals.get(id.0)?;
-        Some(match self.kinds[id.0] {
+    /// The raw dual of this solution's constraint `id`.
+    fn z(&self, id: ConstraintId) -> Result<&[f64], ConicError> {
+        if !(self.status.is_solved() || self.status.is_primal_infeasible()) {
+            return Err(ConicError::NotSolved {
+                status: self.status,
+                what: "dual",
+            });
+        }
+        (id.problem == self.problem)
+            .then(|| self.raw_duals.get(id.index))
+            .flatten()
+            .map(Vec::as_slice)
+            .ok_or_else(|| ConicError::ForeignHandle {
+                what: format!("constraint handle #{}", id.index),
+            })
+    }
+
+    /// The dual of a constraint (see [`Dual`] and the sign convention above).
+    pub fn dual(&self, id: ConstraintId) -> Result<Dual, ConicError> {
+        let z = self.z(id)?;
+        Ok(match self.kinds[id.index] {
             ConeKind::Psd { n } => Dual::Matrix(svec_to_mat(z, n)),
-            _ => Dual::Vector(z.clone()),
+            _ => Dual::Vector(z.to_vec()),
         })
     }
 
+    /// The dual of a one-row constraint (`=`, `≤`, `≥` between scalars).
+    pub fn dual_scalar(&self, id: ConstraintId) -> Result<f64, ConicError> {
+        let z = self.z(id)?;
+        match (self.kinds[id.index], z) {
+            (ConeKind::Zero | ConeKind::Nonnegative, [v]) => Ok(*v),
+            (k, z) => Err(self.kind_error(id, "a scalar", k, z.len())),
+        }
+    }
+
+    /// The duals of a constraint of rows (equalities, inequalities, a
+    /// second-order cone), one per row.
+    pub fn dual_vector(&self, id: ConstraintId) -> Result<Vec<f64>, ConicError> {
+        let z = self.z(id)?;
+        match self.kinds[id.index] {
+            ConeKind::Psd { .. } => {
+                Err(self.kind_error(id, "a vector", self.kinds[id.index], z.len()))
+            }
+            _ => Ok(z.to_vec()),
+        }
+    }
+
+    /// The dual matrix Z ⪰ 0 of an LMI.
+    pub fn dual_matrix(&self, id: ConstraintId) -> Result<DMatrix<f64>, ConicError> {
+        let z = self.z(id)?;
+        match self.kinds[id.index] {
+            ConeKind::Psd { n } => Ok(svec_to_mat(z, n)),
+            k => Err(self.kind_error(id, "a matrix", k, z.len())),
+        }
+    }
+
+    /// The shadow price of a one-row constraint in the user's sense: the
+    /// rate at which the optimal objective (minimised or maximised) changes
+    /// when the constraint's right-hand side grows (for `lhs ≥ rhs`,
+    /// `lhs ≤ rhs`, `lhs = rhs`).
+    pub fn sensitivity(&self, id: ConstraintId) -> Result<f64, ConicError> {
+        let z = self.dual_scalar(id)?;
+        // s = lhs − rhs (=, ≥) has ∂p*/∂rhs = z for the minimisation; s = rhs − lhs (≤) has −z
+        let le = self.flipped[id.index];
+        let sign = match self.sense {
+            Sense::Minimize => 1.0,
+            Sense::Maximize => -1.0,
+        };
+        Ok(if le { -sign * z } else { sign * z })
+    }
+
     /// The raw dual entries of a constraint in row order (PSD: √2-scaled svec).
-    pub fn raw_dual(&self, id: ConstraintId) -> Option<&[f64]> {
-        self.raw_duals.get(id.0).map(Vec::as_slice)
+    pub fn raw_dual(&self, id: ConstraintId) -> Result<&[f64], ConicError> {
+        self.z(id)
+    }
+
+    fn kind_error(
+        &self,
+        id: ConstraintId,
+        asked: &'static str,
+        k: ConeKind,
+        rows: usize,
+    ) -> ConicError {
+        ConicError::DualKind {
+            constraint: self.names[id.index].clone(),
+            asked,
+            found: match k {
+                ConeKind::Psd { n } => format!("a {n}×{n} matrix"),
+                _ => format!("{rows} multiplier(s)"),
+            },
+        }
     }
 }
 

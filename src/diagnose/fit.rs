@@ -131,13 +131,9 @@ fn fit_with(
     p.minimize(t);
     let sol = p.solve(settings)?;
     match sol.status {
-        Status::Solved => Ok(Fit {
-            beta: beta.iter().map(|e| sol.eval(e)).collect(),
-            inaccurate: false,
-        }),
-        Status::SolvedInaccurately => Ok(Fit {
-            beta: beta.iter().map(|e| sol.eval(e)).collect(),
-            inaccurate: true,
+        Status::Solved | Status::SolvedInaccurately => Ok(Fit {
+            beta: sol.eval_all(&beta)?,
+            inaccurate: sol.status == Status::SolvedInaccurately,
         }),
         s => Err(FitError::Status(s)),
     }

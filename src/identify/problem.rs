@@ -460,7 +460,7 @@ pub fn solve_identification(
     let sol = prob.solve(&opts.settings)?;
     match sol.status {
         s if s.is_solved() => Ok(Solved {
-            theta: theta_expr.iter().map(|e| sol.eval(e)).collect(),
+            theta: sol.eval_all(&theta_expr)?,
             status: sol.status,
             iterations: sol.iterations,
             solve_time_s: sol.setup_time_s + sol.solve_time_s,
@@ -489,11 +489,11 @@ fn add_body_constraints(
         prob.set_name(
             id,
             &format!("{} LMI of body '{}'", opts.level.as_str(), names[b]),
-        );
+        )?;
         if let Some(e) = opts.ellipsoids.as_ref().map(|e| e[b]) {
             if opts.level == Level::Ellipsoid {
                 let c = prob.add_ge(body.trace_jq(&e), 0.0)?;
-                prob.set_name(c, &format!("tr(JQ) ≥ 0 of body '{}'", names[b]));
+                prob.set_name(c, &format!("tr(JQ) ≥ 0 of body '{}'", names[b]))?;
             }
             if opts.com_lmi {
                 prob.add_psd(&body.com_lmi(&e))?;

@@ -1,33 +1,32 @@
-//! LMI building blocks for the [`conic`](crate::conic) layer: the paper's
-//! matrices as affine expressions of a 10-vector of decision variables in
-//! the paper's order.
+//! LMI building blocks for the [`conic`](crate::conic) layer: a rigid body's
+//! ten inertial parameters π as affine expressions ([`BodyVars`]), the
+//! paper's matrices of them, and the paper's constraints in one call each.
 //!
 //! ```
 //! use momentlmi::conic::{Problem, Settings};
-//! use momentlmi::moments::{lmi, Ellipsoid};
+//! use momentlmi::moments::{lmi::BodyVars, Ellipsoid};
 //! use nalgebra::Vector3;
 //! // the lightest body whose CoM is at x = 0.3 m, realizable in a 0.5 m sphere
 //! let mut p = Problem::new();
-//! let pi = lmi::BodyVars::new(&mut p, "body");
-//! let s = Ellipsoid::sphere(Vector3::zeros(), 0.5).unwrap();
-//! p.add_psd(&pi.pseudo_inertia()).unwrap();
-//! p.add_ge(pi.trace_jq(&s), 0.0).unwrap();
-//! p.add_eq(pi.h()[0].clone(), pi.mass() * 0.3).unwrap();
-//! p.add_eq(pi.mass(), 2.0).unwrap();
-//! let sol = p.solve(&Settings::default()).unwrap();
-//! assert!(sol.status.is_solved());
+//! let body = BodyVars::new(&mut p, "body");
+//! body.add_realizable(&mut p, &Ellipsoid::sphere(Vector3::zeros(), 0.5).unwrap()).unwrap();
+//! body.add_com(&mut p, Vector3::new(0.3, 0.0, 0.0)).unwrap();
+//! p.add_eq(body.mass(), 2.0).unwrap();
+//! let sol = p.solve(&Settings::default()).unwrap().solved().unwrap();
+//! assert!((body.value(&sol).unwrap().com().x - 0.3).abs() < 1e-6);
 //! ```
 
 use super::ellipsoid::Ellipsoid;
 use super::params::InertialParams;
-use crate::conic::{AffExpr, ConicError, MatExpr, Problem, Solution, Var};
-use nalgebra::DMatrix;
+use crate::conic::{AffExpr, ConicError, ConstraintId, MatExpr, Problem, Solution, Var};
+use nalgebra::{DMatrix, Vector3};
 
-/// Ten affine expressions π(x) in the paper's order.
+/// A rigid body's ten inertial parameters π(x) as affine expressions, in the
+/// paper's order `[m, hx, hy, hz, Ixx, Ixy, Ixz, Iyy, Iyz, Izz]` (h = m·c,
+/// Ī about the body frame's origin; SI units).
 #[derive(Clone, Debug)]
 pub struct BodyVars {
-    /// `[m, hx, hy, hz, Ixx, Ixy, Ixz, Iyy, Iyz, Izz]`.
-    pub pi: [AffExpr; 10],
+    pi: [AffExpr; 10],
 }
 
 impl BodyVars {
@@ -60,14 +59,49 @@ impl BodyVars {
         Self { pi }
     }
 
-    /// The mass expression.
+    /// The ten expressions in the paper's order.
+    pub fn params(&self) -> &[AffExpr; 10] {
+        &self.pi
+    }
+
+    /// Mass m (kg).
     pub fn mass(&self) -> AffExpr {
         self.pi[0].clone()
     }
 
-    /// The first moment h.
+    /// The first moment h = m·c (kg·m).
     pub fn h(&self) -> [AffExpr; 3] {
         [self.pi[1].clone(), self.pi[2].clone(), self.pi[3].clone()]
+    }
+
+    /// Ixx about the frame origin (kg·m²).
+    pub fn ixx(&self) -> AffExpr {
+        self.pi[4].clone()
+    }
+
+    /// Ixy (kg·m²).
+    pub fn ixy(&self) -> AffExpr {
+        self.pi[5].clone()
+    }
+
+    /// Ixz (kg·m²).
+    pub fn ixz(&self) -> AffExpr {
+        self.pi[6].clone()
+    }
+
+    /// Iyy (kg·m²).
+    pub fn iyy(&self) -> AffExpr {
+        self.pi[7].clone()
+    }
+
+    /// Iyz (kg·m²).
+    pub fn iyz(&self) -> AffExpr {
+        self.pi[8].clone()
+    }
+
+    /// Izz (kg·m²).
+    pub fn izz(&self) -> AffExpr {
+        self.pi[9].clone()
     }
 
     /// Ī as a 3×3 expression.
@@ -85,7 +119,7 @@ impl BodyVars {
             (3, 3) => self.pi[0].clone(),
             (3, k) | (k, 3) => self.pi[1 + k].clone(),
             (r, c) => {
-                let mut e = i.get(r, c).cloned().unwrap_or_default() * -1.0;
+                let mut e = i[(r, c)].clone() * -1.0;
                 if r == c {
                     e += &half_tr;
                 }
@@ -107,7 +141,7 @@ impl BodyVars {
         let i = self.inertia();
         let m = self.mass();
         MatExpr::from_fn(6, 6, |r, c| match (r < 3, c < 3) {
-            (true, true) => i.get(r, c).cloned().unwrap_or_default(),
+            (true, true) => i[(r, c)].clone(),
             (true, false) => s[r][c - 3].clone(),
             (false, true) => s[c][r - 3].clone(),
             (false, false) => {
@@ -125,7 +159,7 @@ impl BodyVars {
     pub fn trace_jq(&self, s: &Ellipsoid) -> AffExpr {
         let q = s.q_matrix();
         let qd = DMatrix::from_fn(4, 4, |i, j| q[(i, j)]);
-        self.pseudo_inertia().dot(&qd).unwrap_or_default()
+        self.pseudo_inertia().dot(&qd)
     }
 
     /// The CoM-in-ellipsoid LMI (22): `[[m, hᵀ − m cₛᵀ], [h − m cₛ, m Qₛ]] ⪰ 0`.
@@ -140,8 +174,50 @@ impl BodyVars {
         })
     }
 
+    /// `J(π) ⪰ 0`: physically consistent (Theorem 3).
+    pub fn add_consistent(&self, p: &mut Problem) -> Result<ConstraintId, ConicError> {
+        p.add_psd(&self.pseudo_inertia())
+    }
+
+    /// `J(π) ⪰ εI`, strictly consistent with margin ε.
+    pub fn add_consistent_eps(
+        &self,
+        p: &mut Problem,
+        eps: f64,
+    ) -> Result<ConstraintId, ConicError> {
+        p.add_psd_eps(&self.pseudo_inertia(), eps)
+    }
+
+    /// `J(π) ⪰ 0` and `tr(J(π) Q) ≥ 0`: density realizable in the ellipsoid
+    /// (Theorem 4). Returns the two constraints.
+    pub fn add_realizable(
+        &self,
+        p: &mut Problem,
+        e: &Ellipsoid,
+    ) -> Result<[ConstraintId; 2], ConicError> {
+        Ok([self.add_consistent(p)?, p.add_ge(self.trace_jq(e), 0.0)?])
+    }
+
+    /// The CoM at `c` (m): `h − m c = 0` (linear; three rows).
+    pub fn add_com(&self, p: &mut Problem, c: Vector3<f64>) -> Result<ConstraintId, ConicError> {
+        let h = self.h();
+        p.add_zeros((0..3).map(|k| h[k].clone() - self.mass() * c[k]).collect())
+    }
+
+    /// The CoM inside the ellipsoid: the LMI (22).
+    pub fn add_com_in(&self, p: &mut Problem, e: &Ellipsoid) -> Result<ConstraintId, ConicError> {
+        p.add_psd(&self.com_lmi(e))
+    }
+
+    /// `π = π'` (ten rows): two bodies with the same parameters, in their
+    /// own frames.
+    pub fn add_equal(&self, p: &mut Problem, other: &BodyVars) -> Result<ConstraintId, ConicError> {
+        p.add_zeros((0..10).map(|k| self.pi[k].clone() - &other.pi[k]).collect())
+    }
+
     /// The value of π at a solution.
-    pub fn value(&self, sol: &Solution) -> InertialParams {
-        InertialParams(std::array::from_fn(|k| sol.eval(&self.pi[k])))
+    pub fn value(&self, sol: &Solution) -> Result<InertialParams, ConicError> {
+        let v = sol.eval_all(&self.pi)?;
+        Ok(InertialParams(std::array::from_fn(|k| v[k])))
     }
 }

@@ -115,8 +115,7 @@ pub fn nearest_consistent(
     if opts.keep_mass && m > 0.0 {
         p.add_eq(b.mass(), m)?;
     }
-    let diff = jd.try_sub(&MatExpr::constant(&j0d))?;
-    p.add_squares(1.0, diff.entries().iter().cloned());
+    p.add_frobenius(1.0, jd - MatExpr::constant(&j0d));
     let sol = p.solve(&Settings::default().tol_gap_rel(1e-10).tol_gap_abs(1e-12))?;
     if !sol.status.is_solved() {
         return Err(MomentsError::Solver {
@@ -124,7 +123,7 @@ pub fn nearest_consistent(
             task: "finding the nearest consistent inertia".into(),
         });
     }
-    let params = b.value(&sol);
+    let params = b.value(&sol)?;
     let jn = params.pseudo_inertia();
     let mut dist2 = 0.0;
     for i in 0..4 {

@@ -55,11 +55,11 @@ pub fn realize_on_union(
     for (b, s) in bodies.iter().zip(parts) {
         // D J D − t·m·I ⪰ 0 and tr(JQ) ≥ t·m
         let jd = b.pseudo_inertia().congruence(&d)?;
-        p.add_psd(&jd.try_sub(&crate::conic::MatExpr::scaled_identity(4, t * m))?)?;
+        p.add_psd(jd - crate::conic::MatExpr::scaled_identity(4, t * m))?;
         p.add_ge(b.trace_jq(s), t * m)?;
     }
     for k in 0..10 {
-        let sum = crate::conic::sum(bodies.iter().map(|b| b.pi[k].clone()));
+        let sum: crate::conic::AffExpr = bodies.iter().map(|b| &b.params()[k]).sum();
         p.add_eq(sum, pi.0[k])?;
     }
     p.add_le(t, 1.0)?;
@@ -67,8 +67,11 @@ pub fn realize_on_union(
     let sol = p.solve(&Settings::default())?;
     match sol.status {
         s if s.is_solved() => {
-            let tv = sol.value(t);
-            let pieces: Vec<InertialParams> = bodies.iter().map(|b| b.value(&sol)).collect();
+            let tv = sol.value(t)?;
+            let pieces: Vec<InertialParams> = bodies
+                .iter()
+                .map(|b| b.value(&sol))
+                .collect::<Result<_, _>>()?;
             let ok = tv >= -1e-7
                 && pieces.iter().zip(parts).all(|(q, s)| {
                     q.mass().abs() <= 1e-9 * m || check_realizable(q, s, 1e-7).realizable

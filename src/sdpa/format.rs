@@ -220,7 +220,7 @@ impl SdpaProblem {
     pub fn to_problem(&self) -> Result<(Problem, Vec<Var>), SdpaError> {
         let mut p = Problem::new();
         let x = p.vector("x", self.m());
-        p.minimize(AffExpr::linear(&x, &self.c, 0.0));
+        p.minimize(AffExpr::linear(&x, &self.c, 0.0)?);
         let mut per_block: Vec<Vec<usize>> = vec![Vec::new(); self.blocks.len()];
         for (k, e) in self.entries.iter().enumerate() {
             per_block[e.1].push(k);
@@ -250,7 +250,7 @@ impl SdpaProblem {
                         .collect::<Result<_, _>>()?,
                 )?
             };
-            p.set_name(id, &format!("block {}", b + 1));
+            p.set_name(id, &format!("block {}", b + 1))?;
         }
         Ok((p, x))
     }

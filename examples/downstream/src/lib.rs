@@ -49,20 +49,16 @@ pub fn run(seconds: f64) -> Result<Report, Box<dyn std::error::Error>> {
     // inside its ellipsoid; how large can its Izz be?
     let ellipsoid = leg.single_ellipsoids()?[2];
     let mut p = Problem::new();
-    let pi = BodyVars::new(&mut p, "knee");
-    p.add_psd(&pi.pseudo_inertia())?;
-    p.add_ge(pi.trace_jq(&ellipsoid), 0.0)?;
-    p.add_eq(pi.mass(), knee.mass())?;
-    p.maximize(pi.pi[9].clone());
-    let sol = p.solve(&Settings::default())?;
-    if !sol.status.is_solved() {
-        return Err(format!("the Izz bound ended with status {}", sol.status).into());
-    }
+    let body = BodyVars::new(&mut p, "knee");
+    body.add_realizable(&mut p, &ellipsoid)?;
+    p.add_eq(body.mass(), knee.mass())?;
+    p.maximize(body.izz());
+    let sol = p.solve(&Settings::default())?.solved()?;
     Ok(Report {
         validation_rms: r.validation_rms.unwrap_or_default(),
         constraints_satisfied: r.constraints_satisfied,
         knee_mass: knee.mass(),
-        knee_izz_max: sol.eval(&pi.pi[9]),
+        knee_izz_max: sol.eval(&body.izz())?,
         knee_izz: knee.0[9],
     })
 }
