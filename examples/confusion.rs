@@ -23,9 +23,7 @@ fn main() {
         let d = sim(base, &[], 20.0, 101);
         let opts = IdentifyOptions::for_robot(&leg, Level::Ellipsoid, 1e-6).unwrap();
         let r = identify(&model, &d, None, &opts).unwrap();
-        let mut m = model.clone();
-        m.set_params(&r.theta[..60]).unwrap();
-        (m, r.friction)
+        r.applied_to(&model).unwrap()
     };
     let base = "rotor_inertia,coulomb,viscous";
     let cases: Vec<(&str, &str, Vec<String>)> = vec![

@@ -22,13 +22,12 @@ fn nominal(
     momentlmi::dynamics::Model,
     momentlmi::dynamics::params_file::Friction,
 ) {
-    let mut model = cheetah3::model();
+    let model = cheetah3::model();
     let d = data(base, &[], 20.0, 101);
     let opts =
         IdentifyOptions::for_robot(&cheetah3::description(), Level::Ellipsoid, 1e-6).unwrap();
     let r = identify(&model, &d, None, &opts).unwrap();
-    model.set_params(&r.theta[..60]).unwrap();
-    (model, r.friction)
+    r.applied_to(&model).unwrap()
 }
 
 fn run(base: &str, extra: &str, params: &[&str]) -> Diagnosis {

@@ -112,6 +112,15 @@ enum Command {
         /// Print one JSON object (a model file for predict/diagnose/--prior).
         #[arg(long)]
         json: bool,
+        /// One body's level instead of --constraints, BODY=LEVEL (repeatable).
+        #[arg(long = "level", value_name = "BODY=LEVEL")]
+        levels: Vec<String>,
+        /// The known total mass of every body, links and rotors (kg).
+        #[arg(long)]
+        total_mass: Option<f64>,
+        /// Two bodies with the same parameters, A,B (repeatable).
+        #[arg(long = "equal", value_name = "A,B")]
+        equal: Vec<String>,
     },
     /// Diagnose the gap between a nominal model and measured data (first version).
     Diagnose {
@@ -203,6 +212,9 @@ pub fn main() -> i32 {
             weight,
             validate,
             json,
+            levels,
+            total_mass,
+            equal,
         } => identify::run(&identify::IdentifyArgs {
             robot: &robot,
             sidecar: sidecar.as_deref(),
@@ -212,6 +224,9 @@ pub fn main() -> i32 {
             weight,
             validate: validate.as_deref(),
             json,
+            levels: &levels,
+            total_mass,
+            equal: &equal,
         }),
         Command::Diagnose {
             robot: RobotArgs { robot, sidecar },

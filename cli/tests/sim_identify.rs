@@ -353,3 +353,127 @@ bounding = [{ center = [0.1, 0.0, 0.0], semi_axes = [0.2, 0.08, 0.08] }]
     assert!(e.contains("body 'arm' has no bounding ellipsoid"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A known total mass and two bodies forced equal, from flags and from a
+/// sidecar; the knee alone at the ellipsoid level.
+#[test]
+fn identify_with_a_known_mass_and_equal_bodies_from_the_command_line() {
+    let dir = std::env::temp_dir().join(format!("momentlmi-cli-known-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let data = dir.join("leg.csv");
+    let o = bin()
+        .args(["simulate", "--robot", "cheetah3-leg", "--seconds", "6"])
+        .args(["--effects", "rotor_inertia,coulomb,viscous", "--seed", "9"])
+        .args(["--out", data.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let o = bin()
+        .args(["identify", "--robot", "cheetah3-leg", "--json"])
+        .args(["--data", data.to_str().unwrap()])
+        .args(["--total-mass", "5.25", "--equal", "hip_rotor,knee_rotor"])
+        .args(["--level", "knee=ellipsoid"])
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let bodies = v["bodies"].as_array().unwrap();
+    let total: f64 = bodies.iter().map(|b| b["mass"].as_f64().unwrap()).sum();
+    assert!((total - 5.25).abs() < 1e-6, "{total}");
+    let params = |name: &str| -> Vec<f64> {
+        bodies.iter().find(|b| b["name"] == name).unwrap()["params"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect()
+    };
+    let (a, b) = (params("hip_rotor"), params("knee_rotor"));
+    assert!(
+        a.iter()
+            .zip(&b)
+            .all(|(x, y)| (x - y).abs() < 1e-7 * (1.0 + x.abs()))
+    );
+    let knee = bodies.iter().find(|b| b["name"] == "knee").unwrap();
+    assert_eq!(knee["level"], "ellipsoid");
+    assert_eq!(knee["realizability"]["realizable"], true);
+    // bad names are errors naming the valid ones
+    let o = bin()
+        .args(["identify", "--robot", "cheetah3-leg"])
+        .args([
+            "--data",
+            data.to_str().unwrap(),
+            "--equal",
+            "hip_rotor,shin",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("'shin'"));
+    // the same facts from a URDF robot's sidecar
+    let urdf = dir.join("two.urdf");
+    std::fs::write(
+        &urdf,
+        r#"<robot name="two"><link name="base"/>
+<link name="l1"><inertial><origin xyz="0.15 0 0"/><mass value="1.0"/>
+<inertia ixx="0.001" ixy="0" ixz="0" iyy="0.008" iyz="0" izz="0.008"/></inertial></link>
+<link name="l2"><inertial><origin xyz="0.15 0 0"/><mass value="1.0"/>
+<inertia ixx="0.001" ixy="0" ixz="0" iyy="0.008" iyz="0" izz="0.008"/></inertial></link>
+<joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><axis xyz="0 1 0"/>
+<limit lower="-2" upper="2" effort="10" velocity="5"/></joint>
+<joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/><origin xyz="0.3 0 0"/>
+<axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="10" velocity="5"/></joint></robot>"#,
+    )
+    .unwrap();
+    let sidecar = dir.join("two.toml");
+    std::fs::write(
+        &sidecar,
+        "[identify]\ntotal_mass = 2.0\nequal = [[\"l1\", \"l2\"]]\n\n[[body]]\nname = \"l2\"\nlevel = \"semi\"\n",
+    )
+    .unwrap();
+    let d2 = dir.join("two.csv");
+    let o = bin()
+        .args(["simulate", "--robot", urdf.to_str().unwrap()])
+        .args(["--sidecar", sidecar.to_str().unwrap(), "--seconds", "6"])
+        .args(["--effects", "coulomb,viscous", "--noise", "0.02"])
+        .args(["--out", d2.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let o = bin()
+        .args(["identify", "--robot", urdf.to_str().unwrap()])
+        .args(["--sidecar", sidecar.to_str().unwrap(), "--json"])
+        .args(["--data", d2.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let bodies = v["bodies"].as_array().unwrap();
+    let m: Vec<f64> = bodies.iter().map(|b| b["mass"].as_f64().unwrap()).collect();
+    assert!(
+        (m[0] + m[1] - 2.0).abs() < 1e-6 && (m[0] - m[1]).abs() < 1e-7,
+        "{m:?}"
+    );
+    assert_eq!(bodies[1]["level"], "semi");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -43,7 +43,7 @@ pub fn least_squares(
 }
 
 /// The Gram form `[X r]ᵀ[X r]` of the candidate's rows.
-fn reduced(c: &Columns, rows: std::ops::Range<usize>, r: &[f64]) -> Reduced {
+fn reduced(c: &Columns, rows: std::ops::Range<usize>, r: &[f64]) -> Result<Reduced, FitError> {
     let k = c.cols.len();
     let mut gram = Mat::<f64>::zeros(k + 1, k + 1);
     let col = |a: usize, i: usize| if a < k { c.cols[a][i] } else { r[i] };
@@ -54,11 +54,7 @@ fn reduced(c: &Columns, rows: std::ops::Range<usize>, r: &[f64]) -> Reduced {
             gram[(b, a)] = v;
         }
     }
-    Reduced {
-        gram,
-        samples: rows.len(),
-        p: k,
-    }
+    Reduced::from_gram(gram, rows.len()).map_err(|_| FitError::Factorisation)
 }
 
 /// The fit of a candidate: plain least squares, or — for inertial
@@ -96,7 +92,7 @@ fn fit_with(
         });
     }
     let k = c.cols.len();
-    let red = reduced(c, rows, r);
+    let red = reduced(c, rows, r)?;
     let (f, d) = red.r_d().map_err(|_| FitError::Factorisation)?;
     let scale: Vec<f64> = (0..k)
         .map(|j| {

@@ -41,8 +41,23 @@ pub struct RobotDescription {
     pub excitation: Excitation,
     /// Default effect magnitudes.
     pub effects: EffectParams,
+    /// What the identification must respect (the sidecar's `[identify]` and
+    /// per-body levels).
+    pub identification: IdentificationFacts,
     /// What the description had to fill in (placeholder friction, …).
     pub warnings: Vec<String>,
+}
+
+/// Known facts for the identification: per-body levels (as named in the
+/// sidecar; `identify` checks them), a total mass, bodies forced equal.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct IdentificationFacts {
+    /// Per body (links then rotors): its level's name, if the sidecar sets one.
+    pub levels: Vec<Option<String>>,
+    /// The total mass of every body (kg).
+    pub total_mass: Option<f64>,
+    /// Pairs of bodies with the same parameters.
+    pub equal: Vec<(String, String)>,
 }
 
 /// Which parameters a model gets (`--params`, `--prior`, `--nominal`).
@@ -111,6 +126,7 @@ impl RobotDescription {
         effects
             .validate()
             .map_err(|e| err(format!("[effects]: {e}")))?;
+        let identification = identification_facts(&model, sidecar, &bodies, &err)?;
         Ok(Self {
             source: source.to_string(),
             model,
@@ -119,6 +135,7 @@ impl RobotDescription {
             friction,
             excitation,
             effects,
+            identification,
             warnings,
         })
     }
@@ -329,6 +346,46 @@ fn bounding_of(
             .map_err(|m| err(format!("[[body]] '{}': bounding: {m}", b.name)))
         })
         .collect()
+}
+
+/// The sidecar's `[identify]` and per-body levels, with the bodies checked.
+fn identification_facts(
+    model: &Model,
+    sidecar: &Sidecar,
+    bodies: &[Option<&SidecarBody>],
+    err: &dyn Fn(String) -> DynamicsError,
+) -> Result<IdentificationFacts, DynamicsError> {
+    let names = model.body_names();
+    let spec = sidecar.identify.clone().unwrap_or_default();
+    if let Some(m) = spec.total_mass
+        && !(m > 0.0 && m.is_finite())
+    {
+        return Err(err(format!(
+            "[identify] total_mass = {m}: must be positive"
+        )));
+    }
+    for [a, b] in &spec.equal {
+        for n in [a, b] {
+            if !names.contains(n) {
+                return Err(err(format!(
+                    "[identify] equal: '{n}' is not a body of the model (bodies: {})",
+                    names.join(", ")
+                )));
+            }
+        }
+    }
+    Ok(IdentificationFacts {
+        levels: bodies
+            .iter()
+            .map(|b| b.and_then(|b| b.level.clone()))
+            .collect(),
+        total_mass: spec.total_mass,
+        equal: spec
+            .equal
+            .iter()
+            .map(|[a, b]| (a.clone(), b.clone()))
+            .collect(),
+    })
 }
 
 fn check_excitation(

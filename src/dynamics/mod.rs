@@ -39,7 +39,7 @@ pub mod urdf;
 
 pub use crba::{crba, energy, forward_dynamics, transform_matrix};
 pub use data::{BodyRegressor, Data};
-pub use description::{ParamChoice, RobotDescription};
+pub use description::{IdentificationFacts, ParamChoice, RobotDescription};
 pub use effect::{Effect, EffectParams, Param};
 pub use error::DynamicsError;
 pub use model::{Frame, Joint, JointKind, Model, Rotor, ToolPoint};

@@ -7,8 +7,9 @@
 //! - the robot description ([`super::RobotDescription`]), read the same way
 //!   for a URDF robot and for the built-in leg (whose own sidecar is
 //!   `src/dynamics/cheetah3-leg.toml`): `[tool]`, `[[joint]]` (nominal
-//!   friction, limits), `[[body]]` (CAD prior, bounding ellipsoids),
-//!   `[excitation]`, `[effects]` (default effect magnitudes).
+//!   friction, limits), `[[body]]` (CAD prior, bounding ellipsoids, an
+//!   identification level), `[excitation]`, `[effects]` (default effect
+//!   magnitudes), `[identify]` (known total mass, bodies forced equal).
 
 use super::cheetah3::Shell;
 use super::effect::EffectParams;
@@ -40,6 +41,19 @@ pub struct Sidecar {
     pub excitation: Option<Excitation>,
     /// Default effect magnitudes of `simulate` (over the built-in defaults).
     pub effects: Option<EffectParams>,
+    /// Known facts the identification must respect.
+    pub identify: Option<SidecarIdentify>,
+}
+
+/// `[identify]`: constraints the identification adds for this robot.
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SidecarIdentify {
+    /// The robot's total mass (kg): the sum over every body, links and rotors.
+    pub total_mass: Option<f64>,
+    /// Pairs of bodies with the same parameters (each in its own frame).
+    #[serde(default)]
+    pub equal: Vec<[String; 2]>,
 }
 
 /// One rotor.
@@ -106,6 +120,9 @@ pub struct SidecarBody {
     /// Bounding ellipsoids in the body frame (several: their union).
     #[serde(default)]
     pub bounding: Vec<EllipsoidSpec>,
+    /// This body's identification constraint level (`none`, `semi`,
+    /// `consistent`, `ellipsoid`), instead of the one asked for all bodies.
+    pub level: Option<String>,
 }
 
 /// A prior in one of three forms: `params` (the paper's order, body frame);

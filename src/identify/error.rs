@@ -15,6 +15,16 @@ pub enum IdentifyError {
         /// What is wrong.
         message: String,
     },
+    /// An unknown body or joint name.
+    #[error("unknown {what} '{name}' (known: {valid})")]
+    UnknownName {
+        /// A body or a joint.
+        what: &'static str,
+        /// The name given.
+        name: String,
+        /// The valid names.
+        valid: String,
+    },
     /// The training data have no samples or no torques.
     #[error(
         "the training data need torques (tau_* columns) and at least one sample ({samples} samples, {torques} with torques)"

@@ -6,11 +6,14 @@
 //! [`moments`](crate::moments), checks every body with `moments`, and
 //! validates on held-out data.
 
+mod builder;
 mod error;
 pub mod problem;
 pub mod reduce;
 pub mod result;
+mod robot_facts;
 
+pub use builder::{Identification, Vars};
 pub use error::IdentifyError;
 pub use problem::{IdentifyOptions, Level, parameter_names, solve_identification};
 pub use reduce::{Reduced, StreamReducer, reduce_samples};

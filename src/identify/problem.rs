@@ -14,12 +14,12 @@
 //! that every direction the data see has unit size, which keeps Clarabel's
 //! tolerances from being what limits the fit.
 
+use super::builder::Identification;
 use super::error::IdentifyError;
 use super::reduce::Reduced;
-use crate::conic::{AffExpr, Problem, Settings, Status};
+use crate::conic::{Settings, Status};
 use crate::dynamics::{Model, RobotDescription};
-use crate::moments::{Ellipsoid, lmi::BodyVars};
-use faer::Mat;
+use crate::moments::Ellipsoid;
 use serde::Serialize;
 
 /// Per-body constraint level.
@@ -64,13 +64,13 @@ impl Level {
 /// against it when solving.
 #[derive(Clone, Debug, PartialEq)]
 pub struct IdentifyOptions {
-    level: Level,
-    weight: f64,
-    prior: Vec<f64>,
-    ellipsoids: Option<Vec<Ellipsoid>>,
-    com_lmi: bool,
-    eps: f64,
-    settings: Settings,
+    pub(crate) level: Level,
+    pub(crate) weight: f64,
+    pub(crate) prior: Vec<f64>,
+    pub(crate) ellipsoids: Option<Vec<Ellipsoid>>,
+    pub(crate) com_lmi: bool,
+    pub(crate) eps: f64,
+    pub(crate) settings: Settings,
 }
 
 /// The solver settings of the constrained levels: tolerances 1e-9, at most
@@ -100,12 +100,25 @@ impl IdentifyOptions {
 
     /// A robot's set-up: its CAD prior with weight `weight`, and its bounding
     /// ellipsoids when every body has exactly one (required, and an error
-    /// naming the body otherwise, for [`Level::Ellipsoid`]).
+    /// naming the body otherwise, for [`Level::Ellipsoid`]). A robot whose
+    /// sidecar sets identification facts (per-body levels, a total mass,
+    /// equal bodies) is refused: these options cannot express them, use
+    /// [`Identification::for_robot`].
     pub fn for_robot(
         robot: &RobotDescription,
         level: Level,
         weight: f64,
     ) -> Result<Self, IdentifyError> {
+        let f = &robot.identification;
+        if f.total_mass.is_some() || !f.equal.is_empty() || f.levels.iter().any(Option::is_some) {
+            return Err(IdentifyError::Option {
+                option: "robot",
+                message: format!(
+                    "{} sets identification facts in its sidecar (levels, total_mass, equal); use Identification::for_robot",
+                    robot.source
+                ),
+            });
+        }
         let opts = Self::new(level).with_prior(weight, robot.prior_vector())?;
         match robot.single_ellipsoids() {
             Ok(e) => Ok(opts.with_ellipsoids(e)),
@@ -185,44 +198,18 @@ impl IdentifyOptions {
     pub fn ellipsoids(&self) -> Option<&[Ellipsoid]> {
         self.ellipsoids.as_deref()
     }
-
-    /// Checks the model-dependent lengths.
-    fn check(&self, nb: usize) -> Result<(), IdentifyError> {
-        if self.weight > 0.0 && self.prior.len() != 10 * nb {
-            return Err(IdentifyError::Option {
-                option: "prior",
-                message: format!(
-                    "{} numbers for {nb} bodies (10 per body) with weight {}",
-                    self.prior.len(),
-                    self.weight
-                ),
-            });
-        }
-        let needs_e = self.level == Level::Ellipsoid || (self.com_lmi && self.level != Level::None);
-        let wrong_len = self.ellipsoids.as_ref().is_some_and(|e| e.len() != nb);
-        if wrong_len || (needs_e && self.ellipsoids.is_none()) {
-            return Err(IdentifyError::Option {
-                option: "ellipsoids",
-                message: format!(
-                    "{} bounding ellipsoids for {nb} bodies; give one per body{}",
-                    self.ellipsoids.as_ref().map_or(0, |e| e.len()),
-                    if needs_e {
-                        format!(" (the {} level needs them)", self.level.as_str())
-                    } else {
-                        String::new()
-                    }
-                ),
-            });
-        }
-        Ok(())
-    }
 }
 
 /// The solver's answer.
 #[derive(Clone, Debug)]
 pub struct Solved {
-    /// θ = [π (links, rotors) | viscous | Coulomb].
+    /// θ = [π (links, rotors) | viscous | Coulomb]; read it by name with
+    /// [`Solved::body`] and [`Solved::friction`].
     pub theta: Vec<f64>,
+    /// Body names, in parameter order.
+    pub bodies: Vec<String>,
+    /// Joint names.
+    pub joints: Vec<String>,
     /// Solver status (`solved` for the direct least squares).
     pub status: Status,
     /// Interior-point iterations (0 for the direct solve).
@@ -250,255 +237,41 @@ pub fn parameter_names(model: &Model) -> Vec<String> {
     v
 }
 
-/// Rank and unexcited directions of R (columns scaled to unit norm).
-fn identifiability(r: &Mat<f64>, names: &[String]) -> Result<(usize, Vec<String>), IdentifyError> {
-    let p = r.ncols();
-    let scale: Vec<f64> = (0..p)
-        .map(|j| {
-            (0..r.nrows())
-                .map(|i| r[(i, j)].powi(2))
-                .sum::<f64>()
-                .sqrt()
-        })
-        .collect();
-    let mut rs = Mat::<f64>::zeros(r.nrows().max(p), p);
-    for j in 0..p {
-        let s = if scale[j] > 0.0 { 1.0 / scale[j] } else { 0.0 };
-        for i in 0..r.nrows() {
-            rs[(i, j)] = r[(i, j)] * s;
-        }
-    }
-    let svd = rs.svd().map_err(|_| IdentifyError::Factorisation {
-        what: "SVD of the reduced regressor (identifiability)",
-    })?;
-    let s = svd.S().column_vector();
-    let smax = (0..s.nrows()).map(|i| s[i]).fold(0.0, f64::max);
-    let tol = 1e-8 * smax.max(f64::MIN_POSITIVE);
-    let rank = (0..s.nrows()).filter(|&i| s[i] > tol).count();
-    let v = svd.V();
-    let mut dirs = Vec::new();
-    for k in 0..p {
-        if k < s.nrows() && s[k] > tol {
-            continue;
-        }
-        let mut comp: Vec<(usize, f64)> = (0..p).map(|j| (j, v[(j, k)])).collect();
-        comp.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
-        let terms: Vec<String> = comp
-            .iter()
-            .take(3)
-            .filter(|c| c.1.abs() > 0.05)
-            .map(|&(j, c)| format!("{c:+.2}·{}", names[j]))
-            .collect();
-        dirs.push(terms.join(" "));
-    }
-    Ok((rank, dirs))
-}
-
-/// The unconstrained level: `min ‖[R/√ns; √w E] θ − [d/√ns; √w π̂]‖²`,
-/// minimum norm, by SVD (so noise-free data are fitted to round-off).
-fn solve_direct(
-    r: &Mat<f64>,
-    d: &[f64],
-    ns: f64,
-    opts: &IdentifyOptions,
-    nb: usize,
-) -> Result<Vec<f64>, IdentifyError> {
-    let p = r.ncols();
-    let w = opts.weight;
-    let extra = if w > 0.0 { 10 * nb } else { 0 };
-    let rows = r.nrows() + extra;
-    let mut a = Mat::<f64>::zeros(rows.max(p), p);
-    let mut b = Mat::<f64>::zeros(rows.max(p), 1);
-    for i in 0..r.nrows() {
-        for j in 0..p {
-            a[(i, j)] = r[(i, j)] / ns.sqrt();
-        }
-        b[(i, 0)] = d[i] / ns.sqrt();
-    }
-    for k in 0..extra {
-        a[(r.nrows() + k, k)] = w.sqrt();
-        b[(r.nrows() + k, 0)] = w.sqrt() * opts.prior[k];
-    }
-    let svd = a.svd().map_err(|_| IdentifyError::Factorisation {
-        what: "SVD of the least-squares problem",
-    })?;
-    let s = svd.S().column_vector();
-    let smax = (0..s.nrows()).map(|i| s[i]).fold(0.0, f64::max);
-    let u = svd.U();
-    let v = svd.V();
-    let mut theta = vec![0.0; p];
-    for k in 0..s.nrows() {
-        if s[k] <= 1e-13 * smax {
-            continue;
-        }
-        let c: f64 = (0..a.nrows()).map(|i| u[(i, k)] * b[(i, 0)]).sum::<f64>() / s[k];
-        for j in 0..p {
-            theta[j] += c * v[(j, k)];
-        }
-    }
-    Ok(theta)
-}
-
-/// The constrained levels' SDP in scaled variables θ = D z (D = 1 / the
-/// column norms of R, 1 for unexcited columns), with its objective; returns
-/// the problem and θ as expressions of z.
-fn scaled_problem(
-    r: &Mat<f64>,
-    d: &[f64],
-    ns: f64,
-    opts: &IdentifyOptions,
-    nb: usize,
-) -> Result<(Problem, Vec<AffExpr>), IdentifyError> {
-    let p = r.ncols();
-    let dscale: Vec<f64> = (0..p)
-        .map(|j| {
-            let c = (0..r.nrows())
-                .map(|i| r[(i, j)].powi(2))
-                .sum::<f64>()
-                .sqrt()
-                / ns.sqrt();
-            if c > 1e-12 { 1.0 / c } else { 1.0 }
-        })
-        .collect();
-    let mut prob = Problem::new();
-    let z = prob.vector("z", p);
-    let theta: Vec<AffExpr> = (0..p).map(|j| AffExpr::term(z[j], dscale[j])).collect();
-    let residual_rows: Vec<AffExpr> = (0..r.nrows())
-        .map(|i| {
-            let mut e = AffExpr::constant(-d[i]);
-            for j in 0..p {
-                if r[(i, j)] != 0.0 {
-                    e.add_term(z[j], r[(i, j)] * dscale[j]);
-                }
-            }
-            e
-        })
-        .collect();
-    if opts.weight > 0.0 {
-        prob.add_squares(1.0 / ns, residual_rows);
-        for k in 0..10 * nb {
-            prob.add_square(opts.weight, theta[k].clone() - opts.prior[k]);
-        }
-    } else {
-        // Without regularisation, minimise the residual norm itself (same
-        // minimiser): the solver's gap tolerance then bounds ‖r‖, not ‖r‖²,
-        // so noise-free data are fitted to ~1e-9 instead of ~1e-5.
-        let t = prob.scalar("residual_norm");
-        prob.add_soc(
-            t,
-            residual_rows
-                .into_iter()
-                .map(|e| e * (1.0 / ns.sqrt()))
-                .collect(),
-        )?;
-        prob.minimize(t);
-    }
-    Ok((prob, theta))
-}
-
-/// After an infeasible solve: the first body whose own constraint set is
-/// empty, else the status itself.
-fn explain_infeasible(
-    model: &Model,
-    opts: &IdentifyOptions,
-    status: Status,
-) -> Result<IdentifyError, IdentifyError> {
-    for (b, name) in model.body_names().iter().enumerate() {
-        let mut q = Problem::new();
-        let v = BodyVars::new(&mut q, name);
-        let mut o = opts.clone();
-        o.ellipsoids = opts.ellipsoids.as_ref().map(|e| vec![e[b]]);
-        add_body_constraints(&mut q, &[v], &o, std::slice::from_ref(name))?;
-        if q.solve(&opts.settings)?.status.is_primal_infeasible() {
-            return Ok(IdentifyError::InfeasibleBody { body: name.clone() });
-        }
-    }
-    Ok(IdentifyError::Solver(status))
-}
-
-/// Solves (25) on reduced data.
+/// Solves (25) on reduced data with the options' set-up
+/// ([`Identification::from_options`]).
 pub fn solve_identification(
     model: &Model,
     red: &Reduced,
     opts: &IdentifyOptions,
 ) -> Result<Solved, IdentifyError> {
-    let nb = model.num_bodies();
-    let p = 10 * nb + 2 * model.dof();
-    if red.p != p {
-        return Err(IdentifyError::Columns {
-            expected: p,
-            found: red.p,
-        });
-    }
-    if red.samples == 0 {
-        return Err(IdentifyError::NoTrainingData {
-            samples: 0,
-            torques: 0,
-        });
-    }
-    opts.check(nb)?;
-    let (r, d) = red.r_d()?;
-    let (rank, unidentifiable) = identifiability(&r, &parameter_names(model))?;
-    let ns = red.samples as f64;
-    let t0 = std::time::Instant::now();
-    if opts.level == Level::None {
-        return Ok(Solved {
-            theta: solve_direct(&r, &d, ns, opts, nb)?,
-            status: Status::Solved,
-            iterations: 0,
-            solve_time_s: t0.elapsed().as_secs_f64(),
-            unidentifiable,
-            rank,
-        });
-    }
-    let (mut prob, theta_expr) = scaled_problem(&r, &d, ns, opts, nb)?;
-    let bodies: Vec<BodyVars> = (0..nb)
-        .map(|b| BodyVars::from_exprs(std::array::from_fn(|k| theta_expr[10 * b + k].clone())))
-        .collect();
-    add_body_constraints(&mut prob, &bodies, opts, &model.body_names())?;
-    prob.add_nonneg(theta_expr[10 * nb..].to_vec())?; // B ⪰ 0, B_c ⪰ 0
-    let sol = prob.solve(&opts.settings)?;
-    match sol.status {
-        s if s.is_solved() => Ok(Solved {
-            theta: sol.eval_all(&theta_expr)?,
-            status: sol.status,
-            iterations: sol.iterations,
-            solve_time_s: sol.setup_time_s + sol.solve_time_s,
-            unidentifiable,
-            rank,
-        }),
-        s if s.is_primal_infeasible() => Err(explain_infeasible(model, opts, s)?),
-        s => Err(IdentifyError::Solver(s)),
-    }
+    Identification::from_options(model, opts)?.solve(red)
 }
 
-fn add_body_constraints(
-    prob: &mut Problem,
-    bodies: &[BodyVars],
-    opts: &IdentifyOptions,
-    names: &[String],
-) -> Result<(), IdentifyError> {
-    for (b, body) in bodies.iter().enumerate() {
-        let id = match opts.level {
-            Level::None => continue,
-            Level::Semi => prob.add_psd_eps(&body.spatial_inertia(), opts.eps)?,
-            Level::Consistent | Level::Ellipsoid => {
-                prob.add_psd_eps(&body.pseudo_inertia(), opts.eps)?
+impl Solved {
+    /// The parameters of the body named `name`.
+    pub fn body(&self, name: &str) -> Result<crate::moments::InertialParams, IdentifyError> {
+        let b = self.bodies.iter().position(|n| n == name).ok_or_else(|| {
+            IdentifyError::UnknownName {
+                what: "body",
+                name: name.into(),
+                valid: self.bodies.join(", "),
             }
-        };
-        prob.set_name(
-            id,
-            &format!("{} LMI of body '{}'", opts.level.as_str(), names[b]),
-        )?;
-        if let Some(e) = opts.ellipsoids.as_ref().map(|e| e[b]) {
-            if opts.level == Level::Ellipsoid {
-                let c = prob.add_ge(body.trace_jq(&e), 0.0)?;
-                prob.set_name(c, &format!("tr(JQ) ≥ 0 of body '{}'", names[b]))?;
-            }
-            if opts.com_lmi {
-                prob.add_psd(&body.com_lmi(&e))?;
-            }
-        }
+        })?;
+        Ok(crate::moments::InertialParams(std::array::from_fn(|k| {
+            self.theta[10 * b + k]
+        })))
     }
-    Ok(())
+
+    /// Joint `joint`'s friction `(viscous B, Coulomb B_c)`.
+    pub fn friction(&self, joint: &str) -> Result<(f64, f64), IdentifyError> {
+        let i = self.joints.iter().position(|n| n == joint).ok_or_else(|| {
+            IdentifyError::UnknownName {
+                what: "joint",
+                name: joint.into(),
+                valid: self.joints.join(", "),
+            }
+        })?;
+        let (nb, n) = (self.bodies.len(), self.joints.len());
+        Ok((self.theta[10 * nb + i], self.theta[10 * nb + n + i]))
+    }
 }

@@ -28,6 +28,41 @@ pub struct Reduced {
 }
 
 impl Reduced {
+    /// Reduced data from a Gram matrix `[A b]ᵀ[A b]` ((p + 1) × (p + 1):
+    /// square, symmetric, finite) of `samples` (≥ 1) samples, for callers
+    /// with their own data path.
+    pub fn from_gram(gram: Mat<f64>, samples: usize) -> Result<Self, IdentifyError> {
+        let bad = |message: String| IdentifyError::Option {
+            option: "gram",
+            message,
+        };
+        let (r, c) = (gram.nrows(), gram.ncols());
+        if r != c || r < 2 {
+            return Err(bad(format!(
+                "a square matrix of side ≥ 2 is needed, got {r}×{c}"
+            )));
+        }
+        if samples == 0 {
+            return Err(bad("no samples".into()));
+        }
+        for j in 0..c {
+            for i in 0..r {
+                let (a, b) = (gram[(i, j)], gram[(j, i)]);
+                if !a.is_finite() {
+                    return Err(bad(format!("entry ({i}, {j}) is not finite")));
+                }
+                if (a - b).abs() > 1e-12 * (a.abs() + b.abs()).max(f64::MIN_POSITIVE) {
+                    return Err(bad(format!("not symmetric at ({i}, {j})")));
+                }
+            }
+        }
+        Ok(Self {
+            gram,
+            samples,
+            p: r - 1,
+        })
+    }
+
     /// The factor F with `FᵀF = G` ((p + 1) × (p + 1)); an error if the
     /// eigen-decomposition does not converge (a non-finite Gram matrix).
     pub fn factor(&self) -> Result<Mat<f64>, IdentifyError> {

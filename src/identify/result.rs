@@ -1,7 +1,8 @@
 //! End-to-end identification from data sets, and its report.
 
+use super::builder::Identification;
 use super::error::IdentifyError;
-use super::problem::{IdentifyOptions, Level, Solved, solve_identification};
+use super::problem::{IdentifyOptions, Level};
 use super::reduce::reduce_samples;
 use crate::data::Dataset;
 use crate::dynamics::params_file::{BodyParams, Friction, ParamsFile};
@@ -20,6 +21,8 @@ pub const CHECK_TOL: f64 = 1e-7;
 pub struct BodyResult {
     /// Body name.
     pub name: String,
+    /// Its constraint level.
+    pub level: Level,
     /// π in the paper's order.
     pub params: [f64; 10],
     /// Mass (kg).
@@ -58,7 +61,7 @@ pub struct IdentifyResult {
     pub joints: Vec<String>,
     /// Parameter order, stated.
     pub parameter_order: String,
-    /// Constraint level.
+    /// Constraint level of the bodies (each body's own is in `bodies`).
     pub constraints: Level,
     /// Regularisation weight.
     pub weight: f64,
@@ -105,7 +108,54 @@ pub struct IdentifyResult {
     pub theta: Vec<f64>,
 }
 
+impl BodyResult {
+    /// π as [`InertialParams`].
+    pub fn params(&self) -> InertialParams {
+        InertialParams(self.params)
+    }
+}
+
 impl IdentifyResult {
+    /// The body named `name`.
+    pub fn body(&self, name: &str) -> Result<&BodyResult, IdentifyError> {
+        self.bodies
+            .iter()
+            .find(|b| b.name == name)
+            .ok_or_else(|| IdentifyError::UnknownName {
+                what: "body",
+                name: name.into(),
+                valid: self
+                    .bodies
+                    .iter()
+                    .map(|b| b.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            })
+    }
+
+    /// Joint `joint`'s friction `(viscous B, Coulomb B_c)`.
+    pub fn friction(&self, joint: &str) -> Result<(f64, f64), IdentifyError> {
+        let i = self.joints.iter().position(|j| j == joint).ok_or_else(|| {
+            IdentifyError::UnknownName {
+                what: "joint",
+                name: joint.into(),
+                valid: self.joints.join(", "),
+            }
+        })?;
+        Ok((self.friction.viscous[i], self.friction.coulomb[i]))
+    }
+
+    /// `model` with the identified inertial parameters (bodies matched by
+    /// name), and the identified friction: the nominal model a diagnosis or a
+    /// prediction starts from.
+    pub fn applied_to(&self, model: &Model) -> Result<(Model, Friction), IdentifyError> {
+        let mut m = model.clone();
+        let f = self
+            .params_file()
+            .apply(&mut m, "the identification result")?;
+        Ok((m, f))
+    }
+
     /// The parameter file part (what `predict --params` reads).
     pub fn params_file(&self) -> ParamsFile {
         ParamsFile {
@@ -174,16 +224,15 @@ pub fn rms(a: &[Vec<f64>], b: &[Vec<f64>]) -> Vec<f64> {
 
 /// Each body's summary and whether it satisfies its level (checked by
 /// `moments`, tolerance [`CHECK_TOL`]).
-fn body_results(model: &Model, theta: &[f64], opts: &IdentifyOptions) -> (Vec<BodyResult>, bool) {
+fn body_results(id: &Identification, theta: &[f64]) -> (Vec<BodyResult>, bool) {
     let mut bodies = Vec::new();
     let mut ok = true;
-    for (b, name) in model.body_names().into_iter().enumerate() {
+    for (b, name) in id.model().body_names().into_iter().enumerate() {
         let pi = InertialParams(std::array::from_fn(|k| theta[10 * b + k]));
         let rep = check_consistency(&pi, CHECK_TOL);
-        let real = opts
-            .ellipsoids()
-            .map(|e| check_realizable(&pi, &e[b], CHECK_TOL));
-        ok &= match opts.level() {
+        let (level, ellipsoid) = id.body_spec(b);
+        let real = ellipsoid.map(|e| check_realizable(&pi, &e, CHECK_TOL));
+        ok &= match level {
             Level::None => true,
             Level::Semi => rep.semi_consistent && pi.mass() > 0.0,
             Level::Consistent => rep.consistent,
@@ -198,6 +247,7 @@ fn body_results(model: &Model, theta: &[f64], opts: &IdentifyOptions) -> (Vec<Bo
         let cov = pi.covariance_ellipsoid();
         bodies.push(BodyResult {
             name,
+            level,
             params: pi.0,
             mass: pi.mass(),
             com,
@@ -224,75 +274,84 @@ fn with_torques(d: &Dataset) -> Result<(), IdentifyError> {
 
 /// Identifies `model`'s parameters from `train` (its current parameters are
 /// only used for names), optionally validating on `validate` (which then
-/// needs torques too).
+/// needs torques too), with the options' set-up
+/// ([`Identification::from_options`]).
 pub fn identify(
     model: &Model,
     train: &Dataset,
     validate: Option<&Dataset>,
     opts: &IdentifyOptions,
 ) -> Result<IdentifyResult, IdentifyError> {
-    let t0 = std::time::Instant::now();
-    with_torques(train)?;
-    if let Some(v) = validate {
-        with_torques(v)?;
-    }
-    let red = reduce_samples(model, &train.q, &train.qd, &train.qdd, &train.tau, 1024)?;
-    let reduce_time = t0.elapsed().as_secs_f64();
-    let Solved {
-        theta,
-        status,
-        iterations,
-        solve_time_s,
-        unidentifiable,
-        rank,
-    } = solve_identification(model, &red, opts)?;
-    let n = model.dof();
-    let nb = model.num_bodies();
-    let (bodies, ok) = body_results(model, &theta, opts);
-    let friction = Friction {
-        viscous: theta[10 * nb..10 * nb + n].to_vec(),
-        coulomb: theta[10 * nb + n..].to_vec(),
-    };
-    let (train_pred, _) = predict_split(model, &theta, train)?;
-    let training_rms = rms(&train_pred, &train.tau);
-    let (validation_rms, validation_prediction, contributions, vs) = match validate {
-        Some(v) => {
-            let (pred, c) = predict_split(model, &theta, v)?;
-            (Some(rms(&pred, &v.tau)), pred, c, v.len())
+    Identification::from_options(model, opts)?.identify(train, validate)
+}
+
+impl Identification<'_> {
+    /// Reduces `train`, solves, checks every body and validates on
+    /// `validate` (which then needs torques too).
+    pub fn identify(
+        &self,
+        train: &Dataset,
+        validate: Option<&Dataset>,
+    ) -> Result<IdentifyResult, IdentifyError> {
+        let model = self.model();
+        let t0 = std::time::Instant::now();
+        with_torques(train)?;
+        if let Some(v) = validate {
+            with_torques(v)?;
         }
-        None => (None, vec![], Contributions::default(), 0),
-    };
-    Ok(IdentifyResult {
-        robot: model.name.clone(),
-        joints: model.joint_names().iter().map(|s| s.to_string()).collect(),
-        parameter_order: "m, hx, hy, hz, Ixx, Ixy, Ixz, Iyy, Iyz, Izz".into(),
-        constraints: opts.level(),
-        weight: opts.weight(),
-        bodies,
-        friction,
-        constraints_satisfied: ok,
-        status: status.as_str().into(),
-        warnings: if status == crate::conic::Status::SolvedInaccurately {
-            vec![format!(
-                "the SDP was solved only to Clarabel's reduced tolerances ({} iterations)",
-                iterations
-            )]
-        } else {
-            vec![]
-        },
-        iterations,
-        rank,
-        num_parameters: theta.len(),
-        unidentifiable_directions: unidentifiable,
-        training_samples: train.len(),
-        training_rms,
-        validation_rms,
-        validation_samples: vs,
-        solve_time_s,
-        reduce_time_s: reduce_time,
-        total_time_s: t0.elapsed().as_secs_f64(),
-        validation_prediction,
-        contributions,
-        theta,
-    })
+        let red = reduce_samples(model, &train.q, &train.qd, &train.qdd, &train.tau, 1024)?;
+        let reduce_time = t0.elapsed().as_secs_f64();
+        let solved = self.solve(&red)?;
+        let theta = &solved.theta;
+        let n = model.dof();
+        let nb = model.num_bodies();
+        let (bodies, ok) = body_results(self, theta);
+        let friction = Friction {
+            viscous: theta[10 * nb..10 * nb + n].to_vec(),
+            coulomb: theta[10 * nb + n..].to_vec(),
+        };
+        let (train_pred, _) = predict_split(model, theta, train)?;
+        let training_rms = rms(&train_pred, &train.tau);
+        let (validation_rms, validation_prediction, contributions, vs) = match validate {
+            Some(v) => {
+                let (pred, c) = predict_split(model, theta, v)?;
+                (Some(rms(&pred, &v.tau)), pred, c, v.len())
+            }
+            None => (None, vec![], Contributions::default(), 0),
+        };
+        let status = solved.status;
+        Ok(IdentifyResult {
+            robot: model.name.clone(),
+            joints: model.joint_names().iter().map(|s| s.to_string()).collect(),
+            parameter_order: "m, hx, hy, hz, Ixx, Ixy, Ixz, Iyy, Iyz, Izz".into(),
+            constraints: self.common_level(),
+            weight: self.weight(),
+            bodies,
+            friction,
+            constraints_satisfied: ok,
+            status: status.as_str().into(),
+            warnings: if status == crate::conic::Status::SolvedInaccurately {
+                vec![format!(
+                    "the SDP was solved only to Clarabel's reduced tolerances ({} iterations)",
+                    solved.iterations
+                )]
+            } else {
+                vec![]
+            },
+            iterations: solved.iterations,
+            rank: solved.rank,
+            num_parameters: theta.len(),
+            unidentifiable_directions: solved.unidentifiable.clone(),
+            training_samples: train.len(),
+            training_rms,
+            validation_rms,
+            validation_samples: vs,
+            solve_time_s: solved.solve_time_s,
+            reduce_time_s: reduce_time,
+            total_time_s: t0.elapsed().as_secs_f64(),
+            validation_prediction,
+            contributions,
+            theta: solved.theta,
+        })
+    }
 }

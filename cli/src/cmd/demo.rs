@@ -138,11 +138,8 @@ fn diagnose_real_leg(
     );
     let cfg = SimConfig::for_robot(robot, 15.0, effects, 2);
     let data = simulate(robot, &cfg, |_, _| {}).map_err(|e| e.to_string())?;
-    let mut nominal = robot.model.clone();
-    nominal
-        .set_params(&best.theta[..10 * nominal.num_bodies()])
-        .map_err(|e| e.to_string())?;
-    let d = diagnose(&nominal, &best.friction, &data, &DiagnoseOptions::default())
+    let (nominal, friction) = best.applied_to(&robot.model).map_err(|e| e.to_string())?;
+    let d = diagnose(&nominal, &friction, &data, &DiagnoseOptions::default())
         .map_err(|e| e.to_string())?;
     momentlmi::data::write_whole(
         &out.join("diagnosis.json"),

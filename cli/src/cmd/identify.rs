@@ -3,8 +3,9 @@
 
 use momentlmi::data::{Dataset, ReadOptions};
 use momentlmi::dynamics::ParamChoice;
+use momentlmi::dynamics::RobotDescription;
 use momentlmi::dynamics::robots::load_robot;
-use momentlmi::identify::{IdentifyOptions, IdentifyResult, Level, identify};
+use momentlmi::identify::{Identification, IdentifyError, IdentifyResult, Level};
 use std::path::Path;
 
 /// Arguments of `identify`.
@@ -25,6 +26,12 @@ pub struct IdentifyArgs<'a> {
     pub validate: Option<&'a Path>,
     /// JSON output.
     pub json: bool,
+    /// Per-body levels `BODY=LEVEL`.
+    pub levels: &'a [String],
+    /// A known total mass (kg).
+    pub total_mass: Option<f64>,
+    /// Pairs `A,B` of equal bodies.
+    pub equal: &'a [String],
 }
 
 /// Exit codes: 0 identified (constraints satisfied), 1 identified but a
@@ -61,13 +68,65 @@ pub fn run(a: &IdentifyArgs) -> i32 {
     }
 }
 
+fn parse_level(s: &str, what: &str) -> Result<Level, String> {
+    Level::parse(s)
+        .ok_or_else(|| format!("{what}: '{s}' is not one of none, semi, consistent, ellipsoid"))
+}
+
+/// The identification with the robot's set-up and the flags' constraints.
+fn identification<'r>(
+    a: &'r IdentifyArgs,
+    robot: &'r RobotDescription,
+) -> Result<Identification<'r>, String> {
+    let level = parse_level(a.constraints, "--constraints")?;
+    let choice: ParamChoice = a.prior.unwrap_or("cad").parse().expect("infallible");
+    let (prior, _) = robot.parameters(&choice).map_err(|e| e.to_string())?;
+    let mut id = Identification::for_robot(robot, level, a.weight)
+        .and_then(|id| id.prior(a.weight, prior.params()))
+        .map_err(|e| format!("--weight / --prior: {e}"))?;
+    for l in a.levels {
+        let (body, lv) = l
+            .split_once('=')
+            .ok_or_else(|| format!("--level '{l}': expected BODY=LEVEL"))?;
+        id = id
+            .level(
+                body.trim(),
+                parse_level(lv.trim(), &format!("--level {l}"))?,
+            )
+            .map_err(|e| format!("--level {l}: {e}"))?;
+    }
+    if let Some(m) = a.total_mass {
+        if !(m > 0.0 && m.is_finite()) {
+            return Err(format!("--total-mass must be positive, got {m}"));
+        }
+        id = id.constrain(move |p, v| {
+            p.add_eq(v.total_mass(), m)?;
+            Ok(())
+        });
+    }
+    for pair in a.equal {
+        let (x, y) = pair
+            .split_once(',')
+            .ok_or_else(|| format!("--equal '{pair}': expected A,B"))?;
+        let (x, y) = (x.trim().to_string(), y.trim().to_string());
+        for n in [&x, &y] {
+            if !robot.model.body_names().contains(n) {
+                return Err(format!(
+                    "--equal {pair}: '{n}' is not a body (bodies: {})",
+                    robot.model.body_names().join(", ")
+                ));
+            }
+        }
+        id = id.constrain(move |p, v| {
+            v.body(&x)?.add_equal(p, v.body(&y)?)?;
+            Ok(())
+        });
+    }
+    Ok(id)
+}
+
 fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
-    let level = Level::parse(a.constraints).ok_or_else(|| {
-        format!(
-            "--constraints: '{}' is not one of none, semi, consistent, ellipsoid",
-            a.constraints
-        )
-    })?;
+    parse_level(a.constraints, "--constraints")?;
     let robot = load_robot(a.robot, a.sidecar).map_err(|e| e.to_string())?;
     let names = robot.model.joint_names();
     let train =
@@ -77,19 +136,16 @@ fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
         .map(|p| Dataset::read_csv(p, &names, ReadOptions::default()))
         .transpose()
         .map_err(|e| e.to_string())?;
-    let choice: ParamChoice = a.prior.unwrap_or("cad").parse().expect("infallible");
-    let (prior, _) = robot.parameters(&choice).map_err(|e| e.to_string())?;
-    let mut opts = IdentifyOptions::new(level)
-        .with_prior(a.weight, prior.params())
-        .map_err(|e| format!("--weight / --prior: {e}"))?;
-    match robot.single_ellipsoids() {
-        Ok(e) => opts = opts.with_ellipsoids(e),
-        Err(e) if level == Level::Ellipsoid => {
-            return Err(format!("--constraints ellipsoid: {e}"));
+    let id = identification(a, &robot)?;
+    id.identify(&train, val.as_ref()).map_err(|e| match e {
+        IdentifyError::Option {
+            option: "ellipsoids",
+            ..
+        } => {
+            format!("--constraints ellipsoid: {e}")
         }
-        Err(_) => {}
-    }
-    identify(&robot.model, &train, val.as_ref(), &opts).map_err(|e| e.to_string())
+        e => e.to_string(),
+    })
 }
 
 /// A short human report.

@@ -1,0 +1,41 @@
+//! A robot description's identification facts (the sidecar's per-body
+//! levels, `[identify] total_mass` and `equal`) applied to an
+//! [`Identification`].
+
+use super::builder::Identification;
+use super::error::IdentifyError;
+use super::problem::Level;
+use crate::dynamics::RobotDescription;
+
+/// Applies `robot`'s facts: levels replace the common one; a total mass and
+/// pairs of equal bodies become constraints.
+pub(crate) fn apply<'m>(
+    mut s: Identification<'m>,
+    robot: &'m RobotDescription,
+) -> Result<Identification<'m>, IdentifyError> {
+    let facts = &robot.identification;
+    for (name, level) in robot.model.body_names().iter().zip(&facts.levels) {
+        if let Some(l) = level {
+            let level = Level::parse(l).ok_or_else(|| IdentifyError::Option {
+                option: "level",
+                message: format!(
+                    "body '{name}': level '{l}' is not one of none, semi, consistent, ellipsoid"
+                ),
+            })?;
+            s = s.level(name, level)?;
+        }
+    }
+    if let Some(m) = facts.total_mass {
+        s = s.constrain(move |p, v| {
+            p.add_eq(v.total_mass(), m)?;
+            Ok(())
+        });
+    }
+    for (a, b) in &facts.equal {
+        s = s.constrain(move |p, v| {
+            v.body(a)?.add_equal(p, v.body(b)?)?;
+            Ok(())
+        });
+    }
+    Ok(s)
+}
