@@ -29,3 +29,18 @@ pub mod moments;
 pub mod sdpa;
 pub mod sim;
 pub mod urdf;
+
+/// The guides' Rust examples, compiled and run as doctests.
+#[cfg(doctest)]
+mod guides {
+    #[doc = include_str!("../docs/identification.md")]
+    struct Identification;
+    #[doc = include_str!("../docs/robots.md")]
+    struct Robots;
+    #[doc = include_str!("../docs/architecture.md")]
+    struct Architecture;
+    #[doc = include_str!("../docs/math.md")]
+    struct Math;
+    #[doc = include_str!("../docs/diagnosis.md")]
+    struct Diagnosis;
+}

@@ -1,0 +1,120 @@
+//! The example programs, run and checked (each `examples/*.rs` exposes a
+//! `run` the test calls).
+
+#[path = "../examples/custom_constraints.rs"]
+mod custom_constraints;
+#[path = "../examples/lambda_max.rs"]
+mod lambda_max;
+#[path = "../examples/lovasz_theta.rs"]
+mod lovasz_theta;
+#[path = "../examples/misuse.rs"]
+mod misuse;
+#[path = "../examples/nearest_psd.rs"]
+mod nearest_psd;
+
+use momentlmi::conic::ConicError;
+use nalgebra::DMatrix;
+
+#[test]
+fn lambda_max_and_its_dual_are_the_top_eigenpair() {
+    let a = DMatrix::from_row_slice(3, 3, &[2.0, -1.0, 0.0, -1.0, 2.0, -1.0, 0.0, -1.0, 2.0]);
+    let (lmax, z, kkt) = lambda_max::run(&a).unwrap();
+    let e = a.clone().symmetric_eigen();
+    let (k, top) = e.eigenvalues.argmax();
+    assert!((lmax - top).abs() < 1e-7, "{lmax} vs {top}");
+    let v = e.eigenvectors.column(k);
+    assert!((&z - v * v.transpose()).abs().max() < 1e-6, "{z}");
+    assert!(kkt < 1e-6);
+}
+
+#[test]
+fn lovasz_theta_of_the_five_cycle_is_root_five() {
+    let c5: Vec<(usize, usize)> = (0..5).map(|i| (i, (i + 1) % 5)).collect();
+    let (theta, price) = lovasz_theta::run(5, &c5).unwrap();
+    assert!((theta - 5f64.sqrt()).abs() < 1e-7, "{theta}");
+    assert!((price - theta).abs() < 1e-6, "{price}");
+    // the complete graph K4 has θ = 1, the empty graph on 4 vertices θ = 4
+    let k4: Vec<(usize, usize)> = (0..4)
+        .flat_map(|i| (i + 1..4).map(move |j| (i, j)))
+        .collect();
+    assert!((lovasz_theta::run(4, &k4).unwrap().0 - 1.0).abs() < 1e-7);
+    assert!((lovasz_theta::run(4, &[]).unwrap().0 - 4.0).abs() < 1e-6);
+}
+
+#[test]
+fn the_nearest_psd_matrix_is_the_clipped_eigendecomposition() {
+    let c = DMatrix::from_row_slice(3, 3, &[1.0, 2.0, 0.0, 2.0, 1.0, 0.5, 0.0, 0.5, -0.5]);
+    let x = nearest_psd::run(&c).unwrap();
+    assert!((&x - nearest_psd::clipped(&c)).abs().max() < 1e-6, "{x}");
+    // a PSD matrix is its own nearest
+    let s = DMatrix::from_row_slice(2, 2, &[2.0, 1.0, 1.0, 3.0]);
+    assert!((nearest_psd::run(&s).unwrap() - &s).abs().max() < 1e-6);
+}
+
+#[test]
+fn the_two_body_constraint_set_bounds_the_link() {
+    let (small, pts) = custom_constraints::run(false).unwrap();
+    // the least Izz: 1 kg on the axis through the CoM, m·x² = 1 · 0.14²
+    assert!((small.mass() - 1.0).abs() < 1e-6);
+    assert!(
+        (small.0[9] - 0.14f64.powi(2)).abs() < 1e-6,
+        "{}",
+        small.0[9]
+    );
+    let (large, _) = custom_constraints::run(true).unwrap();
+    assert!((large.mass() - 2.0).abs() < 1e-6 && large.0[9] > 10.0 * small.0[9]);
+    // the four point masses reproduce the body
+    let total: f64 = pts.iter().map(|p| p.mass).sum();
+    assert!((total - small.mass()).abs() < 1e-6);
+    let com = pts
+        .iter()
+        .map(|p| p.position * p.mass)
+        .sum::<nalgebra::Vector3<f64>>()
+        / total;
+    assert!((com - small.com()).norm() < 1e-6);
+}
+
+#[test]
+fn every_misuse_is_a_named_error() {
+    let errors = misuse::run().unwrap();
+    assert_eq!(errors.len(), 9, "{errors:?}");
+    let kinds: Vec<&str> = errors
+        .iter()
+        .map(|(_, e)| match e {
+            ConicError::ForeignHandle { .. } => "foreign",
+            ConicError::DimensionMismatch { .. } => "dimension",
+            ConicError::NotSolved { .. } => "not solved",
+            ConicError::NegativeWeight { .. } => "weight",
+            _ => "other",
+        })
+        .collect();
+    assert_eq!(
+        kinds,
+        [
+            "foreign",
+            "foreign",
+            "dimension",
+            "dimension",
+            "dimension",
+            "not solved",
+            "foreign",
+            "not solved",
+            "weight"
+        ]
+    );
+}
+
+#[path = "../examples/identify_constrained.rs"]
+mod identify_constrained;
+
+#[test]
+fn the_constrained_identification_example_holds_its_constraints() {
+    let r = identify_constrained::run(5.25).unwrap();
+    let total: f64 = r.bodies.iter().map(|b| b.mass).sum();
+    assert!((total - 5.25).abs() < 1e-6);
+    let knee = r.body("knee").unwrap();
+    assert!(knee.realizability.as_ref().unwrap().realizable);
+    let (a, b) = (r.body("hip_rotor").unwrap(), r.body("knee_rotor").unwrap());
+    assert!((0..10).all(|k| (a.params[k] - b.params[k]).abs() < 1e-7 * (1.0 + a.params[k].abs())));
+    assert!(r.constraints_satisfied);
+}
