@@ -5,14 +5,6 @@ use super::error::DataError;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
-/// The temporary name `text` is written under before the rename: hidden,
-/// beside `path`, and unique to this process, so that it is neither the
-/// input nor a file the user keeps.
-fn temporary(path: &Path) -> PathBuf {
-    let name = path.file_name().and_then(|f| f.to_str()).unwrap_or("out");
-    path.with_file_name(format!(".{name}.{}.tmp", std::process::id()))
-}
-
 fn io(path: &Path) -> impl FnOnce(std::io::Error) -> DataError + '_ {
     move |source| DataError::Io {
         path: path.display().to_string(),
@@ -20,16 +12,90 @@ fn io(path: &Path) -> impl FnOnce(std::io::Error) -> DataError + '_ {
     }
 }
 
+/// Outputs staged in uniquely named temporary files beside their targets
+/// and renamed into place together by [`Staged::commit`]: a reader sees the
+/// old files or the whole new set, and a command that fails before
+/// committing leaves nothing (the temporary files are removed when the
+/// `Staged` is dropped). No temporary name can be an input or a file the
+/// user keeps.
+#[derive(Default)]
+pub struct Staged {
+    files: Vec<(tempfile::NamedTempFile, PathBuf)>,
+}
+
+impl Staged {
+    /// Nothing staged.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Stages `bytes` for `path`; a path staged twice is refused.
+    pub fn add(&mut self, path: &Path, bytes: &[u8]) -> Result<(), DataError> {
+        if self.files.iter().any(|(_, p)| same_file(p, path)) {
+            return Err(DataError::Output {
+                path: path.display().to_string(),
+                message: "written twice by the same command".into(),
+            });
+        }
+        let dir = match path.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d,
+            _ => Path::new("."),
+        };
+        let mut f = tempfile::Builder::new()
+            .prefix(".momentlmi-")
+            .suffix(".tmp")
+            .tempfile_in(dir)
+            .map_err(io(path))?;
+        std::io::Write::write_all(&mut f, bytes).map_err(io(path))?;
+        // a temporary file is private (0600); the output gets the usual
+        // permissions (an existing file's, else rw-r--r--)
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            let mode = std::fs::metadata(path).map_or(0o644, |m| m.permissions().mode());
+            f.as_file()
+                .set_permissions(std::fs::Permissions::from_mode(mode))
+                .map_err(io(path))?;
+        }
+        self.files.push((f, path.to_path_buf()));
+        Ok(())
+    }
+
+    /// Renames every staged file into place; returns their paths.
+    pub fn commit(self) -> Result<Vec<PathBuf>, DataError> {
+        let mut done = Vec::with_capacity(self.files.len());
+        for (f, path) in self.files {
+            f.persist(&path).map_err(|e| io(&path)(e.error))?;
+            done.push(path);
+        }
+        Ok(done)
+    }
+}
+
+/// Whether two paths name the same file (by canonical path when both exist,
+/// else textually after canonicalising the directory).
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    let canon = |p: &Path| -> PathBuf {
+        if let Ok(c) = p.canonicalize() {
+            return c;
+        }
+        match (p.parent(), p.file_name()) {
+            (Some(d), Some(n)) => {
+                let d = if d.as_os_str().is_empty() { Path::new(".") } else { d };
+                d.canonicalize().map_or_else(|_| p.to_path_buf(), |c| c.join(n))
+            }
+            _ => p.to_path_buf(),
+        }
+    };
+    canon(a) == canon(b)
+}
+
 /// Writes `text` to `path` via a temporary file and a rename: a reader sees
 /// the old file or the whole new one, never a part.
 pub fn write_whole(path: &Path, text: &str) -> Result<(), DataError> {
-    let tmp = temporary(path);
-    std::fs::write(&tmp, text)
-        .and_then(|_| std::fs::rename(&tmp, path))
-        .map_err(|e| {
-            let _ = std::fs::remove_file(&tmp);
-            io(path)(e)
-        })
+    let mut s = Staged::new();
+    s.add(path, text.as_bytes())?;
+    s.commit().map(|_| ())
 }
 
 /// The record written beside a data file `x.csv`: `x.json`.
@@ -47,7 +113,7 @@ pub fn write_with_record(
     record: &impl Serialize,
 ) -> Result<PathBuf, DataError> {
     let rec = record_path(csv);
-    if rec == csv {
+    if same_file(&rec, csv) {
         return Err(DataError::Output {
             path: csv.display().to_string(),
             message: "the data file and its JSON record would be the same file; use a .csv name"
@@ -58,19 +124,9 @@ pub fn write_with_record(
         path: rec.display().to_string(),
         source,
     })?;
-    let (tmp_csv, tmp_rec) = (temporary(csv), temporary(&rec));
-    let cleanup = || {
-        let _ = std::fs::remove_file(&tmp_csv);
-        let _ = std::fs::remove_file(&tmp_rec);
-    };
-    let staged = std::fs::write(&tmp_csv, data.to_csv())
-        .map_err(io(csv))
-        .and_then(|_| std::fs::write(&tmp_rec, &text).map_err(io(&rec)));
-    let done = staged
-        .and_then(|_| std::fs::rename(&tmp_csv, csv).map_err(io(csv)))
-        .and_then(|_| std::fs::rename(&tmp_rec, &rec).map_err(io(&rec)));
-    if done.is_err() {
-        cleanup();
-    }
-    done.map(|_| rec)
+    let mut staged = Staged::new();
+    staged.add(csv, data.to_csv().as_bytes())?;
+    staged.add(&rec, text.as_bytes())?;
+    staged.commit()?;
+    Ok(rec)
 }
