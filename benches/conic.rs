@@ -48,7 +48,7 @@ fn tall_least_squares(rows: &[Vec<f64>], y: &[f64]) -> Problem {
         });
         p.add_psd(&m).unwrap();
     }
-    p.add_nonneg(th[60..].iter().map(|&v| AffExpr::from(v)).collect())
+    p.add_nonneg(th[60..].iter().map(|&v| AffExpr::from(v)))
         .unwrap();
     let w = 1.0 / rows.len() as f64;
     p.add_squares(

@@ -199,3 +199,65 @@ fn weights_and_lengths_have_their_own_errors() {
     assert!(a.try_dot(&c).is_err());
     assert!(MatExpr::zeros(2, 3).try_trace().is_err());
 }
+
+#[test]
+fn handles_newer_than_a_solution_are_stale_not_a_panic() {
+    let mut p = Problem::new();
+    let u = p.scalar("u");
+    p.add_ge(u, 1.0).unwrap();
+    p.minimize(u);
+    let sol = p.solve(&Settings::default()).unwrap().solved().unwrap();
+    let w = p.scalar("w"); // added after the solve
+    let c = p.add_ge(w, 0.0).unwrap();
+    for r in [sol.value(w), sol.eval(&(u + w))] {
+        match r {
+            Err(ConicError::Stale { what }) => assert!(what.contains("variable")),
+            other => panic!("{other:?}"),
+        }
+    }
+    assert!(matches!(sol.dual(c), Err(ConicError::Stale { .. })));
+    assert!((sol.value(u).unwrap() - 1.0).abs() < 1e-7);
+}
+
+#[test]
+fn a_clone_is_its_own_problem_for_handles_made_after_it() {
+    let mut g = Problem::new();
+    let a = g.scalar("a");
+    let ca = g.add_ge(a, 1.0).unwrap();
+    let mut h = g.clone();
+    let wg = g.scalar("w_g");
+    let wh = h.scalar("w_h"); // the same index as w_g, in the clone
+    // handles from before the clone work in both …
+    h.add_le(a, 5.0).unwrap();
+    assert!(h.constraint_name(ca).is_ok());
+    // … and may be mixed with the clone's own …
+    h.add_ge(a + wh, 2.0).unwrap();
+    // … but what either made after the clone belongs to it alone
+    foreign(g.add_eq(wh, 3.0));
+    foreign(h.add_eq(wg, 3.0));
+    h.minimize(a + wh);
+    let sol = h.solve(&Settings::default()).unwrap().solved().unwrap();
+    assert!(sol.value(a).is_ok() && sol.value(wh).is_ok());
+    foreign(sol.value(wg));
+    assert!(sol.dual_scalar(ca).is_ok());
+}
+
+#[test]
+fn a_lyapunov_lmi_reads_like_its_math() {
+    // find P ⪰ I with AᵀP + PA ⪯ −I for a stable A
+    let a = DMatrix::from_row_slice(2, 2, &[-1.0, 2.0, 0.0, -3.0]);
+    let mut p = Problem::new();
+    let pv = p.symmetric("P", 2);
+    let pm = pv.expr();
+    p.add_psd_eps(&pv, 1.0).unwrap();
+    p.add_psd_le(&a.transpose() * &pm + &pm * &a, -MatExpr::identity(2))
+        .unwrap();
+    p.minimize(pv.trace());
+    let sol = p.solve(&Settings::default()).unwrap().solved().unwrap();
+    let pn = sol.sym_value(&pv).unwrap();
+    let lyap = a.transpose() * &pn + &pn * &a;
+    assert!(pn.symmetric_eigenvalues().min() >= 1.0 - 1e-6);
+    assert!(lyap.symmetric_eigenvalues().max() <= -1.0 + 1e-6);
+    assert_eq!(pv.diagonal().len(), 2);
+    assert!((sol.eval(&pv.trace()).unwrap() - pn.trace()).abs() < 1e-9);
+}

@@ -105,12 +105,8 @@ fn maxcut_relaxation_of_c5() {
     let mut p = Problem::new();
     let x = p.symmetric("X", n);
     let xe = x.expr();
-    p.add_zeros(
-        (0..n)
-            .map(|i| xe.get(i, i).unwrap().clone() - 1.0)
-            .collect(),
-    )
-    .unwrap();
+    p.add_zeros((0..n).map(|i| xe.get(i, i).unwrap().clone() - 1.0))
+        .unwrap();
     p.add_psd(&xe).unwrap();
     p.maximize(xe.dot(&l) * 0.25);
     let sol = p.solve(&tight()).unwrap();

@@ -38,7 +38,7 @@ pub struct Compiled {
     pub(crate) kinds: Vec<ConeKind>,
     pub(crate) names: Vec<String>,
     pub(crate) flipped: Vec<bool>,
-    pub(crate) problem: u32,
+    pub(crate) lineage: super::problem::Lineage,
     pub(crate) sense: Sense,
     pub(crate) settings: Settings,
     compile_time: f64,
@@ -110,17 +110,12 @@ impl Problem {
         }
         let check = |e: &AffExpr, what: String| -> Result<(), ConicError> {
             if !self.owns(e) {
-                return Err(ConicError::ForeignHandle { what });
+                return Err(ConicError::ForeignHandle {
+                    what: format!("a variable in {what}"),
+                });
             }
             if !e.is_finite() {
                 return Err(ConicError::NonFinite { what });
-            }
-            if let Some(i) = e.max_var().filter(|&i| i >= self.nvars) {
-                return Err(ConicError::UnknownVariable {
-                    what,
-                    index: i,
-                    count: self.nvars,
-                });
             }
             Ok(())
         };
@@ -144,7 +139,8 @@ impl Problem {
             offsets.push(b.len());
             for e in &c.rows {
                 let r = b.len();
-                for &(i, a) in &e.terms {
+                for &(v, a) in &e.terms {
+                    let i = v.col();
                     at.push(r, i, -a);
                 }
                 b.push(e.constant);
@@ -172,7 +168,8 @@ impl Problem {
         // Stage 2: objective.
         let mut n = self.nvars;
         let mut q = vec![0.0; n];
-        for &(i, a) in &self.linear.terms {
+        for &(v, a) in &self.linear.terms {
+            let i = v.col();
             q[i] += sign * a;
         }
         let mut obj_const = sign * self.linear.constant;
@@ -244,7 +241,7 @@ impl Problem {
             kinds: self.constraints.iter().map(|c| c.kind).collect(),
             names: self.constraints.iter().map(|c| c.name.clone()).collect(),
             flipped: self.constraints.iter().map(|c| c.flipped).collect(),
-            problem: self.id,
+            lineage: self.lineage.clone(),
             sense: self.sense,
             settings: settings.clone(),
             compile_time: t0.elapsed().as_secs_f64(),
@@ -265,7 +262,8 @@ fn stack_squares(squares: &[(f64, AffExpr)], nvars: usize) -> (Vec<usize>, faer:
     let mut col_of = vec![UNUSED; nvars];
     let mut cols = Vec::new();
     for (_, e) in squares {
-        for &(i, _) in &e.terms {
+        for &(v, _) in &e.terms {
+            let i = v.col();
             if col_of[i] == UNUSED {
                 col_of[i] = cols.len();
                 cols.push(i);
@@ -276,7 +274,8 @@ fn stack_squares(squares: &[(f64, AffExpr)], nvars: usize) -> (Vec<usize>, faer:
     let mut d = faer::Mat::<f64>::zeros(squares.len(), k + 1);
     for (r, (w, e)) in squares.iter().enumerate() {
         let sw = w.sqrt();
-        for &(i, a) in &e.terms {
+        for &(v, a) in &e.terms {
+            let i = v.col();
             d[(r, col_of[i])] += sw * a;
         }
         d[(r, k)] = sw * e.constant;
@@ -344,7 +343,7 @@ impl Compiled {
             kinds: self.kinds.clone(),
             names: self.names.clone(),
             flipped: self.flipped.clone(),
-            problem: self.problem,
+            lineage: self.lineage.clone(),
             sense: self.sense,
             iterations: s.iterations,
             primal_residual: s.r_prim,

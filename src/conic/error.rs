@@ -42,20 +42,16 @@ pub enum ConicError {
         /// Column of the first offending entry.
         col: usize,
     },
-    /// A variable that belongs to another problem (index beyond this problem's variables).
-    #[error("{what} uses variable {index}, but the problem has only {count} variables")]
-    UnknownVariable {
-        /// Where it was used.
-        what: String,
-        /// The variable index.
-        index: usize,
-        /// Number of variables in the problem.
-        count: usize,
-    },
     /// A variable, expression or constraint handle of another problem (or
     /// an expression that mixes two problems' variables).
     #[error("{what} belongs to another problem")]
     ForeignHandle {
+        /// What was used.
+        what: String,
+    },
+    /// A handle of the solved problem created after the solve.
+    #[error("{what} was added to the problem after this solve; solve again to read it")]
+    Stale {
         /// What was used.
         what: String,
     },

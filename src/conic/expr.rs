@@ -3,23 +3,6 @@
 use super::error::ConicError;
 use std::ops::{Add, AddAssign, Mul, Neg, Sub, SubAssign};
 
-/// The owner of an expression with no variables.
-pub(crate) const NO_OWNER: u32 = 0;
-/// The owner of an expression that mixes variables of two problems.
-pub(crate) const MIXED: u32 = u32::MAX;
-
-/// The owner of `a` and `b` combined.
-#[inline]
-pub(crate) fn merge_owner(a: u32, b: u32) -> u32 {
-    if a == NO_OWNER || a == b {
-        b
-    } else if b == NO_OWNER {
-        a
-    } else {
-        MIXED
-    }
-}
-
 /// A scalar decision variable of one [`Problem`](super::Problem): its index
 /// in that problem's variable vector and the problem's identity. Copy it
 /// freely; using it with another problem or its solution is an error
@@ -27,13 +10,18 @@ pub(crate) fn merge_owner(a: u32, b: u32) -> u32 {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct Var {
     pub(crate) problem: u32,
-    pub(crate) index: usize,
+    pub(crate) index: u32,
 }
 
 impl Var {
     /// Index of this variable in the solver's primal vector `x`.
     pub fn index(self) -> usize {
-        self.index
+        self.index as usize
+    }
+
+    #[inline]
+    pub(crate) fn col(self) -> usize {
+        self.index as usize
     }
 }
 
@@ -44,13 +32,10 @@ impl Var {
 /// `x` equals doing the same arithmetic on the numbers.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct AffExpr {
-    /// `(variable index, coefficient)` pairs.
-    pub(crate) terms: Vec<(usize, f64)>,
+    /// `(variable, coefficient)` pairs.
+    pub(crate) terms: Vec<(Var, f64)>,
     /// The constant `c`.
     pub(crate) constant: f64,
-    /// The problem its variables belong to ([`NO_OWNER`] without variables,
-    /// [`MIXED`] if they come from two problems).
-    pub(crate) owner: u32,
 }
 
 impl AffExpr {
@@ -64,16 +49,14 @@ impl AffExpr {
         Self {
             terms: Vec::new(),
             constant: c,
-            owner: NO_OWNER,
         }
     }
 
     /// `coef · v`.
     pub fn term(v: Var, coef: f64) -> Self {
         Self {
-            terms: vec![(v.index, coef)],
+            terms: vec![(v, coef)],
             constant: 0.0,
-            owner: v.problem,
         }
     }
 
@@ -103,23 +86,11 @@ impl AffExpr {
         let mut e = self.clone();
         e.compact();
         e.terms
-            .into_iter()
-            .map(|(index, a)| {
-                (
-                    Var {
-                        problem: self.owner,
-                        index,
-                    },
-                    a,
-                )
-            })
-            .collect()
     }
 
     /// Adds `coef · v` in place.
     pub fn add_term(&mut self, v: Var, coef: f64) {
-        self.terms.push((v.index, coef));
-        self.owner = merge_owner(self.owner, v.problem);
+        self.terms.push((v, coef));
     }
 
     /// Sorts terms by variable, merges repeats and drops exact zeros.
@@ -129,7 +100,7 @@ impl AffExpr {
             return;
         }
         self.terms.sort_by_key(|t| t.0);
-        let mut out: Vec<(usize, f64)> = Vec::with_capacity(self.terms.len());
+        let mut out: Vec<(Var, f64)> = Vec::with_capacity(self.terms.len());
         for &(i, a) in &self.terms {
             match out.last_mut() {
                 Some(last) if last.0 == i => last.1 += a,
@@ -142,7 +113,7 @@ impl AffExpr {
 
     /// Value at the primal point `x` (indexed by [`Var::index`]).
     pub fn eval(&self, x: &[f64]) -> f64 {
-        self.terms.iter().map(|&(i, a)| a * x[i]).sum::<f64>() + self.constant
+        self.terms.iter().map(|&(v, a)| a * x[v.col()]).sum::<f64>() + self.constant
     }
 
     /// Whether every coefficient and the constant are finite.
@@ -150,9 +121,9 @@ impl AffExpr {
         self.constant.is_finite() && self.terms.iter().all(|t| t.1.is_finite())
     }
 
-    /// Largest variable index used, if any.
-    pub(crate) fn max_var(&self) -> Option<usize> {
-        self.terms.iter().map(|t| t.0).max()
+    /// Its variables.
+    pub(crate) fn vars(&self) -> impl Iterator<Item = Var> + '_ {
+        self.terms.iter().map(|t| t.0)
     }
 
     /// `self · s` in place.
@@ -165,7 +136,6 @@ impl AffExpr {
 
     /// `self += s · other`.
     pub fn axpy(&mut self, s: f64, other: &AffExpr) {
-        self.owner = merge_owner(self.owner, other.owner);
         self.constant += s * other.constant;
         self.terms
             .extend(other.terms.iter().map(|&(i, a)| (i, s * a)));
@@ -204,7 +174,6 @@ impl From<&AffExpr> for AffExpr {
 impl<T: Into<AffExpr>> AddAssign<T> for AffExpr {
     fn add_assign(&mut self, rhs: T) {
         let r = rhs.into();
-        self.owner = merge_owner(self.owner, r.owner);
         self.constant += r.constant;
         self.terms.extend(r.terms);
     }

@@ -68,12 +68,14 @@ pub fn check_optimality(problem: &Problem, sol: &Solution) -> KktReport {
     };
     // ∇f for the minimised objective
     let mut grad = vec![0.0; problem.nvars];
-    for &(i, a) in &problem.linear.terms {
+    for &(v, a) in &problem.linear.terms {
+        let i = v.col();
         grad[i] += sign * a;
     }
     for (w, e) in &problem.squares {
         let r = e.eval(x);
-        for &(i, a) in &e.terms {
+        for &(v, a) in &e.terms {
+            let i = v.col();
             grad[i] += 2.0 * w * r * a;
         }
     }
@@ -85,7 +87,8 @@ pub fn check_optimality(problem: &Problem, sol: &Solution) -> KktReport {
         dinf = dinf.max(cone_violation(c.kind, z, true));
         comp += s.iter().zip(z).map(|(a, b)| a * b).sum::<f64>();
         for (e, &zr) in c.rows.iter().zip(z) {
-            for &(i, a) in &e.terms {
+            for &(v, a) in &e.terms {
+                let i = v.col();
                 grad[i] -= zr * a;
             }
         }

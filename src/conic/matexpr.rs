@@ -259,6 +259,13 @@ impl MatExpr {
         Ok(e)
     }
 
+    /// The diagonal entries (square or not: `min(rows, cols)` of them).
+    pub fn diagonal(&self) -> Vec<AffExpr> {
+        (0..self.rows.min(self.cols))
+            .map(|i| self.at(i, i).clone())
+            .collect()
+    }
+
     /// `Σᵢⱼ Mᵢⱼ`.
     pub fn sum(&self) -> AffExpr {
         self.data.iter().sum()
@@ -516,5 +523,41 @@ impl Neg for &MatExpr {
     type Output = MatExpr;
     fn neg(self) -> MatExpr {
         self.scaled(-1.0)
+    }
+}
+impl Neg for MatExpr {
+    type Output = MatExpr;
+    fn neg(self) -> MatExpr {
+        self.scaled(-1.0)
+    }
+}
+impl Add<MatExpr> for &MatExpr {
+    type Output = MatExpr;
+    fn add(self, rhs: MatExpr) -> MatExpr {
+        self + &rhs
+    }
+}
+impl Sub<MatExpr> for &MatExpr {
+    type Output = MatExpr;
+    fn sub(self, rhs: MatExpr) -> MatExpr {
+        self - &rhs
+    }
+}
+impl Mul<MatExpr> for f64 {
+    type Output = MatExpr;
+    fn mul(self, m: MatExpr) -> MatExpr {
+        m.scaled(self)
+    }
+}
+impl Mul<MatExpr> for &DMatrix<f64> {
+    type Output = MatExpr;
+    fn mul(self, m: MatExpr) -> MatExpr {
+        self * &m
+    }
+}
+impl Mul<&DMatrix<f64>> for MatExpr {
+    type Output = MatExpr;
+    fn mul(self, c: &DMatrix<f64>) -> MatExpr {
+        &self * c
     }
 }

@@ -1,12 +1,52 @@
 //! The problem builder: variables, constraints, objective.
 
 use super::error::ConicError;
-use super::expr::{AffExpr, MIXED, NO_OWNER, Var};
+use super::expr::{AffExpr, Var};
 use super::matexpr::MatExpr;
 use std::sync::atomic::{AtomicU32, Ordering};
 
-/// Problem identities: 1, 2, … (0 and `u32::MAX` are reserved).
+/// Problem identities: 1, 2, ….
 static NEXT_PROBLEM: AtomicU32 = AtomicU32::new(1);
+
+fn new_id() -> u32 {
+    NEXT_PROBLEM.fetch_add(1, Ordering::Relaxed)
+}
+
+/// Who owns which handles: a problem's own identity, and for a clone, the
+/// identities it was cloned from with the number of variables and
+/// constraints each had then (those handles are valid in the clone too;
+/// handles either side creates later are not valid in the other).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Lineage {
+    pub id: u32,
+    /// `(ancestor id, its variables, its constraints)` at the clone.
+    pub ancestors: Vec<(u32, usize, usize)>,
+}
+
+impl Lineage {
+    /// Whether variable `v` is one of this problem's first `nvars`.
+    pub fn owns_var(&self, v: Var, nvars: usize) -> bool {
+        (v.problem == self.id && v.index() < nvars)
+            || self
+                .ancestors
+                .iter()
+                .any(|&(a, n, _)| a == v.problem && v.index() < n)
+    }
+
+    /// Whether constraint `c` is one of this problem's first `ncons`.
+    pub fn owns_constraint(&self, c: ConstraintId, ncons: usize) -> bool {
+        (c.problem == self.id && c.index < ncons)
+            || self
+                .ancestors
+                .iter()
+                .any(|&(a, _, n)| a == c.problem && c.index < n)
+    }
+
+    /// Whether `v` is this problem's but newer than `nvars`.
+    pub fn is_newer_var(&self, v: Var, nvars: usize) -> bool {
+        v.problem == self.id && v.index() >= nvars
+    }
+}
 
 /// The cone a constraint's affine rows `s(x)` must lie in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -61,6 +101,23 @@ impl SymVar {
             let (i, j) = if i <= j { (i, j) } else { (j, i) };
             AffExpr::from(self.vars[j * (j + 1) / 2 + i])
         })
+    }
+}
+
+impl SymVar {
+    /// `tr X`.
+    pub fn trace(&self) -> AffExpr {
+        (0..self.n).map(|i| self[(i, i)]).sum()
+    }
+
+    /// The diagonal `[X₀₀, X₁₁, …]`.
+    pub fn diagonal(&self) -> Vec<AffExpr> {
+        (0..self.n).map(|i| AffExpr::from(self[(i, i)])).collect()
+    }
+
+    /// `Σᵢⱼ Xᵢⱼ` (off-diagonals counted twice).
+    pub fn sum(&self) -> AffExpr {
+        self.expr().sum()
     }
 }
 
@@ -127,16 +184,38 @@ pub enum Sense {
 /// assert_eq!(sol.status, Status::Solved);
 /// assert!((sol.value(x).unwrap() - 0.0).abs() < 1e-6 || sol.primal_objective < 1.0);
 /// ```
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub struct Problem {
-    /// Identity of this problem (its clones share it and its variables).
-    pub(crate) id: u32,
+    /// Identity of this problem and of those it was cloned from.
+    pub(crate) lineage: Lineage,
     pub(crate) nvars: usize,
     pub(crate) var_names: Vec<String>,
     pub(crate) constraints: Vec<ConstraintData>,
     pub(crate) linear: AffExpr,
     pub(crate) squares: Vec<(f64, AffExpr)>,
     pub(crate) sense: Sense,
+}
+
+impl Clone for Problem {
+    /// A new problem with the same variables, constraints and objective:
+    /// handles created before the clone work in both, handles either
+    /// creates afterwards only in their own.
+    fn clone(&self) -> Self {
+        let mut ancestors = self.lineage.ancestors.clone();
+        ancestors.push((self.lineage.id, self.nvars, self.constraints.len()));
+        Self {
+            lineage: Lineage {
+                id: new_id(),
+                ancestors,
+            },
+            nvars: self.nvars,
+            var_names: self.var_names.clone(),
+            constraints: self.constraints.clone(),
+            linear: self.linear.clone(),
+            squares: self.squares.clone(),
+            sense: self.sense,
+        }
+    }
 }
 
 impl Default for Problem {
@@ -148,11 +227,11 @@ impl Default for Problem {
 impl Problem {
     /// An empty problem (minimise 0).
     pub fn new() -> Self {
-        let id = NEXT_PROBLEM.fetch_add(1, Ordering::Relaxed);
-        // (after 4·10⁹ problems the identities wrap; 0 and MAX stay reserved)
-        let id = if id == NO_OWNER || id == MIXED { 1 } else { id };
         Self {
-            id,
+            lineage: Lineage {
+                id: new_id(),
+                ancestors: vec![],
+            },
             nvars: 0,
             var_names: Vec::new(),
             constraints: Vec::new(),
@@ -174,10 +253,10 @@ impl Problem {
 
     /// Name of a scalar variable (`None` for another problem's).
     pub fn var_name(&self, v: Var) -> Option<&str> {
-        if v.problem != self.id {
+        if !self.lineage.owns_var(v, self.nvars) {
             return None;
         }
-        self.var_names.get(v.index).map(String::as_str)
+        self.var_names.get(v.index()).map(String::as_str)
     }
 
     /// A new free scalar variable.
@@ -185,8 +264,8 @@ impl Problem {
         self.var_names.push(name.to_string());
         self.nvars += 1;
         Var {
-            problem: self.id,
-            index: self.nvars - 1,
+            problem: self.lineage.id,
+            index: u32::try_from(self.nvars - 1).expect("at most 2³² variables"),
         }
     }
 
@@ -210,25 +289,18 @@ impl Problem {
 
     /// Whether `e`'s variables are this problem's.
     pub(crate) fn owns(&self, e: &AffExpr) -> bool {
-        e.owner == NO_OWNER || e.owner == self.id
+        e.vars().all(|v| self.lineage.owns_var(v, self.nvars))
     }
 
     fn check_expr(&self, e: &AffExpr, what: &str) -> Result<(), ConicError> {
         if !self.owns(e) {
             return Err(ConicError::ForeignHandle {
-                what: what.to_string(),
+                what: format!("a variable in {what}"),
             });
         }
         if !e.is_finite() {
             return Err(ConicError::NonFinite {
                 what: what.to_string(),
-            });
-        }
-        if let Some(i) = e.max_var().filter(|&i| i >= self.nvars) {
-            return Err(ConicError::UnknownVariable {
-                what: what.to_string(),
-                index: i,
-                count: self.nvars,
             });
         }
         Ok(())
@@ -258,19 +330,20 @@ impl Problem {
             rows,
         });
         Ok(ConstraintId {
-            problem: self.id,
+            problem: self.lineage.id,
             index: self.constraints.len() - 1,
         })
     }
 
     /// This problem's constraint `id`, or [`ConicError::ForeignHandle`].
     fn constraint(&self, id: ConstraintId) -> Result<&ConstraintData, ConicError> {
-        (id.problem == self.id)
-            .then(|| self.constraints.get(id.index))
-            .flatten()
-            .ok_or_else(|| ConicError::ForeignHandle {
+        if self.lineage.owns_constraint(id, self.constraints.len()) {
+            Ok(&self.constraints[id.index])
+        } else {
+            Err(ConicError::ForeignHandle {
                 what: format!("constraint handle #{}", id.index),
             })
+        }
     }
 
     /// Names a constraint (used in error messages and reports).
@@ -320,13 +393,19 @@ impl Problem {
     }
 
     /// Every expression `= 0` (one constraint, one dual entry each).
-    pub fn add_zeros(&mut self, exprs: Vec<AffExpr>) -> Result<ConstraintId, ConicError> {
-        self.push(ConeKind::Zero, exprs, "= 0")
+    pub fn add_zeros(
+        &mut self,
+        exprs: impl IntoIterator<Item = AffExpr>,
+    ) -> Result<ConstraintId, ConicError> {
+        self.push(ConeKind::Zero, exprs.into_iter().collect(), "= 0")
     }
 
     /// Every expression `≥ 0`.
-    pub fn add_nonneg(&mut self, exprs: Vec<AffExpr>) -> Result<ConstraintId, ConicError> {
-        self.push(ConeKind::Nonnegative, exprs, "≥ 0")
+    pub fn add_nonneg(
+        &mut self,
+        exprs: impl IntoIterator<Item = AffExpr>,
+    ) -> Result<ConstraintId, ConicError> {
+        self.push(ConeKind::Nonnegative, exprs.into_iter().collect(), "≥ 0")
     }
 
     /// `‖x‖₂ ≤ t`.
@@ -347,7 +426,27 @@ impl Problem {
         self.add_psd_eps(m, 0.0)
     }
 
-    /// `M ⪰ εI`, the usual stand-in for a strict LMI `M ≻ 0`.
+    /// `A ⪰ B` (as `A − B ⪰ 0`).
+    pub fn add_psd_ge(
+        &mut self,
+        a: impl Into<MatExpr>,
+        b: impl Into<MatExpr>,
+    ) -> Result<ConstraintId, ConicError> {
+        let d = a.into().try_sub(&b.into())?;
+        self.add_psd(d)
+    }
+
+    /// `A ⪯ B` (as `B − A ⪰ 0`).
+    pub fn add_psd_le(
+        &mut self,
+        a: impl Into<MatExpr>,
+        b: impl Into<MatExpr>,
+    ) -> Result<ConstraintId, ConicError> {
+        self.add_psd_ge(b, a)
+    }
+
+    /// `M ⪰ εI` for any finite ε: with ε > 0 the usual stand-in for a strict
+    /// LMI `M ≻ 0` (and `P ⪰ I` is `add_psd_eps(&p, 1.0)`).
     pub fn add_psd_eps(
         &mut self,
         m: impl Into<MatExpr>,

@@ -1,9 +1,9 @@
 //! Solver results: status, values, duals, statistics.
 
 use super::error::ConicError;
-use super::expr::{AffExpr, NO_OWNER, Var};
+use super::expr::{AffExpr, Var};
 use super::matexpr::MatExpr;
-use super::problem::{ConeKind, ConstraintId, Sense, SymVar};
+use super::problem::{ConeKind, ConstraintId, Lineage, Sense, SymVar};
 use nalgebra::DMatrix;
 use serde::Serialize;
 
@@ -119,7 +119,7 @@ pub struct Solution {
     pub(crate) names: Vec<String>,
     /// Per constraint: its rows are `rhs − lhs` (a `≤`), not `lhs − rhs`.
     pub(crate) flipped: Vec<bool>,
-    pub(crate) problem: u32,
+    pub(crate) lineage: Lineage,
     pub(crate) sense: Sense,
     /// Interior-point iterations.
     pub iterations: u32,
@@ -169,23 +169,32 @@ impl Solution {
         }
     }
 
-    fn owned(&self, e: &AffExpr, what: &str) -> Result<(), ConicError> {
-        if e.owner == NO_OWNER || e.owner == self.problem {
-            Ok(())
+    /// `v`'s column, or why it has none in this solution.
+    fn column(&self, v: Var) -> Result<usize, ConicError> {
+        if self.lineage.owns_var(v, self.x.len()) {
+            Ok(v.index())
+        } else if self.lineage.is_newer_var(v, self.x.len()) {
+            Err(ConicError::Stale {
+                what: format!("variable #{}", v.index()),
+            })
         } else {
-            Err(ConicError::ForeignHandle { what: what.into() })
+            Err(ConicError::ForeignHandle {
+                what: format!("variable #{}", v.index()),
+            })
         }
+    }
+
+    fn owned(&self, e: &AffExpr) -> Result<(), ConicError> {
+        for v in e.vars() {
+            self.column(v)?;
+        }
+        Ok(())
     }
 
     /// Value of a scalar variable.
     pub fn value(&self, v: Var) -> Result<f64, ConicError> {
         self.values_ok()?;
-        if v.problem != self.problem {
-            return Err(ConicError::ForeignHandle {
-                what: format!("variable #{}", v.index),
-            });
-        }
-        Ok(self.x[v.index])
+        Ok(self.x[self.column(v)?])
     }
 
     /// Values of several variables.
@@ -196,7 +205,7 @@ impl Solution {
     /// Value of an affine expression.
     pub fn eval(&self, e: &AffExpr) -> Result<f64, ConicError> {
         self.values_ok()?;
-        self.owned(e, "an expression")?;
+        self.owned(e)?;
         Ok(e.eval(&self.x))
     }
 
@@ -212,7 +221,7 @@ impl Solution {
     pub fn eval_mat(&self, m: &MatExpr) -> Result<DMatrix<f64>, ConicError> {
         self.values_ok()?;
         for e in m.entries() {
-            self.owned(e, "a matrix expression")?;
+            self.owned(e)?;
         }
         Ok(m.eval(&self.x))
     }
@@ -230,13 +239,14 @@ impl Solution {
                 what: "dual",
             });
         }
-        (id.problem == self.problem)
-            .then(|| self.raw_duals.get(id.index))
-            .flatten()
-            .map(Vec::as_slice)
-            .ok_or_else(|| ConicError::ForeignHandle {
-                what: format!("constraint handle #{}", id.index),
-            })
+        let what = format!("constraint handle #{}", id.index);
+        if self.lineage.owns_constraint(id, self.raw_duals.len()) {
+            Ok(&self.raw_duals[id.index])
+        } else if id.problem == self.lineage.id {
+            Err(ConicError::Stale { what })
+        } else {
+            Err(ConicError::ForeignHandle { what })
+        }
     }
 
     /// The dual of a constraint (see [`Dual`] and the sign convention above).

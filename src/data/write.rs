@@ -81,8 +81,13 @@ pub fn same_file(a: &Path, b: &Path) -> bool {
         }
         match (p.parent(), p.file_name()) {
             (Some(d), Some(n)) => {
-                let d = if d.as_os_str().is_empty() { Path::new(".") } else { d };
-                d.canonicalize().map_or_else(|_| p.to_path_buf(), |c| c.join(n))
+                let d = if d.as_os_str().is_empty() {
+                    Path::new(".")
+                } else {
+                    d
+                };
+                d.canonicalize()
+                    .map_or_else(|_| p.to_path_buf(), |c| c.join(n))
             }
             _ => p.to_path_buf(),
         }

@@ -201,7 +201,7 @@ impl BodyVars {
     /// The CoM at `c` (m): `h − m c = 0` (linear; three rows).
     pub fn add_com(&self, p: &mut Problem, c: Vector3<f64>) -> Result<ConstraintId, ConicError> {
         let h = self.h();
-        p.add_zeros((0..3).map(|k| h[k].clone() - self.mass() * c[k]).collect())
+        p.add_zeros((0..3).map(|k| h[k].clone() - self.mass() * c[k]))
     }
 
     /// The CoM inside the ellipsoid: the LMI (22).
@@ -212,7 +212,7 @@ impl BodyVars {
     /// `π = π'` (ten rows): two bodies with the same parameters, in their
     /// own frames.
     pub fn add_equal(&self, p: &mut Problem, other: &BodyVars) -> Result<ConstraintId, ConicError> {
-        p.add_zeros((0..10).map(|k| self.pi[k].clone() - &other.pi[k]).collect())
+        p.add_zeros((0..10).map(|k| self.pi[k].clone() - &other.pi[k]))
     }
 
     /// The value of π at a solution.

@@ -247,7 +247,7 @@ impl SdpaProblem {
                 p.add_nonneg(
                     (0..n)
                         .map(|i| mat.get(i, i).cloned())
-                        .collect::<Result<_, _>>()?,
+                        .collect::<Result<Vec<_>, _>>()?,
                 )?
             };
             p.set_name(id, &format!("block {}", b + 1))?;
