@@ -53,7 +53,7 @@ fn bench(c: &mut Criterion) {
                     let s = k % d.len();
                     r.push(&d.q[s], &d.qd[s], &d.qdd[s], &d.tau[s]).unwrap();
                 }
-                black_box(r.finish().samples)
+                black_box(r.finish().unwrap().samples)
             })
         });
     }

@@ -54,7 +54,7 @@ fn main() {
             let (q, qd, qdd) = &states[k % states.len()];
             r.push(q, qd, qdd, &taus[k % taus.len()]).unwrap();
         }
-        let red = r.finish();
+        let red = r.finish().unwrap();
         let tr = t.elapsed().as_secs_f64();
         let t = std::time::Instant::now();
         let s = solve_identification(model, &red, &opts).unwrap();

@@ -4,7 +4,7 @@
 use momentlmi::data::Dataset;
 use momentlmi::diagnose::{DiagnoseError, DiagnoseOptions, diagnose};
 use momentlmi::dynamics::params_file::Friction;
-use momentlmi::dynamics::{DynamicsError, Effect, cheetah3};
+use momentlmi::dynamics::{Effect, cheetah3};
 use momentlmi::identify::{
     IdentifyError, IdentifyOptions, Level, StreamReducer, identify, reduce_samples,
     solve_identification,
@@ -43,7 +43,17 @@ fn a_sample_the_regressor_cannot_evaluate_is_named() {
     let e = s
         .push(&d.q[0], &d.qd[0], &d.qdd[0], &[1.0, 2.0])
         .unwrap_err();
-    assert!(matches!(e, DynamicsError::Dimension { .. }), "{e}");
+    assert!(
+        matches!(
+            e,
+            IdentifyError::SampleLength {
+                sample: 0,
+                what: "tau",
+                ..
+            }
+        ),
+        "{e}"
+    );
     // the diagnosis reports the sample instead of a zero row or a panic
     let e = diagnose(&model, &Friction::zeros(3), &d, &DiagnoseOptions::default()).unwrap_err();
     assert!(matches!(e, DiagnoseError::Predict(_)), "{e}");

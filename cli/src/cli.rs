@@ -121,6 +121,9 @@ enum Command {
         /// Two bodies with the same parameters, A,B (repeatable).
         #[arg(long = "equal", value_name = "A,B")]
         equal: Vec<String>,
+        /// The memory identification may plan for (GiB); a larger problem is refused before it starts.
+        #[arg(long, default_value_t = 8.0)]
+        max_memory_gib: f64,
     },
     /// Diagnose the gap between a nominal model and measured data (first version).
     Diagnose {
@@ -139,6 +142,9 @@ enum Command {
         /// Also write diagnosis.json into this folder.
         #[arg(long)]
         out: Option<PathBuf>,
+        /// The memory the diagnosis may plan for (GiB): beyond it the compliance searches are skipped, or the diagnosis refused.
+        #[arg(long, default_value_t = 8.0)]
+        max_memory_gib: f64,
     },
     /// Solve an SDPA sparse file (.dat-s) and print the result.
     Sdpa {
@@ -215,6 +221,7 @@ pub fn main() -> i32 {
             levels,
             total_mass,
             equal,
+            max_memory_gib,
         } => identify::run(&identify::IdentifyArgs {
             robot: &robot,
             sidecar: sidecar.as_deref(),
@@ -227,6 +234,7 @@ pub fn main() -> i32 {
             levels: &levels,
             total_mass,
             equal: &equal,
+            max_memory_gib,
         }),
         Command::Diagnose {
             robot: RobotArgs { robot, sidecar },
@@ -234,14 +242,16 @@ pub fn main() -> i32 {
             nominal,
             json,
             out,
-        } => diagnose::run(
-            &robot,
-            sidecar.as_deref(),
-            &data,
-            nominal.as_deref(),
+            max_memory_gib,
+        } => diagnose::run(&diagnose::DiagnoseArgs {
+            robot: &robot,
+            sidecar: sidecar.as_deref(),
+            data: &data,
+            nominal: nominal.as_deref(),
             json,
-            out.as_deref(),
-        ),
+            out: out.as_deref(),
+            max_memory_gib,
+        }),
         Command::Sdpa {
             file,
             json,

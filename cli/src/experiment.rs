@@ -3,7 +3,7 @@
 //! samples, and write the tables and figures (Fig. 4–6).
 
 use crate::plots::figures::{Series, line_panels};
-use momentlmi::data::{Dataset, write_whole, write_with_record};
+use momentlmi::data::{Dataset, Staged, stage_with_record};
 use momentlmi::dynamics::{Effect, RobotDescription, cheetah3};
 use momentlmi::identify::{IdentifyOptions, IdentifyResult, Level, identify};
 use momentlmi::sim::{Effects, SimConfig, simulate};
@@ -86,10 +86,10 @@ fn text<E: std::fmt::Display>(e: E) -> String {
 }
 
 /// Simulates the leg (rotors, Coulomb and viscous friction) for the training
-/// and validation samples and writes `leg.csv` with its `leg.json` record.
+/// and validation samples and stages `leg.csv` with its `leg.json` record.
 fn simulate_leg(
     robot: &RobotDescription,
-    out: &Path,
+    (out, staged): (&Path, &mut Staged),
     cfg: &ExperimentConfig,
 ) -> Result<(Dataset, String), String> {
     let seconds = (cfg.train + cfg.validate) as f64 / 1000.0;
@@ -98,17 +98,17 @@ fn simulate_leg(
     sim.noise_sigma = cfg.noise;
     let all = simulate(robot, &sim, |_, _| {}).map_err(text)?;
     let data_path = out.join("leg.csv");
-    write_with_record(&all, &data_path, &sim).map_err(text)?;
+    stage_with_record(staged, &all, &data_path, &sim).map_err(text)?;
     Ok((all, data_path.display().to_string()))
 }
 
-/// Identifies at every level on the whole training set, writing
+/// Identifies at every level on the whole training set, staging
 /// `identified_<level>.json`.
 fn identify_levels(
     robot: &RobotDescription,
     (train, val): (&Dataset, &Dataset),
     cfg: &ExperimentConfig,
-    out: &Path,
+    (out, staged): (&Path, &mut Staged),
     files: &mut Vec<String>,
     progress: &mut dyn FnMut(&str),
 ) -> Result<(Vec<LevelSummary>, Vec<IdentifyResult>), String> {
@@ -128,7 +128,9 @@ fn identify_levels(
             solve_time_s: r.solve_time_s,
         });
         let f = out.join(format!("identified_{}.json", level.as_str()));
-        write_whole(&f, &serde_json::to_string_pretty(&r).map_err(text)?).map_err(text)?;
+        staged
+            .add_text(&f, &serde_json::to_string_pretty(&r).map_err(text)?)
+            .map_err(text)?;
         files.push(f.display().to_string());
         results.push(r);
     }
@@ -174,7 +176,7 @@ fn series<'a>(val: &Dataset, label: &'a str, color: usize, f: &dyn Fn(usize) -> 
 fn figures_4_5(
     best: &IdentifyResult,
     val: &Dataset,
-    out: &Path,
+    (out, staged): (&Path, &mut Staged),
 ) -> Result<Vec<std::path::PathBuf>, String> {
     let panels: Vec<Vec<Series>> = (0..3)
         .map(|j| {
@@ -192,8 +194,7 @@ fn figures_4_5(
         .map(|(j, r)| format!("{j}: validation RMS {r:.3} N·m"))
         .collect();
     let f4 = out.join("fig4_validation.svg");
-    line_panels(
-        &f4,
+    let svg = line_panels(
         "Fig. 4 — held-out torques, measured vs predicted",
         "time in validation set [s]",
         &titles,
@@ -212,9 +213,9 @@ fn figures_4_5(
         })
         .collect();
     let titles: Vec<String> = cheetah3::JOINTS.iter().map(|j| j.to_string()).collect();
+    staged.add_text(&f4, &svg).map_err(text)?;
     let f5 = out.join("fig5_contributions.svg");
-    line_panels(
-        &f5,
+    let svg = line_panels(
         "Fig. 5 — contributions to the predicted torque",
         "time in validation set [s]",
         &titles,
@@ -222,11 +223,15 @@ fn figures_4_5(
         &panels,
         false,
     )?;
+    staged.add_text(&f5, &svg).map_err(text)?;
     Ok(vec![f4, f5])
 }
 
 /// Fig. 6 and its CSV.
-fn figure_6(study: &[(Level, usize, f64)], out: &Path) -> Result<Vec<std::path::PathBuf>, String> {
+fn figure_6(
+    study: &[(Level, usize, f64)],
+    (out, staged): (&Path, &mut Staged),
+) -> Result<Vec<std::path::PathBuf>, String> {
     let panel: Vec<Series> = LEVELS
         .iter()
         .enumerate()
@@ -241,8 +246,7 @@ fn figure_6(study: &[(Level, usize, f64)], out: &Path) -> Result<Vec<std::path::
         })
         .collect();
     let f6 = out.join("fig6_samples.svg");
-    line_panels(
-        &f6,
+    let svg = line_panels(
         "Fig. 6 — validation RMS vs training samples",
         "training samples",
         &["overall validation RMS".into()],
@@ -250,12 +254,13 @@ fn figure_6(study: &[(Level, usize, f64)], out: &Path) -> Result<Vec<std::path::
         &[panel],
         true,
     )?;
+    staged.add_text(&f6, &svg).map_err(text)?;
     let mut csv = String::from("constraints,samples,overall_validation_rms\n");
     for (l, n, r) in study {
         csv += &format!("{},{n},{r}\n", l.as_str());
     }
     let f6c = out.join("fig6_samples.csv");
-    write_whole(&f6c, &csv).map_err(text)?;
+    staged.add_text(&f6c, &csv).map_err(text)?;
     Ok(vec![f6, f6c])
 }
 
@@ -263,7 +268,7 @@ fn figure_6(study: &[(Level, usize, f64)], out: &Path) -> Result<Vec<std::path::
 fn figure_4_5_csv(
     best: &IdentifyResult,
     val: &Dataset,
-    out: &Path,
+    (out, staged): (&Path, &mut Staged),
 ) -> Result<std::path::PathBuf, String> {
     let c = &best.contributions;
     let stride = (val.len() / 2500).max(1);
@@ -282,17 +287,18 @@ fn figure_4_5_csv(
         }
     }
     let f45 = out.join("fig4_fig5_data.csv");
-    write_whole(&f45, &csv).map_err(text)?;
+    staged.add_text(&f45, &csv).map_err(text)?;
     Ok(f45)
 }
 
-/// Runs the experiment into `out`; `progress(step, total, what)`.
+/// Runs the experiment, staging its files for `out` in `staged` (the
+/// caller commits them, so a later failure leaves nothing);
+/// `progress(step, total, what)`. `out` must exist.
 pub fn run_experiment(
-    out: &Path,
+    (out, staged): (&Path, &mut Staged),
     cfg: &ExperimentConfig,
     mut progress: impl FnMut(usize, usize, &str),
 ) -> Result<(ExperimentSummary, Vec<IdentifyResult>), String> {
-    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let robot = cheetah3::description();
     let total_steps = 2 + 4 + 4 * cfg.sizes.len();
     let mut step = 0;
@@ -301,18 +307,24 @@ pub fn run_experiment(
         step += 1;
     };
     tick("simulating the true leg");
-    let (all, data_file) = simulate_leg(&robot, out, cfg)?;
+    let (all, data_file) = simulate_leg(&robot, (out, &mut *staged), cfg)?;
     let mut files = vec![data_file];
     let train = all.slice(0..cfg.train);
     let val = all.slice(cfg.train..cfg.train + cfg.validate);
-    let (table, results) =
-        identify_levels(&robot, (&train, &val), cfg, out, &mut files, &mut tick)?;
+    let (table, results) = identify_levels(
+        &robot,
+        (&train, &val),
+        cfg,
+        (out, &mut *staged),
+        &mut files,
+        &mut tick,
+    )?;
     let study = sample_study(&robot, (&train, &val), cfg, &mut tick)?;
     tick("writing figures");
     let best = &results[3];
-    let mut written = figures_4_5(best, &val, out)?;
-    written.extend(figure_6(&study, out)?);
-    written.push(figure_4_5_csv(best, &val, out)?);
+    let mut written = figures_4_5(best, &val, (out, &mut *staged))?;
+    written.extend(figure_6(&study, (out, &mut *staged))?);
+    written.push(figure_4_5_csv(best, &val, (out, &mut *staged))?);
     files.extend(written.iter().map(|p| p.display().to_string()));
     let summary = ExperimentSummary {
         config: cfg.clone(),
@@ -320,11 +332,12 @@ pub fn run_experiment(
         sample_study: study,
         files,
     };
-    write_whole(
-        &out.join("summary.json"),
-        &serde_json::to_string_pretty(&summary).map_err(text)?,
-    )
-    .map_err(text)?;
+    staged
+        .add_text(
+            &out.join("summary.json"),
+            &serde_json::to_string_pretty(&summary).map_err(text)?,
+        )
+        .map_err(text)?;
     progress(total_steps, total_steps, "done");
     Ok((summary, results))
 }

@@ -13,7 +13,14 @@ fn small_experiment_writes_figures_and_tables() {
         sizes: vec![300, 3000],
         ..Default::default()
     };
-    let (summary, results) = run_experiment(&out, &cfg, |_, _, _| {}).unwrap();
+    std::fs::create_dir_all(&out).unwrap();
+    let mut staged = momentlmi::data::Staged::new();
+    let (summary, results) = run_experiment((&out, &mut staged), &cfg, |_, _, _| {}).unwrap();
+    assert!(
+        !out.join("leg.csv").exists(),
+        "nothing is written before the commit"
+    );
+    staged.commit().unwrap();
     for f in [
         "leg.csv",
         "fig4_validation.svg",

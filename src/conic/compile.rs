@@ -283,6 +283,16 @@ fn stack_squares(squares: &[(f64, AffExpr)], nvars: usize) -> (Vec<usize>, faer:
     (cols, d)
 }
 
+/// What a caught solver panic said.
+fn panic_text(p: &Box<dyn std::any::Any + Send>) -> String {
+    let what = p
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| p.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "unknown".into());
+    format!("Clarabel failed on this problem's numbers ({what}); check its scale")
+}
+
 impl Compiled {
     /// Seconds spent compiling.
     pub fn compile_time(&self) -> f64 {
@@ -299,17 +309,25 @@ impl Compiled {
         #[cfg(feature = "faer-lapack")]
         crate::faer_lapack::ensure_linked();
         let t0 = Instant::now();
-        let mut solver = DefaultSolver::new(
-            &self.p,
-            &self.q,
-            &self.a,
-            &self.b,
-            &self.cones,
-            self.settings.to_clarabel(),
-        )
-        .map_err(|e| ConicError::Solver(e.to_string()))?;
-        let setup = t0.elapsed().as_secs_f64() + self.compile_time;
-        solver.solve();
+        // Clarabel panics on some numerically hopeless data (an SVD that
+        // does not converge in its equilibration, say); that is the
+        // problem's failure, not the process's
+        let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            let mut solver = DefaultSolver::new(
+                &self.p,
+                &self.q,
+                &self.a,
+                &self.b,
+                &self.cones,
+                self.settings.to_clarabel(),
+            )
+            .map_err(|e| ConicError::Solver(e.to_string()))?;
+            let setup = t0.elapsed().as_secs_f64();
+            solver.solve();
+            Ok((solver, setup))
+        }));
+        let (solver, setup) = run.map_err(|p| ConicError::Solver(panic_text(&p)))??;
+        let setup = setup + self.compile_time;
         let s = &solver.solution;
         let status = match s.status {
             SolverStatus::Solved => Status::Solved,

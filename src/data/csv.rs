@@ -4,14 +4,52 @@
 //! `qdd_<joint>`, and `tau_<joint>` (SI units: s, rad, rad/s, rad/s², N·m),
 //! in any order; extra columns are ignored. Files without `qdd_*` get q̈ from
 //! the zero-phase filtered derivative of q̇ ([`super::filter`]). Readers
-//! reject NaN/inf, missing columns, non-increasing time and ragged rows with
-//! an error naming the row and column.
+//! reject NaN/inf, values beyond [`MAX_ABS_VALUE`] (t: [`MAX_ABS_TIME`]),
+//! missing or repeated columns, non-increasing time, ragged rows and more
+//! than [`MAX_ROWS`] rows with an error naming the row and column. The file
+//! is streamed: memory grows with the rows kept, not the file's size.
 
 use super::dataset::Dataset;
 use super::error::DataError;
 use super::filter::estimate_qdd;
 use super::write::write_whole;
 use std::path::Path;
+
+/// The most data rows a file may have (10 million: about 3 hours at 1 kHz).
+pub const MAX_ROWS: usize = 10_000_000;
+/// The largest magnitude of a q, q̇, q̈ or τ value (rad, rad/s, rad/s², N·m):
+/// no robot moves or pushes like that, and beyond it products in the
+/// regressor lose all precision long before they overflow.
+pub const MAX_ABS_VALUE: f64 = 1e8;
+/// The largest magnitude of a time stamp (s): room for Unix time.
+pub const MAX_ABS_TIME: f64 = 1e12;
+/// The most columns a header may have.
+pub const MAX_COLUMNS: usize = 100_000;
+/// The longest line (bytes): a file without line breaks is not read whole.
+pub const MAX_LINE_BYTES: usize = 1 << 24;
+
+/// A reader that fails on a line longer than [`MAX_LINE_BYTES`], so that one
+/// record can never take more memory than that.
+struct LineLimit<R> {
+    inner: R,
+    line: usize,
+}
+
+impl<R: std::io::Read> std::io::Read for LineLimit<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        for &b in &buf[..n] {
+            self.line = if b == b'\n' { 0 } else { self.line + 1 };
+            if self.line > MAX_LINE_BYTES {
+                return Err(std::io::Error::new(
+                    std::io::ErrorKind::InvalidData,
+                    format!("a line longer than {MAX_LINE_BYTES} bytes"),
+                ));
+            }
+        }
+        Ok(n)
+    }
+}
 
 /// Options for reading.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -35,11 +73,11 @@ impl Dataset {
     /// Reads a CSV file for the given joints.
     pub fn read_csv(path: &Path, joints: &[&str], opts: ReadOptions) -> Result<Self, DataError> {
         let p = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| DataError::Io {
+        let file = std::fs::File::open(path).map_err(|source| DataError::Io {
             path: p.clone(),
             source,
         })?;
-        Self::parse_csv(&text, &p, joints, opts)
+        Self::parse_from(std::io::BufReader::new(file), &p, joints, opts)
     }
 
     /// Parses CSV text; `path` names it in errors.
@@ -49,10 +87,22 @@ impl Dataset {
         joints: &[&str],
         opts: ReadOptions,
     ) -> Result<Self, DataError> {
+        Self::parse_from(text.as_bytes(), path, joints, opts)
+    }
+
+    fn parse_from(
+        input: impl std::io::Read,
+        path: &str,
+        joints: &[&str],
+        opts: ReadOptions,
+    ) -> Result<Self, DataError> {
         let mut rdr = ::csv::ReaderBuilder::new()
             .trim(csv::Trim::All)
             .flexible(true)
-            .from_reader(text.as_bytes());
+            .from_reader(LineLimit {
+                inner: input,
+                line: 0,
+            });
         let header: Vec<String> = rdr
             .headers()
             .map_err(|e| DataError::Row {
@@ -78,6 +128,13 @@ impl Dataset {
                 row: r + 1,
                 message: e.to_string(),
             })?;
+            if r >= MAX_ROWS {
+                return Err(DataError::Row {
+                    path: path.into(),
+                    row: r + 1,
+                    message: format!("more than {MAX_ROWS} data rows; split the log"),
+                });
+            }
             cols.push_row(&mut d, &rec, &header, path, r + 1)?;
         }
         if d.t.is_empty() {
@@ -144,6 +201,7 @@ impl Columns {
         joints: &[&str],
         require_tau: bool,
     ) -> Result<Self, DataError> {
+        check_header(header, path)?;
         let col = |name: &str| header.iter().position(|h| h == name);
         let need = |name: String| -> Result<usize, DataError> {
             col(&name).ok_or_else(|| DataError::MissingColumn {
@@ -207,6 +265,14 @@ impl Columns {
             if !v.is_finite() {
                 return Err(bad(format!("non-finite value '{raw}'")));
             }
+            let limit = if c == self.t {
+                MAX_ABS_TIME
+            } else {
+                MAX_ABS_VALUE
+            };
+            if v.abs() > limit {
+                return Err(bad(format!("{raw} is beyond ±{limit:e}")));
+            }
             Ok(v)
         };
         let many = |ix: &[usize]| ix.iter().map(|&c| get(c)).collect::<Result<Vec<f64>, _>>();
@@ -232,6 +298,32 @@ impl Columns {
         }
         Ok(())
     }
+}
+
+/// At most [`MAX_COLUMNS`] columns, each named once.
+fn check_header(header: &[String], path: &str) -> Result<(), DataError> {
+    let bad = |message: String| DataError::Row {
+        path: path.into(),
+        row: 0,
+        message,
+    };
+    if header.len() > MAX_COLUMNS {
+        return Err(bad(format!(
+            "{} columns; at most {MAX_COLUMNS}",
+            header.len()
+        )));
+    }
+    let mut seen = std::collections::HashMap::with_capacity(header.len());
+    for (c, h) in header.iter().enumerate() {
+        if let Some(first) = seen.insert(h.as_str(), c) {
+            return Err(bad(format!(
+                "column '{h}' appears twice (columns {} and {})",
+                first + 1,
+                c + 1
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// q̈ from q̇ with a cut-off below the file's Nyquist frequency.

@@ -21,4 +21,6 @@ pub use csv::ReadOptions;
 pub use dataset::Dataset;
 pub use error::DataError;
 pub use filter::estimate_qdd;
-pub use write::{Staged, record_path, same_file, write_whole, write_with_record};
+pub use write::{
+    Staged, record_path, same_file, stage_with_record, write_whole, write_with_record,
+};

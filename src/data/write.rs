@@ -21,6 +21,7 @@ fn io(path: &Path) -> impl FnOnce(std::io::Error) -> DataError + '_ {
 #[derive(Default)]
 pub struct Staged {
     files: Vec<(tempfile::NamedTempFile, PathBuf)>,
+    inputs: Vec<PathBuf>,
 }
 
 impl Staged {
@@ -29,14 +30,45 @@ impl Staged {
         Self::default()
     }
 
-    /// Stages `bytes` for `path`; a path staged twice is refused.
-    pub fn add(&mut self, path: &Path, bytes: &[u8]) -> Result<(), DataError> {
-        if self.files.iter().any(|(_, p)| same_file(p, path)) {
-            return Err(DataError::Output {
-                path: path.display().to_string(),
-                message: "written twice by the same command".into(),
-            });
+    /// Nothing staged yet, and none of `inputs` (the files the command
+    /// reads) may be staged as an output.
+    pub fn protecting<'a>(inputs: impl IntoIterator<Item = &'a Path>) -> Self {
+        Self {
+            files: vec![],
+            inputs: inputs.into_iter().map(Path::to_path_buf).collect(),
         }
+    }
+
+    /// Refuses `path` as an output if it is one of the protected inputs or
+    /// already staged; call it before the work to fail early.
+    pub fn claim(&self, path: &Path) -> Result<(), DataError> {
+        let refuse = |message: String| {
+            Err(DataError::Output {
+                path: path.display().to_string(),
+                message,
+            })
+        };
+        if let Some(i) = self.inputs.iter().find(|i| same_file(i, path)) {
+            return refuse(format!(
+                "is also an input of this command ({}); choose another output name",
+                i.display()
+            ));
+        }
+        if self.files.iter().any(|(_, p)| same_file(p, path)) {
+            return refuse("written twice by the same command".into());
+        }
+        Ok(())
+    }
+
+    /// Stages `text` for `path` (see [`Staged::add`]).
+    pub fn add_text(&mut self, path: &Path, text: &str) -> Result<(), DataError> {
+        self.add(path, text.as_bytes())
+    }
+
+    /// Stages `bytes` for `path`; a path staged twice or protected as an
+    /// input is refused.
+    pub fn add(&mut self, path: &Path, bytes: &[u8]) -> Result<(), DataError> {
+        self.claim(path)?;
         let dir = match path.parent() {
             Some(d) if !d.as_os_str().is_empty() => d,
             _ => Path::new("."),
@@ -117,6 +149,20 @@ pub fn write_with_record(
     csv: &Path,
     record: &impl Serialize,
 ) -> Result<PathBuf, DataError> {
+    let mut staged = Staged::new();
+    let rec = stage_with_record(&mut staged, data, csv, record)?;
+    staged.commit()?;
+    Ok(rec)
+}
+
+/// [`write_with_record`] into `staged`, for commands that write more files
+/// and commit them together. Returns the record's path.
+pub fn stage_with_record(
+    staged: &mut Staged,
+    data: &Dataset,
+    csv: &Path,
+    record: &impl Serialize,
+) -> Result<PathBuf, DataError> {
     let rec = record_path(csv);
     if same_file(&rec, csv) {
         return Err(DataError::Output {
@@ -129,9 +175,8 @@ pub fn write_with_record(
         path: rec.display().to_string(),
         source,
     })?;
-    let mut staged = Staged::new();
+    staged.claim(&rec)?;
     staged.add(csv, data.to_csv().as_bytes())?;
     staged.add(&rec, text.as_bytes())?;
-    staged.commit()?;
     Ok(rec)
 }

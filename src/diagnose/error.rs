@@ -33,6 +33,23 @@ pub enum DiagnoseError {
         /// What it must be.
         message: &'static str,
     },
+    /// A reported number that is not finite (an overflow in the data's
+    /// arithmetic); no verdict is given on it.
+    #[error("{what} is not finite: an overflow in the data or the model")]
+    NonFinite {
+        /// Which number.
+        what: &'static str,
+    },
+    /// The diagnosis would need more memory than it may use.
+    #[error(
+        "the diagnosis would need about {needed_gib:.2} GiB for its candidate library, beyond the {limit_gib:.2} GiB limit: use fewer samples, lock joints in the sidecar, or raise the limit (diagnose --max-memory-gib)"
+    )]
+    TooLarge {
+        /// Estimated need (GiB).
+        needed_gib: f64,
+        /// The limit (GiB).
+        limit_gib: f64,
+    },
     /// The nominal model's prediction failed.
     #[error("the nominal model's torques: {0}")]
     Predict(#[source] DynamicsError),

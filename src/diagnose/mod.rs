@@ -46,17 +46,36 @@ pub struct DiagnoseOptions {
     train_fraction: f64,
     max_effects: usize,
     blocks: usize,
+    max_memory_bytes: u64,
 }
 
+/// The memory a diagnosis may plan for by default (8 GiB).
+pub const DEFAULT_MAX_MEMORY_BYTES: u64 = 8 << 30;
+
 impl Default for DiagnoseOptions {
-    /// 60 % training, at most 4 effects, 20 held-out blocks.
+    /// 60 % training, at most 4 effects, 20 held-out blocks, 8 GiB.
     fn default() -> Self {
         Self {
             train_fraction: 0.6,
             max_effects: 4,
             blocks: 20,
+            max_memory_bytes: DEFAULT_MAX_MEMORY_BYTES,
         }
     }
+}
+
+/// What a diagnosis of `samples` samples of `model` will hold (bytes):
+/// `(linear, compliance)`: the candidate library's columns (one value per
+/// sample, joint and column) and the compliance searches' linearisation
+/// (per sample: M, ∂τ/∂q, ∂τ/∂q̇ and one ∂M/∂sᵢ per joint, n³ in all).
+pub fn memory_estimate(model: &Model, samples: usize) -> (u64, u64) {
+    let (n, nb) = (model.dof() as u64, model.num_bodies() as u64);
+    let rows = samples as u64 * n;
+    // links and rotors 10 each, payload 10, friction variants ~12 per joint
+    let columns = 10 * nb + 10 + 12 * n;
+    let linear = 8 * rows * columns * 2;
+    let compliance = 8 * samples as u64 * (3 * n * n + n * n * n + n * n + 4 * n);
+    (linear, compliance)
 }
 
 impl DiagnoseOptions {
@@ -93,6 +112,7 @@ impl DiagnoseOptions {
             train_fraction,
             max_effects,
             blocks,
+            max_memory_bytes: DEFAULT_MAX_MEMORY_BYTES,
         })
     }
 
@@ -109,6 +129,20 @@ impl DiagnoseOptions {
     /// Blocks of the held-out block test.
     pub fn blocks(&self) -> usize {
         self.blocks
+    }
+
+    /// The memory the diagnosis may plan for ([`memory_estimate`]): beyond
+    /// it the compliance searches are skipped (with a warning) and, if the
+    /// linear library alone does not fit, the diagnosis is refused before
+    /// it starts.
+    pub fn with_max_memory(mut self, bytes: u64) -> Self {
+        self.max_memory_bytes = bytes;
+        self
+    }
+
+    /// The memory limit (bytes).
+    pub fn max_memory(&self) -> u64 {
+        self.max_memory_bytes
     }
 }
 
@@ -216,15 +250,18 @@ fn library(
     model: &Model,
     friction: &Friction,
     data: &Dataset,
-    r: &[f64],
-    split: &Split,
+    (r, split, with_compliance): (&[f64], &Split, bool),
     warnings: &mut Vec<String>,
 ) -> Result<Vec<Vec<Columns>>, DiagnoseError> {
-    let lin = compliance::Linearisation::new(model, data).map_err(|e| {
-        warnings.push(format!(
-            "elasticity, backlash: no linearisation of the link dynamics: {e}"
-        ));
-    });
+    let lin = if with_compliance {
+        compliance::Linearisation::new(model, data).map_err(|e| {
+            warnings.push(format!(
+                "elasticity, backlash: no linearisation of the link dynamics: {e}"
+            ));
+        })
+    } else {
+        Err(())
+    };
     Candidate::ALL
         .iter()
         .map(|&c| {
@@ -352,6 +389,14 @@ pub fn diagnose(
             found: data.joints.clone(),
         });
     }
+    let (linear, compliance) = memory_estimate(model, data.len());
+    if linear > opts.max_memory_bytes {
+        return Err(DiagnoseError::TooLarge {
+            needed_gib: linear as f64 / (1u64 << 30) as f64,
+            limit_gib: opts.max_memory_bytes as f64 / (1u64 << 30) as f64,
+        });
+    }
+    let with_compliance = linear + compliance <= opts.max_memory_bytes;
     let split = Split::new(data.len(), n, opts.train_fraction);
     let pred = predict_torques(model, friction, &data.q, &data.qd, &data.qdd)
         .map_err(DiagnoseError::Predict)?;
@@ -364,7 +409,20 @@ pub fn diagnose(
     let noise_floor: Vec<f64> = where_nominal.iter().map(|w| w.noise_floor).collect();
     let nominal = rms_per_joint(&r_nominal[split.heldout.clone()], n);
     let mut warnings = vec![];
-    let library = library(model, friction, data, &r_nominal, &split, &mut warnings)?;
+    if !with_compliance {
+        warnings.push(format!(
+            "elasticity, backlash: not searched: their linearisation needs {:.1} GiB beyond the {:.1} GiB limit (fewer samples or joints, or a higher limit)",
+            compliance as f64 / (1u64 << 30) as f64,
+            opts.max_memory_bytes as f64 / (1u64 << 30) as f64
+        ));
+    }
+    let library = library(
+        model,
+        friction,
+        data,
+        (&r_nominal, &split, with_compliance),
+        &mut warnings,
+    )?;
     let (ranked, accepted, r) = forward_selection(
         &library,
         r_nominal.clone(),
@@ -378,6 +436,15 @@ pub fn diagnose(
     let unexplained: Vec<usize> = (0..n)
         .filter(|&i| final_rms[i] > 1.15 * noise_floor[i] && final_rms[i] - noise_floor[i] > 0.05)
         .collect();
+    let numbers = [&nominal, &final_rms, &noise_floor];
+    if let Some(k) = numbers
+        .iter()
+        .position(|v| !v.iter().all(|x| x.is_finite()))
+    {
+        return Err(DiagnoseError::NonFinite {
+            what: ["the nominal RMS", "the final RMS", "the noise floor"][k],
+        });
+    }
     Ok(Diagnosis {
         joints: data.joints.clone(),
         summary: where_nominal.iter().map(summarise).collect(),

@@ -305,9 +305,8 @@ fn prior_of(
         return Ok(own);
     };
     let pi = prior_from_spec(spec).map_err(|m| err(format!("[[body]] '{name}': prior: {m}")))?;
-    if !pi.is_finite() {
-        return Err(err(format!("[[body]] '{name}': prior: non-finite numbers")));
-    }
+    pi.validate()
+        .map_err(|m| err(format!("[[body]] '{name}': prior: {m}")))?;
     Ok(pi)
 }
 
@@ -365,6 +364,11 @@ fn identification_facts(
         )));
     }
     for [a, b] in &spec.equal {
+        if a == b {
+            return Err(err(format!(
+                "[identify] equal: '{a}' with itself says nothing"
+            )));
+        }
         for n in [a, b] {
             if !names.contains(n) {
                 return Err(err(format!(

@@ -236,6 +236,12 @@ effect_params! {
     backlash_width, BacklashWidth, [Backlash], 0.005;
 }
 
+/// The largest magnitude of any effect parameter: beyond it the simulated
+/// torques leave the range the data readers accept.
+pub const MAX_ABS_EFFECT: f64 = 1e6;
+/// The longest time delay (s) an effect may have.
+pub const MAX_DELAY_S: f64 = 1.0;
+
 impl Param {
     /// `a, b, c` of every parameter's name.
     pub fn names() -> String {
@@ -250,12 +256,13 @@ impl Param {
     /// range its doc states).
     fn admits(self, v: f64) -> bool {
         v.is_finite()
+            && v.abs() <= MAX_ABS_EFFECT
             && match self {
-                Param::StribeckVelocity | Param::Stiffness => v > 0.0,
-                Param::PayloadMass | Param::Delay | Param::Damping | Param::BacklashWidth => {
-                    v >= 0.0
-                }
+                Param::StribeckVelocity | Param::Stiffness | Param::CoggingPeriod => v > 0.0,
+                Param::Delay => (0.0..=MAX_DELAY_S).contains(&v),
+                Param::PayloadMass | Param::Damping | Param::BacklashWidth => v >= 0.0,
                 Param::GainError => v > -1.0,
+                Param::Asymmetry => (-1.0..=1.0).contains(&v),
                 _ => true,
             }
     }

@@ -39,6 +39,14 @@ pub enum DynamicsError {
         /// What is wrong, naming the element.
         message: String,
     },
+    /// A computed torque (or state) that left the floating-point range.
+    #[error("sample {sample}: {what} is not finite (an overflow in the model's arithmetic)")]
+    NonFinite {
+        /// The sample (0-based).
+        sample: usize,
+        /// What.
+        what: String,
+    },
     /// The mass matrix is not positive definite (forward dynamics).
     #[error("the mass matrix is not positive definite at this state")]
     SingularMassMatrix,

@@ -12,6 +12,7 @@
 
 use super::error::{DynamicsError, read_text};
 use super::model::Model;
+use crate::moments::{InertialParams, MAX_ABS_PARAM};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -93,41 +94,105 @@ impl ParamsFile {
         })
     }
 
-    /// Applies the parameters to `model` (bodies matched by name; every body
-    /// of the model must be present) and returns the friction, checked for
-    /// length n (missing friction: zeros).
+    /// Applies the parameters to `model` and returns the friction in the
+    /// model's joint order. The file must be for this robot (`robot`), in
+    /// the stated parameter order, with every body of the model exactly
+    /// once and no other, each passing [`InertialParams::validate`];
+    /// friction (missing: zeros) has one finite, non-negative number per
+    /// joint, matched by the file's `joints` names.
     pub fn apply(&self, model: &mut Model, path: &str) -> Result<Friction, DynamicsError> {
         let err = |m: String| DynamicsError::File {
             path: path.into(),
             message: m,
         };
-        let names = model.body_names();
-        let mut p = Vec::with_capacity(10 * names.len());
-        for n in &names {
-            let b = self
-                .bodies
-                .iter()
-                .find(|b| &b.name == n)
-                .ok_or_else(|| err(format!("no parameters for body '{n}'")))?;
-            if b.params.iter().any(|x| !x.is_finite()) {
-                return Err(err(format!("body '{n}': non-finite parameters")));
+        if self.robot != model.name {
+            return Err(err(format!(
+                "parameters for robot '{}', but the model is '{}'",
+                self.robot, model.name
+            )));
+        }
+        if self.parameter_order.replace(' ', "") != order().replace(' ', "") {
+            return Err(err(format!(
+                "parameter_order '{}' is not '{}'",
+                self.parameter_order,
+                order()
+            )));
+        }
+        let p = self.body_params(&model.body_names()).map_err(err)?;
+        model.set_params(&p)?;
+        let joints = model.joint_names();
+        Ok(Friction {
+            viscous: self
+                .joint_values(&self.friction.viscous, "viscous", &joints)
+                .map_err(err)?,
+            coulomb: self
+                .joint_values(&self.friction.coulomb, "coulomb", &joints)
+                .map_err(err)?,
+        })
+    }
+
+    /// The parameters of `names` in that order, each body exactly once.
+    fn body_params(&self, names: &[String]) -> Result<Vec<f64>, String> {
+        let mut by_name = std::collections::HashMap::with_capacity(self.bodies.len());
+        for b in &self.bodies {
+            if by_name.insert(b.name.as_str(), b).is_some() {
+                return Err(format!("body '{}' appears twice", b.name));
             }
+            if !names.contains(&b.name) {
+                return Err(format!(
+                    "body '{}' is not in the model (bodies: {})",
+                    b.name,
+                    names.join(", ")
+                ));
+            }
+            InertialParams(b.params)
+                .validate()
+                .map_err(|e| format!("body '{}': {e}", b.name))?;
+        }
+        let mut p = Vec::with_capacity(10 * names.len());
+        for n in names {
+            let b = by_name
+                .get(n.as_str())
+                .ok_or_else(|| format!("no parameters for body '{n}'"))?;
             p.extend(b.params);
         }
-        model.set_params(&p)?;
-        let n = model.dof();
-        let fix = |v: &Vec<f64>, what: &str| -> Result<Vec<f64>, DynamicsError> {
-            match v.len() {
-                0 => Ok(vec![0.0; n]),
-                l if l == n && v.iter().all(|x| x.is_finite()) => Ok(v.clone()),
-                l => Err(err(format!(
-                    "friction.{what}: expected {n} finite numbers, found {l}"
-                ))),
-            }
-        };
-        Ok(Friction {
-            viscous: fix(&self.friction.viscous, "viscous")?,
-            coulomb: fix(&self.friction.coulomb, "coulomb")?,
-        })
+        Ok(p)
+    }
+
+    /// One friction coefficient per model joint, matched by the file's
+    /// joint names (absent: zeros).
+    fn joint_values(&self, v: &[f64], what: &str, joints: &[&str]) -> Result<Vec<f64>, String> {
+        if v.is_empty() {
+            return Ok(vec![0.0; joints.len()]);
+        }
+        if v.len() != self.joints.len() {
+            return Err(format!(
+                "friction.{what} has {} numbers for {} joints",
+                v.len(),
+                self.joints.len()
+            ));
+        }
+        if let Some((j, x)) = self
+            .joints
+            .iter()
+            .zip(v)
+            .find(|(_, x)| !(x.is_finite() && (0.0..=MAX_ABS_PARAM).contains(*x)))
+        {
+            return Err(format!(
+                "friction.{what} of joint '{j}' = {x}: must be finite, ≥ 0 and ≤ {MAX_ABS_PARAM:e}"
+            ));
+        }
+        joints
+            .iter()
+            .map(|j| {
+                let k = self.joints.iter().position(|n| n == j).ok_or_else(|| {
+                    format!(
+                        "joint '{j}' of the model is not in the file's joints ({})",
+                        self.joints.join(", ")
+                    )
+                })?;
+                Ok(v[k])
+            })
+            .collect()
     }
 }

@@ -7,7 +7,8 @@ use super::params_file::Friction;
 use super::regressor::sign;
 use super::rnea::rnea;
 
-/// Predicted joint torques, one `Vec` of length n per sample.
+/// Predicted joint torques, one `Vec` of length n per sample; a torque
+/// that is not finite is an error naming the sample and joint.
 pub fn predict_torques(
     model: &Model,
     friction: &Friction,
@@ -27,13 +28,16 @@ pub fn predict_torques(
     let mut out = Vec::with_capacity(q.len());
     for k in 0..q.len() {
         let tau = rnea(model, &mut data, &q[k], &qd[k], &qdd[k])?;
-        out.push(
-            (0..n)
-                .map(|i| {
-                    tau[i] + friction.viscous[i] * qd[k][i] + friction.coulomb[i] * sign(qd[k][i])
-                })
-                .collect(),
-        );
+        let row: Vec<f64> = (0..n)
+            .map(|i| tau[i] + friction.viscous[i] * qd[k][i] + friction.coulomb[i] * sign(qd[k][i]))
+            .collect();
+        if let Some(i) = row.iter().position(|x| !x.is_finite()) {
+            return Err(DynamicsError::NonFinite {
+                sample: k,
+                what: format!("the torque of joint '{}'", model.joints[i].name),
+            });
+        }
+        out.push(row);
     }
     Ok(out)
 }

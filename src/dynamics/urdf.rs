@@ -272,9 +272,7 @@ fn rotor(
         ),
     };
     let axis = r.axis.map(Vector3::from).unwrap_or(joints[ji].axis);
-    if !(axis.norm() > 0.0) {
-        return Err(ferr(path, format!("sidecar rotor '{name}': zero axis")));
-    }
+    check_rotor(&name, n, &inertia, &axis, &x_tree).map_err(|m| ferr(path, m))?;
     Ok(Rotor {
         name,
         joint: ji,
@@ -283,6 +281,40 @@ fn rotor(
         gear_ratio: n,
         inertia,
     })
+}
+
+/// A rotor's numbers: a gear ratio in (0, 10⁶], parameters passing
+/// [`InertialParams::validate`], a finite non-zero axis and a finite pose.
+fn check_rotor(
+    name: &str,
+    n: f64,
+    inertia: &InertialParams,
+    axis: &Vector3<f64>,
+    x_tree: &Transform,
+) -> Result<(), String> {
+    if !(n > 0.0 && n <= 1e6) {
+        return Err(format!(
+            "sidecar rotor '{name}': gear ratio {n} must be in (0, 1e6] (reverse a motor with its axis)"
+        ));
+    }
+    inertia
+        .validate()
+        .map_err(|m| format!("sidecar rotor '{name}': {m}"))?;
+    if !(axis.iter().all(|x| x.is_finite()) && axis.norm() > 0.0) {
+        return Err(format!(
+            "sidecar rotor '{name}': axis {:?} must be finite and non-zero",
+            axis.as_slice()
+        ));
+    }
+    if !(x_tree
+        .e
+        .iter()
+        .chain(x_tree.r.iter())
+        .all(|x| x.is_finite()))
+    {
+        return Err(format!("sidecar rotor '{name}': non-finite xyz or rpy"));
+    }
+    Ok(())
 }
 
 /// Builds the model of a URDF read by [`crate::urdf`] (with an optional

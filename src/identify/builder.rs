@@ -117,6 +117,7 @@ pub struct Identification<'m> {
     com_lmi: bool,
     eps: f64,
     settings: Settings,
+    max_memory: u64,
     hooks: Vec<Hook<'m>>,
 }
 
@@ -138,6 +139,7 @@ impl<'m> Identification<'m> {
             com_lmi: false,
             eps: 0.0,
             settings: default_settings(),
+            max_memory: crate::identify::reduce::DEFAULT_MAX_MEMORY_BYTES,
             hooks: vec![],
         }
     }
@@ -273,6 +275,19 @@ impl<'m> Identification<'m> {
         settings.validate()?;
         self.settings = settings;
         Ok(self)
+    }
+
+    /// The memory [`Identification::identify`] may plan for (bytes,
+    /// default 8 GiB): a robot and data whose [`crate::identify::cost`] is
+    /// beyond it are refused before anything is allocated.
+    pub fn max_memory(mut self, bytes: u64) -> Self {
+        self.max_memory = bytes;
+        self
+    }
+
+    /// The memory limit (bytes).
+    pub fn memory_limit(&self) -> u64 {
+        self.max_memory
     }
 
     /// Adds the caller's constraints: `f(problem, vars)` runs after the
@@ -445,6 +460,7 @@ impl<'m> Identification<'m> {
                 com_lmi: self.com_lmi,
                 eps: self.eps,
                 settings: self.settings.clone(),
+                max_memory: self.max_memory,
                 hooks: vec![],
             };
             alone.add_body_constraints(&mut q, &[v], std::slice::from_ref(name))?;

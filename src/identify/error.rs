@@ -74,6 +74,30 @@ pub enum IdentifyError {
         #[source]
         source: DynamicsError,
     },
+    /// A sample with a non-finite regressor row or torque.
+    #[error("sample {sample}: {what}")]
+    NonFinite {
+        /// The sample (0-based).
+        sample: usize,
+        /// What is not finite.
+        what: &'static str,
+    },
+    /// A sum or product that left the floating-point range.
+    #[error("{what} overflowed")]
+    Overflow {
+        /// What.
+        what: &'static str,
+    },
+    /// The identification would need more memory than it may use.
+    #[error(
+        "identifying this robot would need about {needed_gib:.2} GiB, beyond the {limit_gib:.2} GiB limit: lock joints in the sidecar or raise the limit (identify --max-memory-gib)"
+    )]
+    TooLarge {
+        /// Estimated need (GiB).
+        needed_gib: f64,
+        /// The limit (GiB).
+        limit_gib: f64,
+    },
     /// A dense factorisation did not converge.
     #[error("the {what} did not converge")]
     Factorisation {

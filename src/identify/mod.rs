@@ -16,5 +16,5 @@ mod robot_facts;
 pub use builder::{Identification, Vars};
 pub use error::IdentifyError;
 pub use problem::{IdentifyOptions, Level, parameter_names, solve_identification};
-pub use reduce::{Reduced, StreamReducer, reduce_samples};
+pub use reduce::{Cost, Reduced, StreamReducer, cost, reduce_samples};
 pub use result::{BodyResult, Contributions, IdentifyResult, identify, predict_split, rms};

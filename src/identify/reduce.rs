@@ -191,6 +191,32 @@ fn symmetrize(g: &mut Mat<f64>) {
     }
 }
 
+/// A sample's regressor row and torque must be finite: an overflow (a huge
+/// velocity squared, say) is named here, where it happens, not left to
+/// turn the Gram matrix into NaN.
+fn finite_sample(sample: usize, y: &[f64], tau: &[f64]) -> Result<(), IdentifyError> {
+    let what = if !y.iter().all(|x| x.is_finite()) {
+        "its regressor overflowed (q, q̇ or q̈ too large)"
+    } else if !tau.iter().all(|x| x.is_finite()) {
+        "its torque is not finite"
+    } else {
+        return Ok(());
+    };
+    Err(IdentifyError::NonFinite { sample, what })
+}
+
+/// The Gram matrix must be finite after the sums.
+fn finite_gram(g: &Mat<f64>) -> Result<(), IdentifyError> {
+    let ok = (0..g.ncols()).all(|j| (j..g.nrows()).all(|i| g[(i, j)].is_finite()));
+    if ok {
+        Ok(())
+    } else {
+        Err(IdentifyError::Overflow {
+            what: "the Gram matrix of the regressor (the data are too large)",
+        })
+    }
+}
+
 /// Checks that every sample has n values in each of q, q̇, q̈, τ.
 fn check_lengths(
     n: usize,
@@ -219,13 +245,54 @@ fn check_lengths(
     Ok(())
 }
 
-/// The Gram matrix of samples `start..end` (rows built, multiplied, dropped).
+/// What identifying `samples` samples of a model needs, estimated before
+/// anything is allocated ([`cost`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cost {
+    /// Peak memory (bytes): the Gram accumulators and row chunks of the
+    /// reduction and the SDP's dense quadratic term and KKT factor.
+    pub bytes: u64,
+    /// Floating-point operations of the reduction (≈ samples · n · (p+1)² / 3).
+    pub flops: f64,
+}
+
+/// The memory an identification may plan for by default (8 GiB).
+pub const DEFAULT_MAX_MEMORY_BYTES: u64 = 8 << 30;
+
+/// The [`Cost`] of identifying `samples` samples of `model`.
+pub fn cost(model: &Model, samples: usize) -> Cost {
+    let n = model.dof() as u64;
+    let p1 = 10 * model.num_bodies() as u64 + 2 * n + 1;
+    let threads = rayon::current_num_threads() as u64;
+    let gram = 8 * p1 * p1 * (threads + 2);
+    let rows = ROWS_BUDGET_BYTES as u64 * threads;
+    let sdp = 4 * 16 * p1 * p1;
+    Cost {
+        bytes: gram + rows + sdp,
+        flops: samples as f64 * n as f64 * (p1 * p1) as f64 / 3.0,
+    }
+}
+
+/// Regressor rows one task may hold at once (bytes): the chunk of samples
+/// shrinks for robots with many joints, so memory does not grow as
+/// chunk × n × p.
+pub const ROWS_BUDGET_BYTES: usize = 32 << 20;
+
+/// At most `chunk` samples, and no more than [`ROWS_BUDGET_BYTES`] of rows.
+fn chunk_for(chunk: usize, n: usize, p1: usize) -> usize {
+    let per_sample = (n * p1 * std::mem::size_of::<f64>()).max(1);
+    chunk.min(ROWS_BUDGET_BYTES / per_sample).max(1)
+}
+
+/// Adds the Gram matrix of samples `start..end` to `g` (rows built,
+/// multiplied, dropped).
 fn chunk_gram(
     model: &Model,
     samples: [&[Vec<f64>]; 4],
     start: usize,
     end: usize,
-) -> Result<Mat<f64>, IdentifyError> {
+    g: &mut Mat<f64>,
+) -> Result<(), IdentifyError> {
     let [q, qd, qdd, tau] = samples;
     let n = model.dof();
     let p = 10 * model.num_bodies() + 2 * n;
@@ -235,11 +302,11 @@ fn chunk_gram(
     for s in start..end {
         crate::dynamics::regressor(model, &mut data, &q[s], &qd[s], &qdd[s])
             .map_err(|source| IdentifyError::Regressor { sample: s, source })?;
+        finite_sample(s, data.regressor.as_slice(), &tau[s])?;
         rows.push(data.regressor.as_slice(), &tau[s]);
     }
-    let mut g = Mat::<f64>::zeros(p1, p1);
-    rows.add_gram_lower(&mut g);
-    Ok(g)
+    rows.add_gram_lower(g);
+    Ok(())
 }
 
 /// Reduces samples `q, q̇, q̈` with targets τ (columns: links, rotors,
@@ -257,23 +324,23 @@ pub fn reduce_samples(
     let n = model.dof();
     check_lengths(n, q, qd, qdd, tau)?;
     let p = 10 * model.num_bodies() + 2 * n;
-    let chunk = chunk.max(1);
+    let chunk = chunk_for(chunk, n, p + 1);
     let starts: Vec<usize> = (0..q.len()).step_by(chunk).collect();
-    let partial: Vec<Mat<f64>> = starts
+    // one Gram accumulator per thread, not one per chunk
+    let per_thread = starts.len().div_ceil(rayon::current_num_threads()).max(1);
+    let zeros = || Mat::<f64>::zeros(p + 1, p + 1);
+    let mut gram = starts
         .par_iter()
-        .map(|&start| {
-            chunk_gram(
-                model,
-                [q, qd, qdd, tau],
-                start,
-                (start + chunk).min(q.len()),
-            )
+        .with_min_len(per_thread)
+        .try_fold(zeros, |mut g, &start| {
+            let end = (start + chunk).min(q.len());
+            chunk_gram(model, [q, qd, qdd, tau], start, end, &mut g).map(|()| g)
         })
-        .collect::<Result<_, _>>()?;
-    let mut gram = Mat::<f64>::zeros(p + 1, p + 1);
-    for g in partial {
-        gram += g;
-    }
+        .try_reduce(zeros, |mut a, b| {
+            a += b;
+            Ok(a)
+        })?;
+    finite_gram(&gram)?;
     symmetrize(&mut gram);
     Ok(Reduced {
         gram,
@@ -298,7 +365,7 @@ impl<'m> StreamReducer<'m> {
     pub fn new(model: &'m Model, chunk: usize) -> Self {
         let n = model.dof();
         let p = 10 * model.num_bodies() + 2 * n;
-        let chunk = chunk.max(1);
+        let chunk = chunk_for(chunk, n, p + 1);
         Self {
             model,
             data: crate::dynamics::Data::new(model),
@@ -319,16 +386,20 @@ impl<'m> StreamReducer<'m> {
         qd: &[f64],
         qdd: &[f64],
         tau: &[f64],
-    ) -> Result<(), crate::dynamics::DynamicsError> {
+    ) -> Result<(), IdentifyError> {
         let n = self.model.dof();
+        let sample = self.red.samples;
         if tau.len() != n {
-            return Err(crate::dynamics::DynamicsError::Dimension {
-                what: "tau".into(),
+            return Err(IdentifyError::SampleLength {
+                sample,
+                what: "tau",
                 expected: n,
                 found: tau.len(),
             });
         }
-        crate::dynamics::regressor(self.model, &mut self.data, q, qd, qdd)?;
+        crate::dynamics::regressor(self.model, &mut self.data, q, qd, qdd)
+            .map_err(|source| IdentifyError::Regressor { sample, source })?;
+        finite_sample(sample, self.data.regressor.as_slice(), tau)?;
         self.rows.push(self.data.regressor.as_slice(), tau);
         self.red.samples += 1;
         if self.rows.samples == self.chunk {
@@ -337,11 +408,12 @@ impl<'m> StreamReducer<'m> {
         Ok(())
     }
 
-    /// The reduced data.
-    pub fn finish(mut self) -> Reduced {
+    /// The reduced data; an error if the sums overflowed.
+    pub fn finish(mut self) -> Result<Reduced, IdentifyError> {
         self.rows.add_gram_lower(&mut self.red.gram);
+        finite_gram(&self.red.gram)?;
         symmetrize(&mut self.red.gram);
-        self.red
+        Ok(self.red)
     }
 }
 

@@ -299,6 +299,13 @@ impl Identification<'_> {
         if let Some(v) = validate {
             with_torques(v)?;
         }
+        let need = crate::identify::cost(model, train.len()).bytes;
+        if need > self.memory_limit() {
+            return Err(IdentifyError::TooLarge {
+                needed_gib: need as f64 / (1u64 << 30) as f64,
+                limit_gib: self.memory_limit() as f64 / (1u64 << 30) as f64,
+            });
+        }
         let red = reduce_samples(model, &train.q, &train.qd, &train.qdd, &train.tau, 1024)?;
         let reduce_time = t0.elapsed().as_secs_f64();
         let solved = self.solve(&red)?;
@@ -320,6 +327,13 @@ impl Identification<'_> {
             None => (None, vec![], Contributions::default(), 0),
         };
         let status = solved.status;
+        let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        if !(finite(theta) && finite(&training_rms) && validation_rms.as_deref().is_none_or(finite))
+        {
+            return Err(IdentifyError::Overflow {
+                what: "the identified parameters or their RMS errors",
+            });
+        }
         Ok(IdentifyResult {
             robot: model.name.clone(),
             joints: model.joint_names().iter().map(|s| s.to_string()).collect(),

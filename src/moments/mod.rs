@@ -36,6 +36,6 @@ pub use check::{
 pub use ellipsoid::{Ellipsoid, rpy_rotation};
 pub use error::MomentsError;
 pub use nearest::{Nearest, NearestOptions, nearest_consistent};
-pub use params::{CovarianceEllipsoid, InertialParams, MassComInertia, skew};
+pub use params::{CovarianceEllipsoid, InertialParams, MAX_ABS_PARAM, MassComInertia, skew};
 pub use points::{PointMass, four_point_masses, four_point_masses_in, pseudo_inertia_of};
 pub use union::{UnionRealization, point_masses_on_union, realize_on_union};

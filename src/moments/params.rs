@@ -286,4 +286,33 @@ impl InertialParams {
     pub fn is_finite(&self) -> bool {
         self.0.iter().all(|x| x.is_finite())
     }
+
+    /// The rule every reader of inertial parameters applies (URDF, sidecar,
+    /// parameter file): all numbers finite and within ±[`MAX_ABS_PARAM`],
+    /// and the mass not negative. A massless frame (all zero) passes;
+    /// physical consistency is a separate question
+    /// ([`crate::moments::check_consistency`]). The error names the number.
+    pub fn validate(&self) -> Result<(), String> {
+        const NAMES: [&str; 10] = [
+            "mass", "hx", "hy", "hz", "Ixx", "Ixy", "Ixz", "Iyy", "Iyz", "Izz",
+        ];
+        for (name, x) in NAMES.iter().zip(self.0) {
+            if !x.is_finite() {
+                return Err(format!("{name} = {x} is not finite"));
+            }
+            if x.abs() > MAX_ABS_PARAM {
+                return Err(format!("{name} = {x:e} is beyond ±{MAX_ABS_PARAM:e}"));
+            }
+        }
+        if self.0[0] < 0.0 {
+            return Err(format!("mass = {} kg is negative", self.0[0]));
+        }
+        Ok(())
+    }
 }
+
+/// The largest magnitude of an inertial parameter the readers accept
+/// (kg, kg·m, kg·m²): a million kilograms is beyond any robot link, and
+/// beyond it the identification's squares leave the range where the solver
+/// is reliable.
+pub const MAX_ABS_PARAM: f64 = 1e6;

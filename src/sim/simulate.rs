@@ -17,6 +17,8 @@ use serde::{Deserialize, Serialize};
 /// The most samples one simulation makes (memory stays bounded: ~ 1 kB per
 /// sample for a 9-joint robot).
 pub const MAX_SAMPLES: usize = 10_000_000;
+/// The largest torque noise σ (N·m) a simulation may add.
+pub const MAX_NOISE_SIGMA: f64 = 1e4;
 
 /// How a data set is made (written beside it as JSON).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -79,8 +81,12 @@ impl SimConfig {
         if !(self.rate_hz > 0.0 && self.rate_hz.is_finite()) {
             return bad("rate_hz", self.rate_hz, "must be positive and finite");
         }
-        if !(self.noise_sigma >= 0.0 && self.noise_sigma.is_finite()) {
-            return bad("noise_sigma", self.noise_sigma, "must be ≥ 0 and finite");
+        if !(self.noise_sigma >= 0.0 && self.noise_sigma <= MAX_NOISE_SIGMA) {
+            return bad(
+                "noise_sigma",
+                self.noise_sigma,
+                "must be in [0, 1e4] N·m (the data readers refuse torques beyond ±1e8)",
+            );
         }
         if !(self.encoder_counts >= 0.0 && self.encoder_counts.is_finite()) {
             return bad(

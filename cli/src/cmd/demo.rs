@@ -4,6 +4,7 @@
 //! identified inertias and a diagnosis of a "real" leg.
 
 use crate::experiment::{ExperimentConfig, ExperimentSummary, run_experiment};
+use momentlmi::data::Staged;
 use momentlmi::diagnose::{DiagnoseOptions, Diagnosis, diagnose};
 use momentlmi::dynamics::{Effect, RobotDescription, cheetah3};
 use momentlmi::identify::IdentifyResult;
@@ -47,7 +48,7 @@ fn check_leg(robot: &RobotDescription) {
 
 /// 2. The experiment, with a progress bar.
 fn experiment(
-    out: &Path,
+    out: (&Path, &mut Staged),
     cfg: &ExperimentConfig,
 ) -> Result<(ExperimentSummary, Vec<IdentifyResult>), String> {
     println!(
@@ -125,11 +126,11 @@ fn print_study(summary: &ExperimentSummary, cfg: &ExperimentConfig, out: &Path) 
 }
 
 /// 3. A "real" leg with effects the model lacks, diagnosed against the
-/// ellipsoid-level fit; writes `diagnosis.json` and the plots.
+/// ellipsoid-level fit; stages `diagnosis.json` and the plots.
 fn diagnose_real_leg(
     robot: &RobotDescription,
     best: &IdentifyResult,
-    out: &Path,
+    (out, staged): (&Path, &mut Staged),
 ) -> Result<Diagnosis, String> {
     let effects = Effects::new(
         [Effect::RotorInertia, Effect::Coulomb, Effect::Viscous]
@@ -141,12 +142,17 @@ fn diagnose_real_leg(
     let (nominal, friction) = best.applied_to(&robot.model).map_err(|e| e.to_string())?;
     let d = diagnose(&nominal, &friction, &data, &DiagnoseOptions::default())
         .map_err(|e| e.to_string())?;
-    momentlmi::data::write_whole(
-        &out.join("diagnosis.json"),
-        &serde_json::to_string_pretty(&d).map_err(|e| e.to_string())?,
-    )
-    .map_err(|e| e.to_string())?;
-    crate::plots::diagnosis::write_plots(&d, out)?;
+    staged
+        .add_text(
+            &out.join("diagnosis.json"),
+            &serde_json::to_string_pretty(&d).map_err(|e| e.to_string())?,
+        )
+        .map_err(|e| e.to_string())?;
+    for (name, svg) in crate::plots::diagnosis::render_plots(&d)? {
+        staged
+            .add_text(&out.join(name), &svg)
+            .map_err(|e| e.to_string())?;
+    }
     Ok(d)
 }
 
@@ -189,37 +195,39 @@ fn print_diagnosis(d: &Diagnosis, out: &Path) {
     );
 }
 
-/// Runs the demo; returns the exit code.
+/// Runs the demo; returns the exit code. Every file is written at the end,
+/// together, or none is.
 pub fn run(out: &Path) -> i32 {
+    match run_inner(out) {
+        Ok(()) => 0,
+        Err(e) => {
+            eprintln!("error: {e}");
+            2
+        }
+    }
+}
+
+fn run_inner(out: &Path) -> Result<(), String> {
     println!(
         "momentlmi demo — physically consistent identification of a Cheetah 3 leg (Wensing, Kim & Slotine 2017)\n"
     );
     let robot = cheetah3::description();
     check_leg(&robot);
     let cfg = ExperimentConfig::default();
-    let (summary, results) = match experiment(out, &cfg) {
-        Ok(x) => x,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return 2;
-        }
-    };
+    let dir = super::OutDir::create(out)?;
+    let mut staged = Staged::new();
+    let (summary, results) = experiment((out, &mut staged), &cfg)?;
     print_levels(&summary, &cfg);
     print_study(&summary, &cfg, out);
     println!(
         "\n3. Diagnosing a \"real\" leg against the identified model (ellipsoid level); the diagnoser is not told that the data contain: {}",
         WITHHELD.map(Effect::name).join(", ")
     );
-    let Some(best) = results.last() else {
-        eprintln!("error: no identification result");
-        return 2;
-    };
-    match diagnose_real_leg(&robot, best, out) {
-        Ok(d) => print_diagnosis(&d, out),
-        Err(e) => {
-            eprintln!("error: diagnosis: {e}");
-            return 2;
-        }
-    }
-    0
+    let best = results.last().ok_or("no identification result")?;
+    let d = diagnose_real_leg(&robot, best, (out, &mut staged))
+        .map_err(|e| format!("diagnosis: {e}"))?;
+    staged.commit().map_err(|e| e.to_string())?;
+    dir.keep();
+    print_diagnosis(&d, out);
+    Ok(())
 }

@@ -1,46 +1,74 @@
 //! `momentlmi diagnose --robot MODEL --data FILE.csv [--nominal cad|true|FILE] [--json] [--out DIR]`.
 
-use momentlmi::data::write_whole;
+use momentlmi::data::Staged;
 use momentlmi::data::{Dataset, ReadOptions};
 use momentlmi::diagnose::{DiagnoseOptions, Diagnosis, diagnose};
 use momentlmi::dynamics::ParamChoice;
 use momentlmi::dynamics::robots::load_robot;
 use std::path::Path;
 
-fn diagnosis(
-    robot: &str,
-    sidecar: Option<&Path>,
-    data: &Path,
-    nominal: Option<&str>,
-) -> Result<Diagnosis, String> {
-    let robot = load_robot(robot, sidecar).map_err(|e| e.to_string())?;
-    if nominal == Some("true") {
-        super::warn_robot(&robot);
-    }
-    let choice = nominal.map_or(ParamChoice::Own, |p| p.parse().expect("infallible"));
-    let (model, friction) = robot.parameters(&choice).map_err(|e| e.to_string())?;
-    let d = Dataset::read_csv(data, &model.joint_names(), ReadOptions::default())
-        .map_err(|e| e.to_string())?;
-    diagnose(&model, &friction, &d, &DiagnoseOptions::default()).map_err(|e| e.to_string())
+/// Arguments of `diagnose`.
+pub struct DiagnoseArgs<'a> {
+    /// Built-in name or URDF path.
+    pub robot: &'a str,
+    /// Optional sidecar for a URDF.
+    pub sidecar: Option<&'a Path>,
+    /// Measured data.
+    pub data: &'a Path,
+    /// `cad`, `true` or a parameter file.
+    pub nominal: Option<&'a str>,
+    /// Print the JSON report.
+    pub json: bool,
+    /// Folder for diagnosis.json and the plots.
+    pub out: Option<&'a Path>,
+    /// The memory limit (GiB).
+    pub max_memory_gib: f64,
 }
 
-/// `diagnosis.json` and the plots into `dir`.
-fn write_outputs(dg: &Diagnosis, text: &str, dir: &Path) -> Result<(), String> {
-    std::fs::create_dir_all(dir).map_err(|e| e.to_string())?;
-    write_whole(&dir.join("diagnosis.json"), text).map_err(|e| e.to_string())?;
-    crate::plots::diagnosis::write_plots(dg, dir).map(|_| ())
+fn diagnosis(a: &DiagnoseArgs) -> Result<Diagnosis, String> {
+    let opts = DiagnoseOptions::default().with_max_memory(super::gib(a.max_memory_gib)?);
+    let robot = load_robot(a.robot, a.sidecar).map_err(|e| e.to_string())?;
+    if a.nominal == Some("true") {
+        super::warn_robot(&robot);
+    }
+    let choice = a
+        .nominal
+        .map_or(ParamChoice::Own, |p| p.parse().expect("infallible"));
+    let (model, friction) = robot.parameters(&choice).map_err(|e| e.to_string())?;
+    let d = Dataset::read_csv(a.data, &model.joint_names(), ReadOptions::default())
+        .map_err(|e| e.to_string())?;
+    diagnose(&model, &friction, &d, &opts).map_err(|e| e.to_string())
+}
+
+/// `diagnosis.json` and the plots into `dir`, all or none; none may be an
+/// input of the command.
+fn write_outputs(dg: &Diagnosis, text: &str, dir: &Path, inputs: &[&Path]) -> Result<(), String> {
+    let folder = super::OutDir::create(dir)?;
+    let mut staged = Staged::protecting(inputs.iter().copied());
+    let e = |e: momentlmi::data::DataError| e.to_string();
+    staged
+        .add_text(&dir.join("diagnosis.json"), text)
+        .map_err(e)?;
+    for (name, svg) in crate::plots::diagnosis::render_plots(dg)? {
+        staged.add_text(&dir.join(name), &svg).map_err(e)?;
+    }
+    staged.commit().map_err(e)?;
+    folder.keep();
+    Ok(())
 }
 
 /// Exit codes: 0 diagnosed, 2 bad input.
-pub fn run(
-    robot: &str,
-    sidecar: Option<&Path>,
-    data: &Path,
-    nominal: Option<&str>,
-    json: bool,
-    out: Option<&Path>,
-) -> i32 {
-    let dg = match diagnosis(robot, sidecar, data, nominal) {
+pub fn run(a: &DiagnoseArgs) -> i32 {
+    let (robot, sidecar, data, nominal, json, out) =
+        (a.robot, a.sidecar, a.data, a.nominal, a.json, a.out);
+    if let Some(dir) = out
+        && dir.exists()
+        && !dir.is_dir()
+    {
+        eprintln!("error: --out {}: exists and is not a folder", dir.display());
+        return 2;
+    }
+    let dg = match diagnosis(a) {
         Ok(d) => d,
         Err(e) => {
             eprintln!("error: {e}");
@@ -57,8 +85,12 @@ pub fn run(
             return 2;
         }
     };
+    let mut inputs = vec![data];
+    inputs.extend(sidecar);
+    inputs.extend(Some(Path::new(robot)).filter(|p| p.exists()));
+    inputs.extend(nominal.map(Path::new).filter(|p| p.exists()));
     if let Some(dir) = out
-        && let Err(e) = write_outputs(&dg, &text, dir)
+        && let Err(e) = write_outputs(&dg, &text, dir, &inputs)
     {
         eprintln!("error: {}: {e}", dir.display());
         return 2;

@@ -32,6 +32,8 @@ pub struct IdentifyArgs<'a> {
     pub total_mass: Option<f64>,
     /// Pairs `A,B` of equal bodies.
     pub equal: &'a [String],
+    /// The memory limit (GiB).
+    pub max_memory_gib: f64,
 }
 
 /// Exit codes: 0 identified (constraints satisfied), 1 identified but a
@@ -97,7 +99,7 @@ fn identification<'r>(
     }
     if let Some(m) = a.total_mass {
         if !(m > 0.0 && m.is_finite()) {
-            return Err(format!("--total-mass must be positive, got {m}"));
+            return Err(format!("--total-mass must be positive and finite, got {m}"));
         }
         id = id.constrain(move |p, v| {
             p.add_eq(v.total_mass(), m)?;
@@ -109,6 +111,9 @@ fn identification<'r>(
             .split_once(',')
             .ok_or_else(|| format!("--equal '{pair}': expected A,B"))?;
         let (x, y) = (x.trim().to_string(), y.trim().to_string());
+        if x == y {
+            return Err(format!("--equal {pair}: a body is always equal to itself"));
+        }
         for n in [&x, &y] {
             if !robot.model.body_names().contains(n) {
                 return Err(format!(
@@ -136,7 +141,8 @@ fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
         .map(|p| Dataset::read_csv(p, &names, ReadOptions::default()))
         .transpose()
         .map_err(|e| e.to_string())?;
-    let id = identification(a, &robot)?;
+    let id = identification(a, &robot)?.max_memory(super::gib(a.max_memory_gib)?);
+    super::warn_cost(momentlmi::identify::cost(&robot.model, train.len()).flops);
     id.identify(&train, val.as_ref()).map_err(|e| match e {
         IdentifyError::Option {
             option: "ellipsoids",

@@ -15,3 +15,61 @@ pub(crate) fn warn_robot(robot: &momentlmi::dynamics::RobotDescription) {
         eprintln!("warning: {}: {w}", robot.source);
     }
 }
+
+/// An output folder: created if missing, and removed again (when still
+/// empty) unless the command [`OutDir::keep`]s it, so a failed command
+/// leaves no empty folder behind.
+pub(crate) struct OutDir {
+    path: std::path::PathBuf,
+    created: bool,
+}
+
+impl OutDir {
+    /// Creates `path` (and its parents) if it does not exist.
+    pub(crate) fn create(path: &std::path::Path) -> Result<Self, String> {
+        if path.exists() && !path.is_dir() {
+            return Err(format!("{}: exists and is not a folder", path.display()));
+        }
+        let created = !path.exists();
+        std::fs::create_dir_all(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        Ok(Self {
+            path: path.to_path_buf(),
+            created,
+        })
+    }
+
+    /// The folder stays (its files were committed).
+    pub(crate) fn keep(mut self) {
+        self.created = false;
+    }
+}
+
+impl Drop for OutDir {
+    fn drop(&mut self) {
+        if self.created {
+            // only an empty folder goes: remove_dir refuses any other
+            let _ = std::fs::remove_dir(&self.path);
+        }
+    }
+}
+
+/// `--max-memory-gib` in bytes (positive and finite).
+pub(crate) fn gib(g: f64) -> Result<u64, String> {
+    if g > 0.0 && g.is_finite() && g < 1e9 {
+        Ok((g * (1u64 << 30) as f64) as u64)
+    } else {
+        Err(format!(
+            "--max-memory-gib {g}: must be a positive number of GiB"
+        ))
+    }
+}
+
+/// Says up front when the reduction's arithmetic alone is large (≥ 10¹²
+/// operations: minutes on a laptop core).
+pub(crate) fn warn_cost(flops: f64) {
+    if flops >= 1e12 {
+        eprintln!(
+            "warning: reducing these data takes about {flops:.1e} floating-point operations (minutes or more); fewer samples or locked joints take less"
+        );
+    }
+}

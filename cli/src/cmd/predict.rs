@@ -1,7 +1,7 @@
 //! `momentlmi predict --robot MODEL [--params true|cad|FILE] --data FILE.csv --out PRED.csv [--json]`.
 
 use momentlmi::data::Dataset;
-use momentlmi::data::{ReadOptions, write_whole};
+use momentlmi::data::{ReadOptions, Staged};
 use momentlmi::dynamics::ParamChoice;
 use momentlmi::dynamics::predict::predict_torques;
 use momentlmi::dynamics::robots::load_robot;
@@ -35,7 +35,23 @@ pub fn run(a: &PredictArgs) -> i32 {
     }
 }
 
+/// The output, refused early if it is one of the inputs.
+fn staged_output(a: &PredictArgs) -> Result<Staged, String> {
+    let mut inputs = vec![a.data];
+    inputs.extend(a.sidecar);
+    inputs.extend(
+        [a.robot, a.params.unwrap_or("")]
+            .map(Path::new)
+            .into_iter()
+            .filter(|p| p.is_file()),
+    );
+    let staged = Staged::protecting(inputs);
+    staged.claim(a.out).map_err(|e| e.to_string())?;
+    Ok(staged)
+}
+
 fn run_inner(a: &PredictArgs) -> Result<(), String> {
+    let mut staged = staged_output(a)?;
     let robot = load_robot(a.robot, a.sidecar).map_err(|e| e.to_string())?;
     if a.params.is_some_and(|p| p == "true") {
         super::warn_robot(&robot);
@@ -67,7 +83,8 @@ fn run_inner(a: &PredictArgs) -> Result<(), String> {
         }
         s.push('\n');
     }
-    write_whole(a.out, &s).map_err(|e| e.to_string())?;
+    staged.add_text(a.out, &s).map_err(|e| e.to_string())?;
+    staged.commit().map_err(|e| e.to_string())?;
     // RMS against measured torques when the file has them
     let rms: Option<Vec<f64>> = (!d.tau.is_empty()).then(|| {
         (0..names.len())

@@ -1,7 +1,7 @@
 //! `momentlmi simulate --robot MODEL --seconds S --effects a,b --out FILE.csv
 //! [--seed N] [--noise SIGMA] [--effect-param NAME=VALUE …]`.
 
-use momentlmi::data::write_with_record;
+use momentlmi::data::{Staged, record_path, stage_with_record};
 use momentlmi::dynamics::Effect;
 use momentlmi::dynamics::effect::parse_override;
 use momentlmi::dynamics::robots::load_robot;
@@ -39,7 +39,19 @@ pub fn run(a: &SimulateArgs) -> i32 {
     }
 }
 
+/// The outputs (the CSV and its record), refused early if either is an input.
+fn staged_outputs(a: &SimulateArgs) -> Result<Staged, String> {
+    let mut inputs: Vec<&Path> = a.sidecar.into_iter().collect();
+    inputs.extend(Some(Path::new(a.robot)).filter(|p| p.is_file()));
+    let staged = Staged::protecting(inputs);
+    for p in [a.out, &record_path(a.out)] {
+        staged.claim(p).map_err(|e| e.to_string())?;
+    }
+    Ok(staged)
+}
+
 fn run_inner(a: &SimulateArgs) -> Result<(), String> {
+    let mut staged = staged_outputs(a)?;
     let robot = load_robot(a.robot, a.sidecar).map_err(|e| e.to_string())?;
     let mut effects = Effects::new(a.effects.iter().copied());
     for o in a.effect_params {
@@ -86,7 +98,8 @@ fn run_inner(a: &SimulateArgs) -> Result<(), String> {
         })),
         "warnings": robot.warnings,
     });
-    let rec = write_with_record(&d, a.out, &record).map_err(|e| e.to_string())?;
+    let rec = stage_with_record(&mut staged, &d, a.out, &record).map_err(|e| e.to_string())?;
+    staged.commit().map_err(|e| e.to_string())?;
     println!(
         "wrote {} ({} samples, effects: {}) and {}",
         a.out.display(),

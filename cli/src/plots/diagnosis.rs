@@ -4,7 +4,6 @@
 
 use momentlmi::diagnose::Diagnosis;
 use plotters::prelude::*;
-use std::path::{Path, PathBuf};
 
 fn range(v: impl Iterator<Item = f64> + Clone) -> (f64, f64) {
     let lo = v.clone().fold(f64::INFINITY, f64::min);
@@ -13,17 +12,33 @@ fn range(v: impl Iterator<Item = f64> + Clone) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
-/// Writes `residual_<joint>.svg` and `effects.svg` into `dir`; returns the paths.
-pub fn write_plots(d: &Diagnosis, dir: &Path) -> Result<Vec<PathBuf>, String> {
-    let e = |x: DrawingAreaErrorKind<std::io::Error>| x.to_string();
+type Svg = Result<(), DrawingAreaErrorKind<std::io::Error>>;
+
+/// `residual_<joint>.svg` and `effects.svg` as (file name, SVG text).
+pub fn render_plots(d: &Diagnosis) -> Result<Vec<(String, String)>, String> {
     let mut files = vec![];
+    for (i, joint) in d.joints.iter().enumerate() {
+        let mut svg = String::new();
+        residual_plot(&mut svg, d, i).map_err(|e| e.to_string())?;
+        files.push((format!("residual_{joint}.svg"), svg));
+    }
+    let mut svg = String::new();
+    effects_plot(&mut svg, d).map_err(|e| e.to_string())?;
+    files.push(("effects.svg".to_string(), svg));
+    Ok(files)
+}
+
+/// Joint `i`'s held-out residual against time, velocity and position, and
+/// its frequency bands.
+fn residual_plot(svg: &mut String, d: &Diagnosis, i: usize) -> Svg {
+    let e = |x| x;
     let h = &d.heldout;
     let stride = (h.t.len() / 3000).max(1);
     let before = RGBColor(214, 39, 40).mix(0.5);
     let after = RGBColor(31, 119, 180).mix(0.5);
-    for (i, joint) in d.joints.iter().enumerate() {
-        let path = dir.join(format!("residual_{joint}.svg"));
-        let root = SVGBackend::new(&path, (1100, 800)).into_drawing_area();
+    let joint = &d.joints[i];
+    {
+        let root = SVGBackend::with_string(svg, (1100, 800)).into_drawing_area();
         root.fill(&WHITE).map_err(e)?;
         let root = root
             .titled(
@@ -92,12 +107,15 @@ pub fn write_plots(d: &Diagnosis, dir: &Path) -> Result<Vec<PathBuf>, String> {
         }))
         .map_err(e)?;
         root.present().map_err(e)?;
-        files.push(path.clone());
     }
-    // bar chart: held-out MSE removed by each accepted effect (all joints)
+    Ok(())
+}
+
+/// Bar chart: held-out MSE removed by each accepted effect (all joints).
+fn effects_plot(svg: &mut String, d: &Diagnosis) -> Svg {
+    let e = |x| x;
     let acc: Vec<_> = d.ranked_effects.iter().filter(|r| r.accepted).collect();
-    let path = dir.join("effects.svg");
-    let root = SVGBackend::new(&path, (900, 400)).into_drawing_area();
+    let root = SVGBackend::with_string(svg, (900, 400)).into_drawing_area();
     root.fill(&WHITE).map_err(e)?;
     let vals: Vec<f64> = acc
         .iter()
@@ -131,7 +149,5 @@ pub fn write_plots(d: &Diagnosis, dir: &Path) -> Result<Vec<PathBuf>, String> {
         )
     }))
     .map_err(e)?;
-    root.present().map_err(e)?;
-    files.push(path.clone());
-    Ok(files)
+    root.present()
 }

@@ -1,7 +1,6 @@
 //! SVG figures of the identification experiment (plotters, SVG backend).
 
 use plotters::prelude::*;
-use std::path::Path;
 
 /// One named series of (x, y) points.
 pub struct Series<'a> {
@@ -42,9 +41,31 @@ fn bounds(panels: &[Vec<Series>]) -> Vec<(f64, f64, f64, f64)> {
         .collect()
 }
 
-/// Stacked panels sharing the x axis; `log_x` for sample-count axes.
+/// Stacked panels sharing the x axis, as SVG text; `log_x` for
+/// sample-count axes.
 pub fn line_panels(
-    path: &Path,
+    title: &str,
+    x_label: &str,
+    panel_titles: &[String],
+    y_label: &str,
+    panels: &[Vec<Series>],
+    log_x: bool,
+) -> Result<String, String> {
+    let mut svg = String::new();
+    draw_panels(
+        &mut svg,
+        title,
+        x_label,
+        panel_titles,
+        y_label,
+        panels,
+        log_x,
+    )?;
+    Ok(svg)
+}
+
+fn draw_panels(
+    svg: &mut String,
     title: &str,
     x_label: &str,
     panel_titles: &[String],
@@ -53,7 +74,7 @@ pub fn line_panels(
     log_x: bool,
 ) -> Result<(), String> {
     let h = 260 * panels.len() as u32 + 40;
-    let root = SVGBackend::new(path, (1000, h)).into_drawing_area();
+    let root = SVGBackend::with_string(svg, (1000, h)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| e.to_string())?;
     let root = root
         .titled(title, ("sans-serif", 22))

@@ -1,0 +1,364 @@
+//! Hostile and malformed input from the command line: every case ends with
+//! exit 1 or 2 and a message naming what is wrong, never a panic (101) or a
+//! signal; no output holds NaN or infinity; no command overwrites a file it
+//! was not told to write, and a failed command leaves no partial output.
+//! The files are written by the test itself.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_momentlmi"))
+}
+
+fn dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("momentlmi-hostile-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn run(args: &[&str]) -> Output {
+    bin().args(args).output().unwrap()
+}
+
+/// Exit 1 or 2, a message on stderr containing `needle`, no panic.
+fn refused(o: &Output, needle: &str, case: &str) {
+    let err = String::from_utf8_lossy(&o.stderr);
+    let code = o.status.code();
+    assert!(
+        matches!(code, Some(1 | 2)),
+        "{case}: exit {code:?} (a signal has none)\n{err}"
+    );
+    assert!(!err.contains("panicked"), "{case}: panicked\n{err}");
+    assert!(
+        err.contains(needle),
+        "{case}: expected '{needle}' in\n{err}"
+    );
+}
+
+fn no_nan(path: &Path) {
+    let t = std::fs::read_to_string(path).unwrap();
+    let lower = t.to_lowercase();
+    assert!(
+        !lower.contains("nan") && !lower.contains("inf"),
+        "{}: non-finite output",
+        path.display()
+    );
+}
+
+/// A small data set of the built-in leg and an identified parameter file.
+fn leg_data(d: &Path) -> (PathBuf, serde_json::Value) {
+    let csv = d.join("leg.csv");
+    let o = run(&[
+        "simulate",
+        "--robot",
+        "cheetah3-leg",
+        "--seconds",
+        "2",
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = run(&[
+        "identify",
+        "--robot",
+        "cheetah3-leg",
+        "--data",
+        csv.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    (csv, serde_json::from_slice(&o.stdout).unwrap())
+}
+
+/// `leg.csv` with one cell replaced (data row `row`, column `col`) or the
+/// header changed.
+fn mutate_csv(src: &Path, dst: &Path, f: impl Fn(&mut Vec<Vec<String>>)) {
+    let text = std::fs::read_to_string(src).unwrap();
+    let mut rows: Vec<Vec<String>> = text
+        .lines()
+        .map(|l| l.split(',').map(str::to_string).collect())
+        .collect();
+    f(&mut rows);
+    let out: Vec<String> = rows.iter().map(|r| r.join(",")).collect();
+    std::fs::write(dst, out.join("\n") + "\n").unwrap();
+}
+
+#[test]
+fn hostile_data_and_parameter_files_are_refused_with_their_place() {
+    let d = dir("data");
+    let (csv, params) = leg_data(&d);
+    let s = |p: &Path| p.to_str().unwrap().to_string();
+    let big = d.join("big.csv");
+    mutate_csv(&csv, &big, |r| r[50][3] = "1e300".into());
+    let nan = d.join("nan.csv");
+    mutate_csv(&csv, &nan, |r| r[9][5] = "NaN".into());
+    let dup = d.join("dup.csv");
+    mutate_csv(&csv, &dup, |r| {
+        r[0].push("q_abad".into());
+        for row in r.iter_mut().skip(1) {
+            row.push("0".into());
+        }
+    });
+    let ragged = d.join("ragged.csv");
+    mutate_csv(&csv, &ragged, |r| {
+        r[7].pop();
+    });
+    let backwards = d.join("backwards.csv");
+    mutate_csv(&csv, &backwards, |r| r[20][0] = "0".into());
+    let nonl = d.join("oneline.csv");
+    std::fs::write(&nonl, "t,".repeat(9_000_000)).unwrap();
+    let data_cases = [
+        (&big, "row 50, column 'q_knee'"),
+        (&nan, "row 9"),
+        (&dup, "'q_abad' appears twice"),
+        (&ragged, "row 7"),
+        (&backwards, "row 20, column 't'"),
+        (&nonl, "longer than"),
+    ];
+    for (file, needle) in data_cases {
+        for cmd in ["identify", "diagnose"] {
+            let o = run(&[cmd, "--robot", "cheetah3-leg", "--data", &s(file)]);
+            refused(&o, needle, &format!("{cmd} {}", file.display()));
+        }
+        let out = d.join("pred.csv");
+        let o = run(&[
+            "predict",
+            "--robot",
+            "cheetah3-leg",
+            "--data",
+            &s(file),
+            "--out",
+            &s(&out),
+        ]);
+        refused(&o, needle, &format!("predict {}", file.display()));
+        assert!(!out.exists(), "a failed predict wrote {}", out.display());
+    }
+    // parameter files: each mutation is refused by every reader of them
+    type Mutation = fn(&mut serde_json::Value);
+    let cases: [(&str, Mutation, &str); 6] = [
+        (
+            "negmass",
+            |p| p["bodies"][0]["params"][0] = (-1.0).into(),
+            "negative",
+        ),
+        (
+            "huge",
+            |p| p["bodies"][0]["params"][0] = 1e300.into(),
+            "beyond",
+        ),
+        (
+            "inertia",
+            |p| p["bodies"][2]["params"][4] = 1e200.into(),
+            "'knee': Ixx",
+        ),
+        ("robot", |p| p["robot"] = "other".into(), "robot 'other'"),
+        (
+            "dupbody",
+            |p| p["bodies"][1]["name"] = p["bodies"][0]["name"].clone(),
+            "'abad' appears twice",
+        ),
+        (
+            "friction",
+            |p| p["friction"]["viscous"][1] = (-3.0).into(),
+            "joint 'hip'",
+        ),
+    ];
+    for (name, mutate, needle) in cases {
+        let mut p = params.clone();
+        mutate(&mut p);
+        let file = d.join(format!("{name}.json"));
+        std::fs::write(&file, p.to_string()).unwrap();
+        let out = d.join("pred.csv");
+        for args in [
+            vec!["predict", "--params", &s(&file), "--out", &s(&out)],
+            vec!["identify", "--prior", &s(&file)],
+            vec!["diagnose", "--nominal", &s(&file)],
+        ] {
+            let mut all = args.clone();
+            all.extend(["--robot", "cheetah3-leg", "--data", csv.to_str().unwrap()]);
+            refused(&run(&all), needle, &format!("{} {name}", args[0]));
+        }
+        assert!(!out.exists());
+    }
+}
+
+#[test]
+fn no_command_overwrites_its_input_or_leaves_a_partial_output() {
+    let d = dir("outputs");
+    let (csv, _) = leg_data(&d);
+    let before = std::fs::read(&csv).unwrap();
+    let s = |p: &Path| p.to_str().unwrap().to_string();
+    // predict onto its own data, under another spelling
+    let other_spelling = d.join(".").join("leg.csv");
+    let o = run(&[
+        "predict",
+        "--robot",
+        "cheetah3-leg",
+        "--data",
+        &s(&csv),
+        "--out",
+        &s(&other_spelling),
+    ]);
+    refused(&o, "is also an input", "predict --out = --data");
+    // simulate onto its record, and onto the URDF it simulates
+    let o = run(&[
+        "simulate",
+        "--robot",
+        "cheetah3-leg",
+        "--seconds",
+        "1",
+        "--out",
+        &s(&d.join("x.json")),
+    ]);
+    refused(&o, "the same file", "simulate --out x.json");
+    let urdf = d.join("pend.urdf");
+    std::fs::write(
+        &urdf,
+        r#"<robot name="pend"><link name="base"/><link name="arm"><inertial><mass value="1"/>
+<inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+<joint name="j1" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 1 0"/>
+<limit lower="-2" upper="2" effort="10" velocity="5"/></joint></robot>"#,
+    )
+    .unwrap();
+    let urdf_before = std::fs::read(&urdf).unwrap();
+    let o = run(&[
+        "simulate",
+        "--robot",
+        &s(&urdf),
+        "--seconds",
+        "1",
+        "--out",
+        &s(&d.join("pend.json")).replace(".json", ".urdf"),
+    ]);
+    refused(&o, "is also an input", "simulate --out the URDF");
+    assert_eq!(std::fs::read(&urdf).unwrap(), urdf_before);
+    // a diagnosis whose folder cannot be made leaves nothing
+    let o = run(&[
+        "diagnose",
+        "--robot",
+        "cheetah3-leg",
+        "--data",
+        &s(&csv),
+        "--out",
+        &s(&csv),
+    ]);
+    refused(&o, "not a folder", "diagnose --out FILE");
+    assert_eq!(
+        std::fs::read(&csv).unwrap(),
+        before,
+        "the data file changed"
+    );
+    // no temporary file is left behind anywhere in the folder
+    for e in std::fs::read_dir(&d).unwrap() {
+        let name = e.unwrap().file_name().to_string_lossy().to_string();
+        assert!(!name.ends_with(".tmp"), "left behind: {name}");
+    }
+}
+
+#[test]
+fn hostile_sidecars_and_settings_are_refused() {
+    let d = dir("sidecar");
+    let s = |p: &Path| p.to_str().unwrap().to_string();
+    let urdf = d.join("pend.urdf");
+    std::fs::write(
+        &urdf,
+        r#"<robot name="pend"><link name="base"/><link name="arm"><inertial><mass value="1"/>
+<inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+<joint name="j1" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 1 0"/>
+<limit lower="-2" upper="2" effort="10" velocity="5"/></joint></robot>"#,
+    )
+    .unwrap();
+    let rotor = |extra: &str| {
+        format!(
+            "[[rotor]]\njoint = \"j1\"\n{extra}\n[[joint]]\nname = \"j1\"\ncoulomb = 0.1\nviscous = 0.01\n"
+        )
+    };
+    let cases = [
+        ("gear0", rotor("gear_ratio = 0.0\nmass = 0.1\ninertia = [1e-4, 0, 0, 1e-4, 0, 1e-4]"), "gear ratio 0"),
+        ("gearnan", rotor("gear_ratio = nan\nmass = 0.1\ninertia = [1e-4, 0, 0, 1e-4, 0, 1e-4]"), "gear ratio NaN"),
+        ("rotormass", rotor("gear_ratio = 6.0\nmass = -0.1\ninertia = [1e-4, 0, 0, 1e-4, 0, 1e-4]"), "negative"),
+        ("rotornan", rotor("gear_ratio = 6.0\nmass = 0.1\ninertia = [nan, 0, 0, 1e-4, 0, 1e-4]"), "not finite"),
+        ("prior", "[[body]]\nname = \"arm\"\nprior = { params = [-1.0, 0, 0, 0, 0.01, 0, 0, 0.01, 0, 0.01] }\n".to_string(), "negative"),
+        ("equal", "[identify]\nequal = [[\"arm\", \"arm\"]]\n".to_string(), "itself"),
+    ];
+    for (name, text, needle) in cases {
+        let sc = d.join(format!("{name}.toml"));
+        std::fs::write(&sc, text).unwrap();
+        let out = d.join(format!("{name}.csv"));
+        let o = run(&[
+            "simulate",
+            "--robot",
+            &s(&urdf),
+            "--sidecar",
+            &s(&sc),
+            "--seconds",
+            "1",
+            "--out",
+            &s(&out),
+        ]);
+        refused(&o, needle, name);
+        assert!(!out.exists(), "{name}: a failed simulate wrote its data");
+    }
+    // settings beyond their limits
+    let out = d.join("s.csv");
+    for (args, needle) in [
+        (vec!["--seconds", "1e9"], "at most"),
+        (vec!["--seconds", "nan"], "seconds"),
+        (vec!["--noise", "inf"], "noise"),
+    ] {
+        let mut all = vec![
+            "simulate",
+            "--robot",
+            "cheetah3-leg",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        all.extend(args.iter());
+        refused(&run(&all), needle, &args.join(" "));
+    }
+    assert!(!out.exists());
+}
+
+#[test]
+fn a_robot_beyond_the_memory_limit_is_refused_before_it_starts() {
+    let d = dir("memory");
+    let (csv, _) = leg_data(&d);
+    let s = csv.to_str().unwrap();
+    let o = run(&[
+        "identify",
+        "--robot",
+        "cheetah3-leg",
+        "--data",
+        s,
+        "--max-memory-gib",
+        "0.001",
+    ]);
+    refused(&o, "GiB limit", "identify --max-memory-gib");
+    let o = run(&[
+        "diagnose",
+        "--robot",
+        "cheetah3-leg",
+        "--data",
+        s,
+        "--max-memory-gib",
+        "0.001",
+    ]);
+    refused(&o, "GiB limit", "diagnose --max-memory-gib");
+    // and a fitting run writes finite numbers only
+    let pred = d.join("pred.csv");
+    let o = run(&[
+        "predict",
+        "--robot",
+        "cheetah3-leg",
+        "--params",
+        "true",
+        "--data",
+        s,
+        "--out",
+        pred.to_str().unwrap(),
+    ]);
+    assert!(o.status.success());
+    no_nan(&pred);
+}
