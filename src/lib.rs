@@ -43,4 +43,6 @@ mod guides {
     struct Math;
     #[doc = include_str!("../docs/diagnosis.md")]
     struct Diagnosis;
+    #[doc = include_str!("../docs/inputs.md")]
+    struct Inputs;
 }

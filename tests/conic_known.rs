@@ -308,6 +308,11 @@ fn errors_not_panics() {
         p.add_le(x, f64::INFINITY),
         Err(ConicError::NonFinite { .. })
     ));
+    // two finite coefficients of one variable whose sum is not
+    assert!(matches!(
+        p.add_ge(x * 1.7e308 + x * 1.7e308, 0.0),
+        Err(ConicError::NonFinite { .. })
+    ));
     // not symmetric
     let m = MatExpr::from_fn(2, 2, |i, j| {
         if i == 0 && j == 1 {

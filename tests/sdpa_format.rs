@@ -24,6 +24,21 @@ fn parses_and_solves_a_small_file() {
 }
 
 #[test]
+fn psd_and_lp_blocks_together_reach_the_known_optimum() {
+    // min x₁ + x₂ s.t. [[x₁, 1], [1, x₂]] ⪰ 0 and the LP block x₁ ≥ 2,
+    // x₂ ≥ 0.1: x₁x₂ ≥ 1 with x₁ ≥ 2 gives x₁ = 2, x₂ = 1/2, value 2.5
+    let text = "2\n2\n{2, -2}\n1 1\n0 1 1 2 -1\n1 1 1 1 1\n2 1 2 2 1\n\
+        1 2 1 1 1\n0 2 1 1 2\n2 2 2 2 1\n0 2 2 2 0.1\n";
+    let p = SdpaProblem::parse(text).unwrap();
+    let (prob, x) = p.to_problem().unwrap();
+    let sol = prob.solve(&Settings::default()).unwrap();
+    assert_eq!(sol.status, Status::Solved);
+    assert_relative_eq!(sol.primal_objective, 2.5, epsilon = 1e-7);
+    assert_relative_eq!(sol.value(x[0]).unwrap(), 2.0, epsilon = 1e-5);
+    assert_relative_eq!(sol.value(x[1]).unwrap(), 0.5, epsilon = 1e-5);
+}
+
+#[test]
 fn text_round_trip() {
     let p = SdpaProblem::parse(SMALL).unwrap();
     let q = SdpaProblem::parse(&p.to_text()).unwrap();

@@ -153,7 +153,10 @@ enum Command {
         /// Print one JSON object instead of text.
         #[arg(long)]
         json: bool,
-        /// Turn on Clarabel's chordal decomposition (off by default).
+        /// EXPERIMENTAL: turn on Clarabel's chordal decomposition (off by
+        /// default). It can report a wrong optimum as solved (SDPLIB control1
+        /// ends "solved" near 18.05; the optimum is 17.7846): check results
+        /// without it. A warning is printed to stderr when it is used.
         #[arg(long)]
         chordal: bool,
         /// Use QDLDL instead of faer's supernodal LDLᵀ for the KKT systems.
@@ -162,6 +165,11 @@ enum Command {
         /// Print the solver's iteration log.
         #[arg(long)]
         verbose: bool,
+        /// Refuse files whose reading or solve would need more than this
+        /// many GiB by the reader's estimate (docs/inputs.md); a PSD block
+        /// of side n needs about 14·n⁴ bytes.
+        #[arg(long, value_name = "GIB", default_value_t = momentlmi::sdpa::DEFAULT_MAX_MEMORY_GIB)]
+        max_memory_gib: f64,
     },
 }
 
@@ -258,6 +266,14 @@ pub fn main() -> i32 {
             chordal,
             qdldl,
             verbose,
-        } => sdpa::run(&file, json, chordal, qdldl, verbose),
+            max_memory_gib,
+        } => sdpa::run(&sdpa::SdpaArgs {
+            file: &file,
+            json,
+            chordal,
+            qdldl,
+            verbose,
+            max_memory_gib,
+        }),
     }
 }

@@ -28,19 +28,26 @@ fn mismatch(what: &str, expected: (usize, usize), found: (usize, usize)) -> Coni
     }
 }
 
+/// `rows · cols`; panics when it overflows (a wrapped product would make
+/// every later index check disagree with the storage).
+fn entry_count(rows: usize, cols: usize) -> usize {
+    rows.checked_mul(cols)
+        .unwrap_or_else(|| panic!("MatExpr {rows}×{cols}: the number of entries overflows usize"))
+}
+
 impl MatExpr {
-    /// The `rows × cols` zero matrix.
+    /// The `rows × cols` zero matrix; panics if `rows · cols` overflows.
     pub fn zeros(rows: usize, cols: usize) -> Self {
         Self {
             rows,
             cols,
-            data: vec![AffExpr::zero(); rows * cols],
+            data: vec![AffExpr::zero(); entry_count(rows, cols)],
         }
     }
 
-    /// Builds entry `(i, j)` from `f(i, j)`.
+    /// Builds entry `(i, j)` from `f(i, j)`; panics if `rows · cols` overflows.
     pub fn from_fn(rows: usize, cols: usize, mut f: impl FnMut(usize, usize) -> AffExpr) -> Self {
-        let mut data = Vec::with_capacity(rows * cols);
+        let mut data = Vec::with_capacity(entry_count(rows, cols));
         for j in 0..cols {
             for i in 0..rows {
                 data.push(f(i, j));

@@ -313,16 +313,18 @@ impl Problem {
         label: &str,
     ) -> Result<ConstraintId, ConicError> {
         let name = format!("constraint #{} ({label})", self.constraints.len());
-        for (r, e) in rows.iter().enumerate() {
-            self.check_expr(e, &format!("{name}, row {r}"))?;
-        }
-        let rows = rows
+        // checked after merging repeated terms: two finite coefficients of
+        // one variable can sum to infinity
+        let rows: Vec<AffExpr> = rows
             .into_iter()
             .map(|mut e| {
                 e.compact();
                 e
             })
             .collect();
+        for (r, e) in rows.iter().enumerate() {
+            self.check_expr(e, &format!("{name}, row {r}"))?;
+        }
         self.constraints.push(ConstraintData {
             name,
             kind,

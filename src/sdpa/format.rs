@@ -1,7 +1,12 @@
-//! The SDPA data structure, its text format and its conic form.
+//! The SDPA data structure and its text format.
+//!
+//! The parser reads the whole header and every entry before anything is
+//! sized from the header: no buffer is reserved from a declared m, number of
+//! blocks or block size, so a hostile header costs what its file costs.
 
+use super::check::{MAX_VARIABLES, entry_fault, first_duplicate};
 use super::error::SdpaError;
-use crate::conic::{AffExpr, ConeKind, ConicError, MatExpr, Problem, Sense, Var};
+use super::options::SdpaOptions;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -12,29 +17,37 @@ pub struct SdpaProblem {
     pub c: Vec<f64>,
     /// Block sizes: `n > 0` a dense `n × n` block, `n < 0` a diagonal block of size `|n|`.
     pub blocks: Vec<i64>,
-    /// Entries `(matrix 0..=m, block 0-based, i, j, value)`, 0-based `i ≤ j`.
+    /// Entries `(matrix 0..=m, block 0-based, i, j, value)`, 0-based `i ≤ j`,
+    /// each `(matrix, block, i, j)` at most once.
     pub entries: Vec<(usize, usize, usize, usize, f64)>,
 }
 
-/// Tokeniser that keeps line numbers and treats `,{}()` as blanks.
-struct Tokens<'a> {
+/// Lines of SDPA text as tokens, with their 1-based numbers; `,{}()` are
+/// blanks.
+struct Lines<'a> {
     lines: std::iter::Peekable<std::iter::Enumerate<std::str::Lines<'a>>>,
 }
 
-impl<'a> Tokens<'a> {
-    fn clean(s: &str) -> String {
-        s.chars()
-            .map(|c| if ",{}()".contains(c) { ' ' } else { c })
-            .collect()
+impl<'a> Lines<'a> {
+    /// The text after its leading comment lines (`"` or `*`) and blank lines.
+    fn new(text: &'a str) -> Self {
+        let mut lines = text.lines().enumerate().peekable();
+        while let Some((_, l)) = lines.peek() {
+            let s = l.trim_start();
+            if s.starts_with('"') || s.starts_with('*') || s.is_empty() {
+                lines.next();
+            } else {
+                break;
+            }
+        }
+        Self { lines }
     }
 
     /// The next non-empty line's tokens with its 1-based number.
-    fn next_line(&mut self) -> Option<(usize, Vec<String>)> {
+    fn next_line(&mut self) -> Option<(usize, Vec<&'a str>)> {
+        let blank = |c: char| c.is_whitespace() || ",{}()".contains(c);
         for (i, l) in self.lines.by_ref() {
-            let toks: Vec<String> = Self::clean(l)
-                .split_whitespace()
-                .map(str::to_string)
-                .collect();
+            let toks: Vec<&str> = l.split(blank).filter(|t| !t.is_empty()).collect();
             if !toks.is_empty() {
                 return Some((i + 1, toks));
             }
@@ -43,23 +56,119 @@ impl<'a> Tokens<'a> {
     }
 }
 
-fn num<T: std::str::FromStr>(tok: &str, line: usize, what: &str) -> Result<T, SdpaError> {
-    tok.parse::<T>().map_err(|_| SdpaError::Parse {
-        line,
-        message: format!("{what}: cannot read '{tok}' as a number"),
+fn parse_error(line: usize, message: String) -> SdpaError {
+    SdpaError::Parse { line, message }
+}
+
+/// A non-negative integer.
+fn count(tok: &str, line: usize, what: &str) -> Result<usize, SdpaError> {
+    tok.parse::<usize>().map_err(|_| {
+        parse_error(
+            line,
+            format!("{what}: '{tok}' is not an integer in 0..={}", usize::MAX),
+        )
     })
 }
 
-fn parse_f64(tok: &str, line: usize, what: &str) -> Result<f64, SdpaError> {
-    // Fortran-style exponents (1.0D+00) appear in some files.
-    let v: f64 = num(&tok.replace(['D', 'd'], "e"), line, what)?;
+/// A finite number; Fortran-style exponents (1.0D+00) appear in some files.
+fn finite(tok: &str, line: usize, what: &str) -> Result<f64, SdpaError> {
+    let v: f64 = tok
+        .replace(['D', 'd'], "e")
+        .parse()
+        .map_err(|_| parse_error(line, format!("{what}: cannot read '{tok}' as a number")))?;
     if !v.is_finite() {
-        return Err(SdpaError::Parse {
+        return Err(parse_error(
             line,
-            message: format!("{what}: non-finite value '{tok}'"),
-        });
+            format!("{what}: '{tok}' is non-finite (NaN, infinite or beyond ±1.8e308)"),
+        ));
     }
     Ok(v)
+}
+
+/// The first token of the next line: `m` or the number of blocks (the rest
+/// of the line is a comment).
+fn header_count(t: &mut Lines, what: &str) -> Result<(usize, usize), SdpaError> {
+    let (line, toks) = t
+        .next_line()
+        .ok_or_else(|| SdpaError::UnexpectedEof(format!("expected {what}")))?;
+    Ok((line, count(toks[0], line, what)?))
+}
+
+/// `nb` non-zero block sizes, over as many lines as they take; the rest of
+/// the last line is a comment.
+fn block_sizes(t: &mut Lines, nb: usize) -> Result<Vec<i64>, SdpaError> {
+    let mut blocks = Vec::new();
+    while blocks.len() < nb {
+        let (line, toks) = t.next_line().ok_or_else(|| {
+            SdpaError::UnexpectedEof(format!(
+                "the header declares {nb} blocks but the file ends after {} block sizes",
+                blocks.len()
+            ))
+        })?;
+        for tok in toks.into_iter().take(nb - blocks.len()) {
+            let what = || format!("block size {} of {nb}", blocks.len() + 1);
+            let b: i64 = tok
+                .parse()
+                .map_err(|_| parse_error(line, format!("{}: '{tok}' is not an integer", what())))?;
+            if b == 0 {
+                return Err(parse_error(line, format!("{}: block size 0", what())));
+            }
+            blocks.push(b);
+        }
+    }
+    Ok(blocks)
+}
+
+/// The `m` entries of c, over as many lines as they take.
+fn costs(t: &mut Lines, m: usize) -> Result<Vec<f64>, SdpaError> {
+    let mut c = Vec::new();
+    while c.len() < m {
+        let (line, toks) = t.next_line().ok_or_else(|| {
+            SdpaError::UnexpectedEof(format!(
+                "the header declares m = {m} but the file ends after {} entries of the cost vector c",
+                c.len()
+            ))
+        })?;
+        for tok in toks {
+            if c.len() == m {
+                return Err(parse_error(
+                    line,
+                    format!("more than m = {m} entries in the cost vector c"),
+                ));
+            }
+            c.push(finite(
+                tok,
+                line,
+                &format!("cost vector entry c{}", c.len() + 1),
+            )?);
+        }
+    }
+    Ok(c)
+}
+
+type Entry = (usize, usize, usize, usize, f64);
+
+/// One line `matno blkno i j value`, checked against m and the blocks;
+/// returned 0-based with `i ≤ j`.
+fn entry(line: usize, toks: &[&str], m: usize, blocks: &[i64]) -> Result<Entry, SdpaError> {
+    if toks.len() < 5 {
+        return Err(parse_error(
+            line,
+            format!(
+                "expected 'matno blkno i j value', found {} fields",
+                toks.len()
+            ),
+        ));
+    }
+    let mat = count(toks[0], line, "matrix number")?;
+    let blk = count(toks[1], line, "block number")?;
+    let i = count(toks[2], line, "row")?;
+    let j = count(toks[3], line, "column")?;
+    let v = finite(toks[4], line, "value")?;
+    if let Some(msg) = entry_fault(m, blocks, mat, blk, i, j) {
+        return Err(parse_error(line, msg));
+    }
+    Ok((mat, blk - 1, i.min(j) - 1, i.max(j) - 1, v))
 }
 
 impl SdpaProblem {
@@ -68,109 +177,70 @@ impl SdpaProblem {
         self.c.len()
     }
 
-    /// Reads a file.
+    /// Reads a file with the default [`SdpaOptions`].
     pub fn read(path: &Path) -> Result<Self, SdpaError> {
-        let text = std::fs::read_to_string(path).map_err(|e| SdpaError::Io {
+        Self::read_with(path, &SdpaOptions::default())
+    }
+
+    /// Reads a file, first checking that reading it fits the memory limit
+    /// (about [`READ_BYTES_PER_FILE_BYTE`](super::READ_BYTES_PER_FILE_BYTE)
+    /// bytes per byte of file).
+    pub fn read_with(path: &Path, opts: &SdpaOptions) -> Result<Self, SdpaError> {
+        opts.validate()?;
+        let io = |e| SdpaError::Io {
             path: path.to_path_buf(),
             source: e,
+        };
+        let len = std::fs::metadata(path).map_err(io)?.len();
+        super::memory::check_read(path, len, opts)?;
+        let bytes = std::fs::read(path).map_err(io)?;
+        let text = String::from_utf8(bytes).map_err(|e| {
+            let at = e.utf8_error().valid_up_to();
+            let line = 1 + e.as_bytes()[..at].iter().filter(|&&b| b == b'\n').count();
+            SdpaError::Encoding {
+                path: path.to_path_buf(),
+                line,
+            }
         })?;
         Self::parse(&text)
     }
 
-    /// Parses SDPA sparse text.
+    /// Parses SDPA sparse text: the header (m ≤ [`MAX_VARIABLES`], the
+    /// number of blocks, their sizes), c, then the entries, each checked
+    /// against the header; an entry given twice is an error naming both
+    /// lines. Nothing is allocated from the declared sizes.
     pub fn parse(text: &str) -> Result<Self, SdpaError> {
-        let mut t = Tokens {
-            lines: text.lines().enumerate().peekable(),
-        };
-        // skip leading comments
-        while let Some((_, l)) = t.lines.peek() {
-            let s = l.trim_start();
-            if s.starts_with('"') || s.starts_with('*') || s.is_empty() {
-                t.lines.next();
-            } else {
-                break;
-            }
+        let mut t = Lines::new(text);
+        let (line, m) = header_count(&mut t, "the number of constraint matrices m")?;
+        if m > MAX_VARIABLES {
+            return Err(parse_error(
+                line,
+                format!("m = {m} is more than the limit of {MAX_VARIABLES} variables"),
+            ));
         }
-        let eof = |w: &str| SdpaError::UnexpectedEof(format!("expected {w}"));
-        let (line, toks) = t
-            .next_line()
-            .ok_or_else(|| eof("the number of constraint matrices m"))?;
-        let m: usize = num(&toks[0], line, "m")?;
-        let (line, toks) = t.next_line().ok_or_else(|| eof("the number of blocks"))?;
-        let nb: usize = num(&toks[0], line, "number of blocks")?;
-        let mut blocks = Vec::with_capacity(nb);
-        while blocks.len() < nb {
-            let (line, toks) = t.next_line().ok_or_else(|| eof("the block sizes"))?;
-            for tok in toks {
-                if blocks.len() == nb {
-                    break;
-                }
-                let b: i64 = num(&tok, line, "block size")?;
-                if b == 0 {
-                    return Err(SdpaError::Parse {
-                        line,
-                        message: "block size 0".into(),
-                    });
-                }
-                blocks.push(b);
-            }
-        }
-        let mut c = Vec::with_capacity(m);
-        while c.len() < m {
-            let (line, toks) = t.next_line().ok_or_else(|| eof("the cost vector c"))?;
-            for tok in toks {
-                if c.len() == m {
-                    return Err(SdpaError::Parse {
-                        line,
-                        message: format!("more than m = {m} entries in c"),
-                    });
-                }
-                c.push(parse_f64(&tok, line, "cost vector entry")?);
-            }
-        }
+        let (_, nb) = header_count(&mut t, "the number of blocks")?;
+        let blocks = block_sizes(&mut t, nb)?;
+        let c = costs(&mut t, m)?;
         let mut entries = Vec::new();
+        let mut lines = Vec::new();
         while let Some((line, toks)) = t.next_line() {
-            if toks.len() < 5 {
-                return Err(SdpaError::Parse {
-                    line,
-                    message: format!(
-                        "expected 'matno blkno i j value', found {} fields",
-                        toks.len()
-                    ),
-                });
-            }
-            let mat: usize = num(&toks[0], line, "matrix number")?;
-            let blk: usize = num(&toks[1], line, "block number")?;
-            let i: usize = num(&toks[2], line, "row")?;
-            let j: usize = num(&toks[3], line, "column")?;
-            let v = parse_f64(&toks[4], line, "value")?;
-            if mat > m {
-                return Err(SdpaError::Parse {
-                    line,
-                    message: format!("matrix number {mat} > m = {m}"),
-                });
-            }
-            if blk == 0 || blk > nb {
-                return Err(SdpaError::Parse {
-                    line,
-                    message: format!("block number {blk} not in 1..={nb}"),
-                });
-            }
-            let size = blocks[blk - 1].unsigned_abs() as usize;
-            if i == 0 || j == 0 || i > size || j > size {
-                return Err(SdpaError::Parse {
-                    line,
-                    message: format!("entry ({i}, {j}) outside block {blk} of size {size}"),
-                });
-            }
-            if blocks[blk - 1] < 0 && i != j {
-                return Err(SdpaError::Parse {
-                    line,
-                    message: format!("off-diagonal entry ({i}, {j}) in diagonal block {blk}"),
-                });
-            }
-            let (i, j) = if i <= j { (i, j) } else { (j, i) };
-            entries.push((mat, blk - 1, i - 1, j - 1, v));
+            entries.push(entry(line, &toks, m, &blocks)?);
+            lines.push(line);
+        }
+        let key = |k: usize| -> (usize, usize, usize, usize) {
+            let e: &Entry = &entries[k];
+            (e.0, e.1, e.2, e.3)
+        };
+        if let Some((a, b)) = first_duplicate(entries.len(), key) {
+            let (matrix, blk, i, j) = key(a);
+            return Err(SdpaError::Duplicate {
+                line: lines[b],
+                first_line: lines[a],
+                matrix,
+                block: blk + 1,
+                row: i + 1,
+                col: j + 1,
+            });
         }
         Ok(Self { c, blocks, entries })
     }
@@ -214,128 +284,5 @@ impl SdpaProblem {
         let tmp = path.with_extension("dat-s.tmp");
         std::fs::write(&tmp, self.to_text()).map_err(io)?;
         std::fs::rename(&tmp, path).map_err(io)
-    }
-
-    /// The conic problem and its variables x₁..x_m.
-    pub fn to_problem(&self) -> Result<(Problem, Vec<Var>), SdpaError> {
-        let mut p = Problem::new();
-        let x = p.vector("x", self.m());
-        p.minimize(AffExpr::linear(&x, &self.c, 0.0)?);
-        let mut per_block: Vec<Vec<usize>> = vec![Vec::new(); self.blocks.len()];
-        for (k, e) in self.entries.iter().enumerate() {
-            per_block[e.1].push(k);
-        }
-        for (b, &size) in self.blocks.iter().enumerate() {
-            let n = size.unsigned_abs() as usize;
-            // F(x) = Σ xᵢ Fᵢ − F₀
-            let mut mat = MatExpr::zeros(n, n);
-            for &k in &per_block[b] {
-                let (mi, _, i, j, v) = self.entries[k];
-                let term = if mi == 0 {
-                    AffExpr::constant(-v)
-                } else {
-                    AffExpr::term(x[mi - 1], v)
-                };
-                *mat.get_mut(i, j)? += term.clone();
-                if i != j {
-                    *mat.get_mut(j, i)? += term;
-                }
-            }
-            let id = if size > 0 {
-                p.add_psd(&mat)?
-            } else {
-                p.add_nonneg(
-                    (0..n)
-                        .map(|i| mat.get(i, i).cloned())
-                        .collect::<Result<Vec<_>, _>>()?,
-                )?
-            };
-            p.set_name(id, &format!("block {}", b + 1))?;
-        }
-        Ok((p, x))
-    }
-
-    /// Writes a conic problem in SDPA form. Nonnegative rows become diagonal
-    /// blocks, equalities pairs of opposite rows, second-order cones the arrow
-    /// LMI `[[t, uᵀ], [u, tI]] ⪰ 0`, PSD constraints dense blocks. Least-squares
-    /// terms and objective constants have no SDPA form and are rejected.
-    pub fn from_problem(p: &Problem) -> Result<Self, SdpaError> {
-        if !p.squares.is_empty() {
-            return Err(
-                ConicError::Unsupported("least-squares terms in SDPA output".into()).into(),
-            );
-        }
-        if p.linear.constant_term() != 0.0 {
-            return Err(
-                ConicError::Unsupported("an objective constant in SDPA output".into()).into(),
-            );
-        }
-        let sign = if p.sense == Sense::Maximize {
-            -1.0
-        } else {
-            1.0
-        };
-        let mut c = vec![0.0; p.num_vars()];
-        for (v, a) in p.linear.coefficients() {
-            c[v.index()] += sign * a;
-        }
-        let mut blocks = Vec::new();
-        let mut entries = Vec::new();
-        // entry (i, j) of the current block = expression e: Fᵢ gets the
-        // coefficients, F₀ the negated constant.
-        let mut put = |blk: usize, i: usize, j: usize, e: &AffExpr| {
-            for (v, a) in e.coefficients() {
-                entries.push((v.index() + 1, blk, i, j, a));
-            }
-            if e.constant_term() != 0.0 {
-                entries.push((0, blk, i, j, -e.constant_term()));
-            }
-        };
-        let s2 = std::f64::consts::SQRT_2;
-        for con in &p.constraints {
-            let blk = blocks.len();
-            let k = con.rows.len();
-            match con.kind {
-                ConeKind::Nonnegative => {
-                    blocks.push(-(k as i64));
-                    for (r, e) in con.rows.iter().enumerate() {
-                        put(blk, r, r, e);
-                    }
-                }
-                ConeKind::Zero => {
-                    blocks.push(-2 * k as i64);
-                    for (r, e) in con.rows.iter().enumerate() {
-                        put(blk, 2 * r, 2 * r, e);
-                        put(blk, 2 * r + 1, 2 * r + 1, &(e * -1.0));
-                    }
-                }
-                ConeKind::SecondOrder => {
-                    blocks.push(k as i64);
-                    for r in 0..k {
-                        put(blk, r, r, &con.rows[0]);
-                    }
-                    for r in 1..k {
-                        put(blk, 0, r, &con.rows[r]);
-                    }
-                }
-                ConeKind::Psd { n } => {
-                    blocks.push(n as i64);
-                    for j in 0..n {
-                        for i in 0..=j {
-                            let e = &con.rows[j * (j + 1) / 2 + i];
-                            if i == j {
-                                put(blk, i, j, e)
-                            } else {
-                                put(blk, i, j, &(e * (1.0 / s2)))
-                            }
-                        }
-                    }
-                }
-            }
-            if k == 0 {
-                blocks.pop();
-            }
-        }
-        Ok(Self { c, blocks, entries })
     }
 }

@@ -1,45 +1,80 @@
-//! `momentlmi sdpa FILE [--json]`.
+//! `momentlmi sdpa FILE [--json] [--max-memory-gib G] [--chordal] [--qdldl] [--verbose]`.
 
-use momentlmi::conic::{KktSolver, Settings};
-use momentlmi::sdpa::SdpaProblem;
+use momentlmi::conic::{KktSolver, Settings, Solution};
+use momentlmi::sdpa::{MemoryEstimate, SdpaOptions, SdpaProblem};
 use serde_json::json;
 use std::path::Path;
 
+/// The command's arguments.
+pub struct SdpaArgs<'a> {
+    /// The .dat-s file.
+    pub file: &'a Path,
+    /// Print one JSON object.
+    pub json: bool,
+    /// Clarabel's chordal decomposition (experimental).
+    pub chordal: bool,
+    /// QDLDL instead of faer.
+    pub qdldl: bool,
+    /// The solver's iteration log.
+    pub verbose: bool,
+    /// Memory limit in GiB.
+    pub max_memory_gib: f64,
+}
+
+/// Printed to stderr whenever `--chordal` is given.
+pub const CHORDAL_WARNING: &str = "warning: --chordal is experimental: Clarabel's chordal \
+decomposition can end \"solved\" at a wrong optimum (SDPLIB control1: about 18.05 instead of 17.7846); \
+check the result without --chordal";
+
 /// Solves the file; exit code 0 when solved, 1 when the solver ended
-/// otherwise, 2 on unreadable input.
-pub fn run(file: &Path, as_json: bool, chordal: bool, qdldl: bool, verbose: bool) -> i32 {
-    let prob = match SdpaProblem::read(file) {
-        Ok(p) => p,
-        Err(e) => {
-            eprintln!("error: {}: {e}", file.display());
-            return 2;
-        }
+/// otherwise, 2 on unreadable or too large input (the error names the
+/// line, block or entry, or the memory it would need).
+pub fn run(a: &SdpaArgs) -> i32 {
+    if a.chordal {
+        eprintln!("{CHORDAL_WARNING}");
+    }
+    let fail = |e: &dyn std::fmt::Display| {
+        eprintln!("error: {}: {e}", a.file.display());
+        2
     };
-    let kkt = if qdldl {
+    let opts = SdpaOptions::default().max_memory_gib(a.max_memory_gib);
+    let prob = match SdpaProblem::read_with(a.file, &opts) {
+        Ok(p) => p,
+        Err(e) => return fail(&e),
+    };
+    let estimate = match prob.memory_estimate() {
+        Ok(m) => m,
+        Err(e) => return fail(&e),
+    };
+    let kkt = if a.qdldl {
         KktSolver::Qdldl
     } else {
         KktSolver::Faer
     };
     let settings = Settings::default()
-        .chordal_decomposition(chordal)
+        .chordal_decomposition(a.chordal)
         .kkt_solver(kkt)
-        .verbose(verbose && !as_json);
+        .verbose(a.verbose && !a.json);
     let result = prob
-        .to_problem()
+        .to_problem_with(&opts)
         .map_err(|e| e.to_string())
         .and_then(|(p, _)| p.solve(&settings).map_err(|e| e.to_string()));
     let sol = match result {
         Ok(s) => s,
-        Err(e) => {
-            eprintln!("error: {}: {e}", file.display());
-            return 2;
-        }
+        Err(e) => return fail(&e),
     };
-    if as_json {
+    print_result(a, &prob, &estimate, &sol);
+    if sol.status.is_solved() { 0 } else { 1 }
+}
+
+fn print_result(a: &SdpaArgs, prob: &SdpaProblem, est: &MemoryEstimate, sol: &Solution) {
+    if a.json {
         let v = json!({
-            "file": file.display().to_string(),
+            "file": a.file.display().to_string(),
             "m": prob.m(),
             "blocks": prob.blocks,
+            "memory_estimate_gib": est.total_gib(),
+            "chordal": a.chordal,
             "status": sol.status.as_str(),
             "primal_objective": sol.primal_objective,
             "dual_objective": sol.dual_objective,
@@ -49,9 +84,10 @@ pub fn run(file: &Path, as_json: bool, chordal: bool, qdldl: bool, verbose: bool
         });
         println!("{v}");
     } else {
-        println!("file              {}", file.display());
+        println!("file              {}", a.file.display());
         println!("variables m       {}", prob.m());
         println!("blocks            {:?}", prob.blocks);
+        println!("memory estimate   {:.3} GiB", est.total_gib());
         println!("status            {}", sol.status);
         println!("primal objective  {:.10e}", sol.primal_objective);
         println!("dual objective    {:.10e}", sol.dual_objective);
@@ -61,5 +97,4 @@ pub fn run(file: &Path, as_json: bool, chordal: bool, qdldl: bool, verbose: bool
             sol.solve_time_s, sol.setup_time_s
         );
     }
-    if sol.status.is_solved() { 0 } else { 1 }
 }

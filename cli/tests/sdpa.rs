@@ -1,0 +1,191 @@
+//! `momentlmi sdpa` on hostile files written here: every error is a named
+//! message with exit code 2, never a panic (101) or an abort; the memory
+//! limit; the --chordal warning in --help and on stderr.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_momentlmi"))
+}
+
+struct TempDir(PathBuf);
+impl TempDir {
+    fn new(tag: &str) -> Self {
+        let d = std::env::temp_dir().join(format!("momentlmi-sdpa-{tag}-{}", std::process::id()));
+        std::fs::create_dir_all(&d).unwrap();
+        Self(d)
+    }
+    fn write(&self, name: &str, text: &str) -> PathBuf {
+        let p = self.0.join(name);
+        std::fs::write(&p, text).unwrap();
+        p
+    }
+}
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// min x₁ + x₂ s.t. [[x₁, 1], [1, x₂]] ⪰ 0, x₁ ≥ 0.5: value 2.
+const SMALL: &str =
+    "2\n2\n{2, -1}\n1.0 1.0\n0 1 1 2 -1.0\n1 1 1 1 1.0\n2 1 2 2 1.0\n1 2 1 1 1.0\n0 2 1 1 0.5\n";
+
+fn run(args: &[&str]) -> (i32, String, String) {
+    let Output {
+        status,
+        stdout,
+        stderr,
+    } = bin().args(args).output().unwrap();
+    (
+        status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&stdout).into_owned(),
+        String::from_utf8_lossy(&stderr).into_owned(),
+    )
+}
+
+fn sdpa(file: &std::path::Path, extra: &[&str]) -> (i32, String, String) {
+    let mut args = vec!["sdpa", file.to_str().unwrap()];
+    args.extend_from_slice(extra);
+    run(&args)
+}
+
+#[test]
+fn hostile_headers_are_named_errors_with_exit_code_2() {
+    let d = TempDir::new("hostile");
+    let cases = [
+        (
+            "wrap32",
+            "1\n1\n4294967296\n1.0\n1 1 1 1 1.0\n",
+            "block 1 side = 4294967296",
+        ),
+        (
+            "wrap62",
+            "1\n1\n4611686018427387904\n1.0\n1 1 1 1 1.0\n",
+            "block 1 side",
+        ),
+        (
+            "tera",
+            "1\n1\n1000000\n1.0\n1 1 1 1 1.0\n",
+            "would need about",
+        ),
+        (
+            "lpmin",
+            "1\n1\n-9223372036854775808\n1.0\n1 1 1 1 1.0\n",
+            "would need about",
+        ),
+        (
+            "hugem",
+            "18446744073709551615\n1\n2\n1.0\n",
+            "line 1: m = 18446744073709551615",
+        ),
+        (
+            "hugenb",
+            "1\n18446744073709551615\n2\n1.0\n",
+            "line 4: block size 2 of",
+        ),
+        (
+            "shortc",
+            "1000000000\n1\n2\n1.0\n",
+            "declares m = 1000000000",
+        ),
+        (
+            "nan",
+            "1\n1\n2\n1.0\n1 1 1 1 nan\n",
+            "line 5: value: 'nan' is non-finite",
+        ),
+        (
+            "e400",
+            "1\n1\n2\n1e400\n",
+            "line 4: cost vector entry c1: '1e400'",
+        ),
+        (
+            "matno",
+            "1\n1\n2\n1.0\n2 1 1 1 1.0\n",
+            "line 5: matrix number 2 > m = 1",
+        ),
+        (
+            "outside",
+            "1\n1\n2\n1.0\n1 1 3 1 1.0\n",
+            "line 5: entry (3, 1) outside block 1",
+        ),
+        (
+            "dup",
+            "1\n1\n2\n1.0\n1 1 1 2 1.0\n1 1 2 1 1.0\n",
+            "line 6: entry (matrix 1, block 1, 1, 2) was already given on line 5",
+        ),
+        ("empty", "", "unexpected end of file"),
+    ];
+    for (name, text, want) in cases {
+        let f = d.write(&format!("{name}.dat-s"), text);
+        let (code, _, err) = sdpa(&f, &[]);
+        assert_eq!(code, 2, "{name}: {err}");
+        assert!(err.contains(want), "{name}: {err}");
+        assert!(!err.contains("panicked"), "{name}: {err}");
+    }
+}
+
+#[test]
+fn the_memory_limit_is_a_setting() {
+    let d = TempDir::new("memory");
+    // a PSD block of side 60: about 0.2 GiB by the estimate
+    let mut text = "1\n1\n60\n1.0\n".to_string();
+    for k in 1..=60 {
+        text += &format!("1 1 {k} {k} 1.0\n");
+    }
+    let f = d.write("side60.dat-s", &text);
+    let (code, _, err) = sdpa(&f, &["--max-memory-gib", "0.05"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("more than the limit of 0.050 GiB") && err.contains("largest of side 60"),
+        "{err}"
+    );
+    for bad in ["nan", "0", "-1", "inf"] {
+        let (code, _, err) = sdpa(&f, &[&format!("--max-memory-gib={bad}")]);
+        assert_eq!(code, 2, "{bad}: {err}");
+        assert!(err.contains("max_memory_gib"), "{bad}: {err}");
+    }
+    let small = d.write("small.dat-s", SMALL);
+    let (code, out, err) = sdpa(&small, &["--max-memory-gib", "1", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(v["memory_estimate_gib"].as_f64().unwrap() < 0.1);
+    assert!((v["primal_objective"].as_f64().unwrap() - 2.0).abs() < 1e-6);
+}
+
+#[test]
+fn an_lp_block_of_100000_solves_in_linear_memory() {
+    // min x s.t. x ≥ k/n for every k: x = 1
+    let n = 100_000;
+    let mut text = format!("1\n1\n-{n}\n1.0\n");
+    for k in 1..=n {
+        text += &format!("1 1 {k} {k} 1\n0 1 {k} {k} {}\n", k as f64 / n as f64);
+    }
+    let d = TempDir::new("lp");
+    let f = d.write("lp.dat-s", &text);
+    let (code, out, err) = sdpa(&f, &["--json", "--max-memory-gib", "0.5"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(
+        (v["primal_objective"].as_f64().unwrap() - 1.0).abs() < 1e-6,
+        "{out}"
+    );
+}
+
+#[test]
+fn chordal_is_marked_experimental_in_help_and_warns() {
+    let (code, out, _) = run(&["sdpa", "--help"]);
+    assert_eq!(code, 0);
+    let help = out.replace('\n', " ");
+    assert!(help.contains("EXPERIMENTAL"), "{out}");
+    assert!(help.contains("wrong optimum"), "{out}");
+    assert!(help.contains("--max-memory-gib"), "{out}");
+    let d = TempDir::new("chordal");
+    let f = d.write("small.dat-s", SMALL);
+    let (code, _, err) = sdpa(&f, &["--chordal"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("warning: --chordal is experimental"), "{err}");
+    let (_, _, err) = sdpa(&f, &[]);
+    assert!(!err.contains("warning"), "{err}");
+}

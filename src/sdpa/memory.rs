@@ -1,0 +1,192 @@
+//! The memory a solve will need, estimated from the sizes alone, before
+//! anything is allocated from them.
+//!
+//! Clarabel keeps, for each PSD cone of side n, its scaling Hessian as a
+//! dense `t × t` matrix with `t = n(n+1)/2`, puts that block's upper
+//! triangle into the KKT matrix (values, row indices and a map), keeps a
+//! permuted copy for the factorisation, and the LDLᵀ factor of a dense
+//! block is dense too. All of that is `Θ(t²) = Θ(n⁴)`: measured peak memory
+//! is 52–54 bytes per `t²` from n = 40 to n = 100 with either KKT solver
+//! (n = 100: 1.31 GB), so a single block of side 250 needs about 48 GiB.
+//! The estimate is
+//!
+//! ```text
+//! bytes ≈ Σ_PSD blocks [ 56 t² + 16 (2 t mₖ + mₖ²) + 64 n² ]
+//!       + 512 · rows + 768 · m + 256 · entries + 1024 · blocks + 32 MiB
+//! ```
+//!
+//! with mₖ ≤ min(m, entries of block k) the variables block k touches (the
+//! factor's fill between them and the block), rows = Σ t + Σ |LP sizes|.
+//! Diagonal (LP) blocks are linear in their size. Fill-in between variables
+//! through LP rows is not estimated (it is what a sparse LP costs anyway).
+
+use super::error::{SdpaError, gib};
+use super::format::SdpaProblem;
+use super::options::{GIB, SdpaOptions};
+use crate::conic::AffExpr;
+use std::path::Path;
+
+/// Bytes per `t²` of a PSD block with `t = n(n+1)/2` rows.
+pub const BYTES_PER_DENSE: f64 = 56.0;
+/// Bytes per element of a PSD block's coupling with its variables.
+const BYTES_PER_COUPLING: f64 = 16.0;
+/// Bytes per `n²` of a PSD block of side n (the n × n expression built
+/// once, the cone's n × n work matrices).
+const BYTES_PER_SIDE_SQUARED: f64 = 64.0;
+/// Bytes per conic row (expressions, the solver's vectors).
+pub const BYTES_PER_ROW: f64 = 512.0;
+/// Bytes per variable (names, the solver's vectors).
+pub const BYTES_PER_VARIABLE: f64 = 768.0;
+/// Bytes per entry of the file (stored, as a term, in A and its copies).
+pub const BYTES_PER_ENTRY: f64 = 256.0;
+/// Bytes per block (a constraint, a cone).
+const BYTES_PER_BLOCK: f64 = 1024.0;
+/// Bytes of the process and the solver whatever the size.
+pub const BYTES_FIXED: f64 = 32.0 * 1024.0 * 1024.0;
+/// Reading a file needs about this many bytes per byte of file (the text,
+/// the entries and their line numbers).
+pub const READ_BYTES_PER_FILE_BYTE: f64 = 8.0;
+
+/// The estimated memory of converting and solving one SDPA problem
+/// ([`SdpaProblem::memory_estimate`]); all sizes were computed with checked
+/// arithmetic.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MemoryEstimate {
+    /// Bytes of the PSD blocks' dense parts (`Θ(n⁴)` per block of side n).
+    pub dense_bytes: f64,
+    /// Bytes linear in the rows, variables, entries and blocks, plus a
+    /// fixed 32 MiB.
+    pub linear_bytes: f64,
+    /// Rows of the conic problem: Σ n(n+1)/2 over PSD blocks + Σ |n| over LP blocks.
+    pub rows: usize,
+    /// Side of the largest PSD block (0 without one).
+    pub largest_psd_side: usize,
+}
+
+impl MemoryEstimate {
+    /// Total bytes.
+    pub fn total_bytes(&self) -> f64 {
+        self.dense_bytes + self.linear_bytes
+    }
+
+    /// Total GiB.
+    pub fn total_gib(&self) -> f64 {
+        self.total_bytes() / GIB
+    }
+
+    /// The parts of the estimate, for a message.
+    pub fn detail(&self) -> String {
+        let linear = format!(
+            "{} GiB for {} rows, the variables and the entries",
+            gib(self.linear_bytes / GIB),
+            self.rows
+        );
+        if self.largest_psd_side == 0 {
+            return linear;
+        }
+        format!(
+            "{} GiB for the dense PSD blocks, the largest of side {}; {linear}",
+            gib(self.dense_bytes / GIB),
+            self.largest_psd_side
+        )
+    }
+
+    /// [`SdpaError::TooLarge`] if the total is above `opts`' limit.
+    pub fn check(&self, opts: &SdpaOptions) -> Result<(), SdpaError> {
+        opts.validate()?;
+        if self.total_bytes() <= opts.max_memory_bytes() {
+            return Ok(());
+        }
+        Err(SdpaError::TooLarge {
+            what: "the solve".into(),
+            needed_gib: self.total_gib(),
+            limit_gib: opts.memory_limit_gib(),
+            detail: self.detail(),
+        })
+    }
+}
+
+fn overflow(block: usize, n: u64, what: &str) -> SdpaError {
+    SdpaError::Limit {
+        what: format!("block {block} side"),
+        value: n.to_string(),
+        reason: format!("{what} overflows this machine's indices"),
+    }
+}
+
+/// Rows of a PSD block of side n, n(n+1)/2, and a check that its n × n
+/// expression is addressable.
+fn psd_rows(block: usize, n: u64) -> Result<usize, SdpaError> {
+    let n = usize::try_from(n).map_err(|_| overflow(block, n, "n"))?;
+    let addressable = n
+        .checked_mul(n)
+        .and_then(|s| s.checked_mul(size_of::<AffExpr>()))
+        .is_some_and(|bytes| bytes <= isize::MAX as usize);
+    if !addressable {
+        return Err(overflow(block, n as u64, "its n × n expression"));
+    }
+    n.checked_mul(n + 1)
+        .map(|x| x / 2)
+        .ok_or_else(|| overflow(block, n as u64, "n(n+1)/2"))
+}
+
+impl SdpaProblem {
+    /// The memory converting and solving this problem will need (module
+    /// docs of `sdpa::memory`, docs/inputs.md); an error if a size
+    /// overflows. Takes O(entries) time and no memory of the declared sizes.
+    pub fn memory_estimate(&self) -> Result<MemoryEstimate, SdpaError> {
+        let m = self.m() as f64;
+        let mut per_block = vec![0usize; self.blocks.len()];
+        for e in self.entries.iter().filter(|e| e.0 > 0) {
+            if let Some(c) = per_block.get_mut(e.1) {
+                *c += 1;
+            }
+        }
+        let (mut dense, mut rows, mut largest) = (0.0, 0usize, 0usize);
+        for (b, (&size, &touched)) in self.blocks.iter().zip(&per_block).enumerate() {
+            let n = size.unsigned_abs();
+            let r = if size > 0 {
+                let t = psd_rows(b + 1, n)?;
+                let (tf, mk, nf) = (t as f64, m.min(touched as f64), n as f64);
+                dense += BYTES_PER_DENSE * tf * tf
+                    + BYTES_PER_COUPLING * (2.0 * tf * mk + mk * mk)
+                    + BYTES_PER_SIDE_SQUARED * nf * nf;
+                largest = largest.max(n as usize);
+                t
+            } else {
+                usize::try_from(n).map_err(|_| overflow(b + 1, n, "n"))?
+            };
+            rows = rows.checked_add(r).ok_or_else(|| SdpaError::Limit {
+                what: "rows of the conic problem".into(),
+                value: format!("more than {}", usize::MAX),
+                reason: format!("the sum overflows at block {}", b + 1),
+            })?;
+        }
+        let linear = BYTES_FIXED
+            + BYTES_PER_ROW * rows as f64
+            + BYTES_PER_VARIABLE * m
+            + BYTES_PER_ENTRY * self.entries.len() as f64
+            + BYTES_PER_BLOCK * self.blocks.len() as f64;
+        Ok(MemoryEstimate {
+            dense_bytes: dense,
+            linear_bytes: linear,
+            rows,
+            largest_psd_side: largest,
+        })
+    }
+}
+
+/// [`SdpaError::TooLarge`] if reading a file of `len` bytes would need more
+/// than the limit.
+pub(crate) fn check_read(path: &Path, len: u64, opts: &SdpaOptions) -> Result<(), SdpaError> {
+    let needed = READ_BYTES_PER_FILE_BYTE * len as f64;
+    if needed <= opts.max_memory_bytes() {
+        return Ok(());
+    }
+    Err(SdpaError::TooLarge {
+        what: format!("reading {}", path.display()),
+        needed_gib: needed / GIB,
+        limit_gib: opts.memory_limit_gib(),
+        detail: format!("{READ_BYTES_PER_FILE_BYTE} bytes per byte of its {len} bytes"),
+    })
+}
