@@ -26,6 +26,7 @@ pub mod diagnose;
 pub mod dynamics;
 pub mod identify;
 pub mod moments;
+mod numfmt;
 pub mod sdpa;
 pub mod sim;
 pub mod urdf;

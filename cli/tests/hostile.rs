@@ -346,6 +346,24 @@ fn a_robot_beyond_the_memory_limit_is_refused_before_it_starts() {
         "0.001",
     ]);
     refused(&o, "GiB limit", "diagnose --max-memory-gib");
+    // a limit between the base library and the inertial candidates: the
+    // diagnosis runs without them and says so
+    let o = run(&[
+        "diagnose",
+        "--robot",
+        "cheetah3-leg",
+        "--data",
+        s,
+        "--max-memory-gib",
+        "0.006",
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains("link_inertia, rotor_inertia: not considered"),
+        "{err}"
+    );
+    assert!(!err.contains("elasticity, backlash: not considered"), "{err}");
     // and a fitting run writes finite numbers only
     let pred = d.join("pred.csv");
     let o = run(&[

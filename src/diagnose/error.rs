@@ -24,7 +24,7 @@ pub enum DiagnoseError {
         found: Vec<String>,
     },
     /// An option out of range.
-    #[error("diagnosis option '{option}' = {value}: {message}")]
+    #[error("diagnosis option '{option}' = {}: {message}", crate::numfmt::short(*value))]
     Option {
         /// The option.
         option: &'static str,

@@ -64,18 +64,64 @@ impl Default for DiagnoseOptions {
     }
 }
 
-/// What a diagnosis of `samples` samples of `model` will hold (bytes):
-/// `(linear, compliance)`: the candidate library's columns (one value per
-/// sample, joint and column) and the compliance searches' linearisation
-/// (per sample: M, ∂τ/∂q, ∂τ/∂q̇ and one ∂M/∂sᵢ per joint, n³ in all).
-pub fn memory_estimate(model: &Model, samples: usize) -> (u64, u64) {
+/// What a diagnosis of `samples` samples of `model` will hold (bytes), by
+/// part of the candidate library: one value per sample, joint and column
+/// (twice: the columns and their fitted copies), and the compliance
+/// searches' linearisation (per sample: M, ∂τ/∂q, ∂τ/∂q̇ and one ∂M/∂sᵢ
+/// per joint, n³ in all).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MemoryEstimate {
+    /// Friction, offset, gain, delay, cogging and payload columns (~12 per joint).
+    pub base: u64,
+    /// The link and rotor inertia candidates (10 columns per body).
+    pub inertial: u64,
+    /// The elasticity and backlash searches' linearisation.
+    pub compliance: u64,
+}
+
+/// The [`MemoryEstimate`] of diagnosing `samples` samples of `model`.
+pub fn memory_estimate(model: &Model, samples: usize) -> MemoryEstimate {
     let (n, nb) = (model.dof() as u64, model.num_bodies() as u64);
-    let rows = samples as u64 * n;
-    // links and rotors 10 each, payload 10, friction variants ~12 per joint
-    let columns = 10 * nb + 10 + 12 * n;
-    let linear = 8 * rows * columns * 2;
-    let compliance = 8 * samples as u64 * (3 * n * n + n * n * n + n * n + 4 * n);
-    (linear, compliance)
+    let per_column = 8 * 2 * samples as u64 * n;
+    MemoryEstimate {
+        base: per_column * (12 * n + 10),
+        inertial: per_column * 10 * nb,
+        compliance: 8 * samples as u64 * (3 * n * n + n * n * n + n * n + 4 * n),
+    }
+}
+
+/// Which parts of the library fit in `limit` bytes: the base must, the
+/// inertial candidates and then the compliance searches are left out (with
+/// a warning each) when they do not.
+fn plan(
+    est: MemoryEstimate,
+    limit: u64,
+    warnings: &mut Vec<String>,
+) -> Result<(bool, bool), DiagnoseError> {
+    let gib = |b: u64| b as f64 / (1u64 << 30) as f64;
+    if est.base > limit {
+        return Err(DiagnoseError::TooLarge {
+            needed_gib: gib(est.base),
+            limit_gib: gib(limit),
+        });
+    }
+    let inertial = est.base + est.inertial <= limit;
+    let used = est.base + if inertial { est.inertial } else { 0 };
+    let compliance = used + est.compliance <= limit;
+    let mut skip = |what: &str, bytes: u64| {
+        warnings.push(format!(
+            "{what}: not considered: it needs {:.2} GiB beyond the {:.2} GiB limit (fewer samples or joints, or a higher limit)",
+            gib(bytes),
+            gib(limit)
+        ));
+    };
+    if !inertial {
+        skip("link_inertia, rotor_inertia", est.inertial);
+    }
+    if !compliance {
+        skip("elasticity, backlash", est.compliance);
+    }
+    Ok((inertial, compliance))
 }
 
 impl DiagnoseOptions {
@@ -132,9 +178,9 @@ impl DiagnoseOptions {
     }
 
     /// The memory the diagnosis may plan for ([`memory_estimate`]): beyond
-    /// it the compliance searches are skipped (with a warning) and, if the
-    /// linear library alone does not fit, the diagnosis is refused before
-    /// it starts.
+    /// it the inertial candidates and the compliance searches are left out
+    /// (with a warning each) and, if the rest of the library does not fit,
+    /// the diagnosis is refused before it starts.
     pub fn with_max_memory(mut self, bytes: u64) -> Self {
         self.max_memory_bytes = bytes;
         self
@@ -250,7 +296,7 @@ fn library(
     model: &Model,
     friction: &Friction,
     data: &Dataset,
-    (r, split, with_compliance): (&[f64], &Split, bool),
+    (r, split, (with_inertial, with_compliance)): (&[f64], &Split, (bool, bool)),
     warnings: &mut Vec<String>,
 ) -> Result<Vec<Vec<Columns>>, DiagnoseError> {
     let lin = if with_compliance {
@@ -265,6 +311,13 @@ fn library(
     Candidate::ALL
         .iter()
         .map(|&c| {
+            let inertial = matches!(
+                c,
+                Candidate::LinkInertia | Candidate::Effect(Effect::RotorInertia)
+            );
+            if inertial && !with_inertial {
+                return Ok(vec![]);
+            }
             if !c.is_compliance() {
                 return build(c, model, friction, data);
             }
@@ -389,14 +442,12 @@ pub fn diagnose(
             found: data.joints.clone(),
         });
     }
-    let (linear, compliance) = memory_estimate(model, data.len());
-    if linear > opts.max_memory_bytes {
-        return Err(DiagnoseError::TooLarge {
-            needed_gib: linear as f64 / (1u64 << 30) as f64,
-            limit_gib: opts.max_memory_bytes as f64 / (1u64 << 30) as f64,
-        });
-    }
-    let with_compliance = linear + compliance <= opts.max_memory_bytes;
+    let mut warnings = vec![];
+    let parts = plan(
+        memory_estimate(model, data.len()),
+        opts.max_memory_bytes,
+        &mut warnings,
+    )?;
     let split = Split::new(data.len(), n, opts.train_fraction);
     let pred = predict_torques(model, friction, &data.q, &data.qd, &data.qdd)
         .map_err(DiagnoseError::Predict)?;
@@ -408,19 +459,11 @@ pub fn diagnose(
     let where_nominal = where_of(&split, data, &r_nominal);
     let noise_floor: Vec<f64> = where_nominal.iter().map(|w| w.noise_floor).collect();
     let nominal = rms_per_joint(&r_nominal[split.heldout.clone()], n);
-    let mut warnings = vec![];
-    if !with_compliance {
-        warnings.push(format!(
-            "elasticity, backlash: not searched: their linearisation needs {:.1} GiB beyond the {:.1} GiB limit (fewer samples or joints, or a higher limit)",
-            compliance as f64 / (1u64 << 30) as f64,
-            opts.max_memory_bytes as f64 / (1u64 << 30) as f64
-        ));
-    }
     let library = library(
         model,
         friction,
         data,
-        (&r_nominal, &split, with_compliance),
+        (&r_nominal, &split, parts),
         &mut warnings,
     )?;
     let (ranked, accepted, r) = forward_selection(

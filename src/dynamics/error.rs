@@ -65,7 +65,7 @@ pub enum DynamicsError {
     },
     /// An effect parameter outside its range.
     #[error(
-        "effect parameter '{name}' = {value} is out of range (see `dynamics::effect::EffectParams`)"
+        "effect parameter '{name}' = {} is out of its range (docs/inputs.md, `dynamics::effect::EffectParams`)", crate::numfmt::short(*value)
     )]
     EffectParameter {
         /// The parameter.

@@ -10,7 +10,7 @@ pub enum SimError {
     #[error(transparent)]
     Dynamics(#[from] DynamicsError),
     /// A setting out of range.
-    #[error("simulation setting '{setting}' = {value}: {message}")]
+    #[error("simulation setting '{setting}' = {}: {message}", crate::numfmt::short(*value))]
     Setting {
         /// The setting (`seconds`, `rate_hz`, …).
         setting: &'static str,
