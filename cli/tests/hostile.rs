@@ -363,7 +363,10 @@ fn a_robot_beyond_the_memory_limit_is_refused_before_it_starts() {
         err.contains("link_inertia, rotor_inertia: not considered"),
         "{err}"
     );
-    assert!(!err.contains("elasticity, backlash: not considered"), "{err}");
+    assert!(
+        !err.contains("elasticity, backlash: not considered"),
+        "{err}"
+    );
     // and a fitting run writes finite numbers only
     let pred = d.join("pred.csv");
     let o = run(&[
