@@ -326,37 +326,30 @@ fn a_robot_beyond_the_memory_limit_is_refused_before_it_starts() {
     let d = dir("memory");
     let (csv, _) = leg_data(&d);
     let s = csv.to_str().unwrap();
-    let o = run(&[
-        "identify",
-        "--robot",
-        "cheetah3-leg",
-        "--data",
-        s,
-        "--max-memory-gib",
-        "0.001",
-    ]);
-    refused(&o, "GiB limit", "identify --max-memory-gib");
-    let o = run(&[
-        "diagnose",
-        "--robot",
-        "cheetah3-leg",
-        "--data",
-        s,
-        "--max-memory-gib",
-        "0.001",
-    ]);
-    refused(&o, "GiB limit", "diagnose --max-memory-gib");
+    let leg = |cmd: &str, limit: &str| {
+        run(&[
+            cmd,
+            "--robot",
+            "cheetah3-leg",
+            "--data",
+            s,
+            "--max-memory-gib",
+            limit,
+        ])
+    };
+    refused(
+        &leg("identify", "0.001"),
+        "GiB limit",
+        "identify --max-memory-gib",
+    );
+    refused(
+        &leg("diagnose", "0.001"),
+        "GiB limit",
+        "diagnose --max-memory-gib",
+    );
     // a limit between the base library and the inertial candidates: the
     // diagnosis runs without them and says so
-    let o = run(&[
-        "diagnose",
-        "--robot",
-        "cheetah3-leg",
-        "--data",
-        s,
-        "--max-memory-gib",
-        "0.006",
-    ]);
+    let o = leg("diagnose", "0.006");
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{err}");
     assert!(

@@ -52,80 +52,70 @@ pub fn line_panels(
     log_x: bool,
 ) -> Result<String, String> {
     let mut svg = String::new();
-    draw_panels(
-        &mut svg,
-        title,
-        x_label,
-        panel_titles,
-        y_label,
-        panels,
-        log_x,
-    )?;
-    Ok(svg)
-}
-
-fn draw_panels(
-    svg: &mut String,
-    title: &str,
-    x_label: &str,
-    panel_titles: &[String],
-    y_label: &str,
-    panels: &[Vec<Series>],
-    log_x: bool,
-) -> Result<(), String> {
-    let h = 260 * panels.len() as u32 + 40;
-    let root = SVGBackend::with_string(svg, (1000, h)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| e.to_string())?;
-    let root = root
-        .titled(title, ("sans-serif", 22))
-        .map_err(|e| e.to_string())?;
-    let areas = root.split_evenly((panels.len(), 1));
-    for ((area, series), (b, pt)) in areas
-        .iter()
-        .zip(panels)
-        .zip(bounds(panels).into_iter().zip(panel_titles))
     {
-        let mut cb = ChartBuilder::on(area);
-        cb.caption(pt, ("sans-serif", 16))
-            .margin(8)
-            .x_label_area_size(35)
-            .y_label_area_size(60);
-        macro_rules! draw {
-            ($chart:expr) => {{
-                let mut chart = $chart.map_err(|e| e.to_string())?;
-                chart
-                    .configure_mesh()
-                    .x_desc(x_label)
-                    .y_desc(y_label)
-                    .draw()
-                    .map_err(|e| e.to_string())?;
-                for s in series {
-                    let c = color(s.color);
+        let h = 260 * panels.len() as u32 + 40;
+        let root = SVGBackend::with_string(&mut svg, (1000, h)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| e.to_string())?;
+        let root = root
+            .titled(title, ("sans-serif", 22))
+            .map_err(|e| e.to_string())?;
+        let areas = root.split_evenly((panels.len(), 1));
+        for ((area, series), (b, pt)) in areas
+            .iter()
+            .zip(panels)
+            .zip(bounds(panels).into_iter().zip(panel_titles))
+        {
+            let mut cb = ChartBuilder::on(area);
+            cb.caption(pt, ("sans-serif", 16))
+                .margin(8)
+                .x_label_area_size(35)
+                .y_label_area_size(60);
+            macro_rules! draw {
+                ($chart:expr) => {{
+                    let mut chart = $chart.map_err(|e| e.to_string())?;
                     chart
-                        .draw_series(LineSeries::new(s.points.iter().copied(), c.stroke_width(1)))
-                        .map_err(|e| e.to_string())?
-                        .label(s.label)
-                        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c));
-                }
-                chart
-                    .configure_series_labels()
-                    .background_style(WHITE.mix(0.8))
-                    .border_style(BLACK)
-                    .draw()
-                    .map_err(|e| e.to_string())?;
-            }};
+                        .configure_mesh()
+                        .x_desc(x_label)
+                        .y_desc(y_label)
+                        .draw()
+                        .map_err(|e| e.to_string())?;
+                    for s in series {
+                        let c = color(s.color);
+                        chart
+                            .draw_series(LineSeries::new(
+                                s.points.iter().copied(),
+                                c.stroke_width(1),
+                            ))
+                            .map_err(|e| e.to_string())?
+                            .label(s.label)
+                            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c));
+                    }
+                    chart
+                        .configure_series_labels()
+                        .background_style(WHITE.mix(0.8))
+                        .border_style(BLACK)
+                        .draw()
+                        .map_err(|e| e.to_string())?;
+                }};
+            }
+            if log_x {
+                // sample-count studies span decades on both axes
+                let ys = series
+                    .iter()
+                    .flat_map(|s| s.points.iter().map(|p| p.1))
+                    .filter(|y| *y > 0.0);
+                let (lo, hi) = ys.fold((f64::INFINITY, 0.0f64), |(a, b), y| (a.min(y), b.max(y)));
+                draw!(
+                    cb.build_cartesian_2d(
+                        (b.0..b.1).log_scale(),
+                        (0.8 * lo..1.25 * hi).log_scale()
+                    )
+                );
+            } else {
+                draw!(cb.build_cartesian_2d(b.0..b.1, b.2..b.3));
+            }
         }
-        if log_x {
-            // sample-count studies span decades on both axes
-            let ys = series
-                .iter()
-                .flat_map(|s| s.points.iter().map(|p| p.1))
-                .filter(|y| *y > 0.0);
-            let (lo, hi) = ys.fold((f64::INFINITY, 0.0f64), |(a, b), y| (a.min(y), b.max(y)));
-            draw!(cb.build_cartesian_2d((b.0..b.1).log_scale(), (0.8 * lo..1.25 * hi).log_scale()));
-        } else {
-            draw!(cb.build_cartesian_2d(b.0..b.1, b.2..b.3));
-        }
+        root.present().map_err(|e| e.to_string())?;
     }
-    root.present().map_err(|e| e.to_string())
+    Ok(svg)
 }
