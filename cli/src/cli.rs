@@ -36,13 +36,19 @@ enum Command {
         out: PathBuf,
     },
     /// Check the inertias of a URDF for physical consistency.
+    ///
+    /// Exit codes: 0 every inertial consistent (or a zero placeholder); 1 some
+    /// are not, or no link has an inertial (nothing to check); 2 an invalid
+    /// file (unreadable, too large or deep, duplicate names, not one tree,
+    /// a negative mass) or a refused or failed --repair. See docs/inputs.md.
     Check {
         /// The URDF file.
         urdf: PathBuf,
         /// Print one JSON object with a `links` array.
         #[arg(long)]
         json: bool,
-        /// Write a copy with every inconsistent inertial replaced by the nearest consistent one.
+        /// Write a copy with every inconsistent inertial replaced by the nearest consistent one
+        /// (never the input itself; nothing is written unless the copy checks clean).
         #[arg(long, value_name = "OUT.urdf")]
         repair: Option<PathBuf>,
     },

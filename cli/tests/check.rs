@@ -38,9 +38,21 @@ fn inertial(m: &str, xyz: &str, i: [&str; 6]) -> String {
     )
 }
 
+/// A robot of these links, each fixed to the one before (one tree, as a
+/// URDF must be).
 fn robot(links: &[String]) -> String {
+    let name = |l: &str| l.split('"').nth(1).unwrap_or("").to_string();
+    let joints: String = links
+        .windows(2)
+        .map(|w| {
+            let (p, c) = (name(&w[0]), name(&w[1]));
+            format!(
+                "  <joint name=\"{p}_{c}\" type=\"fixed\"><parent link=\"{p}\"/><child link=\"{c}\"/></joint>\n"
+            )
+        })
+        .collect();
     format!(
-        "<?xml version=\"1.0\"?>\n<robot name=\"test\">\n{}</robot>\n",
+        "<?xml version=\"1.0\"?>\n<robot name=\"test\">\n{}{joints}</robot>\n",
         links.concat()
     )
 }

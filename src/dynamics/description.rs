@@ -10,6 +10,7 @@ use super::params_file::{Friction, ParamsFile};
 use super::sidecar::{Excitation, PriorSpec, Sidecar, SidecarBody};
 use crate::moments::{Ellipsoid, InertialParams, rpy_rotation};
 use nalgebra::{Matrix3, Vector3};
+use std::collections::{HashMap, HashSet};
 use std::path::PathBuf;
 use std::str::FromStr;
 
@@ -109,7 +110,8 @@ impl RobotDescription {
                 .map_err(|e| err(format!("[tool]: {e}")))?,
             None => model,
         };
-        let (friction, warnings) = nominal_friction(&model, sidecar, urdf);
+        let (friction, mut warnings) = nominal_friction(&model, sidecar, urdf);
+        warnings.extend(urdf.map(crate::urdf::geometry_warnings).unwrap_or_default());
         let bodies = body_entries(&model, &sidecar.bodies, &err)?;
         let prior = bodies
             .iter()
@@ -196,11 +198,19 @@ fn with_limits(
     sidecar: &Sidecar,
     err: &dyn Fn(String) -> DynamicsError,
 ) -> Result<Model, DynamicsError> {
-    for (k, j) in sidecar.joints.iter().enumerate() {
-        if sidecar.joints[..k].iter().any(|o| o.name == j.name) {
+    let index: HashMap<&str, usize> = model
+        .joints
+        .iter()
+        .enumerate()
+        .map(|(i, j)| (j.name.as_str(), i))
+        .collect();
+    let mut seen = HashSet::new();
+    let mut limits = Vec::new();
+    for j in &sidecar.joints {
+        if !seen.insert(j.name.as_str()) {
             return Err(err(format!("[[joint]] '{}' is given twice", j.name)));
         }
-        let i = model.joint_index(&j.name).ok_or_else(|| {
+        let i = index.get(j.name.as_str()).copied().ok_or_else(|| {
             err(format!(
                 "[[joint]] '{}' is not a moving joint of the model (joints: {})",
                 j.name,
@@ -214,8 +224,11 @@ fn with_limits(
                     j.name
                 )));
             }
-            model.joints[i].limits = (lo, hi);
+            limits.push((i, (lo, hi)));
         }
+    }
+    for (i, l) in limits {
+        model.joints[i].limits = l;
     }
     Ok(model)
 }
@@ -229,10 +242,18 @@ fn nominal_friction(
 ) -> (Friction, Vec<String>) {
     let mut f = Friction::zeros(model.dof());
     let mut placeholders = vec![];
+    let side_by_name: HashMap<&str, _> = sidecar
+        .joints
+        .iter()
+        .map(|j| (j.name.as_str(), j))
+        .collect();
+    let urdf_by_name: HashMap<&str, _> = urdf
+        .map(|r| r.joints.iter().map(|j| (j.name.as_str(), j)).collect())
+        .unwrap_or_default();
     for (i, joint) in model.joints.iter().enumerate() {
-        let side = sidecar.joints.iter().find(|j| j.name == joint.name);
-        let dynamics = urdf
-            .and_then(|r| r.joints.iter().find(|j| j.name == joint.name))
+        let side = side_by_name.get(joint.name.as_str());
+        let dynamics = urdf_by_name
+            .get(joint.name.as_str())
             .and_then(|j| j.dynamics);
         // a zero in a URDF's <dynamics> is commonly "not given": it counts as absent
         let pick = |s: Option<f64>, u: Option<f64>, placeholder: f64| match (s, u) {
@@ -275,21 +296,23 @@ fn body_entries<'s>(
     err: &dyn Fn(String) -> DynamicsError,
 ) -> Result<Vec<Option<&'s SidecarBody>>, DynamicsError> {
     let names = model.body_names();
-    for (k, b) in bodies.iter().enumerate() {
-        if !names.contains(&b.name) {
+    let known: HashSet<&str> = names.iter().map(String::as_str).collect();
+    let mut by_name: HashMap<&str, &SidecarBody> = HashMap::new();
+    for b in bodies {
+        if !known.contains(b.name.as_str()) {
             return Err(err(format!(
                 "[[body]] '{}' is not a body of the model (bodies: {})",
                 b.name,
                 names.join(", ")
             )));
         }
-        if bodies[..k].iter().any(|c| c.name == b.name) {
+        if by_name.insert(b.name.as_str(), b).is_some() {
             return Err(err(format!("[[body]] '{}' is given twice", b.name)));
         }
     }
     Ok(names
         .iter()
-        .map(|n| bodies.iter().find(|b| &b.name == n))
+        .map(|n| by_name.get(n.as_str()).copied())
         .collect())
 }
 

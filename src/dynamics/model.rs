@@ -114,6 +114,7 @@ impl Model {
                 message: what,
             })
         };
+        let mut names = std::collections::HashSet::with_capacity(joints.len());
         for (i, j) in joints.iter().enumerate() {
             if let Some(p) = j.parent {
                 if p >= i {
@@ -140,7 +141,7 @@ impl Model {
             {
                 return bad(format!("joint '{}': non-finite numbers", j.name));
             }
-            if joints[..i].iter().any(|k| k.name == j.name) {
+            if !names.insert(j.name.as_str()) {
                 return bad(format!("duplicate joint name '{}'", j.name));
             }
         }
@@ -198,7 +199,8 @@ impl Model {
     /// The same model with these named frames (each on an existing body, with
     /// finite placements and unique names).
     pub fn with_frames(mut self, frames: Vec<Frame>) -> Result<Self, DynamicsError> {
-        for (k, f) in frames.iter().enumerate() {
+        let mut names = std::collections::HashSet::with_capacity(frames.len());
+        for f in &frames {
             let bad = |what: String| DynamicsError::InvalidModel {
                 model: self.name.clone(),
                 message: format!("frame '{}': {what}", f.name),
@@ -215,7 +217,7 @@ impl Model {
             {
                 return Err(bad("non-finite placement".into()));
             }
-            if frames[..k].iter().any(|g| g.name == f.name) {
+            if !names.insert(f.name.as_str()) {
                 return Err(bad("defined twice".into()));
             }
         }

@@ -1,4 +1,6 @@
-//! A fixed-base [`Model`] from a URDF (read by [`crate::urdf`]) and the
+//! A fixed-base [`Model`] from a URDF (read by [`crate::urdf`], held to the
+//! checker's rules by [`crate::urdf::validate`]: one tree, unique names,
+//! non-negative masses, non-zero axes) and the
 //! kinematic entries of its sidecar ([`Sidecar`]: gravity, locked joints,
 //! rotors); the format is in `docs/robots.md`.
 //!
@@ -19,9 +21,9 @@ use super::error::DynamicsError;
 use super::model::{Frame, Joint, JointKind, Model, Rotor};
 use super::spatial::Transform;
 use crate::moments::{InertialParams, rpy_rotation};
-use crate::urdf::{self as format, JointType, Pose, Robot};
+use crate::urdf::{self as format, JointType, Pose, Robot, Tree};
 use nalgebra::Vector3;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::path::Path;
 
 fn ferr(path: &str, message: String) -> DynamicsError {
@@ -42,59 +44,24 @@ fn inertial_of(l: &format::Link) -> InertialParams {
     }
 }
 
-/// The tree's shape: every joint's links exist, each link has at most one
-/// parent joint, locks name joints, and there is one root. Returns the
-/// joints by parent link and the root.
-fn tree<'r>(
-    robot: &'r Robot,
-    sc: &Sidecar,
-    path: &str,
-) -> Result<(HashMap<&'r str, Vec<&'r format::Joint>>, &'r str), DynamicsError> {
-    for j in &robot.joints {
-        for (role, l) in [("parent", &j.parent), ("child", &j.child)] {
-            if robot.link(l).is_none() {
-                return Err(ferr(
-                    path,
-                    format!(
-                        "<joint name=\"{}\">: {role} link '{l}' does not exist",
-                        j.name
-                    ),
-                ));
-            }
-        }
-    }
-    for name in &sc.lock {
-        if !robot.joints.iter().any(|j| &j.name == name) {
-            return Err(ferr(path, format!("sidecar lock: no joint named '{name}'")));
-        }
-    }
-    let mut children: HashMap<&str, Vec<&format::Joint>> = HashMap::new();
-    let mut has_parent: HashMap<&str, &str> = HashMap::new();
-    for j in &robot.joints {
-        if let Some(prev) = has_parent.insert(j.child.as_str(), j.name.as_str()) {
-            return Err(ferr(
-                path,
-                format!(
-                    "link '{}' is the child of two joints ('{prev}' and '{}')",
-                    j.child, j.name
-                ),
-            ));
-        }
-        children.entry(j.parent.as_str()).or_default().push(j);
-    }
-    let roots: Vec<&str> = robot
-        .links
+/// The sidecar's locked joints, each checked to be a joint of the robot.
+fn locks<'s>(tree: &Tree, sc: &'s Sidecar, path: &str) -> Result<HashSet<&'s str>, DynamicsError> {
+    let joints: HashSet<&str> = tree
+        .robot()
+        .joints
         .iter()
-        .map(|l| l.name.as_str())
-        .filter(|l| !has_parent.contains_key(l))
+        .map(|j| j.name.as_str())
         .collect();
-    if roots.len() != 1 {
-        return Err(ferr(
-            path,
-            format!("expected one root link, found {}: {:?}", roots.len(), roots),
-        ));
-    }
-    Ok((children, roots[0]))
+    sc.lock
+        .iter()
+        .map(|name| {
+            if joints.contains(name.as_str()) {
+                Ok(name.as_str())
+            } else {
+                Err(ferr(path, format!("sidecar lock: no joint named '{name}'")))
+            }
+        })
+        .collect()
 }
 
 /// The model joint a URDF joint becomes (`None`: merged into its parent).
@@ -128,14 +95,12 @@ fn model_joint(
     path: &str,
 ) -> Result<Joint, DynamicsError> {
     let a = Vector3::from(j.axis);
-    if !(a.norm() > 0.0 && a.iter().all(|v| v.is_finite())) {
-        return Err(ferr(
-            path,
-            format!(
-                "<joint name=\"{}\">: axis must be a non-zero vector",
-                j.name
-            ),
-        ));
+    if !format::axis_ok(j.axis) {
+        return Err(crate::urdf::UrdfError::ZeroAxis {
+            path: path.into(),
+            joint: j.name.clone(),
+        }
+        .into());
     }
     let limits = match j.limit {
         Some(l) if j.kind != JointType::Continuous && !(l.lower == 0.0 && l.upper == 0.0) => {
@@ -160,52 +125,41 @@ fn model_joint(
 /// a fixed transform (body frame → link frame) and its inertia is merged
 /// into that body.
 fn walk(
-    robot: &Robot,
-    children: &HashMap<&str, Vec<&format::Joint>>,
-    root: &str,
-    sc: &Sidecar,
+    tree: &Tree,
+    locked: &HashSet<&str>,
     path: &str,
 ) -> Result<(Vec<Joint>, Vec<Frame>), DynamicsError> {
+    let n = tree.robot().links.len();
     let mut joints: Vec<Joint> = Vec::new();
-    let mut frames: Vec<Frame> = Vec::new();
-    let mut stack = vec![(root, None::<usize>, Transform::identity())];
-    while let Some((name, body, x)) = stack.pop() {
-        if frames.len() >= robot.links.len() {
-            return Err(ferr(path, "the joints form a cycle".into()));
-        }
-        let link = robot.link(name).expect("checked by `tree`");
+    let mut frames: Vec<Frame> = Vec::with_capacity(n);
+    let mut stack = vec![(tree.root(), None::<usize>, Transform::identity())];
+    while let Some((li, body, x)) = stack.pop() {
+        let link = tree.link(li);
         if let Some(b) = body {
             // x maps body → link: x_body = Eᵀ x_link + r
             let moved = inertial_of(link).transformed(&x.e.transpose(), &x.r);
             joints[b].inertia = joints[b].inertia.plus(&moved);
         }
         frames.push(Frame {
-            name: name.to_string(),
+            name: link.name.clone(),
             body,
             placement: x,
         });
-        let mut kids = children.get(name).cloned().unwrap_or_default();
-        kids.sort_by(|a, b| b.name.cmp(&a.name)); // the stack pops in name order
-        for j in kids {
+        let mut kids = tree.child_joints(li).to_vec();
+        // the stack pops in name order
+        kids.sort_by(|&a, &b| tree.joint(b).name.cmp(&tree.joint(a).name));
+        for ji in kids {
+            let j = tree.joint(ji);
             let origin = pose(&j.origin).compose(&x); // body → joint frame
-            let locked = sc.lock.iter().any(|n| n == &j.name);
-            match joint_kind(j, locked, path)? {
-                None => stack.push((&j.child, body, origin)),
+            let child = tree.child_link(ji);
+            match joint_kind(j, locked.contains(j.name.as_str()), path)? {
+                None => stack.push((child, body, origin)),
                 Some(kind) => {
                     joints.push(model_joint(j, kind, body, origin, path)?);
-                    stack.push((&j.child, Some(joints.len() - 1), Transform::identity()));
+                    stack.push((child, Some(joints.len() - 1), Transform::identity()));
                 }
             }
         }
-    }
-    if frames.len() != robot.links.len() {
-        return Err(ferr(
-            path,
-            format!(
-                "{} link(s) are not connected to the root '{root}'",
-                robot.links.len() - frames.len()
-            ),
-        ));
     }
     Ok((joints, frames))
 }
@@ -214,10 +168,11 @@ fn walk(
 fn rotor(
     r: &SidecarRotor,
     joints: &[Joint],
+    index: &HashMap<&str, usize>,
     reductions: &HashMap<&str, &Result<f64, String>>,
     path: &str,
 ) -> Result<Rotor, DynamicsError> {
-    let Some(ji) = joints.iter().position(|j| j.name == r.joint) else {
+    let Some(&ji) = index.get(r.joint.as_str()) else {
         return Err(ferr(
             path,
             format!(
@@ -326,8 +281,14 @@ pub fn model_from_robot(
 ) -> Result<Model, DynamicsError> {
     let empty = Sidecar::default();
     let sc = sidecar.unwrap_or(&empty);
-    let (children, root) = tree(robot, sc, path)?;
-    let (joints, frames) = walk(robot, &children, root, sc, path)?;
+    let tree = format::validate(robot, path)?;
+    let locked = locks(&tree, sc, path)?;
+    let (joints, frames) = walk(&tree, &locked, path)?;
+    let index: HashMap<&str, usize> = joints
+        .iter()
+        .enumerate()
+        .map(|(i, j)| (j.name.as_str(), i))
+        .collect();
     // `<transmission>` reductions by joint name (the last one wins)
     let reductions: HashMap<&str, &Result<f64, String>> = robot
         .transmissions
@@ -337,7 +298,7 @@ pub fn model_from_robot(
     let rotors = sc
         .rotors
         .iter()
-        .map(|r| rotor(r, &joints, &reductions, path))
+        .map(|r| rotor(r, &joints, &index, &reductions, path))
         .collect::<Result<_, _>>()?;
     let g = sc
         .gravity

@@ -6,17 +6,23 @@
 //! inertia is density realizable in their bounding ellipsoids (one ellipsoid:
 //! Theorem 4; several: their union, Corollary 2). Meshes are not read.
 //!
-//! The file is read once by the shared reader ([`crate::urdf`]). Input
-//! errors, never panics: malformed XML, an `<inertial>` without `<mass>` or
-//! `<inertia>`, non-numeric or non-finite values, and negative masses are
-//! reported as [`UrdfError`]s naming the file and the link.
+//! The file is read once by the shared reader ([`crate::urdf`]) and held to
+//! the same rules as the model loader ([`crate::urdf::validate`]). Input
+//! errors, never panics: malformed XML, a file beyond the reader's limits,
+//! duplicate names, joints that do not form one tree, an `<inertial>`
+//! without `<mass>` or `<inertia>`, non-numeric or non-finite values and
+//! negative masses are [`UrdfError`]s naming the file and the link or joint.
+//! Shapes whose geometry cannot be used are warnings
+//! ([`UrdfReport::warnings`]). Time and memory are linear in the file.
 
 use super::check::{DEFAULT_TOL, Verdict, check_consistency, check_realizable};
 use super::ellipsoid::{Ellipsoid, rpy_rotation};
 use super::nearest::{NearestOptions, nearest_consistent};
 use super::params::InertialParams;
 use super::union::{UnionRealization, realize_on_union};
-use crate::urdf::{Geometry, Pose, Robot, Shape, UrdfError, read_file, read_str};
+use crate::urdf::{
+    Geometry, Pose, Robot, Shape, UrdfError, geometry_warnings, read_file, read_str, validate,
+};
 use nalgebra::Vector3;
 use serde::Serialize;
 use std::ops::Range;
@@ -46,7 +52,9 @@ pub struct LinkReport {
     /// (`None` without primitives or when the inertia is not consistent).
     pub realizable_in_geometry: Option<bool>,
     /// Shapes whose geometry could not be used, and why (a mesh, which is
-    /// not read; an unreadable or degenerate primitive; a failed union solve).
+    /// not read; a primitive without a bounding ellipsoid; a failed union
+    /// solve). Unreadable or out-of-range shapes are in
+    /// [`UrdfReport::warnings`] instead.
     pub geometry_notes: Vec<String>,
     /// The parameters in the paper's order (link frame).
     pub params: [f64; 10],
@@ -90,8 +98,19 @@ pub struct UrdfReport {
     pub links: Vec<LinkReport>,
     /// Links without `<inertial>` (massless frames).
     pub links_without_inertial: Vec<String>,
-    /// Every link is `ok` or a `placeholder`.
+    /// Shapes whose origin or geometry cannot be read or is out of range,
+    /// naming the link and the element ([`geometry_warnings`]).
+    pub warnings: Vec<String>,
+    /// Some link has an `<inertial>`, and every one is `ok` or a
+    /// `placeholder` (false when there is nothing to check).
     pub consistent: bool,
+}
+
+impl UrdfReport {
+    /// No link has an `<inertial>`: nothing was checked.
+    pub fn nothing_to_check(&self) -> bool {
+        self.links.is_empty()
+    }
 }
 
 fn pose_of(p: &Pose) -> (nalgebra::Matrix3<f64>, Vector3<f64>) {
@@ -125,6 +144,9 @@ fn geometry_ellipsoids(link: &crate::urdf::Link) -> (Vec<Ellipsoid>, Vec<String>
     let mut es = vec![];
     let mut notes = vec![];
     for (k, s) in shapes.iter().enumerate() {
+        if matches!(s.geometry, Geometry::Invalid { .. }) {
+            continue; // a warning of the report
+        }
         match shape_ellipsoid(s) {
             Ok(e) => es.push(e),
             Err(m) => notes.push(format!("{kind} {}: {m}", k + 1)),
@@ -133,29 +155,35 @@ fn geometry_ellipsoids(link: &crate::urdf::Link) -> (Vec<Ellipsoid>, Vec<String>
     (es, notes)
 }
 
+/// Runs a solve, turning a panic inside the solver into an error: Clarabel
+/// panics on some numerically extreme problems (an SVD that fails in its PSD
+/// cone, e.g. for an inertia entry of 1e200 beside 0.02), and a URDF may
+/// hold any finite number.
+fn guarded<T, E: std::fmt::Display>(f: impl FnOnce() -> Result<T, E>) -> Result<T, String> {
+    match std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)) {
+        Ok(r) => r.map_err(|e| e.to_string()),
+        Err(_) => Err(
+            "the solver failed on these numbers (they span too many orders of magnitude)".into(),
+        ),
+    }
+}
+
 /// Whether π is density realizable in the ellipsoids (one: Theorem 4;
 /// several: their union, Corollary 2); `None` when there are none.
 fn realizable_in(pi: &InertialParams, ellipsoids: &[Ellipsoid]) -> Result<Option<bool>, String> {
     match ellipsoids {
         [] => Ok(None),
         [e] => Ok(Some(check_realizable(pi, e, 1e-9).realizable)),
-        many => realize_on_union(pi, many)
+        many => guarded(|| realize_on_union(pi, many))
             .map(|r| Some(matches!(r, UnionRealization::Realizable(_))))
             .map_err(|e| format!("the union test failed: {e}")),
     }
 }
 
-fn link_report(link: &crate::urdf::Link, path: &str) -> Result<Option<LinkReport>, UrdfError> {
-    let Some(inertial) = &link.inertial else {
-        return Ok(None);
-    };
-    if inertial.mass < 0.0 {
-        return Err(UrdfError::Link {
-            path: path.into(),
-            link: link.name.clone(),
-            message: format!("negative mass {} kg", inertial.mass),
-        });
-    }
+/// One link's report (`None`: no `<inertial>`); the link has passed
+/// [`validate`].
+fn link_report(link: &crate::urdf::Link) -> Option<LinkReport> {
+    let inertial = link.inertial.as_ref()?;
     let pi = InertialParams::from_urdf(
         inertial.mass,
         inertial.origin.xyz,
@@ -177,7 +205,7 @@ fn link_report(link: &crate::urdf::Link, path: &str) -> Result<Option<LinkReport
     } else {
         Vector3::zeros()
     };
-    Ok(Some(LinkReport {
+    Some(LinkReport {
         name: link.name.clone(),
         mass: pi.mass(),
         com: [com.x, com.y, com.z],
@@ -192,26 +220,30 @@ fn link_report(link: &crate::urdf::Link, path: &str) -> Result<Option<LinkReport
         verdict: rep.verdict,
         ellipsoids,
         inertial_range: inertial.range.clone(),
-    }))
+    })
 }
 
-/// Checks a robot read by [`crate::urdf`]; `path` names it in messages.
+/// Checks a robot read by [`crate::urdf`] (first against [`validate`]);
+/// `path` names it in messages.
 pub fn check_robot(robot: &Robot, path: &str) -> Result<UrdfReport, UrdfError> {
+    validate(robot, path)?;
     let mut links = Vec::new();
     let mut without = Vec::new();
     for l in &robot.links {
-        match link_report(l, path)? {
+        match link_report(l) {
             Some(r) => links.push(r),
             None => without.push(l.name.clone()),
         }
     }
-    let consistent = links
-        .iter()
-        .all(|l| matches!(l.verdict, Verdict::Ok | Verdict::Placeholder));
+    let consistent = !links.is_empty()
+        && links
+            .iter()
+            .all(|l| matches!(l.verdict, Verdict::Ok | Verdict::Placeholder));
     Ok(UrdfReport {
         robot: robot.name.clone(),
         links,
         links_without_inertial: without,
+        warnings: geometry_warnings(robot),
         consistent,
     })
 }
@@ -238,7 +270,7 @@ fn repaired_inertial(
     path: &str,
 ) -> Result<(String, Option<&'static str>), UrdfError> {
     let pi = InertialParams(rep.params);
-    let fail = |e: crate::moments::MomentsError| UrdfError::Link {
+    let fail = |e: String| UrdfError::Link {
         path: path.into(),
         link: rep.name.clone(),
         message: format!("repair failed: {e}"),
@@ -248,20 +280,16 @@ fn repaired_inertial(
         ellipsoid: inside,
         ..Default::default()
     };
-    let (fixed, note) = match nearest_consistent(&pi, &opts) {
+    let (fixed, note) = match guarded(|| nearest_consistent(&pi, &opts)) {
         Ok(f) => (f, None),
         Err(_) if inside.is_some() => (
-            nearest_consistent(&pi, &NearestOptions::default()).map_err(fail)?,
+            guarded(|| nearest_consistent(&pi, &NearestOptions::default())).map_err(fail)?,
             Some("not inside its geometry's bounding ellipsoid"),
         ),
         Err(e) => return Err(fail(e)),
     };
     let (m, c, i) = fixed.params.to_urdf();
-    let indent = text[..rep.inertial_range.start]
-        .rsplit('\n')
-        .next()
-        .unwrap_or("");
-    let pad = if indent.trim().is_empty() { indent } else { "" };
+    let pad = indent_before(text, rep.inertial_range.start);
     Ok((
         format!(
             "<inertial>\n{pad}  <!-- repaired by momentlmi check: nearest physically consistent inertia -->\n{pad}  <origin xyz=\"{:e} {:e} {:e}\" rpy=\"0 0 0\"/>\n{pad}  <mass value=\"{:e}\"/>\n{pad}  <inertia ixx=\"{:e}\" ixy=\"{:e}\" ixz=\"{:e}\" iyy=\"{:e}\" iyz=\"{:e}\" izz=\"{:e}\"/>\n{pad}</inertial>",
@@ -269,6 +297,22 @@ fn repaired_inertial(
         ),
         note,
     ))
+}
+
+/// The spaces and tabs between the start of the line and byte `at`, if
+/// only those precede it on its line (else ""); looks back no further than
+/// the indentation, so that many repairs on one long line stay linear.
+fn indent_before(text: &str, at: usize) -> &str {
+    let b = text.as_bytes();
+    let mut i = at.min(b.len());
+    while i > 0 && matches!(b[i - 1], b' ' | b'\t') {
+        i -= 1;
+    }
+    if i == 0 || b[i - 1] == b'\n' {
+        &text[i..at]
+    } else {
+        ""
+    }
 }
 
 /// The URDF text with every inconsistent (non-placeholder, positive-mass)
@@ -311,10 +355,24 @@ pub fn repair_urdf(
             None => rep.name.clone(),
         });
     }
-    let mut out = text.to_string();
-    edits.sort_by_key(|e| std::cmp::Reverse(e.0.start));
+    // one pass, in file order (replacing in place would move the rest of
+    // the text once per edit)
+    edits.sort_by_key(|e| e.0.start);
+    let mut out =
+        String::with_capacity(text.len() + edits.iter().map(|e| e.1.len()).sum::<usize>());
+    let mut at = 0;
     for (r, s) in edits {
-        out.replace_range(r, &s);
+        if r.start < at {
+            return Err(UrdfError::Robot {
+                path: path.into(),
+                message: "the report is not of this text (two of its <inertial> elements overlap)"
+                    .into(),
+            });
+        }
+        out.push_str(&text[at..r.start]);
+        out.push_str(&s);
+        at = r.end;
     }
+    out.push_str(&text[at..]);
     Ok((out, repaired))
 }

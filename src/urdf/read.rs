@@ -5,6 +5,7 @@
 //! ignored.
 
 use super::error::UrdfError;
+use super::limits::{self, Limits};
 use super::robot::{
     Geometry, Inertial, Joint, JointDynamics, JointType, Limit, Link, Mimic, Pose, Robot, Shape,
     Transmission,
@@ -41,76 +42,78 @@ impl Ctx<'_> {
         }
     }
 
-    /// A required finite number attribute of `<what>`.
-    fn number(&self, node: Node, name: &str) -> Result<f64, UrdfError> {
-        let what = node.tag_name().name();
-        let raw = node
-            .attribute(name)
-            .ok_or_else(|| self.err(format!("<{what}> has no '{name}' attribute")))?;
-        self.parse_number(raw, what, name)
+    /// A message made an error naming the file and the owner.
+    fn ok<T>(&self, r: Result<T, String>) -> Result<T, UrdfError> {
+        r.map_err(|m| self.err(m))
     }
+}
 
-    /// An optional finite number attribute (absent: `default`).
-    fn number_or(&self, node: Node, name: &str, default: f64) -> Result<f64, UrdfError> {
-        match node.attribute(name) {
-            None => Ok(default),
-            Some(raw) => self.parse_number(raw, node.tag_name().name(), name),
-        }
+/// A required finite number attribute of `node`.
+fn number(node: Node, name: &str) -> Result<f64, String> {
+    let what = node.tag_name().name();
+    let raw = node
+        .attribute(name)
+        .ok_or_else(|| format!("<{what}> has no '{name}' attribute"))?;
+    parse_number(raw, what, name)
+}
+
+/// An optional finite number attribute (absent: `default`).
+fn number_or(node: Node, name: &str, default: f64) -> Result<f64, String> {
+    match node.attribute(name) {
+        None => Ok(default),
+        Some(raw) => parse_number(raw, node.tag_name().name(), name),
     }
+}
 
-    fn parse_number(&self, raw: &str, what: &str, name: &str) -> Result<f64, UrdfError> {
-        let v: f64 = raw
-            .trim()
-            .parse()
-            .map_err(|_| self.err(format!("<{what} {name}=\"{raw}\">: not a number")))?;
-        if !v.is_finite() {
-            return Err(self.err(format!("<{what} {name}=\"{raw}\">: not finite")));
-        }
-        Ok(v)
+fn parse_number(raw: &str, what: &str, name: &str) -> Result<f64, String> {
+    let v: f64 = raw
+        .trim()
+        .parse()
+        .map_err(|_| format!("<{what} {name}=\"{raw}\">: not a number"))?;
+    if !v.is_finite() {
+        return Err(format!("<{what} {name}=\"{raw}\">: not finite"));
     }
+    Ok(v)
+}
 
-    /// An optional attribute of three finite numbers (absent: `default`).
-    fn triple(&self, node: Node, name: &str, default: [f64; 3]) -> Result<[f64; 3], UrdfError> {
-        Ok(self.triple_opt(node, name)?.unwrap_or(default))
+/// An optional attribute of three finite numbers (absent: `default`).
+fn triple(node: Node, name: &str, default: [f64; 3]) -> Result<[f64; 3], String> {
+    Ok(triple_opt(node, name)?.unwrap_or(default))
+}
+
+/// A required attribute of three finite numbers.
+fn triple_req(node: Node, name: &str) -> Result<[f64; 3], String> {
+    triple_opt(node, name)?
+        .ok_or_else(|| format!("<{}> has no '{name}' attribute", node.tag_name().name()))
+}
+
+fn triple_opt(node: Node, name: &str) -> Result<Option<[f64; 3]>, String> {
+    let Some(raw) = node.attribute(name) else {
+        return Ok(None);
+    };
+    let what = node.tag_name().name();
+    let v: Vec<f64> = raw
+        .split_whitespace()
+        .take(4)
+        .map(str::parse)
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("<{what} {name}=\"{raw}\">: not three numbers"))?;
+    if v.len() != 3 || v.iter().any(|x| !x.is_finite()) {
+        return Err(format!(
+            "<{what} {name}=\"{raw}\">: expected three finite numbers"
+        ));
     }
+    Ok(Some([v[0], v[1], v[2]]))
+}
 
-    /// A required attribute of three finite numbers.
-    fn triple_req(&self, node: Node, name: &str) -> Result<[f64; 3], UrdfError> {
-        self.triple_opt(node, name)?.ok_or_else(|| {
-            self.err(format!(
-                "<{}> has no '{name}' attribute",
-                node.tag_name().name()
-            ))
-        })
-    }
-
-    fn triple_opt(&self, node: Node, name: &str) -> Result<Option<[f64; 3]>, UrdfError> {
-        let Some(raw) = node.attribute(name) else {
-            return Ok(None);
-        };
-        let what = node.tag_name().name();
-        let v: Vec<f64> = raw
-            .split_whitespace()
-            .map(str::parse)
-            .collect::<Result<_, _>>()
-            .map_err(|_| self.err(format!("<{what} {name}=\"{raw}\">: not three numbers")))?;
-        if v.len() != 3 || v.iter().any(|x| !x.is_finite()) {
-            return Err(self.err(format!(
-                "<{what} {name}=\"{raw}\">: expected three finite numbers"
-            )));
-        }
-        Ok(Some([v[0], v[1], v[2]]))
-    }
-
-    /// The `<origin>` child of `node` (absent: identity).
-    fn origin(&self, node: Node) -> Result<Pose, UrdfError> {
-        match child(node, "origin") {
-            None => Ok(Pose::default()),
-            Some(o) => Ok(Pose {
-                xyz: self.triple(o, "xyz", [0.0; 3])?,
-                rpy: self.triple(o, "rpy", [0.0; 3])?,
-            }),
-        }
+/// The `<origin>` child of `node` (absent: identity).
+fn origin(node: Node) -> Result<Pose, String> {
+    match child(node, "origin") {
+        None => Ok(Pose::default()),
+        Some(o) => Ok(Pose {
+            xyz: triple(o, "xyz", [0.0; 3])?,
+            rpy: triple(o, "rpy", [0.0; 3])?,
+        }),
     }
 }
 
@@ -131,62 +134,99 @@ fn read_inertial(cx: &Ctx, node: Node) -> Result<Inertial, UrdfError> {
         .iter()
         .enumerate()
     {
-        i6[k] = cx.number(inertia, name)?;
+        i6[k] = cx.ok(number(inertia, name))?;
     }
     Ok(Inertial {
-        origin: cx.origin(node)?,
-        mass: cx.number(mass, "value")?,
+        origin: cx.ok(origin(node))?,
+        mass: cx.ok(number(mass, "value"))?,
         inertia: i6,
         range: node.range(),
     })
 }
 
-/// A `<geometry>`; a problem with it is kept as [`Geometry::Invalid`].
-fn read_geometry(cx: &Ctx, shape: Node) -> Geometry {
-    let parsed = (|| -> Result<Geometry, UrdfError> {
-        let g = child(shape, "geometry").ok_or_else(|| cx.err("no <geometry>".into()))?;
-        let Some(e) = g.children().find(|c| c.is_element()) else {
-            return Err(cx.err("an empty <geometry>".into()));
-        };
-        Ok(match e.tag_name().name() {
-            "box" => Geometry::Box {
-                size: cx.triple_req(e, "size")?,
-            },
-            "cylinder" => Geometry::Cylinder {
-                radius: cx.number(e, "radius")?,
-                length: cx.number(e, "length")?,
-            },
-            "sphere" => Geometry::Sphere {
-                radius: cx.number(e, "radius")?,
-            },
-            "capsule" => Geometry::Capsule {
-                radius: cx.number(e, "radius")?,
-                length: cx.number(e, "length")?,
-            },
-            "mesh" => Geometry::Mesh {
-                filename: e
-                    .attribute("filename")
-                    .ok_or_else(|| cx.err("<mesh> has no 'filename' attribute".into()))?
-                    .to_string(),
-                scale: cx.triple(e, "scale", [1.0; 3])?,
-            },
-            other => return Err(cx.err(format!("unknown geometry <{other}>"))),
-        })
-    })();
-    parsed.unwrap_or_else(|e| Geometry::Invalid {
-        message: e.to_string(),
+/// `value` of attribute `name` of `node` if it is positive.
+fn positive(node: Node, name: &str, value: f64) -> Result<f64, String> {
+    if value > 0.0 {
+        return Ok(value);
+    }
+    Err(format!(
+        "<{} {name}=\"{}\">: must be positive",
+        node.tag_name().name(),
+        node.attribute(name).unwrap_or("")
+    ))
+}
+
+/// Three positive numbers (box sides, mesh scales).
+fn positive3(node: Node, name: &str, v: [f64; 3]) -> Result<[f64; 3], String> {
+    if v.iter().all(|&x| x > 0.0) {
+        return Ok(v);
+    }
+    Err(format!(
+        "<{} {name}=\"{}\">: every value must be positive",
+        node.tag_name().name(),
+        node.attribute(name).unwrap_or("")
+    ))
+}
+
+/// The geometry of a `<collision>` or `<visual>`, with its ranges: box
+/// sides, radii, cylinder lengths and mesh scales positive, a capsule's
+/// length non-negative.
+fn geometry(shape: Node) -> Result<Geometry, String> {
+    let g = child(shape, "geometry").ok_or("no <geometry>")?;
+    let e = g
+        .children()
+        .find(|c| c.is_element())
+        .ok_or("an empty <geometry>")?;
+    Ok(match e.tag_name().name() {
+        "box" => Geometry::Box {
+            size: positive3(e, "size", triple_req(e, "size")?)?,
+        },
+        "cylinder" => Geometry::Cylinder {
+            radius: positive(e, "radius", number(e, "radius")?)?,
+            length: positive(e, "length", number(e, "length")?)?,
+        },
+        "sphere" => Geometry::Sphere {
+            radius: positive(e, "radius", number(e, "radius")?)?,
+        },
+        "capsule" => {
+            let length = number(e, "length")?;
+            if length < 0.0 {
+                return Err(format!(
+                    "<capsule length=\"{}\">: must not be negative",
+                    e.attribute("length").unwrap_or("")
+                ));
+            }
+            Geometry::Capsule {
+                radius: positive(e, "radius", number(e, "radius")?)?,
+                length,
+            }
+        }
+        "mesh" => Geometry::Mesh {
+            filename: e
+                .attribute("filename")
+                .ok_or("<mesh> has no 'filename' attribute")?
+                .to_string(),
+            scale: positive3(e, "scale", triple(e, "scale", [1.0; 3])?)?,
+        },
+        other => return Err(format!("unknown geometry <{other}>")),
     })
 }
 
-fn read_shapes(cx: &Ctx, link: Node, tag: &'static str) -> Result<Vec<Shape>, UrdfError> {
-    children(link, tag)
-        .map(|s| {
-            Ok(Shape {
-                origin: cx.origin(s)?,
-                geometry: read_geometry(cx, s),
-            })
-        })
-        .collect()
+/// A `<collision>` or `<visual>`; one whose origin or geometry cannot be
+/// read, or is out of range, is kept as [`Geometry::Invalid`] (identity
+/// origin) with the reason.
+fn read_shape(s: Node) -> Shape {
+    match origin(s).and_then(|o| Ok((o, geometry(s)?))) {
+        Ok((origin, geometry)) => Shape { origin, geometry },
+        Err(message) => Shape {
+            origin: Pose::default(),
+            geometry: Geometry::Invalid { message },
+        },
+    }
+}
+
+fn read_shapes(link: Node, tag: &'static str) -> Vec<Shape> {
+    children(link, tag).map(read_shape).collect()
 }
 
 fn read_link(path: &str, node: Node) -> Result<Link, UrdfError> {
@@ -203,8 +243,8 @@ fn read_link(path: &str, node: Node) -> Result<Link, UrdfError> {
         inertial: child(node, "inertial")
             .map(|i| read_inertial(&cx, i))
             .transpose()?,
-        collisions: read_shapes(&cx, node, "collision")?,
-        visuals: read_shapes(&cx, node, "visual")?,
+        collisions: read_shapes(node, "collision"),
+        visuals: read_shapes(node, "visual"),
     })
 }
 
@@ -245,10 +285,10 @@ fn read_joint(path: &str, node: Node) -> Result<Joint, UrdfError> {
     let limit = child(node, "limit")
         .map(|l| -> Result<Limit, UrdfError> {
             Ok(Limit {
-                lower: cx.number_or(l, "lower", 0.0)?,
-                upper: cx.number_or(l, "upper", 0.0)?,
-                effort: cx.number_or(l, "effort", 0.0)?,
-                velocity: cx.number_or(l, "velocity", 0.0)?,
+                lower: cx.ok(number_or(l, "lower", 0.0))?,
+                upper: cx.ok(number_or(l, "upper", 0.0))?,
+                effort: cx.ok(number_or(l, "effort", 0.0))?,
+                velocity: cx.ok(number_or(l, "velocity", 0.0))?,
             })
         })
         .transpose()?;
@@ -259,8 +299,8 @@ fn read_joint(path: &str, node: Node) -> Result<Joint, UrdfError> {
                     .attribute("joint")
                     .ok_or_else(|| cx.err("<mimic> has no 'joint' attribute".into()))?
                     .to_string(),
-                multiplier: cx.number_or(m, "multiplier", 1.0)?,
-                offset: cx.number_or(m, "offset", 0.0)?,
+                multiplier: cx.ok(number_or(m, "multiplier", 1.0))?,
+                offset: cx.ok(number_or(m, "offset", 0.0))?,
             })
         })
         .transpose()?;
@@ -268,7 +308,7 @@ fn read_joint(path: &str, node: Node) -> Result<Joint, UrdfError> {
         .map(|d| -> Result<JointDynamics, UrdfError> {
             let opt = |name: &str| -> Result<Option<f64>, UrdfError> {
                 d.attribute(name)
-                    .map(|raw| cx.parse_number(raw, "dynamics", name))
+                    .map(|raw| cx.ok(parse_number(raw, "dynamics", name)))
                     .transpose()
             };
             Ok(JointDynamics {
@@ -282,9 +322,9 @@ fn read_joint(path: &str, node: Node) -> Result<Joint, UrdfError> {
         kind: joint_type(&cx, node)?,
         parent: link_ref(&cx, node, "parent")?,
         child: link_ref(&cx, node, "child")?,
-        origin: cx.origin(node)?,
+        origin: cx.ok(origin(node))?,
         axis: match child(node, "axis") {
-            Some(a) => cx.triple(a, "xyz", [1.0, 0.0, 0.0])?,
+            Some(a) => cx.ok(triple(a, "xyz", [1.0, 0.0, 0.0]))?,
             None => [1.0, 0.0, 0.0],
         },
         limit,
@@ -316,12 +356,39 @@ fn line_of(node: Node) -> u32 {
     node.document().text_pos_at(node.range().start).row
 }
 
-/// Reads URDF text; `path` names the file in errors.
+/// The `<transmission>` elements anywhere under `root`, outermost only (one
+/// nested in another is part of it), each subtree visited once.
+fn transmissions(root: Node) -> Vec<Transmission> {
+    let mut inside = 0..0;
+    let mut out = Vec::new();
+    for n in root.descendants() {
+        if n.has_tag_name("transmission") && !inside.contains(&n.range().start) {
+            inside = n.range();
+            out.push(read_transmission(n));
+        }
+    }
+    out
+}
+
+/// Reads URDF text with the default [`Limits`]; `path` names the file in
+/// errors.
 pub fn read_str(text: &str, path: &str) -> Result<Robot, UrdfError> {
-    let doc = roxmltree::Document::parse(text).map_err(|e| UrdfError::Xml {
-        path: path.into(),
-        message: e.to_string(),
-    })?;
+    read_str_with(text, path, &Limits::default())
+}
+
+/// Reads URDF text within `limits` (checked before parsing); `path` names
+/// the file in errors. Time and memory are linear in the text's length.
+pub fn read_str_with(text: &str, path: &str, limits: &Limits) -> Result<Robot, UrdfError> {
+    limits::check(text, path, limits)?;
+    let options = roxmltree::ParsingOptions {
+        allow_dtd: false,
+        ..Default::default()
+    };
+    let doc =
+        roxmltree::Document::parse_with_options(text, options).map_err(|e| UrdfError::Xml {
+            path: path.into(),
+            message: e.to_string(),
+        })?;
     let root = doc.root_element();
     if !root.has_tag_name("robot") {
         return Err(UrdfError::Robot {
@@ -340,46 +407,78 @@ pub fn read_str(text: &str, path: &str) -> Result<Robot, UrdfError> {
         joints: children(root, "joint")
             .map(|j| read_joint(path, j))
             .collect::<Result<_, _>>()?,
-        transmissions: root
-            .descendants()
-            .filter(|n| n.has_tag_name("transmission"))
-            .map(read_transmission)
-            .collect(),
+        transmissions: transmissions(root),
     };
     unique_names(&robot, path)?;
     Ok(robot)
 }
 
 fn unique_names(robot: &Robot, path: &str) -> Result<(), UrdfError> {
-    let mut seen = HashSet::new();
+    let mut seen = HashSet::with_capacity(robot.links.len());
     for l in &robot.links {
         if !seen.insert(l.name.as_str()) {
-            return Err(UrdfError::Robot {
+            return Err(UrdfError::DuplicateLink {
                 path: path.into(),
-                message: format!("two links are named '{}'", l.name),
+                name: l.name.clone(),
             });
         }
     }
-    let mut seen = HashSet::new();
+    let mut seen = HashSet::with_capacity(robot.joints.len());
     for j in &robot.joints {
         if !seen.insert(j.name.as_str()) {
-            return Err(UrdfError::Robot {
+            return Err(UrdfError::DuplicateJoint {
                 path: path.into(),
-                message: format!("two joints are named '{}'", j.name),
+                name: j.name.clone(),
             });
         }
     }
     Ok(())
 }
 
-/// Reads a URDF file; also returns its text (for repairs that keep the rest
-/// of the file byte for byte).
+/// Reads a URDF file with the default [`Limits`]; also returns its text (for
+/// repairs that keep the rest of the file byte for byte).
 pub fn read_file(path: &Path) -> Result<(String, Robot), UrdfError> {
+    read_file_with(path, &Limits::default())
+}
+
+/// Reads a URDF file within `limits`: a file larger than
+/// [`Limits::max_bytes`] is refused before it is read (and a stream that
+/// does not say its size is read no further than that).
+pub fn read_file_with(path: &Path, limits: &Limits) -> Result<(String, Robot), UrdfError> {
     let p = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|source| UrdfError::Io {
-        path: p.clone(),
-        source,
-    })?;
-    let robot = read_str(&text, &p)?;
+    let text = read_text(path, &p, limits.max_bytes)?;
+    let robot = read_str_with(&text, &p, limits)?;
     Ok((text, robot))
+}
+
+/// The file's text, refused beyond `max_bytes`.
+fn read_text(path: &Path, p: &str, max_bytes: usize) -> Result<String, UrdfError> {
+    use std::io::Read;
+    let io = |source| UrdfError::Io {
+        path: p.into(),
+        source,
+    };
+    let too_large = |bytes: u64| UrdfError::TooLarge {
+        path: p.into(),
+        bytes,
+        limit: max_bytes,
+    };
+    let file = std::fs::File::open(path).map_err(io)?;
+    let size = file.metadata().map_err(io)?.len();
+    if size > max_bytes as u64 {
+        return Err(too_large(size));
+    }
+    let mut bytes = Vec::with_capacity(size as usize);
+    file.take(max_bytes as u64 + 1)
+        .read_to_end(&mut bytes)
+        .map_err(io)?;
+    if bytes.len() > max_bytes {
+        return Err(too_large(bytes.len() as u64));
+    }
+    String::from_utf8(bytes).map_err(|_| {
+        io(std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            "not UTF-8 text",
+        ))
+    })
 }

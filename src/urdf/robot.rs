@@ -62,10 +62,12 @@ pub enum Geometry {
         /// Scale per axis.
         scale: [f64; 3],
     },
-    /// A geometry that could not be read (kept so that a reader that needs
-    /// geometry can say why; readers that do not need it ignore it).
+    /// A shape whose origin or geometry could not be read or is out of range
+    /// (kept so that a reader that needs geometry can say why; see
+    /// [`super::geometry_warnings`]).
     Invalid {
-        /// Why.
+        /// Why, naming the element and attribute (`<box size="-1 1 1">:
+        /// every value must be positive`).
         message: String,
     },
 }
@@ -193,7 +195,8 @@ pub struct Robot {
 }
 
 impl Robot {
-    /// The link named `name`.
+    /// The link named `name` (a linear search; for many look-ups use
+    /// [`super::Tree::link_index`]).
     pub fn link(&self, name: &str) -> Option<&Link> {
         self.links.iter().find(|l| l.name == name)
     }

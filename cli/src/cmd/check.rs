@@ -1,5 +1,6 @@
 //! `momentlmi check ROBOT.urdf [--json] [--repair OUT.urdf]`.
 
+use momentlmi::data::same_file;
 use momentlmi::moments::urdf_check::{UrdfReport, check_urdf_file, check_urdf_str, repair_urdf};
 use std::path::Path;
 
@@ -59,16 +60,33 @@ fn print_table(file: &Path, r: &UrdfReport) {
         .iter()
         .filter(|l| !matches!(l.status, "ok" | "placeholder"))
         .count();
-    if bad == 0 {
+    if r.nothing_to_check() {
+        println!("nothing to check: no link has an <inertial>");
+    } else if bad == 0 {
         println!("all inertias are physically consistent");
     } else {
         println!("{bad} link(s) with physically inconsistent inertia");
     }
 }
 
-/// Exit codes: 0 every link consistent (or a placeholder), 1 some are not,
-/// 2 unreadable input or a failed write.
+/// Exit codes: 0 some link has an `<inertial>` and every one is consistent
+/// (or a zero placeholder); 1 some are not, or no link has an `<inertial>`
+/// (nothing to check); 2 an invalid file (unreadable, beyond the reader's
+/// limits, duplicate names, not one tree, a negative mass, …), a `--repair`
+/// target that is the input itself, or a failed repair or write (nothing is
+/// written then). Warnings (unusable geometry) go to stderr and leave the
+/// code alone. See docs/inputs.md.
 pub fn run(file: &Path, json: bool, repair: Option<&Path>) -> i32 {
+    if let Some(out) = repair
+        && same_file(file, out)
+    {
+        eprintln!(
+            "error: --repair {}: that is the input file {}; write the repaired URDF to another file",
+            out.display(),
+            file.display()
+        );
+        return 2;
+    }
     let (text, report) = match check_urdf_file(file) {
         Ok(x) => x,
         Err(e) => {
@@ -76,6 +94,9 @@ pub fn run(file: &Path, json: bool, repair: Option<&Path>) -> i32 {
             return 2;
         }
     };
+    for w in &report.warnings {
+        eprintln!("warning: {}: {w}", file.display());
+    }
     if json {
         match serde_json::to_string_pretty(&report) {
             Ok(s) => println!("{s}"),
@@ -87,44 +108,49 @@ pub fn run(file: &Path, json: bool, repair: Option<&Path>) -> i32 {
     } else {
         print_table(file, &report);
     }
-    if let Some(out) = repair {
-        let p = file.display().to_string();
-        let (fixed, names) = match repair_urdf(&text, &report, &p) {
-            Ok(x) => x,
-            Err(e) => {
-                eprintln!("error: {e}");
-                return 2;
-            }
-        };
-        // the repaired file must itself check clean before it is written
-        match check_urdf_str(&fixed, &out.display().to_string()) {
-            Ok(r)
-                if r.links
-                    .iter()
-                    .all(|l| matches!(l.status, "ok" | "placeholder" | "nonpositive_mass")) => {}
-            Ok(_) | Err(_) => {
-                eprintln!("error: the repaired URDF did not check clean; nothing written");
-                return 2;
-            }
-        }
-        if let Err(e) = momentlmi::data::write_whole(out, &fixed) {
-            eprintln!("error: {e}");
-            return 2;
-        }
-        if !json {
-            println!(
-                "wrote {} ({} inertial(s) repaired: {})",
-                out.display(),
-                names.len(),
-                names.join(", ")
-            );
-        } else {
-            eprintln!(
-                "wrote {} ({} inertial(s) repaired)",
-                out.display(),
-                names.len()
-            );
-        }
+    if let Some(out) = repair
+        && let Err(e) = write_repair(file, &text, &report, out, json)
+    {
+        eprintln!("error: {e}");
+        return 2;
     }
     if report.consistent { 0 } else { 1 }
+}
+
+/// Repairs the inconsistent inertials and writes the result to `out` (a
+/// staged temporary file beside it, renamed into place) only if it checks
+/// clean; on any failure nothing is written.
+fn write_repair(
+    file: &Path,
+    text: &str,
+    report: &UrdfReport,
+    out: &Path,
+    json: bool,
+) -> Result<(), String> {
+    let (fixed, names) =
+        repair_urdf(text, report, &file.display().to_string()).map_err(|e| e.to_string())?;
+    // the repaired file must itself check clean before it is written
+    match check_urdf_str(&fixed, &out.display().to_string()) {
+        Ok(r)
+            if r.links
+                .iter()
+                .all(|l| matches!(l.status, "ok" | "placeholder" | "nonpositive_mass")) => {}
+        Ok(_) | Err(_) => {
+            return Err("the repaired URDF did not check clean; nothing written".into());
+        }
+    }
+    momentlmi::data::write_whole(out, &fixed).map_err(|e| e.to_string())?;
+    let msg = format!(
+        "wrote {} ({} inertial(s) repaired{}{})",
+        out.display(),
+        names.len(),
+        if names.is_empty() { "" } else { ": " },
+        names.join(", ")
+    );
+    if json {
+        eprintln!("{msg}");
+    } else {
+        println!("{msg}");
+    }
+    Ok(())
 }

@@ -1,0 +1,75 @@
+//! The rules every reader of a URDF applies, in one place: the checker
+//! ([`crate::moments::urdf_check`]) and the model loader
+//! ([`crate::dynamics::urdf`]) both call [`validate`], so that a file one of
+//! them refuses the other refuses too, with the same message.
+//!
+//! Errors (the file is invalid): no links; joints that do not make one tree
+//! ([`Tree::new`]); a negative link mass; a moving joint with a zero axis.
+//! The reader already refused duplicate names, unreadable or non-finite
+//! numbers and an `<inertial>` without `<mass>` or `<inertia>`.
+//!
+//! Warnings (the file is usable; the element is not): a `<collision>` or
+//! `<visual>` whose origin or geometry cannot be read or is out of range
+//! ([`geometry_warnings`]).
+
+use super::error::UrdfError;
+use super::robot::{Geometry, JointType, Robot};
+use super::tree::Tree;
+
+/// Checks `robot` against the rules above; returns its tree. `path` names
+/// the file in errors.
+pub fn validate<'r>(robot: &'r Robot, path: &str) -> Result<Tree<'r>, UrdfError> {
+    if robot.links.is_empty() {
+        return Err(UrdfError::NoLinks { path: path.into() });
+    }
+    let tree = Tree::new(robot, path)?;
+    for l in &robot.links {
+        if let Some(i) = &l.inertial
+            && i.mass < 0.0
+        {
+            return Err(UrdfError::NegativeMass {
+                path: path.into(),
+                link: l.name.clone(),
+                mass: i.mass,
+            });
+        }
+    }
+    for j in &robot.joints {
+        let moves = matches!(
+            j.kind,
+            JointType::Revolute | JointType::Continuous | JointType::Prismatic | JointType::Planar
+        );
+        if moves && !axis_ok(j.axis) {
+            return Err(UrdfError::ZeroAxis {
+                path: path.into(),
+                joint: j.name.clone(),
+            });
+        }
+    }
+    Ok(tree)
+}
+
+/// Whether an axis can be normalised: its length, as computed, is positive
+/// and finite (so 1e-200 and 1e200 components are refused too).
+pub fn axis_ok(axis: [f64; 3]) -> bool {
+    let n = axis.iter().map(|a| a * a).sum::<f64>().sqrt();
+    n > 0.0 && n.is_finite()
+}
+
+/// One line per shape kept as [`Geometry::Invalid`], naming the link, the
+/// element (`<collision>` or `<visual>` and its 1-based position among the
+/// link's elements of that kind) and why: `link 'arm': <collision> 2:
+/// <box size="-1 1 1">: every value must be positive`.
+pub fn geometry_warnings(robot: &Robot) -> Vec<String> {
+    let mut out = Vec::new();
+    for l in &robot.links {
+        for (tag, shapes) in [("collision", &l.collisions), ("visual", &l.visuals)] {
+            for (k, s) in shapes.iter().enumerate() {
+                if let Geometry::Invalid { message } = &s.geometry {
+                    out.push(format!("link '{}': <{tag}> {}: {message}", l.name, k + 1));
+                }
+            }
+        }
+    }
+    out
+}
