@@ -280,3 +280,19 @@ fn a_repair_refuses_a_report_of_another_text() {
     );
     assert!(repair_urdf(&other, &report, "c.urdf").is_err());
 }
+
+/// Clarabel panics inside its SVD on numbers that span ~200 orders of
+/// magnitude; the conic layer turns that into a solver error, so no caller
+/// (the checker's repair, identification, a library user) can be taken
+/// down by it.
+#[test]
+fn a_solver_panic_is_an_error_not_a_crash() {
+    use momentlmi::moments::{InertialParams, NearestOptions, nearest_consistent};
+    // hx = 1e200 beside inertias of 0.02: Clarabel 0.11's PSD cone SVD fails
+    let pi = InertialParams([1.0, 1e200, 0.0, 0.0, 0.02, 0.0, 0.0, 0.02, 0.0, 0.02]);
+    let r = std::panic::catch_unwind(|| nearest_consistent(&pi, &NearestOptions::default()));
+    let e = r
+        .expect("the solver's panic escaped the conic layer")
+        .unwrap_err();
+    assert!(e.to_string().contains("Clarabel failed"), "{e}");
+}

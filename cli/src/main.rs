@@ -1,4 +1,16 @@
 //! The `momentlmi` binary: a thin shell over [`momentlmi_cli::main`].
 fn main() {
+    // Clarabel panics on some numerically hopeless problems; the conic layer
+    // catches that and reports a solver error, so the panic's own message
+    // would only alarm. Every other panic is a bug and is printed as usual.
+    let default = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let in_solver = info
+            .location()
+            .is_some_and(|l| l.file().contains("clarabel"));
+        if !in_solver {
+            default(info);
+        }
+    }));
     std::process::exit(momentlmi_cli::main());
 }

@@ -315,4 +315,4 @@ impl InertialParams {
 /// (kg, kg·m, kg·m²): a million kilograms is beyond any robot link, and
 /// beyond it the identification's squares leave the range where the solver
 /// is reliable.
-pub const MAX_ABS_PARAM: f64 = 1e6;
+pub const MAX_ABS_PARAM: f64 = crate::urdf::MAX_ABS_INERTIAL;

@@ -155,26 +155,13 @@ fn geometry_ellipsoids(link: &crate::urdf::Link) -> (Vec<Ellipsoid>, Vec<String>
     (es, notes)
 }
 
-/// Runs a solve, turning a panic inside the solver into an error: Clarabel
-/// panics on some numerically extreme problems (an SVD that fails in its PSD
-/// cone, e.g. for an inertia entry of 1e200 beside 0.02), and a URDF may
-/// hold any finite number.
-fn guarded<T, E: std::fmt::Display>(f: impl FnOnce() -> Result<T, E>) -> Result<T, String> {
-    match std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)) {
-        Ok(r) => r.map_err(|e| e.to_string()),
-        Err(_) => Err(
-            "the solver failed on these numbers (they span too many orders of magnitude)".into(),
-        ),
-    }
-}
-
 /// Whether π is density realizable in the ellipsoids (one: Theorem 4;
 /// several: their union, Corollary 2); `None` when there are none.
 fn realizable_in(pi: &InertialParams, ellipsoids: &[Ellipsoid]) -> Result<Option<bool>, String> {
     match ellipsoids {
         [] => Ok(None),
         [e] => Ok(Some(check_realizable(pi, e, 1e-9).realizable)),
-        many => guarded(|| realize_on_union(pi, many))
+        many => realize_on_union(pi, many)
             .map(|r| Some(matches!(r, UnionRealization::Realizable(_))))
             .map_err(|e| format!("the union test failed: {e}")),
     }
@@ -280,10 +267,10 @@ fn repaired_inertial(
         ellipsoid: inside,
         ..Default::default()
     };
-    let (fixed, note) = match guarded(|| nearest_consistent(&pi, &opts)) {
+    let (fixed, note) = match nearest_consistent(&pi, &opts).map_err(|e| e.to_string()) {
         Ok(f) => (f, None),
         Err(_) if inside.is_some() => (
-            guarded(|| nearest_consistent(&pi, &NearestOptions::default())).map_err(fail)?,
+            nearest_consistent(&pi, &NearestOptions::default()).map_err(|e| fail(e.to_string()))?,
             Some("not inside its geometry's bounding ellipsoid"),
         ),
         Err(e) => return Err(fail(e)),

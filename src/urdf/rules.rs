@@ -4,7 +4,8 @@
 //! them refuses the other refuses too, with the same message.
 //!
 //! Errors (the file is invalid): no links; joints that do not make one tree
-//! ([`Tree::new`]); a negative link mass; a moving joint with a zero axis.
+//! ([`Tree::new`]); a negative link mass, or an `<inertial>` number beyond
+//! ±[`MAX_ABS_INERTIAL`]; a moving joint with a zero axis.
 //! The reader already refused duplicate names, unreadable or non-finite
 //! numbers and an `<inertial>` without `<mass>` or `<inertia>`.
 //!
@@ -24,13 +25,32 @@ pub fn validate<'r>(robot: &'r Robot, path: &str) -> Result<Tree<'r>, UrdfError>
     }
     let tree = Tree::new(robot, path)?;
     for l in &robot.links {
-        if let Some(i) = &l.inertial
-            && i.mass < 0.0
-        {
+        let Some(i) = &l.inertial else { continue };
+        if i.mass < 0.0 {
             return Err(UrdfError::NegativeMass {
                 path: path.into(),
                 link: l.name.clone(),
                 mass: i.mass,
+            });
+        }
+        let numbers = [("mass", i.mass)].into_iter().chain(
+            ["ixx", "ixy", "ixz", "iyy", "iyz", "izz"]
+                .into_iter()
+                .zip(i.inertia),
+        );
+        let origin = ["origin x", "origin y", "origin z"]
+            .into_iter()
+            .zip(i.origin.xyz);
+        if let Some((name, x)) = numbers
+            .chain(origin)
+            .find(|(_, x)| x.abs() > MAX_ABS_INERTIAL)
+        {
+            return Err(UrdfError::Link {
+                path: path.into(),
+                link: l.name.clone(),
+                message: format!(
+                    "<inertial> {name} = {x:e} is beyond ±{MAX_ABS_INERTIAL:e} (kg, kg·m², m)"
+                ),
             });
         }
     }
@@ -48,6 +68,12 @@ pub fn validate<'r>(robot: &'r Robot, path: &str) -> Result<Tree<'r>, UrdfError>
     }
     Ok(tree)
 }
+
+/// The largest magnitude of an `<inertial>` number (mass, inertia entry,
+/// CoM coordinate): the same bound as the other readers of inertial
+/// parameters (`moments::MAX_ABS_PARAM`); beyond it the checker's and the
+/// identification's solvers leave the range where they are reliable.
+pub const MAX_ABS_INERTIAL: f64 = 1e6;
 
 /// Whether an axis can be normalised: its length, as computed, is positive
 /// and finite (so 1e-200 and 1e200 components are refused too).
