@@ -51,6 +51,10 @@ enum Command {
         /// (never the input itself; nothing is written unless the copy checks clean).
         #[arg(long, value_name = "OUT.urdf")]
         repair: Option<PathBuf>,
+        /// A folder where `package://NAME/…` meshes are found: a package itself or a folder of
+        /// packages (repeatable; searched after the folders above the URDF, before ROS_PACKAGE_PATH).
+        #[arg(long = "package-path", value_name = "DIR")]
+        package_path: Vec<PathBuf>,
     },
     /// Model joint torques for every sample of a data file (the "sim" side).
     Predict {
@@ -191,7 +195,12 @@ pub fn main() -> i32 {
     };
     match cli.command {
         Command::Demo { out } => demo::run(&out),
-        Command::Check { urdf, json, repair } => check::run(&urdf, json, repair.as_deref()),
+        Command::Check {
+            urdf,
+            json,
+            repair,
+            package_path,
+        } => check::run(&urdf, json, repair.as_deref(), &package_path),
         Command::Predict {
             robot: RobotArgs { robot, sidecar },
             params,

@@ -51,7 +51,8 @@ pub struct ConsistencyReport {
     pub verdict: Verdict,
     /// Mass m (kg).
     pub mass: f64,
-    /// Principal moments J₁ ≤ J₂ ≤ J₃ of Ī_C (kg·m²); NaN when m ≤ 0.
+    /// Principal moments J₁ ≤ J₂ ≤ J₃ of Ī_C (kg·m²); when m ≤ 0 (no CoM)
+    /// those of Ī about the body origin (zero for a placeholder).
     pub principal_moments: [f64; 3],
     /// `I(π) ≻ 0`, i.e. m > 0 and Ī_C ≻ 0 (physical semi-consistency).
     pub semi_consistent: bool,
@@ -94,6 +95,13 @@ pub fn check_consistency(pi: &InertialParams, tol: f64) -> ConsistencyReport {
     let scale = jmax.abs().max(f64::MIN_POSITIVE);
     let all_zero = pi.0.iter().all(|&x| x == 0.0);
     if m <= 0.0 {
+        // no centre of mass: the moments are those about the body origin
+        // (all zero for a placeholder), so that no report holds a NaN
+        let mut pm: [f64; 3] = SymmetricEigen::new(pi.inertia()).eigenvalues.into();
+        pm.sort_by(f64::total_cmp);
+        let sum: f64 = pm.iter().sum();
+        let margins = pm.map(|p| sum - 2.0 * p);
+        let top = pm[2].abs().max(f64::MIN_POSITIVE);
         return ConsistencyReport {
             verdict: if all_zero {
                 Verdict::Placeholder
@@ -101,10 +109,10 @@ pub fn check_consistency(pi: &InertialParams, tol: f64) -> ConsistencyReport {
                 Verdict::NonpositiveMass
             },
             mass: m,
-            principal_moments: [f64::NAN; 3],
+            principal_moments: pm,
             semi_consistent: false,
-            triangle_margins: [f64::NAN; 3],
-            triangle_margins_rel: [f64::NAN; 3],
+            triangle_margins: margins,
+            triangle_margins_rel: margins.map(|x| if all_zero { 0.0 } else { x / top }),
             violated_triangle: None,
             pseudo_inertia_min_eig: jmin,
             pseudo_inertia_margin_rel: jmin / scale,

@@ -1,7 +1,7 @@
 //! Ellipsoids `S = {x : (x − c)ᵀ R A⁻² Rᵀ (x − c) ≤ 1}` and their 4×4 form Q.
 
 use super::error::MomentsError;
-use nalgebra::{DMatrix, DVector, Matrix3, Matrix4, Rotation3, SymmetricEigen, Vector3};
+use nalgebra::{Matrix3, Matrix4, Rotation3, SymmetricEigen, Vector3, Vector4};
 
 /// An ellipsoid in a body frame: centre c (m), semi-axes a (m, all > 0) along
 /// the columns of the rotation R.
@@ -161,8 +161,11 @@ impl Ellipsoid {
     }
 
     /// The minimum-volume enclosing ellipsoid of a point cloud (Khachiyan's
-    /// algorithm to relative tolerance `tol`, then scaled so every point is
-    /// inside). Needs at least 4 affinely independent points.
+    /// algorithm to relative tolerance `tol`, at most
+    /// [`MVEE_MAX_ITERATIONS`] iterations, then scaled so every point is
+    /// inside: the result always encloses the points, and is minimal to
+    /// `tol` when the iterations suffice). Needs at least 4 affinely
+    /// independent points; time O(n) per iteration, memory O(n).
     pub fn minimum_volume_enclosing(
         points: &[Vector3<f64>],
         tol: f64,
@@ -173,26 +176,24 @@ impl Ellipsoid {
                 "need at least 4 finite points, got {n}"
             )));
         }
-        let q = DMatrix::from_fn(4, n, |i, j| if i < 3 { points[j][i] } else { 1.0 });
-        let mut u = DVector::from_element(n, 1.0 / n as f64);
-        for _ in 0..100_000 {
-            let x = &q * DMatrix::from_diagonal(&u) * q.transpose();
-            let xi = x.clone().try_inverse().ok_or_else(|| {
+        // Khachiyan on the lifted points q = (p, 1): X = Σ u_k q_k q_kᵀ is 4×4,
+        // so an iteration costs O(n) and memory stays O(n)
+        let q: Vec<Vector4<f64>> = points.iter().map(|p| p.push(1.0)).collect();
+        let mut u = vec![1.0 / n as f64; n];
+        for _ in 0..MVEE_MAX_ITERATIONS {
+            let x: Matrix4<f64> = q.iter().zip(&u).map(|(v, w)| v * v.transpose() * *w).sum();
+            let xi = x.try_inverse().ok_or_else(|| {
                 MomentsError::InvalidEllipsoid(
                     "points are coplanar (no enclosing ellipsoid with volume)".into(),
                 )
             })?;
-            let (mut j, mut mj) = (0, f64::MIN);
-            for k in 0..n {
-                let v = q.column(k);
-                let mk = (v.transpose() * &xi * v)[(0, 0)];
-                if mk > mj {
-                    mj = mk;
-                    j = k;
-                }
-            }
+            let (j, mj) = q
+                .iter()
+                .map(|v| v.dot(&(xi * v)))
+                .enumerate()
+                .fold((0, f64::MIN), |a, b| if b.1 > a.1 { b } else { a });
             let step = (mj - 4.0) / (4.0 * (mj - 1.0));
-            u *= 1.0 - step;
+            u.iter_mut().for_each(|w| *w *= 1.0 - step);
             u[j] += step;
             if step < tol {
                 break;
@@ -220,6 +221,9 @@ impl Ellipsoid {
         Self::with_rotation(c, eig.eigenvalues.map(|l| 1.0 / l.sqrt()), r)
     }
 }
+
+/// The most Khachiyan iterations of [`Ellipsoid::minimum_volume_enclosing`].
+pub const MVEE_MAX_ITERATIONS: usize = 20_000;
 
 /// URDF-style pose: translation and roll-pitch-yaw (R = Rz(y) Ry(p) Rx(r)).
 pub fn rpy_rotation(rpy: [f64; 3]) -> Matrix3<f64> {

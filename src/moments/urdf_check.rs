@@ -4,7 +4,8 @@
 //! and a [`Verdict`]; where the link has box / cylinder / sphere / capsule
 //! collision geometry (visual geometry if it has no collision), whether its
 //! inertia is density realizable in their bounding ellipsoids (one ellipsoid:
-//! Theorem 4; several: their union, Corollary 2). Meshes are not read.
+//! Theorem 4; several: their union, Corollary 2). A mesh's bounding
+//! ellipsoid is the minimum-volume ellipsoid enclosing its vertices (scaled).
 //!
 //! The file is read once by the shared reader ([`crate::urdf`]) and held to
 //! the same rules as the model loader ([`crate::urdf::validate`]). Input
@@ -20,13 +21,15 @@ use super::ellipsoid::{Ellipsoid, rpy_rotation};
 use super::nearest::{NearestOptions, nearest_consistent};
 use super::params::InertialParams;
 use super::union::{UnionRealization, realize_on_union};
+use crate::urdf::mesh::{MeshPaths, read_vertices};
 use crate::urdf::{
     Geometry, Pose, Robot, Shape, UrdfError, geometry_warnings, read_file, read_str, validate,
 };
 use nalgebra::Vector3;
 use serde::Serialize;
+use std::collections::HashMap;
 use std::ops::Range;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// One link's findings.
 #[derive(Clone, Debug, Serialize)]
@@ -46,14 +49,15 @@ pub struct LinkReport {
     pub triangle_margin_rel: f64,
     /// Smallest eigenvalue of the pseudo-inertia.
     pub pseudo_inertia_min_eig: f64,
-    /// Number of primitive shapes whose bounding ellipsoids were used.
+    /// Number of shapes (primitives and meshes) whose bounding ellipsoids
+    /// were used.
     pub geometry_primitives: usize,
-    /// Density realizable in the bounding ellipsoid(s) of the primitives
-    /// (`None` without primitives or when the inertia is not consistent).
+    /// Density realizable in the bounding ellipsoid(s) of the shapes
+    /// (`None` without usable shapes or when the inertia is not consistent).
     pub realizable_in_geometry: Option<bool>,
-    /// Shapes whose geometry could not be used, and why (a mesh, which is
-    /// not read; a primitive without a bounding ellipsoid; a failed union
-    /// solve). Unreadable or out-of-range shapes are in
+    /// Shapes whose geometry could not be used, and why (a mesh not found
+    /// or not readable, also in [`UrdfReport::warnings`]; a primitive
+    /// without a bounding ellipsoid; a failed union solve). Unreadable or out-of-range shapes are in
     /// [`UrdfReport::warnings`] instead.
     pub geometry_notes: Vec<String>,
     /// The parameters in the paper's order (link frame).
@@ -117,15 +121,78 @@ fn pose_of(p: &Pose) -> (nalgebra::Matrix3<f64>, Vector3<f64>) {
     (rpy_rotation(p.rpy), Vector3::from(p.xyz))
 }
 
-/// The bounding ellipsoid of one primitive shape, in the link frame, or why
-/// there is none.
-fn shape_ellipsoid(s: &Shape) -> Result<Ellipsoid, String> {
+/// Where meshes are found, and the vertices of those read so far (a mesh
+/// several links use is read once).
+pub struct Meshes {
+    paths: Option<MeshPaths>,
+    read: HashMap<PathBuf, Result<Vec<Vector3<f64>>, String>>,
+}
+
+impl Meshes {
+    /// Meshes found through `paths`.
+    pub fn new(paths: MeshPaths) -> Self {
+        Self {
+            paths: Some(paths),
+            read: HashMap::new(),
+        }
+    }
+
+    /// No mesh is read (a URDF given as text has no folder).
+    pub fn none() -> Self {
+        Self {
+            paths: None,
+            read: HashMap::new(),
+        }
+    }
+
+    /// The distinct vertices of the mesh `filename` names.
+    fn vertices(&mut self, filename: &str) -> Result<&[Vector3<f64>], String> {
+        let Some(paths) = &self.paths else {
+            return Err(format!(
+                "mesh '{filename}': no folder to look in (URDF text)"
+            ));
+        };
+        let file = paths.resolve(filename)?;
+        let v = self
+            .read
+            .entry(file.clone())
+            .or_insert_with(|| read_vertices(&file).map(distinct));
+        v.as_deref().map_err(Clone::clone)
+    }
+}
+
+/// The distinct points of a vertex list (an STL repeats each vertex for
+/// every triangle that has it).
+fn distinct(v: Vec<[f64; 3]>) -> Vec<Vector3<f64>> {
+    let mut seen = std::collections::HashSet::with_capacity(v.len());
+    v.into_iter()
+        .filter(|p| seen.insert(p.map(f64::to_bits)))
+        .map(Vector3::from)
+        .collect()
+}
+
+/// The minimum-volume ellipsoid enclosing a mesh's vertices, scaled.
+fn mesh_ellipsoid(points: &[Vector3<f64>], scale: [f64; 3]) -> Result<Ellipsoid, String> {
+    let s = Vector3::from(scale);
+    let scaled: Vec<Vector3<f64>> = points.iter().map(|p| p.component_mul(&s)).collect();
+    Ellipsoid::minimum_volume_enclosing(&scaled, 1e-7).map_err(|e| e.to_string())
+}
+
+/// The bounding ellipsoid of one shape, in the link frame, or why there is
+/// none.
+fn shape_ellipsoid(s: &Shape, meshes: &mut Meshes) -> Result<Ellipsoid, String> {
     let e = match &s.geometry {
         Geometry::Box { size } => Ellipsoid::bounding_box(Vector3::from(*size)),
         Geometry::Cylinder { radius, length } => Ellipsoid::bounding_cylinder(*radius, *length),
         Geometry::Capsule { radius, length } => Ellipsoid::bounding_capsule(*radius, *length),
         Geometry::Sphere { radius } => Ellipsoid::bounding_sphere(*radius),
-        Geometry::Mesh { filename, .. } => return Err(format!("mesh '{filename}' is not read")),
+        Geometry::Mesh { filename, scale } => {
+            let e = meshes
+                .vertices(filename)
+                .and_then(|v| mesh_ellipsoid(v, *scale))
+                .map_err(|m| format!("mesh '{filename}': {m}"))?;
+            Ok(e)
+        }
         Geometry::Invalid { message } => return Err(message.clone()),
     }
     .map_err(|e| e.to_string())?;
@@ -133,9 +200,12 @@ fn shape_ellipsoid(s: &Shape) -> Result<Ellipsoid, String> {
     Ok(e.transformed(&r, &p))
 }
 
-/// Bounding ellipsoids of a link's primitive shapes (collision, else
-/// visual), and notes on the shapes that gave none.
-fn geometry_ellipsoids(link: &crate::urdf::Link) -> (Vec<Ellipsoid>, Vec<String>) {
+/// Bounding ellipsoids of a link's shapes (collision, else visual), and
+/// notes on the shapes that gave none.
+fn geometry_ellipsoids(
+    link: &crate::urdf::Link,
+    meshes: &mut Meshes,
+) -> (Vec<Ellipsoid>, Vec<String>) {
     let (shapes, kind) = if link.collisions.is_empty() {
         (&link.visuals, "visual")
     } else {
@@ -147,7 +217,7 @@ fn geometry_ellipsoids(link: &crate::urdf::Link) -> (Vec<Ellipsoid>, Vec<String>
         if matches!(s.geometry, Geometry::Invalid { .. }) {
             continue; // a warning of the report
         }
-        match shape_ellipsoid(s) {
+        match shape_ellipsoid(s, meshes) {
             Ok(e) => es.push(e),
             Err(m) => notes.push(format!("{kind} {}: {m}", k + 1)),
         }
@@ -169,7 +239,7 @@ fn realizable_in(pi: &InertialParams, ellipsoids: &[Ellipsoid]) -> Result<Option
 
 /// One link's report (`None`: no `<inertial>`); the link has passed
 /// [`validate`].
-fn link_report(link: &crate::urdf::Link) -> Option<LinkReport> {
+fn link_report(link: &crate::urdf::Link, meshes: &mut Meshes) -> Option<LinkReport> {
     let inertial = link.inertial.as_ref()?;
     let pi = InertialParams::from_urdf(
         inertial.mass,
@@ -177,7 +247,7 @@ fn link_report(link: &crate::urdf::Link) -> Option<LinkReport> {
         inertial.origin.rpy,
         inertial.inertia,
     );
-    let (ellipsoids, mut geometry_notes) = geometry_ellipsoids(link);
+    let (ellipsoids, mut geometry_notes) = geometry_ellipsoids(link, meshes);
     let rep = check_consistency(&pi, DEFAULT_TOL);
     let realizable = if rep.consistent {
         realizable_in(&pi, &ellipsoids).unwrap_or_else(|m| {
@@ -211,13 +281,31 @@ fn link_report(link: &crate::urdf::Link) -> Option<LinkReport> {
 }
 
 /// Checks a robot read by [`crate::urdf`] (first against [`validate`]);
-/// `path` names it in messages.
+/// `path` names it in messages. No mesh is read ([`check_robot_with`]).
 pub fn check_robot(robot: &Robot, path: &str) -> Result<UrdfReport, UrdfError> {
+    check_robot_with(robot, path, &mut Meshes::none())
+}
+
+/// [`check_robot`] with the bounding volumes of mesh shapes too; a mesh that
+/// cannot be found or read is a warning naming the link, never a failure.
+pub fn check_robot_with(
+    robot: &Robot,
+    path: &str,
+    meshes: &mut Meshes,
+) -> Result<UrdfReport, UrdfError> {
     validate(robot, path)?;
     let mut links = Vec::new();
     let mut without = Vec::new();
+    let mut warnings = geometry_warnings(robot);
     for l in &robot.links {
-        match link_report(l) {
+        let report = link_report(l, meshes);
+        if let Some(r) = &report
+            && meshes.paths.is_some()
+        {
+            let mesh = r.geometry_notes.iter().filter(|n| n.contains("mesh '"));
+            warnings.extend(mesh.map(|n| format!("link '{}': {n}", l.name)));
+        }
+        match report {
             Some(r) => links.push(r),
             None => without.push(l.name.clone()),
         }
@@ -230,7 +318,7 @@ pub fn check_robot(robot: &Robot, path: &str) -> Result<UrdfReport, UrdfError> {
         robot: robot.name.clone(),
         links,
         links_without_inertial: without,
-        warnings: geometry_warnings(robot),
+        warnings,
         consistent,
     })
 }
@@ -240,10 +328,16 @@ pub fn check_urdf_str(text: &str, path: &str) -> Result<UrdfReport, UrdfError> {
     check_robot(&read_str(text, path)?, path)
 }
 
-/// Reads and checks a URDF file; also returns its text (for [`repair_urdf`]).
-pub fn check_urdf_file(path: &Path) -> Result<(String, UrdfReport), UrdfError> {
+/// Reads and checks a URDF file with its meshes (found beside it, in
+/// `package_paths` and in `ROS_PACKAGE_PATH`); also returns its text (for
+/// [`repair_urdf`]).
+pub fn check_urdf_file(
+    path: &Path,
+    package_paths: &[PathBuf],
+) -> Result<(String, UrdfReport), UrdfError> {
     let (text, robot) = read_file(path)?;
-    let rep = check_robot(&robot, &path.display().to_string())?;
+    let mut meshes = Meshes::new(MeshPaths::for_urdf(path, package_paths));
+    let rep = check_robot_with(&robot, &path.display().to_string(), &mut meshes)?;
     Ok((text, rep))
 }
 

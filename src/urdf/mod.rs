@@ -14,7 +14,8 @@
 //! `<gazebo>`, `<ros2_control>`, …) are ignored, and a shape whose origin or
 //! geometry cannot be read or is out of range is kept as
 //! [`Geometry::Invalid`] (reported by [`geometry_warnings`]). No mesh file is
-//! opened here.
+//! opened while reading; [`mesh`] finds and reads the mesh files a URDF
+//! names, for the checker's bounding volumes.
 //!
 //! Hostile input is bounded before it is parsed ([`Limits`]: 256 MiB,
 //! 16 Mi nodes, nesting depth 1,000, 64 attributes per element, 1,000
@@ -23,6 +24,7 @@
 
 mod error;
 mod limits;
+pub mod mesh;
 mod read;
 mod robot;
 mod rules;

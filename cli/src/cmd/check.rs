@@ -2,7 +2,7 @@
 
 use momentlmi::data::same_file;
 use momentlmi::moments::urdf_check::{UrdfReport, check_urdf_file, check_urdf_str, repair_urdf};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 fn fmt3(v: [f64; 3], prec: usize) -> String {
     format!("({:.p$}, {:.p$}, {:.p$})", v[0], v[1], v[2], p = prec)
@@ -76,7 +76,7 @@ fn print_table(file: &Path, r: &UrdfReport) {
 /// target that is the input itself, or a failed repair or write (nothing is
 /// written then). Warnings (unusable geometry) go to stderr and leave the
 /// code alone. See docs/inputs.md.
-pub fn run(file: &Path, json: bool, repair: Option<&Path>) -> i32 {
+pub fn run(file: &Path, json: bool, repair: Option<&Path>, package_paths: &[PathBuf]) -> i32 {
     if let Some(out) = repair
         && same_file(file, out)
     {
@@ -87,7 +87,7 @@ pub fn run(file: &Path, json: bool, repair: Option<&Path>) -> i32 {
         );
         return 2;
     }
-    let (text, report) = match check_urdf_file(file) {
+    let (text, report) = match check_urdf_file(file, package_paths) {
         Ok(x) => x,
         Err(e) => {
             eprintln!("error: {e}");

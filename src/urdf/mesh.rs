@@ -1,0 +1,145 @@
+//! Mesh files a URDF names: where they are (`package://`, `file://`,
+//! relative paths) and their vertices (STL binary and ASCII, OBJ, COLLADA
+//! with its unit and node transforms, through `mesh-loader`).
+//!
+//! Only the file the URDF names is opened: an OBJ's material library and a
+//! COLLADA's images are never read. A COLLADA file is held to the URDF
+//! reader's XML limits first (size, nodes, depth; no DTD, so no entity
+//! expansion). Errors are strings naming the file, for the caller to turn
+//! into a warning about the link.
+
+use super::limits::{self, Limits};
+use std::path::{Path, PathBuf};
+
+/// The largest mesh file read (bytes).
+pub const MAX_MESH_BYTES: u64 = 256 << 20;
+/// The most vertices taken from one mesh file.
+pub const MAX_MESH_VERTICES: usize = 10_000_000;
+
+/// Where `package://NAME/…` meshes are looked for, in this order: the
+/// folders above the URDF (a folder named NAME, or one holding NAME), the
+/// `--package-path` folders (each either a package itself or a folder of
+/// packages), then those of `ROS_PACKAGE_PATH`.
+#[derive(Clone, Debug, Default)]
+pub struct MeshPaths {
+    /// The URDF's folder (relative mesh paths start here).
+    pub urdf_dir: PathBuf,
+    /// Package folders given by the user.
+    pub package_paths: Vec<PathBuf>,
+    /// Whether `ROS_PACKAGE_PATH` is searched too.
+    pub ros_package_path: bool,
+}
+
+impl MeshPaths {
+    /// Meshes of the URDF at `urdf`, with extra package folders, and
+    /// `ROS_PACKAGE_PATH`.
+    pub fn for_urdf(urdf: &Path, package_paths: &[PathBuf]) -> Self {
+        Self {
+            urdf_dir: urdf.parent().map(Path::to_path_buf).unwrap_or_default(),
+            package_paths: package_paths.to_vec(),
+            ros_package_path: true,
+        }
+    }
+
+    /// The file `filename` (as written in the URDF) names, if it exists; the
+    /// error says where it was looked for.
+    pub fn resolve(&self, filename: &str) -> Result<PathBuf, String> {
+        if let Some(rest) = filename.strip_prefix("package://") {
+            return self.resolve_package(rest);
+        }
+        let p = Path::new(filename.strip_prefix("file://").unwrap_or(filename));
+        let p = if p.is_absolute() {
+            p.to_path_buf()
+        } else {
+            self.urdf_dir.join(p)
+        };
+        if p.is_file() {
+            Ok(p)
+        } else {
+            Err(format!("no such file ({})", p.display()))
+        }
+    }
+
+    fn resolve_package(&self, rest: &str) -> Result<PathBuf, String> {
+        let (name, inner) = rest.split_once('/').unwrap_or((rest, ""));
+        let mut roots: Vec<PathBuf> = self.urdf_dir.ancestors().map(Path::to_path_buf).collect();
+        roots.extend(self.package_paths.iter().cloned());
+        if self.ros_package_path
+            && let Some(v) = std::env::var_os("ROS_PACKAGE_PATH")
+        {
+            roots.extend(std::env::split_paths(&v));
+        }
+        for root in &roots {
+            let is_pkg = root.file_name().is_some_and(|n| n == name);
+            let candidates = [root.join(name).join(inner), root.join(inner)];
+            for c in candidates.iter().take(if is_pkg { 2 } else { 1 }) {
+                if c.is_file() {
+                    return Ok(c.clone());
+                }
+            }
+        }
+        Err(format!(
+            "'{name}/{inner}' not found above the URDF, in --package-path or in ROS_PACKAGE_PATH"
+        ))
+    }
+}
+
+/// The vertices (m, the file's frame, COLLADA's unit and node transforms
+/// applied) of the mesh file at `path`.
+pub fn read_vertices(path: &Path) -> Result<Vec<[f64; 3]>, String> {
+    let name = path.display().to_string();
+    let size = std::fs::metadata(path)
+        .map_err(|e| format!("{name}: {e}"))?
+        .len();
+    if size > MAX_MESH_BYTES {
+        return Err(format!(
+            "{name}: {size} bytes, more than the {} MiB a mesh may have",
+            MAX_MESH_BYTES >> 20
+        ));
+    }
+    let bytes = std::fs::read(path).map_err(|e| format!("{name}: {e}"))?;
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_lowercase())
+        .unwrap_or_default();
+    let loader = mesh_loader::Loader::default();
+    let never = |p: &Path| -> std::io::Result<Vec<u8>> {
+        Err(std::io::Error::other(format!(
+            "{} is not read (only the mesh the URDF names is)",
+            p.display()
+        )))
+    };
+    let scene = match ext.as_str() {
+        "stl" => loader.load_stl_from_slice(&bytes, path),
+        "obj" => loader.load_obj_from_slice_with_reader(&bytes, path, never),
+        "dae" => {
+            let text =
+                std::str::from_utf8(&bytes).map_err(|e| format!("{name}: not UTF-8: {e}"))?;
+            limits::check(text, &name, &Limits::default()).map_err(|e| e.to_string())?;
+            loader.load_collada_from_slice(&bytes, path)
+        }
+        _ => {
+            return Err(format!(
+                "{name}: unknown mesh format '.{ext}' (STL, OBJ, DAE)"
+            ));
+        }
+    }
+    .map_err(|e| format!("{name}: {e}"))?;
+    let mut out = Vec::new();
+    for m in &scene.meshes {
+        if out.len() + m.vertices.len() > MAX_MESH_VERTICES {
+            return Err(format!("{name}: more than {MAX_MESH_VERTICES} vertices"));
+        }
+        for v in &m.vertices {
+            let p = v.map(f64::from);
+            if !p.iter().all(|x| x.is_finite()) {
+                return Err(format!("{name}: a vertex is not finite"));
+            }
+            out.push(p);
+        }
+    }
+    if out.is_empty() {
+        return Err(format!("{name}: no vertices"));
+    }
+    Ok(out)
+}

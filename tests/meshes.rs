@@ -1,0 +1,337 @@
+//! Bounding volumes from mesh files the tests write themselves: a box, a
+//! cylinder (a prism of many sides) and a tetrahedron as STL (ASCII and
+//! binary), OBJ and COLLADA. The checker's ellipsoid of each equals the
+//! analytic minimum-volume enclosing ellipsoid; scale, origin, COLLADA's
+//! unit, `package://` paths and missing or hostile meshes are handled.
+
+use momentlmi::moments::urdf_check::check_urdf_file;
+use momentlmi::urdf::mesh::{MeshPaths, read_vertices};
+use std::path::{Path, PathBuf};
+
+fn dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("momentlmi-mesh-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// The 8 corners and 12 triangles of a box of sides `s` centred at 0.
+fn box_mesh(s: [f64; 3]) -> (Vec<[f64; 3]>, Vec<[usize; 3]>) {
+    let v = (0..8)
+        .map(|k| {
+            std::array::from_fn(|i| {
+                if k >> i & 1 == 1 {
+                    0.5 * s[i]
+                } else {
+                    -0.5 * s[i]
+                }
+            })
+        })
+        .collect();
+    let f = vec![
+        [0, 1, 3],
+        [0, 3, 2],
+        [4, 6, 7],
+        [4, 7, 5],
+        [0, 4, 5],
+        [0, 5, 1],
+        [2, 3, 7],
+        [2, 7, 6],
+        [0, 2, 6],
+        [0, 6, 4],
+        [1, 5, 7],
+        [1, 7, 3],
+    ];
+    (v, f)
+}
+
+/// A regular tetrahedron inscribed in the sphere of radius `r` at 0.
+fn tetra(r: f64) -> (Vec<[f64; 3]>, Vec<[usize; 3]>) {
+    let k = r / 3f64.sqrt();
+    let v = vec![[k, k, k], [k, -k, -k], [-k, k, -k], [-k, -k, k]];
+    (v, vec![[0, 1, 2], [0, 3, 1], [0, 2, 3], [1, 3, 2]])
+}
+
+/// A prism of `n` sides approximating a cylinder of radius r, length l, z axis.
+fn prism(r: f64, l: f64, n: usize) -> (Vec<[f64; 3]>, Vec<[usize; 3]>) {
+    let mut v = vec![];
+    for z in [-0.5 * l, 0.5 * l] {
+        for k in 0..n {
+            let a = std::f64::consts::TAU * k as f64 / n as f64;
+            v.push([r * a.cos(), r * a.sin(), z]);
+        }
+    }
+    let f = (0..n)
+        .flat_map(|k| {
+            let j = (k + 1) % n;
+            [[k, j, n + j], [k, n + j, n + k]]
+        })
+        .collect();
+    (v, f)
+}
+
+fn stl_ascii(v: &[[f64; 3]], f: &[[usize; 3]]) -> String {
+    let mut s = String::from("solid t\n");
+    for t in f {
+        s += "facet normal 0 0 0\nouter loop\n";
+        for &i in t {
+            s += &format!("vertex {} {} {}\n", v[i][0], v[i][1], v[i][2]);
+        }
+        s += "endloop\nendfacet\n";
+    }
+    s + "endsolid t\n"
+}
+
+fn stl_binary(v: &[[f64; 3]], f: &[[usize; 3]]) -> Vec<u8> {
+    let mut b = vec![0u8; 80];
+    b.extend((f.len() as u32).to_le_bytes());
+    for t in f {
+        b.extend([0u8; 12]);
+        for &i in t {
+            for x in v[i] {
+                b.extend((x as f32).to_le_bytes());
+            }
+        }
+        b.extend([0u8; 2]);
+    }
+    b
+}
+
+fn obj(v: &[[f64; 3]], f: &[[usize; 3]]) -> String {
+    let mut s = String::from("mtllib never_read.mtl\n");
+    for p in v {
+        s += &format!("v {} {} {}\n", p[0], p[1], p[2]);
+    }
+    for t in f {
+        s += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+    }
+    s
+}
+
+/// COLLADA with `unit` metres per file unit (coordinates divided by it).
+fn dae(v: &[[f64; 3]], f: &[[usize; 3]], unit: f64) -> String {
+    let pos: Vec<String> = v
+        .iter()
+        .flat_map(|p| p.iter().map(move |x| format!("{}", x / unit)))
+        .collect();
+    let idx: Vec<String> = f
+        .iter()
+        .flat_map(|t| t.iter().map(|i| i.to_string()))
+        .collect();
+    format!(
+        r##"<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+<asset><unit name="u" meter="{unit}"/><up_axis>Z_UP</up_axis></asset>
+<library_geometries><geometry id="g" name="g"><mesh>
+<source id="p"><float_array id="pa" count="{n}">{pos}</float_array>
+<technique_common><accessor source="#pa" count="{nv}" stride="3">
+<param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
+</accessor></technique_common></source>
+<vertices id="v"><input semantic="POSITION" source="#p"/></vertices>
+<triangles count="{nf}"><input semantic="VERTEX" source="#v" offset="0"/><p>{idx}</p></triangles>
+</mesh></geometry></library_geometries>
+<library_visual_scenes><visual_scene id="s"><node id="n"><instance_geometry url="#g"/></node>
+</visual_scene></library_visual_scenes><scene><instance_visual_scene url="#s"/></scene>
+</COLLADA>"##,
+        n = pos.len(),
+        pos = pos.join(" "),
+        nv = v.len(),
+        nf = f.len(),
+        idx = idx.join(" ")
+    )
+}
+
+/// A URDF with one link whose collision is `mesh` (with `scale` and
+/// `origin`) and the given inertial.
+fn urdf(mesh: &str, scale: &str, origin: &str, inertial: &str) -> String {
+    format!(
+        r#"<robot name="m"><link name="base"/>
+<link name="body"><inertial>{inertial}</inertial>
+<collision><origin xyz="{origin}"/><geometry><mesh filename="{mesh}" scale="{scale}"/></geometry></collision></link>
+<joint name="j" type="revolute"><parent link="base"/><child link="body"/><axis xyz="0 0 1"/>
+<limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>"#
+    )
+}
+
+/// A solid box's inertial (sides s, mass m) centred at `at`.
+fn solid_box(m: f64, s: [f64; 3], at: [f64; 3]) -> String {
+    let i = |a: f64, b: f64| m / 12.0 * (a * a + b * b);
+    format!(
+        r#"<origin xyz="{} {} {}"/><mass value="{m}"/><inertia ixx="{}" ixy="0" ixz="0" iyy="{}" iyz="0" izz="{}"/>"#,
+        at[0],
+        at[1],
+        at[2],
+        i(s[1], s[2]),
+        i(s[0], s[2]),
+        i(s[0], s[1])
+    )
+}
+
+fn semi_axes(path: &Path) -> [f64; 3] {
+    let v: Vec<nalgebra::Vector3<f64>> = read_vertices(path)
+        .unwrap()
+        .into_iter()
+        .map(nalgebra::Vector3::from)
+        .collect();
+    let e = momentlmi::moments::Ellipsoid::minimum_volume_enclosing(&v, 1e-9).unwrap();
+    let mut s: [f64; 3] = e.semi_axes.into();
+    s.sort_by(f64::total_cmp);
+    s
+}
+
+#[test]
+fn the_mvee_of_each_format_is_the_analytic_one() {
+    let d = dir("formats");
+    let sides = [0.4, 0.2, 0.1];
+    let (bv, bf) = box_mesh(sides);
+    // a box's MVEE: semi-axes √3 · half sides
+    let want_box = [0.05, 0.1, 0.2].map(|h: f64| h * 3f64.sqrt());
+    let files = [
+        ("box_ascii.stl", stl_ascii(&bv, &bf).into_bytes()),
+        ("box_binary.stl", stl_binary(&bv, &bf)),
+        ("box.obj", obj(&bv, &bf).into_bytes()),
+        ("box_mm.dae", dae(&bv, &bf, 0.001).into_bytes()),
+    ];
+    for (name, bytes) in files {
+        let p = d.join(name);
+        std::fs::write(&p, bytes).unwrap();
+        let got = semi_axes(&p);
+        for (g, w) in got.iter().zip(want_box) {
+            assert!((g - w).abs() < 1e-4 * w, "{name}: {got:?} vs {want_box:?}");
+        }
+    }
+    // a regular tetrahedron's MVEE is its circumscribed sphere
+    let (tv, tf) = tetra(0.3);
+    let p = d.join("tetra.stl");
+    std::fs::write(&p, stl_binary(&tv, &tf)).unwrap();
+    for g in semi_axes(&p) {
+        assert!((g - 0.3).abs() < 1e-4, "tetrahedron {g}");
+    }
+    // a 64-sided prism: the MVEE of its 128 corners is the cylinder's
+    // enclosing ellipsoid, semi-axes √(3/2) r and √3 l/2
+    let (pv, pf) = prism(0.1, 0.5, 64);
+    let p = d.join("cyl.obj");
+    std::fs::write(&p, obj(&pv, &pf)).unwrap();
+    let got = semi_axes(&p);
+    let want = [0.1 * 1.5f64.sqrt(), 0.1 * 1.5f64.sqrt(), 0.25 * 3f64.sqrt()];
+    for (g, w) in got.iter().zip(want) {
+        assert!((g - w).abs() < 2e-3 * w, "prism {got:?} vs {want:?}");
+    }
+}
+
+#[test]
+fn the_checker_bounds_mesh_links_with_scale_and_origin() {
+    let d = dir("check");
+    let (bv, bf) = box_mesh([1.0, 1.0, 1.0]);
+    std::fs::write(d.join("unit_box.stl"), stl_ascii(&bv, &bf)).unwrap();
+    // scale (0.4, 0.2, 0.1) and origin (0.3, 0, 0): the box of those sides
+    // there; its own solid inertia is realizable, a point far off is not
+    let at = [0.3, 0.0, 0.0];
+    let inside = solid_box(2.0, [0.4, 0.2, 0.1], at);
+    let outside = solid_box(2.0, [0.4, 0.2, 0.1], [1.0, 0.0, 0.0]);
+    for (inertial, want) in [(inside, true), (outside, false)] {
+        let u = d.join("m.urdf");
+        std::fs::write(
+            &u,
+            urdf("unit_box.stl", "0.4 0.2 0.1", "0.3 0 0", &inertial),
+        )
+        .unwrap();
+        let (_, rep) = check_urdf_file(&u, &[]).unwrap();
+        let l = rep.links.iter().find(|l| l.name == "body").unwrap();
+        assert_eq!(l.geometry_primitives, 1, "{:?}", l.geometry_notes);
+        assert_eq!(
+            l.realizable_in_geometry,
+            Some(want),
+            "{:?}",
+            l.geometry_notes
+        );
+        assert!(rep.warnings.is_empty(), "{:?}", rep.warnings);
+    }
+    // without the scale, the same inertia is realizable in the unit box's
+    // ellipsoid too; with a tiny scale it is not
+    let u = d.join("s.urdf");
+    let tight = solid_box(2.0, [0.4, 0.2, 0.1], [0.0, 0.0, 0.0]);
+    std::fs::write(&u, urdf("unit_box.stl", "0.01 0.01 0.01", "0 0 0", &tight)).unwrap();
+    let (_, rep) = check_urdf_file(&u, &[]).unwrap();
+    assert_eq!(rep.links[0].realizable_in_geometry, Some(false));
+}
+
+#[test]
+fn package_paths_are_searched_and_a_missing_mesh_is_a_warning() {
+    let d = dir("package");
+    let pkg = d.join("share").join("my_robot").join("meshes");
+    std::fs::create_dir_all(&pkg).unwrap();
+    let (bv, bf) = box_mesh([0.4, 0.2, 0.1]);
+    std::fs::write(pkg.join("b.stl"), stl_binary(&bv, &bf)).unwrap();
+    let urdf_dir = d.join("elsewhere");
+    std::fs::create_dir_all(&urdf_dir).unwrap();
+    let u = urdf_dir.join("r.urdf");
+    let inertial = solid_box(1.0, [0.4, 0.2, 0.1], [0.0, 0.0, 0.0]);
+    std::fs::write(
+        &u,
+        urdf(
+            "package://my_robot/meshes/b.stl",
+            "1 1 1",
+            "0 0 0",
+            &inertial,
+        ),
+    )
+    .unwrap();
+    // not found: a warning naming the link and the path, the check goes on
+    let (_, rep) = check_urdf_file(&u, &[]).unwrap();
+    assert_eq!(rep.links[0].realizable_in_geometry, None);
+    assert!(
+        rep.warnings
+            .iter()
+            .any(|w| w.contains("link 'body'") && w.contains("package://my_robot")),
+        "{:?}",
+        rep.warnings
+    );
+    // a folder of packages, or the package folder itself
+    for p in [d.join("share"), d.join("share").join("my_robot")] {
+        let (_, rep) = check_urdf_file(&u, &[p]).unwrap();
+        assert_eq!(
+            rep.links[0].realizable_in_geometry,
+            Some(true),
+            "{:?}",
+            rep.warnings
+        );
+    }
+    // resolution by itself
+    let paths = MeshPaths {
+        urdf_dir: urdf_dir.clone(),
+        package_paths: vec![d.join("share")],
+        ros_package_path: false,
+    };
+    assert_eq!(
+        paths.resolve("package://my_robot/meshes/b.stl").unwrap(),
+        pkg.join("b.stl")
+    );
+    assert!(paths.resolve("package://other/b.stl").is_err());
+}
+
+#[test]
+fn hostile_meshes_are_warnings_not_failures() {
+    let d = dir("hostile");
+    let bomb = r#"<?xml version="1.0"?><!DOCTYPE c [<!ENTITY a "aaaaaaaaaa"><!ENTITY b "&a;&a;&a;&a;&a;&a;&a;&a;">]><COLLADA>&b;</COLLADA>"#;
+    let cases: [(&str, &[u8]); 5] = [
+        ("bomb.dae", bomb.as_bytes()),
+        ("empty.stl", b""),
+        ("garbage.stl", &[0xff; 200]),
+        ("flat.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\n"),
+        ("x.ply", b"ply\n"),
+    ];
+    let inertial = solid_box(1.0, [0.1, 0.1, 0.1], [0.0, 0.0, 0.0]);
+    for (name, bytes) in cases {
+        std::fs::write(d.join(name), bytes).unwrap();
+        let u = d.join("h.urdf");
+        std::fs::write(&u, urdf(name, "1 1 1", "0 0 0", &inertial)).unwrap();
+        let (_, rep) = check_urdf_file(&u, &[]).unwrap();
+        assert_eq!(rep.links[0].realizable_in_geometry, None, "{name}");
+        assert!(
+            rep.warnings.iter().any(|w| w.contains("link 'body'")),
+            "{name}: {:?}",
+            rep.warnings
+        );
+    }
+}
