@@ -248,15 +248,6 @@ fn bad_input_exits_two_with_a_message_naming_the_problem() {
             "link 'arm'",
         ),
         (
-            "negative.urdf",
-            robot(&[link(
-                "arm",
-                &inertial("-1", "0 0 0", ["1", "0", "0", "1", "0", "1"]),
-                "",
-            )]),
-            "negative mass",
-        ),
-        (
             "malformed.urdf",
             "<robot name=\"x\"><link name=\"a\"></robot>".to_string(),
             "malformed XML",
@@ -325,4 +316,26 @@ fn panda_urdf_verdicts() {
             assert!(j[0] > 0.0 && j[0] + j[1] >= j[2], "{name}: {j:?}");
         }
     }
+}
+
+#[test]
+fn a_negative_mass_is_reported_with_the_rest_of_the_table() {
+    let t = TempDir::new("negmass");
+    let f = t.write(
+        "negative.urdf",
+        &robot(&[link(
+            "arm",
+            &inertial("-1", "0 0 0", ["1", "0", "0", "1", "0", "1"]),
+            "",
+        )]),
+    );
+    let o = bin().args(["check", "--json"]).arg(&f).output().unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(status_of(&v, "arm"), "nonpositive_mass");
 }

@@ -282,6 +282,7 @@ pub fn model_from_robot(
     let empty = Sidecar::default();
     let sc = sidecar.unwrap_or(&empty);
     let tree = format::validate(robot, path)?;
+    format::validate_masses(robot, path)?;
     let locked = locks(&tree, sc, path)?;
     let (joints, frames) = walk(&tree, &locked, path)?;
     let index: HashMap<&str, usize> = joints

@@ -37,5 +37,5 @@ pub use robot::{
     Geometry, Inertial, Joint, JointDynamics, JointType, Limit, Link, Mimic, Pose, Robot, Shape,
     Transmission,
 };
-pub use rules::{MAX_ABS_INERTIAL, axis_ok, geometry_warnings, validate};
+pub use rules::{MAX_ABS_INERTIAL, axis_ok, geometry_warnings, validate, validate_masses};
 pub use tree::Tree;

@@ -4,8 +4,9 @@
 //! them refuses the other refuses too, with the same message.
 //!
 //! Errors (the file is invalid): no links; joints that do not make one tree
-//! ([`Tree::new`]); a negative link mass, or an `<inertial>` number beyond
-//! ±[`MAX_ABS_INERTIAL`]; a moving joint with a zero axis.
+//! ([`Tree::new`]); an `<inertial>` number beyond ±[`MAX_ABS_INERTIAL`]; a
+//! moving joint with a zero axis. The model loader also refuses a negative
+//! link mass ([`validate_masses`]), which the checker reports as a finding.
 //! The reader already refused duplicate names, unreadable or non-finite
 //! numbers and an `<inertial>` without `<mass>` or `<inertia>`.
 //!
@@ -26,13 +27,6 @@ pub fn validate<'r>(robot: &'r Robot, path: &str) -> Result<Tree<'r>, UrdfError>
     let tree = Tree::new(robot, path)?;
     for l in &robot.links {
         let Some(i) = &l.inertial else { continue };
-        if i.mass < 0.0 {
-            return Err(UrdfError::NegativeMass {
-                path: path.into(),
-                link: l.name.clone(),
-                mass: i.mass,
-            });
-        }
         let numbers = [("mass", i.mass)].into_iter().chain(
             ["ixx", "ixy", "ixz", "iyy", "iyz", "izz"]
                 .into_iter()
@@ -67,6 +61,24 @@ pub fn validate<'r>(robot: &'r Robot, path: &str) -> Result<Tree<'r>, UrdfError>
         }
     }
     Ok(tree)
+}
+
+/// What a model needs beyond [`validate`]: no negative link mass. (The
+/// checker reports a negative mass as the finding `nonpositive_mass` and
+/// goes on; a model cannot be built with one.)
+pub fn validate_masses(robot: &Robot, path: &str) -> Result<(), UrdfError> {
+    for l in &robot.links {
+        if let Some(i) = &l.inertial
+            && i.mass < 0.0
+        {
+            return Err(UrdfError::NegativeMass {
+                path: path.into(),
+                link: l.name.clone(),
+                mass: i.mass,
+            });
+        }
+    }
+    Ok(())
 }
 
 /// The largest magnitude of an `<inertial>` number (mass, inertia entry,
