@@ -57,6 +57,9 @@ impl Staged {
         if self.files.iter().any(|(_, p)| same_file(p, path)) {
             return refuse("written twice by the same command".into());
         }
+        if path.is_dir() {
+            return refuse("is a folder; an output file cannot replace it".into());
+        }
         Ok(())
     }
 

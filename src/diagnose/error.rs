@@ -40,6 +40,9 @@ pub enum DiagnoseError {
         /// Which number.
         what: &'static str,
     },
+    /// No joint moves in the data: nothing about the dynamics can be told.
+    #[error("no joint moves in the data (every q is constant): a diagnosis needs motion")]
+    NoMotion,
     /// The diagnosis would need more memory than it may use.
     #[error(
         "the diagnosis would need about {needed_gib:.2} GiB for its candidate library, beyond the {limit_gib:.2} GiB limit: use fewer samples, lock joints in the sidecar, or raise the limit (diagnose --max-memory-gib)"

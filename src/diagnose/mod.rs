@@ -442,6 +442,9 @@ pub fn diagnose(
             found: data.joints.clone(),
         });
     }
+    if (0..n).all(|i| data.q.iter().all(|q| q[i] == data.q[0][i])) {
+        return Err(DiagnoseError::NoMotion);
+    }
     let mut warnings = vec![];
     let parts = plan(
         memory_estimate(model, data.len()),

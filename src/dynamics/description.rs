@@ -218,12 +218,8 @@ fn with_limits(
             ))
         })?;
         if let Some([lo, hi]) = j.limits {
-            if !(lo < hi) || lo.is_nan() || hi.is_nan() {
-                return Err(err(format!(
-                    "[[joint]] '{}': limits [{lo}, {hi}] must be increasing",
-                    j.name
-                )));
-            }
+            super::model::check_limits(&j.name, (lo, hi))
+                .map_err(|m| err(format!("[[joint]] {m}")))?;
             limits.push((i, (lo, hi)));
         }
     }

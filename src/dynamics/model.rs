@@ -37,6 +37,45 @@ pub struct Joint {
     pub inertia: InertialParams,
 }
 
+/// The largest finite joint limit (rad or m): a larger one is a typo or an
+/// "unlimited" that should be written as no limit.
+pub const MAX_ABS_LIMIT: f64 = 1e4;
+
+/// A joint limit pair: increasing, each end ±∞ or finite within
+/// ±[`MAX_ABS_LIMIT`].
+pub fn check_limits(joint: &str, (lo, hi): (f64, f64)) -> Result<(), String> {
+    let ok = |x: f64| x.is_infinite() || x.abs() <= MAX_ABS_LIMIT;
+    if !(lo < hi) {
+        return Err(format!(
+            "joint '{joint}': limits [{lo}, {hi}] must be increasing"
+        ));
+    }
+    if !(ok(lo) && ok(hi)) {
+        return Err(format!(
+            "joint '{joint}': limits [{lo:e}, {hi:e}] beyond ±{MAX_ABS_LIMIT:e} (leave an unlimited joint without limits)"
+        ));
+    }
+    Ok(())
+}
+
+/// A joint name is also a CSV column name (`q_<name>`): not empty, and no
+/// comma, quote, space or control character.
+pub fn check_joint_name(name: &str) -> Result<(), String> {
+    if name.is_empty() {
+        return Err("a movable joint without a name".into());
+    }
+    if let Some(c) = name
+        .chars()
+        .find(|c| matches!(c, ',' | '"' | '\'') || c.is_whitespace() || c.is_control())
+    {
+        return Err(format!(
+            "joint '{}': its name becomes a CSV column and cannot hold {c:?}",
+            name.escape_debug()
+        ));
+    }
+    Ok(())
+}
+
 /// A rotor geared to a joint: a rigid body mounted on the joint's parent
 /// body, spinning about its own axis at `gear_ratio × q̇` (so its angle is
 /// `gear_ratio × q`). Its gyroscopic coupling with the parent is modelled.
@@ -114,8 +153,25 @@ impl Model {
                 message: what,
             })
         };
+        if joints.is_empty() {
+            return bad("no movable joint: nothing to simulate, identify or diagnose".into());
+        }
+        if !gravity.iter().all(|g| g.is_finite() && g.abs() <= 1e3) {
+            return bad(format!(
+                "gravity {:?} must be finite and within ±1000 m/s²",
+                gravity.as_slice()
+            ));
+        }
         let mut names = std::collections::HashSet::with_capacity(joints.len());
         for (i, j) in joints.iter().enumerate() {
+            check_joint_name(&j.name).map_err(|m| DynamicsError::InvalidModel {
+                model: name.to_string(),
+                message: m,
+            })?;
+            check_limits(&j.name, j.limits).map_err(|m| DynamicsError::InvalidModel {
+                model: name.to_string(),
+                message: m,
+            })?;
             if let Some(p) = j.parent {
                 if p >= i {
                     return bad(format!(
@@ -169,8 +225,17 @@ impl Model {
             }
             rotor_of[r.joint] = Some(k);
         }
-        if !gravity.iter().all(|g| g.is_finite()) {
-            return bad("non-finite gravity".into());
+        let mut bodies = std::collections::HashSet::with_capacity(joints.len() + rotors.len());
+        for b in joints
+            .iter()
+            .map(|j| &j.body)
+            .chain(rotors.iter().map(|r| &r.name))
+        {
+            if !bodies.insert(b.as_str()) {
+                return bad(format!(
+                    "two bodies are named '{b}' (a rotor named like a link?): parameter files name bodies"
+                ));
+            }
         }
         let frames = joints
             .iter()

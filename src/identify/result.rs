@@ -27,12 +27,14 @@ pub struct BodyResult {
     pub params: [f64; 10],
     /// Mass (kg).
     pub mass: f64,
-    /// CoM (m), body frame.
-    pub com: [f64; 3],
-    /// Principal moments about the CoM (kg·m²).
+    /// CoM (m), body frame; `None` when the mass is not positive (no CoM).
+    pub com: Option<[f64; 3]>,
+    /// Principal moments about the CoM (kg·m²; about the body origin when
+    /// the mass is not positive).
     pub principal_moments: [f64; 3],
-    /// Covariance-ellipsoid semi-axes √(μᵢ/m) (m).
-    pub covariance_semi_axes: [f64; 3],
+    /// Covariance-ellipsoid semi-axes √(μᵢ/m) (m); `None` when the body is
+    /// not semi-consistent (a negative μᵢ or mass has no ellipsoid).
+    pub covariance_semi_axes: Option<[f64; 3]>,
     /// `J(π) ⪰ 0` as checked by `moments` (tolerance [`CHECK_TOL`]).
     pub consistent: bool,
     /// The full consistency report.
@@ -238,13 +240,10 @@ fn body_results(id: &Identification, theta: &[f64]) -> (Vec<BodyResult>, bool) {
             Level::Consistent => rep.consistent,
             Level::Ellipsoid => real.as_ref().is_some_and(|r| r.realizable),
         };
-        let com = if pi.mass() > 0.0 {
-            let c = pi.to_mass_com_inertia().com;
-            [c.x, c.y, c.z]
-        } else {
-            [f64::NAN; 3]
-        };
+        let finite = |v: [f64; 3]| v.iter().all(|x| x.is_finite()).then_some(v);
+        let com = (pi.mass() > 0.0).then(|| pi.com().into()).and_then(finite);
         let cov = pi.covariance_ellipsoid();
+        let cov = finite(cov.semi_axes.into()).filter(|_| pi.mass() > 0.0);
         bodies.push(BodyResult {
             name,
             level,
@@ -252,7 +251,7 @@ fn body_results(id: &Identification, theta: &[f64]) -> (Vec<BodyResult>, bool) {
             mass: pi.mass(),
             com,
             principal_moments: rep.principal_moments,
-            covariance_semi_axes: [cov.semi_axes.x, cov.semi_axes.y, cov.semi_axes.z],
+            covariance_semi_axes: cov,
             consistent: rep.consistent,
             consistency: rep,
             realizability: real,

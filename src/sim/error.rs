@@ -25,6 +25,18 @@ pub enum SimError {
         /// Time (s).
         t: f64,
     },
+    /// A simulated value beyond what the data readers accept.
+    #[error(
+        "the simulated {what} at t = {t} s is {value:e}, beyond ±1e8: the description (gravity, poses, effects) is out of scale"
+    )]
+    OutOfRange {
+        /// The column.
+        what: String,
+        /// Time (s).
+        t: f64,
+        /// The value.
+        value: f64,
+    },
     /// The excitation gives a non-finite state.
     #[error("the excitation gives a non-finite state at t = {t} s")]
     NonFinite {

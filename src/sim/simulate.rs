@@ -17,6 +17,17 @@ use serde::{Deserialize, Serialize};
 /// The most samples one simulation makes (memory stays bounded: ~ 1 kB per
 /// sample for a 9-joint robot).
 pub const MAX_SAMPLES: usize = 10_000_000;
+/// The memory a simulation may plan for (bytes).
+pub const MAX_SIM_BYTES: u64 = 8 << 30;
+
+/// What simulating `samples` samples of `n` joints holds (bytes): the
+/// dynamics' n × n matrices (mass matrix, its factor, Jacobians; a few
+/// dozen) and per sample the states, torques and their filtered copies.
+pub fn memory_estimate(n: usize, samples: usize) -> u64 {
+    let (n, s) = (n as u64, samples as u64);
+    8 * (40 * n * n + 16 * s * n)
+}
+
 /// The largest torque noise σ (N·m) a simulation may add.
 pub const MAX_NOISE_SIGMA: f64 = 1e4;
 
@@ -108,6 +119,26 @@ impl SimConfig {
                 "seconds",
                 self.seconds,
                 &format!("{samples} samples at this rate; at most {MAX_SAMPLES}"),
+            );
+        }
+        if samples < 2.0 {
+            return bad(
+                "seconds",
+                self.seconds,
+                &format!("{samples} samples at this rate; a data set needs at least 2"),
+            );
+        }
+        let need = memory_estimate(model.dof(), samples as usize);
+        if need > MAX_SIM_BYTES {
+            return bad(
+                "seconds",
+                self.seconds,
+                &format!(
+                    "{} joints × {samples} samples need about {:.1} GiB, beyond {} GiB (fewer joints, lock some in the sidecar, or a shorter run)",
+                    model.dof(),
+                    need as f64 / (1u64 << 30) as f64,
+                    MAX_SIM_BYTES >> 30
+                ),
             );
         }
         if self.trajectory.joints() != model.dof() {
@@ -280,6 +311,30 @@ pub fn simulate(
     if cfg.processed {
         process(model, cfg, &mut d);
     }
+    within_reader_limits(&d)?;
     progress(samples, samples);
     Ok(d)
+}
+
+/// The data must be readable back: every value finite and within the CSV
+/// readers' bounds (an extreme gravity, pose or effect can push torques or
+/// positions beyond them).
+fn within_reader_limits(d: &Dataset) -> Result<(), SimError> {
+    use crate::data::csv::MAX_ABS_VALUE;
+    for (what, v) in [("q", &d.q), ("qd", &d.qd), ("qdd", &d.qdd), ("tau", &d.tau)] {
+        for (k, row) in v.iter().enumerate() {
+            if let Some((j, x)) = row
+                .iter()
+                .enumerate()
+                .find(|(_, x)| !(x.is_finite() && x.abs() <= MAX_ABS_VALUE))
+            {
+                return Err(SimError::OutOfRange {
+                    what: format!("{what}_{}", d.joints[j]),
+                    t: d.t[k],
+                    value: *x,
+                });
+            }
+        }
+    }
+    Ok(())
 }

@@ -97,7 +97,19 @@ pub fn read_vertices(path: &Path) -> Result<Vec<[f64; 3]>, String> {
             MAX_MESH_BYTES >> 20
         ));
     }
-    let bytes = std::fs::read(path).map_err(|e| format!("{name}: {e}"))?;
+    // a device or pipe reports no length: never read past the limit
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)
+        .and_then(|f| {
+            std::io::Read::read_to_end(&mut std::io::Read::take(f, MAX_MESH_BYTES + 1), &mut bytes)
+        })
+        .map_err(|e| format!("{name}: {e}"))?;
+    if bytes.len() as u64 > MAX_MESH_BYTES {
+        return Err(format!(
+            "{name}: more than the {} MiB a mesh may have",
+            MAX_MESH_BYTES >> 20
+        ));
+    }
     let ext = path
         .extension()
         .map(|e| e.to_string_lossy().to_lowercase())

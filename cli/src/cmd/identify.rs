@@ -170,13 +170,14 @@ pub fn print_report(r: &IdentifyResult) {
         "body", "mass", "CoM [m]", "principal moments [kg·m²]", "consistent"
     );
     for b in &r.bodies {
+        let com = b.com.map_or_else(
+            || format!("{:>28}", "- (no positive mass)"),
+            |c| format!("({:>8.4}, {:>8.4}, {:>8.4})", c[0], c[1], c[2]),
+        );
         println!(
-            "{:<12} {:>9.4} ({:>8.4}, {:>8.4}, {:>8.4}) ({:>10.3e}, {:>10.3e}, {:>10.3e}) {:>11}",
+            "{:<12} {:>9.4} {com} ({:>10.3e}, {:>10.3e}, {:>10.3e}) {:>11}",
             b.name,
             b.mass,
-            b.com[0],
-            b.com[1],
-            b.com[2],
             b.principal_moments[0],
             b.principal_moments[1],
             b.principal_moments[2],

@@ -89,8 +89,16 @@ fn print_result(a: &SdpaArgs, prob: &SdpaProblem, est: &MemoryEstimate, sol: &So
         println!("blocks            {:?}", prob.blocks);
         println!("memory estimate   {:.3} GiB", est.total_gib());
         println!("status            {}", sol.status);
-        println!("primal objective  {:.10e}", sol.primal_objective);
-        println!("dual objective    {:.10e}", sol.dual_objective);
+        // an infeasible or unbounded end has no finite objective to show
+        let show = |v: f64| {
+            if v.is_finite() {
+                format!("{v:.10e}")
+            } else {
+                "none (not solved)".to_string()
+            }
+        };
+        println!("primal objective  {}", show(sol.primal_objective));
+        println!("dual objective    {}", show(sol.dual_objective));
         println!("iterations        {}", sol.iterations);
         println!(
             "solve time        {:.4} s (setup {:.4} s)",
