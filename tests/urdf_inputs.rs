@@ -183,7 +183,6 @@ fn checker_and_model_loader_refuse_the_same_files_with_the_same_message() {
             ]),
             "two joints are named 'j'",
         ),
-        ("<robot name=\"r\"/>".to_string(), "the <robot> has no <link>"),
         (
             robot(&[
                 link("a"),
@@ -269,6 +268,14 @@ fn bad_geometry_is_kept_as_invalid_and_warned_about_by_the_checker_and_the_loade
             .all(|s| matches!(s.geometry, Geometry::Invalid { .. }))
     );
     assert!(matches!(arm.visuals[2].geometry, Geometry::Sphere { .. }));
+    // a negative mesh scale mirrors the mesh (left/right parts): valid
+    assert!(matches!(
+        arm.visuals[0].geometry,
+        Geometry::Mesh {
+            scale: [1.0, -1.0, 1.0],
+            ..
+        }
+    ));
     let rep = check_urdf_str(&text, "g.urdf").unwrap();
     let want = [
         "link 'arm': <collision> 1: <origin xyz=\"NaN 0 0\">: expected three finite numbers",
@@ -278,8 +285,7 @@ fn bad_geometry_is_kept_as_invalid_and_warned_about_by_the_checker_and_the_loade
         "link 'arm': <collision> 5: <cylinder length=\"-1\">: must be positive",
         "link 'arm': <collision> 6: <sphere radius=\"0\">: must be positive",
         "link 'arm': <collision> 7: <capsule length=\"-0.1\">: must not be negative",
-        "link 'arm': <visual> 1: <mesh scale=\"1 -1 1\">: every value must be positive",
-        "link 'arm': <visual> 2: <mesh scale=\"1 0 1\">: every value must be positive",
+        "link 'arm': <visual> 2: <mesh scale=\"1 0 1\">: every value must be non-zero",
     ];
     assert_eq!(rep.warnings, want);
     // the invalid shapes give no bounding volume and no note of their own
@@ -404,4 +410,18 @@ fn a_negative_mass_is_a_finding_for_check_and_an_error_for_the_loader() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("link 'arm': negative mass -2 kg"), "{e}");
+}
+
+/// An empty `<robot>` (as xacro leaves some files) is "nothing to check"
+/// for the checker, and no model for the loader.
+#[test]
+fn an_empty_robot_is_nothing_to_check_and_no_model() {
+    let text = "<robot name=\"r\"/>";
+    let rep = check_urdf_str(text, "e.urdf").unwrap();
+    assert!(rep.nothing_to_check() && !rep.consistent);
+    assert!(rep.warnings[0].contains("no <link>"), "{:?}", rep.warnings);
+    let e = model_from_urdf_str(text, "e.urdf", None)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("the <robot> has no <link>"), "{e}");
 }

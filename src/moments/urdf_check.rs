@@ -293,6 +293,16 @@ pub fn check_robot_with(
     path: &str,
     meshes: &mut Meshes,
 ) -> Result<UrdfReport, UrdfError> {
+    if robot.links.is_empty() {
+        // nothing to check is a finding (exit 1), not an unreadable file
+        return Ok(UrdfReport {
+            robot: robot.name.clone(),
+            links: vec![],
+            links_without_inertial: vec![],
+            warnings: vec!["the <robot> has no <link>: nothing to check".into()],
+            consistent: false,
+        });
+    }
     validate(robot, path)?;
     let mut links = Vec::new();
     let mut without = Vec::new();

@@ -156,7 +156,7 @@ fn positive(node: Node, name: &str, value: f64) -> Result<f64, String> {
     ))
 }
 
-/// Three positive numbers (box sides, mesh scales).
+/// Three positive numbers (box sides).
 fn positive3(node: Node, name: &str, v: [f64; 3]) -> Result<[f64; 3], String> {
     if v.iter().all(|&x| x > 0.0) {
         return Ok(v);
@@ -168,9 +168,22 @@ fn positive3(node: Node, name: &str, v: [f64; 3]) -> Result<[f64; 3], String> {
     ))
 }
 
+/// Three non-zero numbers (mesh scales: a negative one mirrors the mesh,
+/// as left/right parts of many robots do).
+fn nonzero3(node: Node, name: &str, v: [f64; 3]) -> Result<[f64; 3], String> {
+    if v.iter().all(|&x| x != 0.0) {
+        return Ok(v);
+    }
+    Err(format!(
+        "<{} {name}=\"{}\">: every value must be non-zero",
+        node.tag_name().name(),
+        node.attribute(name).unwrap_or("")
+    ))
+}
+
 /// The geometry of a `<collision>` or `<visual>`, with its ranges: box
-/// sides, radii, cylinder lengths and mesh scales positive, a capsule's
-/// length non-negative.
+/// sides, radii and cylinder lengths positive, mesh scales non-zero
+/// (negative: mirrored), a capsule's length non-negative.
 fn geometry(shape: Node) -> Result<Geometry, String> {
     let g = child(shape, "geometry").ok_or("no <geometry>")?;
     let e = g
@@ -206,7 +219,7 @@ fn geometry(shape: Node) -> Result<Geometry, String> {
                 .attribute("filename")
                 .ok_or("<mesh> has no 'filename' attribute")?
                 .to_string(),
-            scale: positive3(e, "scale", triple(e, "scale", [1.0; 3])?)?,
+            scale: nonzero3(e, "scale", triple(e, "scale", [1.0; 3])?)?,
         },
         other => return Err(format!("unknown geometry <{other}>")),
     })

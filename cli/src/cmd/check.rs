@@ -42,18 +42,11 @@ fn print_table(file: &Path, r: &UrdfReport) {
             r.links_without_inertial.join(", ")
         );
     }
-    let mut meshes = 0;
     for l in &r.links {
-        for n in &l.geometry_notes {
-            if n.contains("mesh '") {
-                meshes += 1;
-            } else {
-                println!("geometry not used, link '{}': {n}", l.name);
-            }
+        // mesh notes are warnings of the report (printed on stderr)
+        for n in l.geometry_notes.iter().filter(|n| !n.contains("mesh '")) {
+            println!("geometry not used, link '{}': {n}", l.name);
         }
-    }
-    if meshes > 0 {
-        println!("{meshes} mesh shape(s) not read (meshes are not used for bounding volumes yet)");
     }
     let bad = r
         .links
