@@ -282,6 +282,11 @@ fn hostile_sidecars_and_settings_are_refused() {
         ("rotornan", rotor("gear_ratio = 6.0\nmass = 0.1\ninertia = [nan, 0, 0, 1e-4, 0, 1e-4]"), "not finite"),
         ("prior", "[[body]]\nname = \"arm\"\nprior = { params = [-1.0, 0, 0, 0, 0.01, 0, 0, 0.01, 0, 0.01] }\n".to_string(), "negative"),
         ("equal", "[identify]\nequal = [[\"arm\", \"arm\"]]\n".to_string(), "itself"),
+        ("limits3", "[[joint]]\nname = \"j1\"\nlimits = [-1.0, 0.0, 1.0]\n".to_string(), "expected 2 values, found 3"),
+        ("equal3", "[identify]\nequal = [[\"arm\", \"arm\", \"arm\"]]\n".to_string(), "expected 2 values, found 3"),
+        ("coulomb", "[[joint]]\nname = \"j1\"\ncoulomb = -0.5\n".to_string(), "coulomb = -0.5"),
+        ("lock2", "lock = [\"j1\", \"j1\"]\n".to_string(), "listed twice"),
+        ("gravity", "gravity = [0.0, 0.0, -1e300]\n".to_string(), "gravity"),
     ];
     for (name, text, needle) in cases {
         let sc = d.join(format!("{name}.toml"));

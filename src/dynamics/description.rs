@@ -217,6 +217,16 @@ fn with_limits(
                 model.joint_names().join(", ")
             ))
         })?;
+        for (what, v) in [("coulomb", j.coulomb), ("viscous", j.viscous)] {
+            if let Some(x) = v
+                && !(x.is_finite() && (0.0..=1e6).contains(&x))
+            {
+                return Err(err(format!(
+                    "[[joint]] '{}': {what} = {x} must be finite, ≥ 0 and ≤ 1e6",
+                    j.name
+                )));
+            }
+        }
         if let Some([lo, hi]) = j.limits {
             super::model::check_limits(&j.name, (lo, hi))
                 .map_err(|m| err(format!("[[joint]] {m}")))?;

@@ -22,6 +22,7 @@ use std::path::Path;
 #[serde(deny_unknown_fields)]
 pub struct Sidecar {
     /// Gravity in the base frame (m/s²); default (0, 0, −9.81).
+    #[serde(default, deserialize_with = "exact::opt")]
     pub gravity: Option<[f64; 3]>,
     /// Movable joints to lock at 0 and merge like fixed joints.
     #[serde(default)]
@@ -52,7 +53,7 @@ pub struct SidecarIdentify {
     /// The robot's total mass (kg): the sum over every body, links and rotors.
     pub total_mass: Option<f64>,
     /// Pairs of bodies with the same parameters (each in its own frame).
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exact::vec")]
     pub equal: Vec<[String; 2]>,
 }
 
@@ -67,18 +68,24 @@ pub struct SidecarRotor {
     /// Gear ratio N (default: the joint's `<transmission>` reduction).
     pub gear_ratio: Option<f64>,
     /// Rotor frame origin in the joint's parent body frame (default: the joint frame's).
+    #[serde(default, deserialize_with = "exact::opt")]
     pub xyz: Option<[f64; 3]>,
     /// Rotor frame orientation, roll-pitch-yaw (default: the joint frame's).
+    #[serde(default, deserialize_with = "exact::opt")]
     pub rpy: Option<[f64; 3]>,
     /// Spin axis in the rotor frame (default: the joint axis).
+    #[serde(default, deserialize_with = "exact::opt")]
     pub axis: Option<[f64; 3]>,
     /// Inertial parameters in the paper's order, rotor frame.
+    #[serde(default, deserialize_with = "exact::opt")]
     pub params: Option<[f64; 10]>,
     /// Or: mass (kg) …
     pub mass: Option<f64>,
     /// … CoM in the rotor frame (m) …
+    #[serde(default, deserialize_with = "exact::opt")]
     pub com: Option<[f64; 3]>,
     /// … and inertia about the CoM `[ixx, ixy, ixz, iyy, iyz, izz]` (kg·m²).
+    #[serde(default, deserialize_with = "exact::opt")]
     pub inertia: Option<[f64; 6]>,
 }
 
@@ -90,7 +97,7 @@ pub struct SidecarTool {
     /// body name.
     pub frame: String,
     /// The point in that frame (m); default its origin.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exact::array")]
     pub xyz: [f64; 3],
 }
 
@@ -106,6 +113,7 @@ pub struct SidecarJoint {
     pub viscous: Option<f64>,
     /// Position limits `[lower, upper]` (rad or m), replacing the URDF's; they
     /// bound the default excitation.
+    #[serde(default, deserialize_with = "exact::opt")]
     pub limits: Option<[f64; 2]>,
 }
 
@@ -133,15 +141,18 @@ pub struct SidecarBody {
 #[serde(deny_unknown_fields)]
 pub struct PriorSpec {
     /// π in the paper's order (kg, kg·m, kg·m²).
+    #[serde(default, deserialize_with = "exact::opt")]
     pub params: Option<[f64; 10]>,
     /// Mass (kg).
     pub mass: Option<f64>,
     /// CoM in the body frame (m); default the origin.
+    #[serde(default, deserialize_with = "exact::opt")]
     pub com: Option<[f64; 3]>,
     /// Inertia about the CoM (kg·m²).
+    #[serde(default, deserialize_with = "exact::opt")]
     pub inertia: Option<[f64; 6]>,
     /// Side lengths of a solid box (m).
-    #[serde(rename = "box")]
+    #[serde(default, rename = "box", deserialize_with = "exact::opt")]
     pub box_sides: Option<[f64; 3]>,
 }
 
@@ -150,12 +161,13 @@ pub struct PriorSpec {
 #[serde(deny_unknown_fields)]
 pub struct EllipsoidSpec {
     /// Centre (m); default the origin.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exact::array")]
     pub center: [f64; 3],
     /// Semi-axes (m), > 0.
+    #[serde(deserialize_with = "exact::array")]
     pub semi_axes: [f64; 3],
     /// Orientation of the axes, roll-pitch-yaw (rad); default aligned.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exact::array")]
     pub rpy: [f64; 3],
 }
 
@@ -212,5 +224,41 @@ impl Sidecar {
     /// Reads a sidecar file.
     pub fn read(path: &Path) -> Result<Self, DynamicsError> {
         Self::parse(&read_text(path)?, &path.display().to_string())
+    }
+}
+
+/// Fixed-length arrays read exactly: TOML `[1, 2, 3]` for a pair is an
+/// error ("expected 2 values, found 3"), not a silently dropped third value.
+mod exact {
+    use serde::de::{Deserialize, Deserializer, Error};
+
+    fn exact<T, E: Error, const N: usize>(v: Vec<T>) -> Result<[T; N], E> {
+        let n = v.len();
+        v.try_into()
+            .map_err(|_| E::custom(format!("expected {N} values, found {n}")))
+    }
+
+    /// `[T; N]`.
+    pub fn array<'de, D: Deserializer<'de>, T: Deserialize<'de>, const N: usize>(
+        d: D,
+    ) -> Result<[T; N], D::Error> {
+        exact(Vec::deserialize(d)?)
+    }
+
+    /// `Option<[T; N]>`.
+    pub fn opt<'de, D: Deserializer<'de>, T: Deserialize<'de>, const N: usize>(
+        d: D,
+    ) -> Result<Option<[T; N]>, D::Error> {
+        Option::<Vec<T>>::deserialize(d)?.map(exact).transpose()
+    }
+
+    /// `Vec<[T; N]>`.
+    pub fn vec<'de, D: Deserializer<'de>, T: Deserialize<'de>, const N: usize>(
+        d: D,
+    ) -> Result<Vec<[T; N]>, D::Error> {
+        Vec::<Vec<T>>::deserialize(d)?
+            .into_iter()
+            .map(exact)
+            .collect()
     }
 }

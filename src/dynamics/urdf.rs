@@ -52,16 +52,19 @@ fn locks<'s>(tree: &Tree, sc: &'s Sidecar, path: &str) -> Result<HashSet<&'s str
         .iter()
         .map(|j| j.name.as_str())
         .collect();
-    sc.lock
-        .iter()
-        .map(|name| {
-            if joints.contains(name.as_str()) {
-                Ok(name.as_str())
-            } else {
-                Err(ferr(path, format!("sidecar lock: no joint named '{name}'")))
-            }
-        })
-        .collect()
+    let mut locked = HashSet::with_capacity(sc.lock.len());
+    for name in &sc.lock {
+        if !joints.contains(name.as_str()) {
+            return Err(ferr(path, format!("sidecar lock: no joint named '{name}'")));
+        }
+        if !locked.insert(name.as_str()) {
+            return Err(ferr(
+                path,
+                format!("sidecar lock: '{name}' is listed twice"),
+            ));
+        }
+    }
+    Ok(locked)
 }
 
 /// The model joint a URDF joint becomes (`None`: merged into its parent).
