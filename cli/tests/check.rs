@@ -1,31 +1,10 @@
 //! `momentlmi check` on URDFs written here with deliberate violations, on
 //! bad input, and on the Panda URDF from ../shared when present.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::path::Path;
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_momentlmi"))
-}
-
-struct TempDir(PathBuf);
-impl TempDir {
-    fn new(tag: &str) -> Self {
-        let d = std::env::temp_dir().join(format!("momentlmi-check-{tag}-{}", std::process::id()));
-        std::fs::create_dir_all(&d).unwrap();
-        Self(d)
-    }
-    fn write(&self, name: &str, text: &str) -> PathBuf {
-        let p = self.0.join(name);
-        std::fs::write(&p, text).unwrap();
-        p
-    }
-}
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
+mod common;
+use common::{TempDir, bin};
 
 fn link(name: &str, inertial: &str, geometry: &str) -> String {
     format!("  <link name=\"{name}\">\n{inertial}\n{geometry}\n  </link>\n")
@@ -93,7 +72,7 @@ fn status_of<'a>(v: &'a serde_json::Value, name: &str) -> &'a str {
 
 #[test]
 fn consistent_robot_exits_zero_and_is_realizable_in_its_box() {
-    let t = TempDir::new("good");
+    let t = TempDir::new("check-good");
     let f = t.write(
         "good.urdf",
         &robot(&[box_link("body"), link("frame", "", "")]),
@@ -124,7 +103,7 @@ fn consistent_robot_exits_zero_and_is_realizable_in_its_box() {
 
 #[test]
 fn deliberate_violations_get_their_verdicts_and_exit_one() {
-    let t = TempDir::new("bad");
+    let t = TempDir::new("check-bad");
     let links = [
         box_link("good"),
         // principal moments 0.01, 0.01, 0.05: 0.01 + 0.01 < 0.05, short by 60 %
@@ -227,7 +206,7 @@ fn deliberate_violations_get_their_verdicts_and_exit_one() {
 
 #[test]
 fn bad_input_exits_two_with_a_message_naming_the_problem() {
-    let t = TempDir::new("err");
+    let t = TempDir::new("check-err");
     let cases: Vec<(&str, String, &str)> = vec![
         (
             "missing_inertia.urdf",
@@ -320,7 +299,7 @@ fn panda_urdf_verdicts() {
 
 #[test]
 fn a_negative_mass_is_reported_with_the_rest_of_the_table() {
-    let t = TempDir::new("negmass");
+    let t = TempDir::new("check-negmass");
     let f = t.write(
         "negative.urdf",
         &robot(&[link(

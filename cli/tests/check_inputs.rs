@@ -3,44 +3,11 @@
 //! geometry problems are warnings, and `--repair` never writes over its
 //! input, never leaves a temporary file and writes nothing when it fails.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
+use std::process::Output;
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_momentlmi"))
-}
-
-struct TempDir(PathBuf);
-impl TempDir {
-    fn new(tag: &str) -> Self {
-        let d = std::env::temp_dir().join(format!(
-            "momentlmi-check-inputs-{tag}-{}",
-            std::process::id()
-        ));
-        let _ = std::fs::remove_dir_all(&d);
-        std::fs::create_dir_all(&d).unwrap();
-        Self(d)
-    }
-    fn write(&self, name: &str, text: &str) -> PathBuf {
-        let p = self.0.join(name);
-        std::fs::write(&p, text).unwrap();
-        p
-    }
-    /// The names in the folder, sorted.
-    fn names(&self) -> Vec<String> {
-        let mut v: Vec<String> = std::fs::read_dir(&self.0)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .collect();
-        v.sort();
-        v
-    }
-}
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
+mod common;
+use common::{TempDir, bin};
 
 fn check(args: &[&Path]) -> Output {
     let mut c = bin();
@@ -83,7 +50,7 @@ fn assert_invalid(o: &Output, file: &str, want: &str) {
 
 #[test]
 fn a_20000_deep_file_exits_two_with_a_message() {
-    let t = TempDir::new("deep");
+    let t = TempDir::new("check-inputs-deep");
     let n = 20_000;
     let f = t.write(
         "deep.urdf",
@@ -99,7 +66,7 @@ fn a_20000_deep_file_exits_two_with_a_message() {
 
 #[test]
 fn a_file_beyond_256_mib_is_refused_before_it_is_read() {
-    let t = TempDir::new("large");
+    let t = TempDir::new("check-inputs-large");
     let p = t.0.join("large.urdf");
     // sparse: no 257 MiB written
     std::fs::File::create(&p)
@@ -116,7 +83,7 @@ fn a_file_beyond_256_mib_is_refused_before_it_is_read() {
 
 #[test]
 fn structural_errors_exit_two_naming_the_joint_and_link() {
-    let t = TempDir::new("structure");
+    let t = TempDir::new("check-inputs-structure");
     let l = |n: &str| format!("<link name=\"{n}\">{GOOD}</link>");
     let j = |n: &str, p: &str, c: &str| {
         format!(
@@ -165,7 +132,7 @@ fn structural_errors_exit_two_naming_the_joint_and_link() {
 
 #[test]
 fn links_without_inertials_are_nothing_to_check_and_exit_one() {
-    let t = TempDir::new("nothing");
+    let t = TempDir::new("check-inputs-nothing");
     let f = t.write(
         "frames.urdf",
         &robot("<link name=\"a\"/><link name=\"b\"/><joint name=\"j\" type=\"fixed\"><parent link=\"a\"/><child link=\"b\"/></joint>"),
@@ -191,7 +158,7 @@ fn links_without_inertials_are_nothing_to_check_and_exit_one() {
 
 #[test]
 fn bad_geometry_is_a_warning_naming_the_link_and_the_element() {
-    let t = TempDir::new("geometry");
+    let t = TempDir::new("check-inputs-geometry");
     let f = t.write(
         "geo.urdf",
         &robot(&format!(
@@ -225,7 +192,7 @@ fn bad_geometry_is_a_warning_naming_the_link_and_the_element() {
 
 #[test]
 fn repair_never_writes_over_its_input() {
-    let t = TempDir::new("same");
+    let t = TempDir::new("check-inputs-same");
     let text = two_links();
     let a = t.write("a.urdf", &text);
     std::fs::create_dir(t.0.join("sub")).unwrap();
@@ -264,7 +231,7 @@ fn repair_never_writes_over_its_input() {
 
 #[test]
 fn repair_writes_through_a_unique_temporary_file_and_leaves_none() {
-    let t = TempDir::new("staged");
+    let t = TempDir::new("check-inputs-staged");
     let a = t.write("a.urdf", &two_links());
     // a file a fixed-suffix temporary would have clobbered
     t.write("b.urdf.tmp", "keep me");
@@ -301,7 +268,7 @@ fn repair_writes_through_a_unique_temporary_file_and_leaves_none() {
 
 #[test]
 fn a_failing_repair_leaves_no_output_and_no_temporary_file() {
-    let t = TempDir::new("fail");
+    let t = TempDir::new("check-inputs-fail");
     let a = t.write("a.urdf", &two_links());
     // the output is a folder: the staged file cannot be renamed onto it
     let dir = t.0.join("out.urdf");

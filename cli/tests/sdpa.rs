@@ -2,31 +2,10 @@
 //! message with exit code 2, never a panic (101) or an abort; the memory
 //! limit; the --chordal warning in --help and on stderr.
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_momentlmi"))
-}
-
-struct TempDir(PathBuf);
-impl TempDir {
-    fn new(tag: &str) -> Self {
-        let d = std::env::temp_dir().join(format!("momentlmi-sdpa-{tag}-{}", std::process::id()));
-        std::fs::create_dir_all(&d).unwrap();
-        Self(d)
-    }
-    fn write(&self, name: &str, text: &str) -> PathBuf {
-        let p = self.0.join(name);
-        std::fs::write(&p, text).unwrap();
-        p
-    }
-}
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
+mod common;
+use common::{TempDir, bin};
 
 /// min x₁ + x₂ s.t. [[x₁, 1], [1, x₂]] ⪰ 0, x₁ ≥ 0.5: value 2.
 const SMALL: &str =
@@ -53,7 +32,7 @@ fn sdpa(file: &std::path::Path, extra: &[&str]) -> (i32, String, String) {
 
 #[test]
 fn hostile_headers_are_named_errors_with_exit_code_2() {
-    let d = TempDir::new("hostile");
+    let d = TempDir::new("sdpa-hostile");
     let cases = [
         (
             "wrap32",
@@ -128,7 +107,7 @@ fn hostile_headers_are_named_errors_with_exit_code_2() {
 
 #[test]
 fn the_memory_limit_is_a_setting() {
-    let d = TempDir::new("memory");
+    let d = TempDir::new("sdpa-memory");
     // a PSD block of side 60: about 0.2 GiB by the estimate
     let mut text = "1\n1\n60\n1.0\n".to_string();
     for k in 1..=60 {
@@ -162,7 +141,7 @@ fn an_lp_block_of_100000_solves_in_linear_memory() {
     for k in 1..=n {
         text += &format!("1 1 {k} {k} 1\n0 1 {k} {k} {}\n", k as f64 / n as f64);
     }
-    let d = TempDir::new("lp");
+    let d = TempDir::new("sdpa-lp");
     let f = d.write("lp.dat-s", &text);
     let (code, out, err) = sdpa(&f, &["--json", "--max-memory-gib", "0.5"]);
     assert_eq!(code, 0, "{err}");
@@ -181,7 +160,7 @@ fn chordal_is_marked_experimental_in_help_and_warns() {
     assert!(help.contains("EXPERIMENTAL"), "{out}");
     assert!(help.contains("wrong optimum"), "{out}");
     assert!(help.contains("--max-memory-gib"), "{out}");
-    let d = TempDir::new("chordal");
+    let d = TempDir::new("sdpa-chordal");
     let f = d.write("small.dat-s", SMALL);
     let (code, _, err) = sdpa(&f, &["--chordal"]);
     assert_eq!(code, 0, "{err}");

@@ -156,29 +156,34 @@ fn positive(node: Node, name: &str, value: f64) -> Result<f64, String> {
     ))
 }
 
-/// Three positive numbers (box sides).
-fn positive3(node: Node, name: &str, v: [f64; 3]) -> Result<[f64; 3], String> {
-    if v.iter().all(|&x| x > 0.0) {
+/// Three numbers that each pass `ok` (`must`: what `ok` asks, for the
+/// message).
+fn all3(
+    node: Node,
+    name: &str,
+    v: [f64; 3],
+    ok: fn(f64) -> bool,
+    must: &str,
+) -> Result<[f64; 3], String> {
+    if v.iter().all(|&x| ok(x)) {
         return Ok(v);
     }
     Err(format!(
-        "<{} {name}=\"{}\">: every value must be positive",
+        "<{} {name}=\"{}\">: every value must be {must}",
         node.tag_name().name(),
         node.attribute(name).unwrap_or("")
     ))
 }
 
+/// Three positive numbers (box sides).
+fn positive3(node: Node, name: &str, v: [f64; 3]) -> Result<[f64; 3], String> {
+    all3(node, name, v, |x| x > 0.0, "positive")
+}
+
 /// Three non-zero numbers (mesh scales: a negative one mirrors the mesh,
 /// as left/right parts of many robots do).
 fn nonzero3(node: Node, name: &str, v: [f64; 3]) -> Result<[f64; 3], String> {
-    if v.iter().all(|&x| x != 0.0) {
-        return Ok(v);
-    }
-    Err(format!(
-        "<{} {name}=\"{}\">: every value must be non-zero",
-        node.tag_name().name(),
-        node.attribute(name).unwrap_or("")
-    ))
+    all3(node, name, v, |x| x != 0.0, "non-zero")
 }
 
 /// The geometry of a `<collision>` or `<visual>`, with its ranges: box
