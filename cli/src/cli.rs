@@ -55,6 +55,10 @@ enum Command {
         /// packages (repeatable; searched after the folders above the URDF, before ROS_PACKAGE_PATH).
         #[arg(long = "package-path", value_name = "DIR")]
         package_path: Vec<PathBuf>,
+        /// Degenerate links (consistent, but J singular: a point mass, rod or thin plate) make
+        /// the exit code 1 too.
+        #[arg(long)]
+        strict: bool,
     },
     /// Model joint torques for every sample of a data file (the "sim" side).
     Predict {
@@ -200,7 +204,16 @@ pub fn main() -> i32 {
             json,
             repair,
             package_path,
-        } => check::run(&urdf, json, repair.as_deref(), &package_path),
+            strict,
+        } => check::run(
+            &urdf,
+            &check::CheckArgs {
+                json,
+                repair: repair.as_deref(),
+                package_paths: &package_path,
+                strict,
+            },
+        ),
         Command::Predict {
             robot: RobotArgs { robot, sidecar },
             params,

@@ -318,3 +318,74 @@ fn a_negative_mass_is_reported_with_the_rest_of_the_table() {
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(status_of(&v, "arm"), "nonpositive_mass");
 }
+
+/// A point mass, a rod and a thin plate are consistent (status `ok`) but
+/// degenerate: reported by name, exit 0, and exit 1 with `--strict`. The
+/// JSON carries the bounding ellipsoids used.
+#[test]
+fn degenerate_links_are_named_and_strict_makes_them_findings() {
+    let t = TempDir::new("degenerate");
+    let box_geom = "    <collision><geometry><box size=\"0.4 0.2 0.2\"/></geometry></collision>";
+    let f = t.write(
+        "d.urdf",
+        &robot(&[
+            link(
+                "base",
+                &inertial("1", "0 0 0", ["0.01", "0", "0", "0.01", "0", "0.01"]),
+                box_geom,
+            ),
+            link(
+                "sensor",
+                &inertial("0.0001", "0.01 0 0", ["0", "0", "0", "0", "0", "0"]),
+                "",
+            ),
+            // a thin rod along x: no spread across it
+            link(
+                "rod",
+                &inertial("1", "0 0 0", ["0", "0", "0", "0.0133", "0", "0.0133"]),
+                "",
+            ),
+            // a plate in the xy plane: Izz = Ixx + Iyy
+            link(
+                "plate",
+                &inertial("1", "0 0 0", ["0.01", "0", "0", "0.02", "0", "0.03"]),
+                "",
+            ),
+        ]),
+    );
+    let o = bin().args(["check", "--json"]).arg(&f).output().unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let kind = |name: &str| {
+        v["links"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|l| l["name"] == name)
+            .unwrap()["degenerate"]
+            .clone()
+    };
+    assert_eq!(kind("base"), serde_json::Value::Null);
+    assert_eq!(kind("sensor"), "point mass");
+    assert_eq!(kind("rod"), "rod");
+    assert_eq!(kind("plate"), "thin plate");
+    // the box's bounding ellipsoid: semi-axes √3 · half sides
+    let e = &v["links"][0]["bounding_ellipsoids"][0];
+    let want = [0.2, 0.1, 0.1].map(|h: f64| h * 3f64.sqrt());
+    for (k, w) in want.iter().enumerate() {
+        assert!(
+            (e["semi_axes"][k].as_f64().unwrap() - w).abs() < 1e-9,
+            "{e}"
+        );
+    }
+    let o = bin().args(["check"]).arg(&f).output().unwrap();
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("3 degenerate link(s)"), "{out}");
+    let o = bin().args(["check", "--strict"]).arg(&f).output().unwrap();
+    assert_eq!(o.status.code(), Some(1));
+}

@@ -62,10 +62,16 @@ pub struct LinkReport {
     pub geometry_notes: Vec<String>,
     /// The parameters in the paper's order (link frame).
     pub params: [f64; 10],
+    /// A consistent inertia whose pseudo-inertia J is singular: `point
+    /// mass` (rank 1), `rod` (rank 2) or `thin plate` (rank 3). Theorem 3's
+    /// J ≻ 0 fails, Corollary 1 accepts it; simulators such as MuJoCo do
+    /// not. A warning (`check --strict` makes it a finding).
+    pub degenerate: Option<&'static str>,
+    /// The bounding ellipsoids used for `realizable_in_geometry` (link frame).
+    #[serde(rename = "bounding_ellipsoids", serialize_with = "ellipsoids_json")]
+    pub(crate) ellipsoids: Vec<Ellipsoid>,
     #[serde(skip)]
     pub(crate) verdict: Verdict,
-    #[serde(skip)]
-    pub(crate) ellipsoids: Vec<Ellipsoid>,
     #[serde(skip)]
     pub(crate) inertial_range: Range<usize>,
 }
@@ -79,7 +85,10 @@ impl LinkReport {
     /// A one-line human status.
     pub fn describe(&self) -> String {
         match self.verdict {
-            Verdict::Ok => "ok".into(),
+            Verdict::Ok => match self.degenerate {
+                Some(kind) => format!("ok, degenerate: a {kind} (J singular)"),
+                None => "ok".into(),
+            },
             Verdict::Placeholder => "zero placeholder (m = 0, I = 0)".into(),
             Verdict::NonpositiveMass => "non-positive mass".into(),
             Verdict::NotPositiveDefinite => "inertia not positive definite".into(),
@@ -90,6 +99,35 @@ impl LinkReport {
                 )
             }
         }
+    }
+}
+
+/// Ellipsoids as `{center, semi_axes, rotation}` (rotation: rows of the
+/// matrix whose columns are the axes).
+fn ellipsoids_json<S: serde::Serializer>(es: &[Ellipsoid], s: S) -> Result<S::Ok, S::Error> {
+    use serde::ser::SerializeSeq;
+    let mut seq = s.serialize_seq(Some(es.len()))?;
+    for e in es {
+        let r = e.rotation;
+        seq.serialize_element(&serde_json::json!({
+            "center": [e.center.x, e.center.y, e.center.z],
+            "semi_axes": [e.semi_axes.x, e.semi_axes.y, e.semi_axes.z],
+            "rotation": (0..3).map(|i| [r[(i, 0)], r[(i, 1)], r[(i, 2)]]).collect::<Vec<_>>(),
+        }))?;
+    }
+    seq.end()
+}
+
+/// Which degenerate body a consistent π is, from the rank of J (eigenvalues
+/// above 1e-10 of the largest).
+fn degeneracy(pi: &InertialParams) -> Option<&'static str> {
+    let eig = nalgebra::SymmetricEigen::new(pi.pseudo_inertia()).eigenvalues;
+    let top = eig.iter().fold(0.0f64, |a, &x| a.max(x));
+    match eig.iter().filter(|&&x| x > 1e-10 * top).count() {
+        1 => Some("point mass"),
+        2 => Some("rod"),
+        3 => Some("thin plate"),
+        _ => None,
     }
 }
 
@@ -262,7 +300,11 @@ fn link_report(link: &crate::urdf::Link, meshes: &mut Meshes) -> Option<LinkRepo
     } else {
         Vector3::zeros()
     };
+    let degenerate = (rep.verdict == Verdict::Ok)
+        .then(|| degeneracy(&pi))
+        .flatten();
     Some(LinkReport {
+        degenerate,
         name: link.name.clone(),
         mass: pi.mass(),
         com: [com.x, com.y, com.z],

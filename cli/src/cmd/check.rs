@@ -53,6 +53,19 @@ fn print_table(file: &Path, r: &UrdfReport) {
         .iter()
         .filter(|l| !matches!(l.status, "ok" | "placeholder"))
         .count();
+    let degenerate: Vec<&str> = r
+        .links
+        .iter()
+        .filter(|l| l.degenerate.is_some())
+        .map(|l| l.name.as_str())
+        .collect();
+    if !degenerate.is_empty() {
+        println!(
+            "{} degenerate link(s), consistent but with a singular pseudo-inertia (a point mass, rod or thin plate; MuJoCo refuses them): {}",
+            degenerate.len(),
+            degenerate.join(", ")
+        );
+    }
     if r.nothing_to_check() {
         println!("nothing to check: no link has an <inertial>");
     } else if bad == 0 {
@@ -64,12 +77,14 @@ fn print_table(file: &Path, r: &UrdfReport) {
 
 /// Exit codes: 0 some link has an `<inertial>` and every one is consistent
 /// (or a zero placeholder); 1 some are not, or no link has an `<inertial>`
-/// (nothing to check); 2 an invalid file (unreadable, beyond the reader's
+/// (nothing to check), or with `--strict` some link is degenerate; 2 an
+/// invalid file (unreadable, beyond the reader's
 /// limits, duplicate names, not one tree, a negative mass, …), a `--repair`
 /// target that is the input itself, or a failed repair or write (nothing is
 /// written then). Warnings (unusable geometry) go to stderr and leave the
 /// code alone. See docs/inputs.md.
-pub fn run(file: &Path, json: bool, repair: Option<&Path>, package_paths: &[PathBuf]) -> i32 {
+pub fn run(file: &Path, opts: &CheckArgs) -> i32 {
+    let (json, repair, package_paths) = (opts.json, opts.repair, opts.package_paths);
     if let Some(out) = repair
         && same_file(file, out)
     {
@@ -107,7 +122,24 @@ pub fn run(file: &Path, json: bool, repair: Option<&Path>, package_paths: &[Path
         eprintln!("error: {e}");
         return 2;
     }
-    if report.consistent { 0 } else { 1 }
+    let strict_finding = opts.strict && report.links.iter().any(|l| l.degenerate.is_some());
+    if report.consistent && !strict_finding {
+        0
+    } else {
+        1
+    }
+}
+
+/// The options of `check`.
+pub struct CheckArgs<'a> {
+    /// One JSON object instead of the table.
+    pub json: bool,
+    /// Where to write the repaired copy.
+    pub repair: Option<&'a Path>,
+    /// Folders of `package://` meshes.
+    pub package_paths: &'a [PathBuf],
+    /// Degenerate links (singular J) are findings (exit 1).
+    pub strict: bool,
 }
 
 /// Repairs the inconsistent inertials and writes the result to `out` (a
