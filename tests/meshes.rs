@@ -335,3 +335,72 @@ fn hostile_meshes_are_warnings_not_failures() {
         );
     }
 }
+
+/// One ellipsoid enclosing several: every point of every part is inside.
+#[test]
+fn the_enclosing_ellipsoid_contains_every_part() {
+    use momentlmi::moments::Ellipsoid;
+    use nalgebra::Vector3;
+    let a = Ellipsoid::new(Vector3::new(0.1, 0.0, 0.0), Vector3::new(0.2, 0.05, 0.05)).unwrap();
+    let b = Ellipsoid::new(Vector3::new(0.0, 0.0, 0.3), Vector3::new(0.04, 0.04, 0.15)).unwrap();
+    let e = Ellipsoid::enclosing(&[a, b]).unwrap();
+    for part in [a, b] {
+        for k in 0..2000 {
+            // dense directions, not the ones the construction uses
+            let z = -1.0 + 2.0 * (k as f64 + 0.25) / 2000.0;
+            let t = 2.399963 * k as f64 * 1.7;
+            let r = (1.0 - z * z).sqrt();
+            let u = Vector3::new(r * t.cos(), r * t.sin(), z);
+            let x = part.center + part.rotation * part.semi_axes.component_mul(&u);
+            assert!(e.contains(&x, 1e-9), "{x:?} outside");
+        }
+    }
+    // and it is not wildly larger than the two parts' hull needs
+    assert!(e.volume() < 10.0 * (a.volume() + b.volume()));
+}
+
+/// A URDF robot whose links have primitive collision shapes (one link has
+/// two) identifies at the ellipsoid level: each link body gets one bounding
+/// ellipsoid from its geometry, and every identified link is density
+/// realizable in it.
+#[test]
+fn a_urdf_robot_identifies_at_the_ellipsoid_level_from_its_geometry() {
+    use momentlmi::dynamics::robots::load_robot;
+    use momentlmi::identify::{Identification, Level};
+    use momentlmi::sim::{Effects, SimConfig, simulate};
+    let d = dir("identify");
+    let u = d.join("arm.urdf");
+    std::fs::write(
+        &u,
+        r#"<robot name="arm"><link name="base"/>
+<link name="upper"><inertial><origin xyz="0.15 0 0"/><mass value="1.2"/>
+<inertia ixx="0.001" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>
+<collision><origin xyz="0.15 0 0"/><geometry><box size="0.34 0.06 0.06"/></geometry></collision></link>
+<link name="fore"><inertial><origin xyz="0.12 0 0"/><mass value="0.6"/>
+<inertia ixx="0.0004" ixy="0" ixz="0" iyy="0.004" iyz="0" izz="0.004"/></inertial>
+<collision><origin xyz="0.1 0 0" rpy="0 1.5707963 0"/><geometry><cylinder radius="0.03" length="0.22"/></geometry></collision>
+<collision><origin xyz="0.23 0 0"/><geometry><sphere radius="0.04"/></geometry></collision></link>
+<joint name="shoulder" type="revolute"><parent link="base"/><child link="upper"/><axis xyz="0 1 0"/>
+<limit lower="-2" upper="2" effort="20" velocity="5"/></joint>
+<joint name="elbow" type="revolute"><parent link="upper"/><child link="fore"/><origin xyz="0.3 0 0"/>
+<axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="20" velocity="5"/></joint></robot>"#,
+    )
+    .unwrap();
+    let robot = load_robot(u.to_str().unwrap(), None).unwrap();
+    assert!(
+        robot.bounding.iter().all(|b| b.len() == 1),
+        "{:?}",
+        robot.warnings
+    );
+    let cfg = SimConfig::for_robot(&robot, 4.0, Effects::new([]), 3);
+    let data = simulate(&robot, &cfg, |_, _| {}).unwrap();
+    let r = Identification::for_robot(&robot, Level::Ellipsoid, 1e-6)
+        .unwrap()
+        .identify(&data, None)
+        .unwrap();
+    assert!(r.constraints_satisfied);
+    for name in ["upper", "fore"] {
+        let b = r.body(name).unwrap();
+        assert!(b.realizability.as_ref().unwrap().realizable, "{name}");
+    }
+}

@@ -142,6 +142,51 @@ impl RobotDescription {
         })
     }
 
+    /// Fills in, from the URDF's geometry, the bounding ellipsoid of every
+    /// link body the sidecar gives none: the one ellipsoid enclosing the
+    /// bounding ellipsoids of the collision shapes (visual when a link has
+    /// none; meshes included, found through `meshes`) of every URDF link
+    /// merged into the body, in the body's frame. A mesh that cannot be
+    /// used is a warning; a body with no usable shape keeps none.
+    pub fn with_urdf_geometry(
+        mut self,
+        robot: &crate::urdf::Robot,
+        meshes: &mut crate::moments::urdf_check::Meshes,
+    ) -> Self {
+        let nj = self.model.dof();
+        let mut parts: Vec<Vec<Ellipsoid>> = vec![vec![]; nj];
+        let links: HashMap<&str, &crate::urdf::Link> =
+            robot.links.iter().map(|l| (l.name.as_str(), l)).collect();
+        for f in &self.model.frames {
+            let (Some(b), Some(link)) = (f.body, links.get(f.name.as_str())) else {
+                continue;
+            };
+            let (es, notes) = crate::moments::urdf_check::geometry_ellipsoids(link, meshes);
+            self.warnings.extend(
+                notes
+                    .iter()
+                    .filter(|n| n.contains("mesh '"))
+                    .map(|n| format!("link '{}': {n}", f.name)),
+            );
+            // x_body = Eᵀ x_link + r
+            let (e, r) = (f.placement.e.transpose(), f.placement.r);
+            parts[b].extend(es.iter().map(|x| x.transformed(&e, &r)));
+        }
+        for (b, p) in parts.iter().enumerate() {
+            if !self.bounding[b].is_empty() || p.is_empty() {
+                continue;
+            }
+            match Ellipsoid::enclosing(p) {
+                Ok(e) => self.bounding[b] = vec![e],
+                Err(m) => self.warnings.push(format!(
+                    "body '{}': no bounding ellipsoid from its geometry: {m}",
+                    self.model.joints[b].body
+                )),
+            }
+        }
+        self
+    }
+
     /// The prior as one vector (10 per body, links then rotors).
     pub fn prior_vector(&self) -> Vec<f64> {
         self.prior.iter().flat_map(|p| p.0).collect()

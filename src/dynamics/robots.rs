@@ -8,6 +8,8 @@ use super::error::DynamicsError;
 use super::model::Model;
 use super::sidecar::Sidecar;
 use super::urdf::model_from_robot;
+use crate::moments::urdf_check::Meshes;
+use crate::urdf::mesh::MeshPaths;
 use std::path::Path;
 
 /// A built-in robot: its name, its model and its sidecar text.
@@ -30,7 +32,10 @@ pub fn built_in_names() -> Vec<&'static str> {
 }
 
 /// A built-in robot (`cheetah3-leg`) or a path to a URDF file (with an
-/// optional TOML sidecar), described.
+/// optional TOML sidecar), described; a URDF body without a sidecar
+/// bounding ellipsoid gets one from its geometry
+/// ([`RobotDescription::with_urdf_geometry`], meshes found beside the URDF
+/// and in `ROS_PACKAGE_PATH`).
 pub fn load_robot(spec: &str, sidecar: Option<&Path>) -> Result<RobotDescription, DynamicsError> {
     if let Some(b) = BUILT_IN.iter().find(|b| b.name == spec) {
         if sidecar.is_some() {
@@ -56,5 +61,7 @@ pub fn load_robot(spec: &str, sidecar: Option<&Path>) -> Result<RobotDescription
     let (_, robot) = crate::urdf::read_file(p)?;
     let sc = sidecar.map(Sidecar::read).transpose()?.unwrap_or_default();
     let model = model_from_robot(&robot, spec, Some(&sc))?;
-    RobotDescription::new(spec, model, &sc, Some(&robot))
+    let mut meshes = Meshes::new(MeshPaths::for_urdf(p, &[]));
+    Ok(RobotDescription::new(spec, model, &sc, Some(&robot))?
+        .with_urdf_geometry(&robot, &mut meshes))
 }

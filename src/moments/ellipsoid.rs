@@ -222,6 +222,43 @@ impl Ellipsoid {
     }
 }
 
+impl Ellipsoid {
+    /// One ellipsoid containing all of `parts` (a body whose shapes are
+    /// several): the part itself when there is one, else the minimum-volume
+    /// ellipsoid enclosing points on each part's surface pushed out by
+    /// 1/cos(0.3) — the convex hull of 300 Fibonacci directions covers
+    /// every direction within 0.3 rad, so that hull, and with it the
+    /// result, contains every part.
+    pub fn enclosing(parts: &[Ellipsoid]) -> Result<Self, MomentsError> {
+        match parts {
+            [] => Err(MomentsError::InvalidEllipsoid("no parts to enclose".into())),
+            [e] => Ok(*e),
+            many => {
+                const N: usize = 300;
+                let push = 1.0 / 0.3f64.cos();
+                let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+                let dirs: Vec<Vector3<f64>> = (0..N)
+                    .map(|k| {
+                        let z = 1.0 - 2.0 * (k as f64 + 0.5) / N as f64;
+                        let r = (1.0 - z * z).sqrt();
+                        let a = golden * k as f64;
+                        Vector3::new(r * a.cos(), r * a.sin(), z)
+                    })
+                    .collect();
+                let points: Vec<Vector3<f64>> = many
+                    .iter()
+                    .flat_map(|e| {
+                        dirs.iter().map(move |u| {
+                            e.center + e.rotation * e.semi_axes.component_mul(u) * push
+                        })
+                    })
+                    .collect();
+                Self::minimum_volume_enclosing(&points, 1e-7)
+            }
+        }
+    }
+}
+
 /// The most Khachiyan iterations of [`Ellipsoid::minimum_volume_enclosing`].
 pub const MVEE_MAX_ITERATIONS: usize = 20_000;
 

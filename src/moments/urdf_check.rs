@@ -238,9 +238,9 @@ fn shape_ellipsoid(s: &Shape, meshes: &mut Meshes) -> Result<Ellipsoid, String> 
     Ok(e.transformed(&r, &p))
 }
 
-/// Bounding ellipsoids of a link's shapes (collision, else visual), and
-/// notes on the shapes that gave none.
-fn geometry_ellipsoids(
+/// Bounding ellipsoids of a link's shapes (collision, else visual; link
+/// frame), and notes on the shapes that gave none.
+pub fn geometry_ellipsoids(
     link: &crate::urdf::Link,
     meshes: &mut Meshes,
 ) -> (Vec<Ellipsoid>, Vec<String>) {
