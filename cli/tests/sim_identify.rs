@@ -477,3 +477,52 @@ fn identify_with_a_known_mass_and_equal_bodies_from_the_command_line() {
     assert_eq!(bodies[1]["level"], "semi");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The Panda from ../shared (when present, with its meshes beside it):
+/// simulated, then identified at the ellipsoid level with bounding
+/// ellipsoids from its collision meshes; every body satisfies its level.
+#[test]
+fn the_panda_identifies_at_the_ellipsoid_level_from_its_meshes() {
+    let urdf =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/reference/panda.urdf");
+    let meshes = urdf.with_file_name("example-robot-data");
+    if !urdf.exists() || !meshes.exists() {
+        eprintln!("skipped: {} or its meshes are not here", urdf.display());
+        return;
+    }
+    let dir = std::env::temp_dir().join(format!("momentlmi-panda-ell-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let data = dir.join("panda.csv");
+    let o = bin()
+        .args([
+            "simulate",
+            "--robot",
+            urdf.to_str().unwrap(),
+            "--seconds",
+            "3",
+        ])
+        .args(["--out", data.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = bin()
+        .args(["identify", "--robot", urdf.to_str().unwrap(), "--data"])
+        .arg(&data)
+        .args(["--constraints", "ellipsoid", "--json"])
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["constraints_satisfied"], true);
+    let links = v["bodies"].as_array().unwrap();
+    assert!(links.len() >= 7);
+    for b in links {
+        assert_eq!(b["realizability"]["realizable"], true, "{}", b["name"]);
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
