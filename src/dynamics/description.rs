@@ -161,6 +161,9 @@ impl RobotDescription {
             let (Some(b), Some(link)) = (f.body, links.get(f.name.as_str())) else {
                 continue;
             };
+            if !self.bounding[b].is_empty() {
+                continue; // the sidecar's volume stands; its meshes are not read
+            }
             let (es, notes) = crate::moments::urdf_check::geometry_ellipsoids(link, meshes);
             self.warnings.extend(
                 notes
@@ -173,7 +176,7 @@ impl RobotDescription {
             parts[b].extend(es.iter().map(|x| x.transformed(&e, &r)));
         }
         for (b, p) in parts.iter().enumerate() {
-            if !self.bounding[b].is_empty() || p.is_empty() {
+            if p.is_empty() {
                 continue;
             }
             match Ellipsoid::enclosing(p) {
