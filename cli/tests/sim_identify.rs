@@ -3,6 +3,8 @@
 
 use std::process::Command;
 
+mod common;
+
 fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_momentlmi"))
 }
@@ -485,43 +487,30 @@ fn identify_with_a_known_mass_and_equal_bodies_from_the_command_line() {
 fn the_panda_identifies_at_the_ellipsoid_level_from_its_meshes() {
     let urdf =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/reference/panda.urdf");
-    let meshes = urdf.with_file_name("example-robot-data");
-    if !urdf.exists() || !meshes.exists() {
+    if !urdf.exists() || !urdf.with_file_name("example-robot-data").exists() {
         eprintln!("skipped: {} or its meshes are not here", urdf.display());
         return;
     }
     let dir = std::env::temp_dir().join(format!("momentlmi-panda-ell-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let data = dir.join("panda.csv");
-    let o = bin()
-        .args([
-            "simulate",
-            "--robot",
-            urdf.to_str().unwrap(),
-            "--seconds",
-            "3",
-        ])
-        .args(["--out", data.to_str().unwrap()])
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let o = bin()
-        .args(["identify", "--robot", urdf.to_str().unwrap(), "--data"])
-        .arg(&data)
-        .args(["--constraints", "ellipsoid", "--json"])
-        .output()
-        .unwrap();
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let (u, data) = (urdf.to_str().unwrap(), dir.join("panda.csv"));
+    let d = data.to_str().unwrap();
+    common::ok(&["simulate", "--robot", u, "--seconds", "3", "--out", d]);
+    let json = common::ok(&[
+        "identify",
+        "--robot",
+        u,
+        "--data",
+        d,
+        "--constraints",
+        "ellipsoid",
+        "--json",
+    ]);
+    let v: serde_json::Value = serde_json::from_slice(&json).unwrap();
     assert_eq!(v["constraints_satisfied"], true);
-    let links = v["bodies"].as_array().unwrap();
-    assert!(links.len() >= 7);
-    for b in links {
+    let bodies = v["bodies"].as_array().unwrap();
+    assert!(bodies.len() >= 7);
+    for b in bodies {
         assert_eq!(b["realizability"]["realizable"], true, "{}", b["name"]);
     }
     let _ = std::fs::remove_dir_all(&dir);

@@ -45,3 +45,16 @@ impl Drop for TempDir {
         let _ = std::fs::remove_dir_all(&self.0);
     }
 }
+
+/// Runs the binary with `args` and returns its stdout, failing the test
+/// with its stderr if it does not exit 0.
+pub fn ok(args: &[&str]) -> Vec<u8> {
+    let o = bin().args(args).output().unwrap();
+    assert!(
+        o.status.success(),
+        "momentlmi {}: {}",
+        args.join(" "),
+        String::from_utf8_lossy(&o.stderr)
+    );
+    o.stdout
+}
