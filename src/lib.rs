@@ -25,6 +25,7 @@ pub mod data;
 pub mod diagnose;
 pub mod dynamics;
 pub mod identify;
+mod io;
 pub mod moments;
 mod numfmt;
 pub mod sdpa;

@@ -140,7 +140,7 @@ impl Problem {
             for e in &c.rows {
                 let r = b.len();
                 for &(v, a) in &e.terms {
-                    let i = v.col();
+                    let i = v.index();
                     at.push(r, i, -a);
                 }
                 b.push(e.constant);
@@ -169,7 +169,7 @@ impl Problem {
         let mut n = self.nvars;
         let mut q = vec![0.0; n];
         for &(v, a) in &self.linear.terms {
-            let i = v.col();
+            let i = v.index();
             q[i] += sign * a;
         }
         let mut obj_const = sign * self.linear.constant;
@@ -263,7 +263,7 @@ fn stack_squares(squares: &[(f64, AffExpr)], nvars: usize) -> (Vec<usize>, faer:
     let mut cols = Vec::new();
     for (_, e) in squares {
         for &(v, _) in &e.terms {
-            let i = v.col();
+            let i = v.index();
             if col_of[i] == UNUSED {
                 col_of[i] = cols.len();
                 cols.push(i);
@@ -275,7 +275,7 @@ fn stack_squares(squares: &[(f64, AffExpr)], nvars: usize) -> (Vec<usize>, faer:
     for (r, (w, e)) in squares.iter().enumerate() {
         let sw = w.sqrt();
         for &(v, a) in &e.terms {
-            let i = v.col();
+            let i = v.index();
             d[(r, col_of[i])] += sw * a;
         }
         d[(r, k)] = sw * e.constant;

@@ -18,11 +18,6 @@ impl Var {
     pub fn index(self) -> usize {
         self.index as usize
     }
-
-    #[inline]
-    pub(crate) fn col(self) -> usize {
-        self.index as usize
-    }
 }
 
 /// An affine scalar expression `Σ aᵢ xᵢ + c`.
@@ -113,7 +108,11 @@ impl AffExpr {
 
     /// Value at the primal point `x` (indexed by [`Var::index`]).
     pub fn eval(&self, x: &[f64]) -> f64 {
-        self.terms.iter().map(|&(v, a)| a * x[v.col()]).sum::<f64>() + self.constant
+        self.terms
+            .iter()
+            .map(|&(v, a)| a * x[v.index()])
+            .sum::<f64>()
+            + self.constant
     }
 
     /// Whether every coefficient and the constant are finite.

@@ -69,13 +69,13 @@ pub fn check_optimality(problem: &Problem, sol: &Solution) -> KktReport {
     // ∇f for the minimised objective
     let mut grad = vec![0.0; problem.nvars];
     for &(v, a) in &problem.linear.terms {
-        let i = v.col();
+        let i = v.index();
         grad[i] += sign * a;
     }
     for (w, e) in &problem.squares {
         let r = e.eval(x);
         for &(v, a) in &e.terms {
-            let i = v.col();
+            let i = v.index();
             grad[i] += 2.0 * w * r * a;
         }
     }
@@ -88,7 +88,7 @@ pub fn check_optimality(problem: &Problem, sol: &Solution) -> KktReport {
         comp += s.iter().zip(z).map(|(a, b)| a * b).sum::<f64>();
         for (e, &zr) in c.rows.iter().zip(z) {
             for &(v, a) in &e.terms {
-                let i = v.col();
+                let i = v.index();
                 grad[i] -= zr * a;
             }
         }

@@ -201,8 +201,8 @@ impl Columns {
         joints: &[&str],
         require_tau: bool,
     ) -> Result<Self, DataError> {
-        check_header(header, path)?;
-        let col = |name: &str| header.iter().position(|h| h == name);
+        let index = check_header(header, path)?;
+        let col = |name: &str| index.get(name).copied();
         let need = |name: String| -> Result<usize, DataError> {
             col(&name).ok_or_else(|| DataError::MissingColumn {
                 path: path.into(),
@@ -300,8 +300,12 @@ impl Columns {
     }
 }
 
-/// At most [`MAX_COLUMNS`] columns, each named once.
-fn check_header(header: &[String], path: &str) -> Result<(), DataError> {
+/// At most [`MAX_COLUMNS`] columns, each named once; returns each name's
+/// column.
+fn check_header<'h>(
+    header: &'h [String],
+    path: &str,
+) -> Result<std::collections::HashMap<&'h str, usize>, DataError> {
     let bad = |message: String| DataError::Row {
         path: path.into(),
         row: 0,
@@ -323,7 +327,7 @@ fn check_header(header: &[String], path: &str) -> Result<(), DataError> {
             )));
         }
     }
-    Ok(())
+    Ok(seen)
 }
 
 /// q̈ from q̇ with a cut-off below the file's Nyquist frequency.

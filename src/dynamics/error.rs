@@ -93,27 +93,22 @@ pub enum DynamicsError {
 
 /// The text of a file, or an error naming it (with the OS error as source).
 pub(crate) fn read_text(path: &std::path::Path) -> Result<String, DynamicsError> {
-    use std::io::Read;
     let io = |source| DynamicsError::Io {
         path: path.display().to_string(),
         source,
     };
-    let mut text = String::new();
-    std::fs::File::open(path)
-        .map_err(io)?
-        .take(MAX_TEXT_BYTES + 1)
-        .read_to_string(&mut text)
-        .map_err(io)?;
-    if text.len() as u64 > MAX_TEXT_BYTES {
-        return Err(DynamicsError::File {
+    let bytes = crate::io::read_capped(path, MAX_TEXT_BYTES).map_err(|e| match e {
+        crate::io::Capped::Io(source) => io(source),
+        crate::io::Capped::TooLarge(_) => DynamicsError::File {
             path: path.display().to_string(),
             message: format!(
                 "larger than {} MiB; not a sidecar or parameter file",
                 MAX_TEXT_BYTES >> 20
             ),
-        });
-    }
-    Ok(text)
+        },
+    })?;
+    String::from_utf8(bytes)
+        .map_err(|e| io(std::io::Error::new(std::io::ErrorKind::InvalidData, e)))
 }
 
 /// The largest sidecar or parameter file read (64 MiB): a description of

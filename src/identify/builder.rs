@@ -79,7 +79,7 @@ impl Vars {
     }
 }
 
-fn unknown<'a>(
+pub(super) fn unknown<'a>(
     what: &'static str,
     name: &str,
     valid: impl Iterator<Item = &'a str>,
@@ -427,9 +427,7 @@ impl<'m> Identification<'m> {
             let id = match spec.level {
                 Level::None => continue,
                 Level::Semi => prob.add_psd_eps(&body.spatial_inertia(), self.eps)?,
-                Level::Consistent | Level::Ellipsoid => {
-                    prob.add_psd_eps(&body.pseudo_inertia(), self.eps)?
-                }
+                Level::Consistent | Level::Ellipsoid => body.add_consistent_eps(prob, self.eps)?,
             };
             prob.set_name(id, &format!("{} LMI of body '{name}'", spec.level.as_str()))?;
             if let Some(e) = spec.ellipsoid {
@@ -438,7 +436,7 @@ impl<'m> Identification<'m> {
                     prob.set_name(c, &format!("tr(JQ) ≥ 0 of body '{name}'"))?;
                 }
                 if self.com_lmi {
-                    prob.add_psd(&body.com_lmi(&e))?;
+                    body.add_com_in(prob, &e)?;
                 }
             }
         }

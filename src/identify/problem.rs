@@ -251,11 +251,7 @@ impl Solved {
     /// The parameters of the body named `name`.
     pub fn body(&self, name: &str) -> Result<crate::moments::InertialParams, IdentifyError> {
         let b = self.bodies.iter().position(|n| n == name).ok_or_else(|| {
-            IdentifyError::UnknownName {
-                what: "body",
-                name: name.into(),
-                valid: self.bodies.join(", "),
-            }
+            super::builder::unknown("body", name, self.bodies.iter().map(String::as_str))
         })?;
         Ok(crate::moments::InertialParams(std::array::from_fn(|k| {
             self.theta[10 * b + k]
@@ -265,11 +261,7 @@ impl Solved {
     /// Joint `joint`'s friction `(viscous B, Coulomb B_c)`.
     pub fn friction(&self, joint: &str) -> Result<(f64, f64), IdentifyError> {
         let i = self.joints.iter().position(|n| n == joint).ok_or_else(|| {
-            IdentifyError::UnknownName {
-                what: "joint",
-                name: joint.into(),
-                valid: self.joints.join(", "),
-            }
+            super::builder::unknown("joint", joint, self.joints.iter().map(String::as_str))
         })?;
         let (nb, n) = (self.bodies.len(), self.joints.len());
         Ok((self.theta[10 * nb + i], self.theta[10 * nb + n + i]))

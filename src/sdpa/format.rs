@@ -191,18 +191,16 @@ impl SdpaProblem {
             path: path.to_path_buf(),
             source: e,
         };
-        let len = std::fs::metadata(path).map_err(io)?.len();
-        super::memory::check_read(path, len, opts)?;
-        // a device or pipe reports no length: read no more than the limit
-        // allows, then check what was read
-        let most = (opts.max_memory_bytes() / super::READ_BYTES_PER_FILE_BYTE) as u64 + 1;
-        let mut bytes = Vec::new();
-        std::io::Read::read_to_end(
-            &mut std::io::Read::take(std::fs::File::open(path).map_err(io)?, most),
-            &mut bytes,
-        )
-        .map_err(io)?;
-        super::memory::check_read(path, bytes.len() as u64, opts)?;
+        let most = (opts.max_memory_bytes() / super::READ_BYTES_PER_FILE_BYTE) as u64;
+        let bytes = match crate::io::read_capped(path, most) {
+            Ok(b) => b,
+            Err(crate::io::Capped::Io(e)) => return Err(io(e)),
+            Err(crate::io::Capped::TooLarge(len)) => {
+                // the limit's own error, with the numbers
+                super::memory::check_read(path, len, opts)?;
+                return Err(io(std::io::Error::other("larger than the read limit")));
+            }
+        };
         let text = String::from_utf8(bytes).map_err(|e| {
             let at = e.utf8_error().valid_up_to();
             let line = 1 + e.as_bytes()[..at].iter().filter(|&&b| b == b'\n').count();

@@ -88,28 +88,13 @@ impl MeshPaths {
 /// applied) of the mesh file at `path`.
 pub fn read_vertices(path: &Path) -> Result<Vec<[f64; 3]>, String> {
     let name = path.display().to_string();
-    let size = std::fs::metadata(path)
-        .map_err(|e| format!("{name}: {e}"))?
-        .len();
-    if size > MAX_MESH_BYTES {
-        return Err(format!(
+    let bytes = crate::io::read_capped(path, MAX_MESH_BYTES).map_err(|e| match e {
+        crate::io::Capped::Io(e) => format!("{name}: {e}"),
+        crate::io::Capped::TooLarge(size) => format!(
             "{name}: {size} bytes, more than the {} MiB a mesh may have",
             MAX_MESH_BYTES >> 20
-        ));
-    }
-    // a device or pipe reports no length: never read past the limit
-    let mut bytes = Vec::new();
-    std::fs::File::open(path)
-        .and_then(|f| {
-            std::io::Read::read_to_end(&mut std::io::Read::take(f, MAX_MESH_BYTES + 1), &mut bytes)
-        })
-        .map_err(|e| format!("{name}: {e}"))?;
-    if bytes.len() as u64 > MAX_MESH_BYTES {
-        return Err(format!(
-            "{name}: more than the {} MiB a mesh may have",
-            MAX_MESH_BYTES >> 20
-        ));
-    }
+        ),
+    })?;
     let ext = path
         .extension()
         .map(|e| e.to_string_lossy().to_lowercase())

@@ -471,28 +471,18 @@ pub fn read_file_with(path: &Path, limits: &Limits) -> Result<(String, Robot), U
 
 /// The file's text, refused beyond `max_bytes`.
 fn read_text(path: &Path, p: &str, max_bytes: usize) -> Result<String, UrdfError> {
-    use std::io::Read;
     let io = |source| UrdfError::Io {
         path: p.into(),
         source,
     };
-    let too_large = |bytes: u64| UrdfError::TooLarge {
-        path: p.into(),
-        bytes,
-        limit: max_bytes,
-    };
-    let file = std::fs::File::open(path).map_err(io)?;
-    let size = file.metadata().map_err(io)?.len();
-    if size > max_bytes as u64 {
-        return Err(too_large(size));
-    }
-    let mut bytes = Vec::with_capacity(size as usize);
-    file.take(max_bytes as u64 + 1)
-        .read_to_end(&mut bytes)
-        .map_err(io)?;
-    if bytes.len() > max_bytes {
-        return Err(too_large(bytes.len() as u64));
-    }
+    let bytes = crate::io::read_capped(path, max_bytes as u64).map_err(|e| match e {
+        crate::io::Capped::Io(source) => io(source),
+        crate::io::Capped::TooLarge(bytes) => UrdfError::TooLarge {
+            path: p.into(),
+            bytes,
+            limit: max_bytes,
+        },
+    })?;
     String::from_utf8(bytes).map_err(|_| {
         io(std::io::Error::new(
             std::io::ErrorKind::InvalidData,

@@ -85,10 +85,8 @@ pub fn run(a: &DiagnoseArgs) -> i32 {
             return 2;
         }
     };
-    let mut inputs = vec![data];
-    inputs.extend(sidecar);
-    inputs.extend(Some(Path::new(robot)).filter(|p| p.exists()));
-    inputs.extend(nominal.map(Path::new).filter(|p| p.exists()));
+    let files: Vec<&Path> = std::iter::once(data).chain(sidecar).collect();
+    let inputs = super::input_files(&files, &[robot, nominal.unwrap_or("")]);
     if let Some(dir) = out
         && let Err(e) = write_outputs(&dg, &text, dir, &inputs)
     {

@@ -9,11 +9,21 @@ pub mod predict;
 pub mod sdpa;
 pub mod simulate;
 
+use std::path::Path;
+
 /// Prints what the robot description filled in (placeholder friction, …).
 pub(crate) fn warn_robot(robot: &momentlmi::dynamics::RobotDescription) {
     for w in &robot.warnings {
         eprintln!("warning: {}: {w}", robot.source);
     }
+}
+
+/// The files a command reads, to protect from its outputs: `files`, and
+/// each of `specs` (a robot or parameter choice: a built-in name, `cad`,
+/// `true` or a path) that names an existing file.
+pub(crate) fn input_files<'a>(files: &[&'a Path], specs: &[&'a str]) -> Vec<&'a Path> {
+    let named = specs.iter().map(|s| Path::new(*s)).filter(|p| p.is_file());
+    files.iter().copied().chain(named).collect()
 }
 
 /// An output folder: created if missing, and removed again (when still

@@ -37,15 +37,11 @@ pub fn run(a: &PredictArgs) -> i32 {
 
 /// The output, refused early if it is one of the inputs.
 fn staged_output(a: &PredictArgs) -> Result<Staged, String> {
-    let mut inputs = vec![a.data];
-    inputs.extend(a.sidecar);
-    inputs.extend(
-        [a.robot, a.params.unwrap_or("")]
-            .map(Path::new)
-            .into_iter()
-            .filter(|p| p.is_file()),
-    );
-    let staged = Staged::protecting(inputs);
+    let files: Vec<&Path> = std::iter::once(a.data).chain(a.sidecar).collect();
+    let staged = Staged::protecting(super::input_files(
+        &files,
+        &[a.robot, a.params.unwrap_or("")],
+    ));
     staged.claim(a.out).map_err(|e| e.to_string())?;
     Ok(staged)
 }

@@ -41,9 +41,8 @@ pub fn run(a: &SimulateArgs) -> i32 {
 
 /// The outputs (the CSV and its record), refused early if either is an input.
 fn staged_outputs(a: &SimulateArgs) -> Result<Staged, String> {
-    let mut inputs: Vec<&Path> = a.sidecar.into_iter().collect();
-    inputs.extend(Some(Path::new(a.robot)).filter(|p| p.is_file()));
-    let staged = Staged::protecting(inputs);
+    let files: Vec<&Path> = a.sidecar.into_iter().collect();
+    let staged = Staged::protecting(super::input_files(&files, &[a.robot]));
     for p in [a.out, &record_path(a.out)] {
         staged.claim(p).map_err(|e| e.to_string())?;
     }
