@@ -38,9 +38,10 @@ enum Command {
     /// Check the inertias of a URDF for physical consistency.
     ///
     /// Exit codes: 0 every inertial consistent (or a zero placeholder); 1 some
-    /// are not, or no link has an inertial (nothing to check); 2 an invalid
-    /// file (unreadable, too large or deep, duplicate names, not one tree,
-    /// a negative mass) or a refused or failed --repair. See docs/inputs.md.
+    /// are not (a negative mass included), no link has an inertial (nothing
+    /// to check), or with --strict a link is degenerate; 2 an invalid file
+    /// (unreadable, too large or deep, duplicate names, not one tree) or a
+    /// refused or failed --repair. See docs/inputs.md.
     Check {
         /// The URDF file.
         urdf: PathBuf,

@@ -79,7 +79,7 @@ fn print_table(file: &Path, r: &UrdfReport) {
 /// (or a zero placeholder); 1 some are not, or no link has an `<inertial>`
 /// (nothing to check), or with `--strict` some link is degenerate; 2 an
 /// invalid file (unreadable, beyond the reader's
-/// limits, duplicate names, not one tree, a negative mass, …), a `--repair`
+/// limits, duplicate names, not one tree, …), a `--repair`
 /// target that is the input itself, or a failed repair or write (nothing is
 /// written then). Warnings (unusable geometry) go to stderr and leave the
 /// code alone. See docs/inputs.md.
