@@ -261,7 +261,7 @@ fn inputs_that_would_index_out_of_range_or_go_unnoticed_are_errors() {
 
 #[test]
 fn a_repair_refuses_a_report_of_another_text() {
-    use momentlmi::moments::urdf_check::{check_urdf_str, repair_urdf};
+    use momentlmi::moments::urdf_check::{RepairOptions, check_urdf_str, repair_urdf};
     let link = |name: &str, ixx: &str| {
         format!(
             "<link name=\"{name}\"><inertial><mass value=\"1\"/><inertia ixx=\"{ixx}\" ixy=\"0\" ixz=\"0\" iyy=\"1\" iyz=\"0\" izz=\"0.1\"/></inertial></link>"
@@ -270,7 +270,7 @@ fn a_repair_refuses_a_report_of_another_text() {
     let bad = format!("<robot name=\"r\">{}</robot>", link("arm", "0.1"));
     let report = check_urdf_str(&bad, "a.urdf").unwrap();
     assert!(!report.consistent);
-    let (fixed, names) = repair_urdf(&bad, &report, "a.urdf").unwrap();
+    let (fixed, names) = repair_urdf(&bad, &report, "a.urdf", &RepairOptions::default()).unwrap();
     assert_eq!(names, vec!["arm".to_string()]);
     assert!(check_urdf_str(&fixed, "b.urdf").unwrap().consistent);
     // the same report against another text: refused, not a garbled file
@@ -278,7 +278,7 @@ fn a_repair_refuses_a_report_of_another_text() {
         "<robot name=\"somewhat longer\">   {}</robot>",
         link("arm", "0.1")
     );
-    assert!(repair_urdf(&other, &report, "c.urdf").is_err());
+    assert!(repair_urdf(&other, &report, "c.urdf", &RepairOptions::default()).is_err());
 }
 
 /// Clarabel panics inside its SVD on numbers that span ~200 orders of

@@ -438,7 +438,7 @@ fn nearest_consistent_repairs_a_triangle_violation() {
     let f = nearest_consistent(
         &bad,
         &NearestOptions {
-            ellipsoid: Some(s),
+            within: vec![s],
             ..Default::default()
         },
     )
@@ -524,4 +524,48 @@ fn ellipsoid_q_round_trip_and_bounding_shapes() {
     assert!(Ellipsoid::new(Vector3::zeros(), Vector3::new(1.0, -1.0, 1.0)).is_err());
     assert!(Ellipsoid::from_q_matrix(&Matrix4::identity()).is_err());
     assert!(Ellipsoid::minimum_volume_enclosing(&corners[..3], 1e-9).is_err());
+}
+
+#[test]
+fn nearest_within_a_union_is_realizable_there_and_no_farther_than_within_one_part() {
+    // 2 kg spread along x with rms 0.3 m: too wide for two 0.1 m spheres at ±0.2 m
+    let wide = InertialParams::from_mass_com_inertia(
+        2.0,
+        Vector3::zeros(),
+        Matrix3::from_diagonal(&Vector3::new(0.002, 0.18, 0.18)),
+    );
+    let parts = [
+        Ellipsoid::sphere(Vector3::new(0.2, 0.0, 0.0), 0.1).unwrap(),
+        Ellipsoid::sphere(Vector3::new(-0.2, 0.0, 0.0), 0.1).unwrap(),
+    ];
+    assert_eq!(
+        realize_on_union(&wide, &parts).unwrap(),
+        UnionRealization::NotRealizable
+    );
+    let opts = |within: Vec<Ellipsoid>| NearestOptions {
+        within,
+        length_scale: Some(0.3),
+        ..Default::default()
+    };
+    let union = nearest_consistent(&wide, &opts(parts.to_vec())).unwrap();
+    assert!(matches!(
+        realize_on_union(&union.params, &parts).unwrap(),
+        UnionRealization::Realizable(_)
+    ));
+    assert_relative_eq!(union.params.mass(), 2.0, epsilon = 1e-9);
+    // the mass sits in both spheres: rms along x about 0.2 m, CoM near 0
+    let sxx = union.params.covariance()[(0, 0)] / 2.0;
+    assert!(
+        sxx > 0.15f64.powi(2) && union.params.com().norm() < 0.05,
+        "{sxx}"
+    );
+    // a union is a larger set than either part: its nearest point is nearer
+    let one = nearest_consistent(&wide, &opts(vec![parts[0]])).unwrap();
+    assert!(
+        union.distance < one.distance,
+        "{} {}",
+        union.distance,
+        one.distance
+    );
+    assert!(check_realizable(&one.params, &parts[0], 1e-9).realizable);
 }

@@ -4,7 +4,7 @@
 //! URDF (256 cases in all).
 
 use momentlmi::dynamics::urdf::model_from_urdf_str;
-use momentlmi::moments::urdf_check::{check_urdf_str, repair_urdf};
+use momentlmi::moments::urdf_check::{RepairOptions, check_urdf_str, repair_urdf};
 use momentlmi::urdf;
 use proptest::prelude::*;
 
@@ -235,7 +235,7 @@ fn exercise(bytes: &[u8]) {
     });
     if let Ok(report) = check_urdf_str(&text, "f.urdf") {
         let _ = serde_json::to_string(&report);
-        if let Ok((fixed, _)) = repair_urdf(&text, &report, "f.urdf") {
+        if let Ok((fixed, _)) = repair_urdf(&text, &report, "f.urdf", &RepairOptions::default()) {
             let _ = check_urdf_str(&fixed, "g.urdf");
         }
     }

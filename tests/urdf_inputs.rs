@@ -5,7 +5,7 @@
 
 use momentlmi::dynamics::robots::load_robot;
 use momentlmi::dynamics::urdf::model_from_urdf_str;
-use momentlmi::moments::urdf_check::{check_urdf_str, repair_urdf};
+use momentlmi::moments::urdf_check::{RepairOptions, check_urdf_str, repair_urdf};
 use momentlmi::urdf::{self, Geometry, Limits, UrdfError, read_str, read_str_with};
 use std::time::Instant;
 
@@ -362,7 +362,7 @@ fn many_repairs_on_one_line_are_spliced_in_one_pass() {
     let text = robot(&parts); // one line
     let rep = check_urdf_str(&text, "a.urdf").unwrap();
     assert!(!rep.consistent);
-    let (fixed, names) = repair_urdf(&text, &rep, "a.urdf").unwrap();
+    let (fixed, names) = repair_urdf(&text, &rep, "a.urdf", &RepairOptions::default()).unwrap();
     assert_eq!(names.len(), n);
     let again = check_urdf_str(&fixed, "b.urdf").unwrap();
     assert!(again.consistent);

@@ -5,6 +5,7 @@
 use crate::cmd::{check, demo, diagnose, identify, predict, sdpa, simulate};
 use clap::{Args, Parser, Subcommand};
 use momentlmi::dynamics::Effect;
+use momentlmi::moments::urdf_check::{RepairOptions, RepairTarget};
 use std::path::PathBuf;
 
 /// Which robot: a built-in name or a URDF with its sidecar.
@@ -17,6 +18,10 @@ struct RobotArgs {
     /// ellipsoids, friction, tool point (docs/robots.md).
     #[arg(long)]
     sidecar: Option<PathBuf>,
+    /// A folder where a URDF's `package://NAME/…` meshes are found (repeatable; searched after
+    /// the folders above the URDF, before ROS_PACKAGE_PATH).
+    #[arg(long = "package-path", value_name = "DIR")]
+    package_path: Vec<PathBuf>,
 }
 
 /// Physically consistent inertial parameter identification and SDP tools.
@@ -52,6 +57,23 @@ enum Command {
         /// (never the input itself; nothing is written unless the copy checks clean).
         #[arg(long, value_name = "OUT.urdf")]
         repair: Option<PathBuf>,
+        /// What --repair projects onto: `consistent` (the inconsistent inertials, inside their
+        /// geometry where possible) or `geometry` (also every consistent inertial that is not
+        /// density realizable in its link's bounding volume).
+        #[arg(long, value_enum, default_value = "consistent", requires = "repair")]
+        repair_to: RepairTarget,
+        /// The repair's relative margin ε: 1e-6 lands next to the boundary (often a rod or a thin
+        /// plate); 1e-3 keeps the thinnest direction at about 3 % of the link's length scale.
+        #[arg(long, default_value_t = 1e-6, requires = "repair", value_name = "EPS")]
+        repair_margin: f64,
+        /// Bounding ellipsoids for links by name, from a sidecar's `[[body]] name, bounding`
+        /// (link frame); they replace the ones of the link's shapes.
+        #[arg(long, value_name = "SIDECAR.toml")]
+        sidecar: Option<PathBuf>,
+        /// Folder for one SVG per link: its shapes' points, bounding and covariance ellipsoids,
+        /// CoM and four point masses, in three views.
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
         /// A folder where `package://NAME/…` meshes are found: a package itself or a folder of
         /// packages (repeatable; searched after the folders above the URDF, before ROS_PACKAGE_PATH).
         #[arg(long = "package-path", value_name = "DIR")]
@@ -204,19 +226,38 @@ pub fn main() -> i32 {
             urdf,
             json,
             repair,
+            repair_to,
+            repair_margin,
+            sidecar,
+            out,
             package_path,
             strict,
         } => check::run(
             &urdf,
             &check::CheckArgs {
                 json,
-                repair: repair.as_deref(),
+                repair: repair.as_deref().map(|p| {
+                    (
+                        p,
+                        RepairOptions {
+                            target: repair_to,
+                            margin: repair_margin,
+                        },
+                    )
+                }),
+                sidecar: sidecar.as_deref(),
+                out: out.as_deref(),
                 package_paths: &package_path,
                 strict,
             },
         ),
         Command::Predict {
-            robot: RobotArgs { robot, sidecar },
+            robot:
+                RobotArgs {
+                    robot,
+                    sidecar,
+                    package_path,
+                },
             params,
             data,
             out,
@@ -224,13 +265,19 @@ pub fn main() -> i32 {
         } => predict::run(&predict::PredictArgs {
             robot: &robot,
             sidecar: sidecar.as_deref(),
+            package_paths: &package_path,
             params: params.as_deref(),
             data: &data,
             out: &out,
             json,
         }),
         Command::Simulate {
-            robot: RobotArgs { robot, sidecar },
+            robot:
+                RobotArgs {
+                    robot,
+                    sidecar,
+                    package_path,
+                },
             seconds,
             effects,
             out,
@@ -240,6 +287,7 @@ pub fn main() -> i32 {
         } => simulate::run(&simulate::SimulateArgs {
             robot: &robot,
             sidecar: sidecar.as_deref(),
+            package_paths: &package_path,
             seconds,
             effects: &effects,
             effect_params: &effect_param,
@@ -248,7 +296,12 @@ pub fn main() -> i32 {
             noise,
         }),
         Command::Identify {
-            robot: RobotArgs { robot, sidecar },
+            robot:
+                RobotArgs {
+                    robot,
+                    sidecar,
+                    package_path,
+                },
             data,
             constraints,
             prior,
@@ -262,6 +315,7 @@ pub fn main() -> i32 {
         } => identify::run(&identify::IdentifyArgs {
             robot: &robot,
             sidecar: sidecar.as_deref(),
+            package_paths: &package_path,
             data: &data,
             constraints: &constraints,
             prior: prior.as_deref(),
@@ -274,7 +328,12 @@ pub fn main() -> i32 {
             max_memory_gib,
         }),
         Command::Diagnose {
-            robot: RobotArgs { robot, sidecar },
+            robot:
+                RobotArgs {
+                    robot,
+                    sidecar,
+                    package_path,
+                },
             data,
             nominal,
             json,
@@ -283,6 +342,7 @@ pub fn main() -> i32 {
         } => diagnose::run(&diagnose::DiagnoseArgs {
             robot: &robot,
             sidecar: sidecar.as_deref(),
+            package_paths: &package_path,
             data: &data,
             nominal: nominal.as_deref(),
             json,

@@ -389,3 +389,192 @@ fn degenerate_links_are_named_and_strict_makes_them_findings() {
     let o = bin().args(["check", "--strict"]).arg(&f).output().unwrap();
     assert_eq!(o.status.code(), Some(1));
 }
+
+/// A 2 kg rod 1 m long along z, in a 0.1 × 0.2 × 0.3 m box: consistent, but
+/// not density realizable in the box's bounding ellipsoid; and a 2 kg link
+/// over two 0.1 m cubes at x = ±0.15 m whose mass spreads too far along x
+/// (rms √0.1 ≈ 0.32 m) for their union.
+fn geometry_robot() -> String {
+    let rod = link(
+        "rod",
+        &inertial("2.0", "0 0 0", ["0.1667", "0", "0", "0.1667", "0", "0.001"]),
+        "    <collision><geometry><box size=\"0.1 0.2 0.3\"/></geometry></collision>",
+    );
+    let cube = |x: &str| {
+        format!(
+            "    <collision><origin xyz=\"{x} 0 0\"/><geometry><box size=\"0.1 0.1 0.1\"/></geometry></collision>"
+        )
+    };
+    let pair = link(
+        "pair",
+        &inertial("2.0", "0 0 0", ["0.002", "0", "0", "0.2", "0", "0.2"]),
+        &format!("{}\n{}", cube("0.15"), cube("-0.15")),
+    );
+    robot(&[rod, pair])
+}
+
+fn in_geometry(v: &serde_json::Value) -> Vec<(String, serde_json::Value)> {
+    v["links"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|l| {
+            (
+                l["name"].as_str().unwrap().to_string(),
+                l["realizable_in_geometry"].clone(),
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn repair_to_geometry_projects_into_the_links_bounding_volume() {
+    let dir = TempDir::new("check-repair-geometry");
+    let f = dir.write("g.urdf", &geometry_robot());
+    let out = bin().arg("check").arg(&f).arg("--json").output().unwrap();
+    assert_eq!(out.status.code(), Some(0)); // consistent, only not realizable
+    let before = in_geometry(&json_of(&out));
+    assert_eq!(before[0], ("rod".into(), false.into()));
+    assert_eq!(before[1], ("pair".into(), false.into()));
+    // the default repair leaves consistent inertias alone
+    let same = dir.0.join("same.urdf");
+    let o = bin()
+        .arg("check")
+        .arg(&f)
+        .arg("--repair")
+        .arg(&same)
+        .output()
+        .unwrap();
+    assert!(String::from_utf8_lossy(&o.stdout).contains("0 inertial(s) repaired"));
+    // --repair-to geometry moves both into their volumes, mass kept
+    let fixed = dir.0.join("fixed.urdf");
+    let o = bin()
+        .arg("check")
+        .arg(&f)
+        .args([
+            "--repair-to",
+            "geometry",
+            "--repair-margin",
+            "1e-4",
+            "--repair",
+        ])
+        .arg(&fixed)
+        .output()
+        .unwrap();
+    let said = String::from_utf8_lossy(&o.stdout);
+    assert!(said.contains("2 inertial(s) repaired: rod, pair"), "{said}");
+    let again = bin()
+        .arg("check")
+        .arg(&fixed)
+        .arg("--json")
+        .output()
+        .unwrap();
+    let v = json_of(&again);
+    assert_eq!(
+        in_geometry(&v),
+        vec![("rod".into(), true.into()), ("pair".into(), true.into())]
+    );
+    for l in v["links"].as_array().unwrap() {
+        assert!((l["mass"].as_f64().unwrap() - 2.0).abs() < 1e-9, "{l}");
+    }
+    // the pair was projected onto the union: its mass still spreads along x
+    // beyond either cube alone (rms > 0.1 m)
+    let pm = v["links"][1]["principal_moments"].as_array().unwrap();
+    assert!(pm[2].as_f64().unwrap() / 2.0 > 0.1f64.powi(2), "{pm:?}");
+}
+
+#[test]
+fn repair_to_needs_repair() {
+    let dir = TempDir::new("check-repair-to-alone");
+    let f = dir.write("g.urdf", &geometry_robot());
+    let o = bin()
+        .arg("check")
+        .arg(&f)
+        .args(["--repair-to", "geometry"])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--repair"));
+}
+
+#[test]
+fn a_sidecar_ellipsoid_replaces_the_links_geometry() {
+    let dir = TempDir::new("check-sidecar-ellipsoid");
+    let f = dir.write("g.urdf", &geometry_robot());
+    let s = dir.write(
+        "s.toml",
+        "[[body]]\nname = \"rod\"\nbounding = [{ semi_axes = [0.2, 0.2, 0.6] }]\n",
+    );
+    let o = bin()
+        .arg("check")
+        .arg(&f)
+        .arg("--json")
+        .arg("--sidecar")
+        .arg(&s)
+        .output()
+        .unwrap();
+    let v = json_of(&o);
+    assert_eq!(in_geometry(&v)[0], ("rod".into(), true.into()));
+    let e = &v["links"][0]["bounding_ellipsoids"][0]["semi_axes"];
+    assert_eq!(e, &serde_json::json!([0.2, 0.2, 0.6]));
+    // a link the URDF does not have is an error naming it
+    let bad = dir.write(
+        "b.toml",
+        "[[body]]\nname = \"arm\"\nbounding = [{ semi_axes = [1, 1, 1] }]\n",
+    );
+    let o = bin()
+        .arg("check")
+        .arg(&f)
+        .arg("--sidecar")
+        .arg(&bad)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("'arm'"));
+}
+
+#[test]
+fn out_draws_one_figure_per_link_in_three_views() {
+    let dir = TempDir::new("check-out-figures");
+    let f = dir.write("g.urdf", &geometry_robot());
+    let figs = dir.0.join("figs");
+    let o = bin()
+        .arg("check")
+        .arg(&f)
+        .arg("--out")
+        .arg(&figs)
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let mut names: Vec<String> = std::fs::read_dir(&figs)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["link_pair.svg", "link_rod.svg"]);
+    let svg = std::fs::read_to_string(figs.join("link_pair.svg")).unwrap();
+    for view in ["top (x, y)", "front (x, z)", "side (y, z)"] {
+        assert!(svg.contains(view), "{view}");
+    }
+    // two bounding outlines and a covariance outline in each of three views
+    assert!(
+        svg.matches("<polyline").count() >= 9,
+        "{}",
+        svg.matches("<polyline").count()
+    );
+    assert!(svg.contains("NOT realizable in its geometry"));
+    // an --out that is a file is refused, and nothing is written
+    let o = bin()
+        .arg("check")
+        .arg(&f)
+        .arg("--out")
+        .arg(&f)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+}

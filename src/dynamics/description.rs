@@ -8,7 +8,7 @@ use super::error::DynamicsError;
 use super::model::Model;
 use super::params_file::{Friction, ParamsFile};
 use super::sidecar::{Excitation, PriorSpec, Sidecar, SidecarBody};
-use crate::moments::{Ellipsoid, InertialParams, rpy_rotation};
+use crate::moments::{Ellipsoid, InertialParams};
 use nalgebra::{Matrix3, Vector3};
 use std::collections::{HashMap, HashSet};
 use std::path::PathBuf;
@@ -414,12 +414,8 @@ fn bounding_of(
     b.bounding
         .iter()
         .map(|e| {
-            Ellipsoid::with_rotation(
-                Vector3::from(e.center),
-                Vector3::from(e.semi_axes),
-                rpy_rotation(e.rpy),
-            )
-            .map_err(|m| err(format!("[[body]] '{}': bounding: {m}", b.name)))
+            e.ellipsoid()
+                .map_err(|m| err(format!("[[body]] '{}': bounding: {m}", b.name)))
         })
         .collect()
 }

@@ -37,6 +37,16 @@ pub fn built_in_names() -> Vec<&'static str> {
 /// ([`RobotDescription::with_urdf_geometry`], meshes found beside the URDF
 /// and in `ROS_PACKAGE_PATH`).
 pub fn load_robot(spec: &str, sidecar: Option<&Path>) -> Result<RobotDescription, DynamicsError> {
+    load_robot_with(spec, sidecar, &[])
+}
+
+/// [`load_robot`] with folders where a URDF's `package://` meshes are found
+/// (searched after the folders above the URDF, before `ROS_PACKAGE_PATH`).
+pub fn load_robot_with(
+    spec: &str,
+    sidecar: Option<&Path>,
+    package_paths: &[std::path::PathBuf],
+) -> Result<RobotDescription, DynamicsError> {
     if let Some(b) = BUILT_IN.iter().find(|b| b.name == spec) {
         if sidecar.is_some() {
             return Err(DynamicsError::File {
@@ -61,7 +71,7 @@ pub fn load_robot(spec: &str, sidecar: Option<&Path>) -> Result<RobotDescription
     let (_, robot) = crate::urdf::read_file(p)?;
     let sc = sidecar.map(Sidecar::read).transpose()?.unwrap_or_default();
     let model = model_from_robot(&robot, spec, Some(&sc))?;
-    let mut meshes = Meshes::new(MeshPaths::for_urdf(p, &[]));
+    let mut meshes = Meshes::new(MeshPaths::for_urdf(p, package_paths));
     Ok(RobotDescription::new(spec, model, &sc, Some(&robot))?
         .with_urdf_geometry(&robot, &mut meshes))
 }

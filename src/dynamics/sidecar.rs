@@ -14,6 +14,8 @@
 use super::cheetah3::Shell;
 use super::effect::EffectParams;
 use super::error::{DynamicsError, read_text};
+use crate::moments::{Ellipsoid, rpy_rotation};
+use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -169,6 +171,18 @@ pub struct EllipsoidSpec {
     /// Orientation of the axes, roll-pitch-yaw (rad); default aligned.
     #[serde(default, deserialize_with = "exact::array")]
     pub rpy: [f64; 3],
+}
+
+impl EllipsoidSpec {
+    /// The ellipsoid (an error when a semi-axis is not positive or a number
+    /// not finite).
+    pub fn ellipsoid(&self) -> Result<Ellipsoid, crate::moments::MomentsError> {
+        Ellipsoid::with_rotation(
+            Vector3::from(self.center),
+            Vector3::from(self.semi_axes),
+            rpy_rotation(self.rpy),
+        )
+    }
 }
 
 /// The default excitation of `simulate`.

@@ -17,7 +17,8 @@
 //!   the same moments;
 //! - [`lmi`]: the LMIs as [`conic`](crate::conic) expressions;
 //! - [`nearest_consistent`]: repair of an inconsistent π;
-//! - [`urdf_check`]: the URDF inertia checker behind `momentlmi check`.
+//! - [`urdf_check`]: the URDF inertia checker behind `momentlmi check`;
+//! - [`shape_points`]: points on a link's shapes (for plots).
 
 mod check;
 mod ellipsoid;
@@ -26,6 +27,7 @@ pub mod lmi;
 mod nearest;
 mod params;
 mod points;
+pub mod shape_points;
 mod union;
 pub mod urdf_check;
 

@@ -2,7 +2,6 @@
 //! realizable in `S = ∪ⱼ Sⱼ` iff `π = Σⱼ πⱼ` with each πⱼ realizable in Sⱼ.
 //! The split is found with one small SDP through [`conic`](crate::conic).
 
-use super::check::check_realizable;
 use super::ellipsoid::Ellipsoid;
 use super::error::MomentsError;
 use super::lmi::BodyVars;
@@ -53,14 +52,15 @@ pub fn realize_on_union(
         1.0,
     ]));
     for (b, s) in bodies.iter().zip(parts) {
-        // D J D − t·m·I ⪰ 0 and tr(JQ) ≥ t·m
+        // the pieces of π/m (well scaled whatever the mass):
+        // D J D − t·I ⪰ 0 and tr(JQ) ≥ t
         let jd = b.pseudo_inertia().congruence(&d)?;
-        p.add_psd(jd - crate::conic::MatExpr::scaled_identity(4, t * m))?;
-        p.add_ge(b.trace_jq(s), t * m)?;
+        p.add_psd(jd - crate::conic::MatExpr::scaled_identity(4, t))?;
+        p.add_ge(b.trace_jq(s), t)?;
     }
     for k in 0..10 {
         let sum: crate::conic::AffExpr = bodies.iter().map(|b| &b.params()[k]).sum();
-        p.add_eq(sum, pi.0[k])?;
+        p.add_eq(sum, pi.0[k] / m)?;
     }
     p.add_le(t, 1.0)?;
     p.maximize(t);
@@ -70,12 +70,13 @@ pub fn realize_on_union(
             let tv = sol.value(t)?;
             let pieces: Vec<InertialParams> = bodies
                 .iter()
-                .map(|b| b.value(&sol))
+                .map(|b| b.value(&sol).map(|q| InertialParams(q.0.map(|x| x * m))))
                 .collect::<Result<_, _>>()?;
             let ok = tv >= -1e-7
-                && pieces.iter().zip(parts).all(|(q, s)| {
-                    q.mass().abs() <= 1e-9 * m || check_realizable(q, s, 1e-7).realizable
-                });
+                && pieces
+                    .iter()
+                    .zip(parts)
+                    .all(|(q, s)| piece_fits(q, s, &d, m));
             Ok(if ok {
                 UnionRealization::Realizable(pieces)
             } else {
@@ -90,6 +91,17 @@ pub fn realize_on_union(
             task: "splitting π over a union of ellipsoids".into(),
         }),
     }
+}
+
+/// A piece lies in its ellipsoid up to the solver's accuracy, measured
+/// against the whole body: `D J D ⪰ −10⁻⁷ m I` and `tr(J Q) ≥ −10⁻⁷ m` (a
+/// piece that holds almost no mass is judged by the body's mass, not by its
+/// own).
+fn piece_fits(q: &InertialParams, s: &Ellipsoid, d: &nalgebra::DMatrix<f64>, m: f64) -> bool {
+    let j = q.pseudo_inertia();
+    let jd = nalgebra::Matrix4::from_fn(|r, c| j[(r, c)] * d[(r, r)] * d[(c, c)]);
+    let min_eig = nalgebra::SymmetricEigen::new(jd).eigenvalues.min();
+    min_eig >= -1e-7 * m && (j * s.q_matrix()).trace() >= -1e-7 * m
 }
 
 /// Four point masses per piece of a union realization (pieces with no mass

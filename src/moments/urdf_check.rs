@@ -77,6 +77,12 @@ pub struct LinkReport {
 }
 
 impl LinkReport {
+    /// The bounding ellipsoids of the link's shapes (link frame), one per
+    /// shape that gave one.
+    pub fn bounding_ellipsoids(&self) -> &[Ellipsoid] {
+        &self.ellipsoids
+    }
+
     /// The verdict.
     pub fn verdict(&self) -> Verdict {
         self.verdict
@@ -159,11 +165,14 @@ fn pose_of(p: &Pose) -> (nalgebra::Matrix3<f64>, Vector3<f64>) {
     (rpy_rotation(p.rpy), Vector3::from(p.xyz))
 }
 
-/// Where meshes are found, and the vertices of those read so far (a mesh
-/// several links use is read once).
+/// Where link geometry comes from: where meshes are found, the vertices of
+/// those read so far (a mesh several links use is read once), and bounding
+/// ellipsoids given for links by name (a sidecar's `[[body]] bounding`),
+/// which replace the ones of the link's shapes.
 pub struct Meshes {
     paths: Option<MeshPaths>,
     read: HashMap<PathBuf, Result<Vec<Vector3<f64>>, String>>,
+    given: HashMap<String, Vec<Ellipsoid>>,
 }
 
 impl Meshes {
@@ -172,7 +181,20 @@ impl Meshes {
         Self {
             paths: Some(paths),
             read: HashMap::new(),
+            given: HashMap::new(),
         }
+    }
+
+    /// The link `link`'s bounding volume is the union of `ellipsoids` (link
+    /// frame), whatever its shapes.
+    pub fn with_bounding(mut self, link: &str, ellipsoids: Vec<Ellipsoid>) -> Self {
+        self.given.insert(link.to_string(), ellipsoids);
+        self
+    }
+
+    /// The links given a bounding volume with [`Meshes::with_bounding`].
+    pub fn given_links(&self) -> impl Iterator<Item = &str> {
+        self.given.keys().map(String::as_str)
     }
 
     /// No mesh is read (a URDF given as text has no folder).
@@ -180,11 +202,12 @@ impl Meshes {
         Self {
             paths: None,
             read: HashMap::new(),
+            given: HashMap::new(),
         }
     }
 
     /// The distinct vertices of the mesh `filename` names.
-    fn vertices(&mut self, filename: &str) -> Result<&[Vector3<f64>], String> {
+    pub(crate) fn vertices(&mut self, filename: &str) -> Result<&[Vector3<f64>], String> {
         let Some(paths) = &self.paths else {
             return Err(format!(
                 "mesh '{filename}': no folder to look in (URDF text)"
@@ -239,11 +262,15 @@ fn shape_ellipsoid(s: &Shape, meshes: &mut Meshes) -> Result<Ellipsoid, String> 
 }
 
 /// Bounding ellipsoids of a link's shapes (collision, else visual; link
-/// frame), and notes on the shapes that gave none.
+/// frame), and notes on the shapes that gave none; the given ones instead
+/// when [`Meshes::with_bounding`] names the link.
 pub fn geometry_ellipsoids(
     link: &crate::urdf::Link,
     meshes: &mut Meshes,
 ) -> (Vec<Ellipsoid>, Vec<String>) {
+    if let Some(es) = meshes.given.get(&link.name) {
+        return (es.clone(), vec![]);
+    }
     let (shapes, kind) = if link.collisions.is_empty() {
         (&link.visuals, "visual")
     } else {
@@ -387,45 +414,130 @@ pub fn check_urdf_file(
     path: &Path,
     package_paths: &[PathBuf],
 ) -> Result<(String, UrdfReport), UrdfError> {
-    let (text, robot) = read_file(path)?;
     let mut meshes = Meshes::new(MeshPaths::for_urdf(path, package_paths));
-    let rep = check_robot_with(&robot, &path.display().to_string(), &mut meshes)?;
-    Ok((text, rep))
+    check_urdf_file_with(path, &mut meshes).map(|(text, _, rep)| (text, rep))
 }
 
-/// The nearest consistent replacement of one link's inertial (mass kept,
-/// inside its single bounding ellipsoid when it has one), as URDF text
-/// indented like the element it replaces, and a note when the ellipsoid had
-/// to be dropped.
-fn repaired_inertial(
-    text: &str,
+/// [`check_urdf_file`] with the caller's [`Meshes`] (kept for more use,
+/// e.g. [`geometry_points`](super::shape_points::geometry_points)); also
+/// returns the robot read.
+pub fn check_urdf_file_with(
+    path: &Path,
+    meshes: &mut Meshes,
+) -> Result<(String, Robot, UrdfReport), UrdfError> {
+    let (text, robot) = read_file(path)?;
+    let rep = check_robot_with(&robot, &path.display().to_string(), meshes)?;
+    Ok((text, robot, rep))
+}
+
+/// What `check --repair` projects an inertial onto.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(
+    feature = "clap",
+    derive(clap::ValueEnum),
+    value(rename_all = "snake_case")
+)]
+pub enum RepairTarget {
+    /// Repair the inconsistent inertials (inside the link's geometry when
+    /// that is possible, else consistent only, with a note).
+    #[default]
+    Consistent,
+    /// Also repair consistent inertials that are not density realizable in
+    /// the link's bounding volume (the union of its shapes' ellipsoids).
+    Geometry,
+}
+
+/// How `check --repair` repairs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RepairOptions {
+    /// What to project onto.
+    pub target: RepairTarget,
+    /// The relative margin ε of [`NearestOptions::eps`] (default 1e-6). A
+    /// projection lands on the boundary of its set, often a rod or a thin
+    /// plate; a margin such as 1e-3 keeps the repaired body's thinnest
+    /// direction at about √ε of the length scale.
+    pub margin: f64,
+}
+
+impl Default for RepairOptions {
+    fn default() -> Self {
+        Self {
+            target: RepairTarget::Consistent,
+            margin: 1e-6,
+        }
+    }
+}
+
+impl RepairTarget {
+    /// Whether a link's inertial is repaired.
+    fn wants(self, rep: &LinkReport) -> bool {
+        match rep.verdict {
+            Verdict::TriangleViolation | Verdict::NotPositiveDefinite => true,
+            Verdict::Ok => self == Self::Geometry && rep.realizable_in_geometry == Some(false),
+            Verdict::Placeholder | Verdict::NonpositiveMass => false,
+        }
+    }
+}
+
+/// The nearest consistent π to a link's inertial (mass kept), inside the
+/// union of its bounding ellipsoids when it has some and that succeeds, and
+/// a note when the geometry had to be dropped.
+fn nearest_for(
     rep: &LinkReport,
     path: &str,
-) -> Result<(String, Option<&'static str>), UrdfError> {
+    margin: f64,
+) -> Result<(InertialParams, Option<&'static str>), UrdfError> {
     let pi = InertialParams(rep.params);
     let fail = |e: String| UrdfError::Link {
         path: path.into(),
         link: rep.name.clone(),
         message: format!("repair failed: {e}"),
     };
-    let inside = (rep.ellipsoids.len() == 1).then(|| rep.ellipsoids[0]);
     let opts = NearestOptions {
-        ellipsoid: inside,
+        within: rep.ellipsoids.clone(),
+        eps: margin,
         ..Default::default()
     };
-    let (fixed, note) = match nearest_consistent(&pi, &opts).map_err(|e| e.to_string()) {
-        Ok(f) => (f, None),
-        Err(_) if inside.is_some() => (
-            nearest_consistent(&pi, &NearestOptions::default()).map_err(|e| fail(e.to_string()))?,
-            Some("not inside its geometry's bounding ellipsoid"),
-        ),
-        Err(e) => return Err(fail(e)),
-    };
-    let (m, c, i) = fixed.params.to_urdf();
+    let outside = Some("not inside its geometry's bounding volume");
+    match nearest_consistent(&pi, &opts) {
+        Ok(f)
+            if matches!(
+                realizable_in(&f.params, &rep.ellipsoids),
+                Ok(None | Some(true))
+            ) =>
+        {
+            Ok((f.params, None))
+        }
+        Ok(_) | Err(_) if !rep.ellipsoids.is_empty() => {
+            let plain = NearestOptions {
+                eps: margin,
+                ..Default::default()
+            };
+            let f = nearest_consistent(&pi, &plain).map_err(|e| fail(e.to_string()))?;
+            Ok((f.params, outside))
+        }
+        Ok(f) => Ok((f.params, None)),
+        Err(e) => Err(fail(e.to_string())),
+    }
+}
+
+/// [`nearest_for`] as URDF text indented like the element it replaces.
+fn repaired_inertial(
+    text: &str,
+    rep: &LinkReport,
+    path: &str,
+    margin: f64,
+) -> Result<(String, Option<&'static str>), UrdfError> {
+    let (fixed, note) = nearest_for(rep, path, margin)?;
+    let (m, c, i) = fixed.to_urdf();
     let pad = indent_before(text, rep.inertial_range.start);
+    let what = match note {
+        None if !rep.ellipsoids.is_empty() => "nearest inertia density realizable in its geometry",
+        _ => "nearest physically consistent inertia",
+    };
     Ok((
         format!(
-            "<inertial>\n{pad}  <!-- repaired by momentlmi check: nearest physically consistent inertia -->\n{pad}  <origin xyz=\"{:e} {:e} {:e}\" rpy=\"0 0 0\"/>\n{pad}  <mass value=\"{:e}\"/>\n{pad}  <inertia ixx=\"{:e}\" ixy=\"{:e}\" ixz=\"{:e}\" iyy=\"{:e}\" iyz=\"{:e}\" izz=\"{:e}\"/>\n{pad}</inertial>",
+            "<inertial>\n{pad}  <!-- repaired by momentlmi check: {what} -->\n{pad}  <origin xyz=\"{:e} {:e} {:e}\" rpy=\"0 0 0\"/>\n{pad}  <mass value=\"{:e}\"/>\n{pad}  <inertia ixx=\"{:e}\" ixy=\"{:e}\" ixz=\"{:e}\" iyy=\"{:e}\" iyz=\"{:e}\" izz=\"{:e}\"/>\n{pad}</inertial>",
             c[0], c[1], c[2], m, i[0], i[1], i[2], i[3], i[4], i[5]
         ),
         note,
@@ -449,23 +561,22 @@ fn indent_before(text: &str, at: usize) -> &str {
 }
 
 /// The URDF text with every inconsistent (non-placeholder, positive-mass)
-/// inertial replaced by the nearest consistent one (mass kept, strict margin
-/// 1e-6, see [`nearest_consistent`]). Everything else in the file is kept
-/// byte for byte. `report` must come from this `text` (checked). Returns the
-/// text and the repaired links (with a note where the repair could not keep
-/// the link inside its bounding ellipsoid).
+/// inertial, and with [`RepairTarget::Geometry`] every one not realizable in
+/// its link's bounding volume, replaced by the nearest one that is (mass
+/// kept, strict margin [`RepairOptions::margin`], see [`nearest_consistent`]). Everything else in
+/// the file is kept byte for byte. `report` must come from this `text`
+/// (checked). Returns the text and the repaired links (with a note where the
+/// repair could not keep the link inside its bounding volume).
 pub fn repair_urdf(
     text: &str,
     report: &UrdfReport,
     path: &str,
+    opts: &RepairOptions,
 ) -> Result<(String, Vec<String>), UrdfError> {
     let mut edits: Vec<(Range<usize>, String)> = Vec::new();
     let mut repaired = Vec::new();
     for rep in &report.links {
-        if !matches!(
-            rep.verdict,
-            Verdict::TriangleViolation | Verdict::NotPositiveDefinite
-        ) {
+        if !opts.target.wants(rep) {
             continue;
         }
         let r = rep.inertial_range.clone();
@@ -481,7 +592,7 @@ pub fn repair_urdf(
                         .into(),
             });
         }
-        let (xml, note) = repaired_inertial(text, rep, path)?;
+        let (xml, note) = repaired_inertial(text, rep, path, opts.margin)?;
         edits.push((r, xml));
         repaired.push(match note {
             Some(n) => format!("{} ({n})", rep.name),

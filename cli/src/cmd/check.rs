@@ -1,7 +1,14 @@
-//! `momentlmi check ROBOT.urdf [--json] [--repair OUT.urdf]`.
+//! `momentlmi check ROBOT.urdf [--json] [--repair OUT.urdf [--repair-to geometry]]
+//! [--sidecar S.toml] [--out DIR]`.
 
-use momentlmi::data::same_file;
-use momentlmi::moments::urdf_check::{UrdfReport, check_urdf_file, check_urdf_str, repair_urdf};
+use momentlmi::data::{Staged, same_file};
+use momentlmi::dynamics::sidecar::Sidecar;
+use momentlmi::moments::shape_points::geometry_points;
+use momentlmi::moments::urdf_check::{
+    Meshes, RepairOptions, UrdfReport, check_urdf_file_with, check_urdf_str, repair_urdf,
+};
+use momentlmi::urdf::Robot;
+use momentlmi::urdf::mesh::MeshPaths;
 use std::path::{Path, PathBuf};
 
 fn fmt3(v: [f64; 3], prec: usize) -> String {
@@ -80,62 +87,136 @@ fn print_table(file: &Path, r: &UrdfReport) {
 /// (nothing to check), or with `--strict` some link is degenerate; 2 an
 /// invalid file (unreadable, beyond the reader's
 /// limits, duplicate names, not one tree, …), a `--repair`
-/// target that is the input itself, or a failed repair or write (nothing is
-/// written then). Warnings (unusable geometry) go to stderr and leave the
-/// code alone. See docs/inputs.md.
+/// target that is the input itself, an unusable `--sidecar` or `--out`, or a
+/// failed repair or write (nothing is written then). Warnings (unusable
+/// geometry) go to stderr and leave the code alone. See docs/inputs.md.
 pub fn run(file: &Path, opts: &CheckArgs) -> i32 {
-    let (json, repair, package_paths) = (opts.json, opts.repair, opts.package_paths);
-    if let Some(out) = repair
-        && same_file(file, out)
-    {
-        eprintln!(
-            "error: --repair {}: that is the input file {}; write the repaired URDF to another file",
-            out.display(),
-            file.display()
-        );
-        return 2;
-    }
-    let (text, report) = match check_urdf_file(file, package_paths) {
-        Ok(x) => x,
+    match checked(file, opts) {
+        Ok(code) => code,
         Err(e) => {
             eprintln!("error: {e}");
-            return 2;
+            2
         }
-    };
+    }
+}
+
+/// [`run`] with every failure an error message (exit 2).
+fn checked(file: &Path, opts: &CheckArgs) -> Result<i32, String> {
+    let named: Vec<&Path> = std::iter::once(file).chain(opts.sidecar).collect();
+    let inputs = super::input_files(&named, &[]);
+    for out in opts.repair.iter().map(|r| &r.0).chain(&opts.out) {
+        if let Some(i) = inputs.iter().find(|i| same_file(i, out)) {
+            return Err(format!(
+                "{}: that is the input file {}; write to another path",
+                out.display(),
+                i.display()
+            ));
+        }
+    }
+    let mut meshes = geometry_source(file, opts)?;
+    let (text, robot, report) =
+        check_urdf_file_with(file, &mut meshes).map_err(|e| e.to_string())?;
+    if let Some(name) = meshes
+        .given_links()
+        .find(|n| !robot.links.iter().any(|l| l.name == *n))
+    {
+        let sc = opts
+            .sidecar
+            .map_or(String::new(), |p| p.display().to_string());
+        return Err(format!(
+            "{sc}: [[body]] '{name}': {} has no link of that name",
+            file.display()
+        ));
+    }
     for w in &report.warnings {
         eprintln!("warning: {}: {w}", file.display());
     }
-    if json {
-        match serde_json::to_string_pretty(&report) {
-            Ok(s) => println!("{s}"),
-            Err(e) => {
-                eprintln!("error: {e}");
-                return 2;
-            }
-        }
+    if opts.json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?
+        );
     } else {
         print_table(file, &report);
     }
-    if let Some(out) = repair
-        && let Err(e) = write_repair(file, &text, &report, out, json)
-    {
-        eprintln!("error: {e}");
-        return 2;
+    if let Some((out, how)) = &opts.repair {
+        write_repair(file, &text, &report, (out, how), opts.json)?;
+    }
+    if let Some(dir) = opts.out {
+        write_plots(&robot, &report, &mut meshes, dir, &inputs)?;
     }
     let strict_finding = opts.strict && report.links.iter().any(|l| l.degenerate.is_some());
-    if report.consistent && !strict_finding {
+    Ok(if report.consistent && !strict_finding {
         0
     } else {
         1
+    })
+}
+
+/// Where meshes are found, and the sidecar's bounding ellipsoids by link
+/// (each must name a link of the file).
+fn geometry_source(file: &Path, opts: &CheckArgs) -> Result<Meshes, String> {
+    let mut meshes = Meshes::new(MeshPaths::for_urdf(file, opts.package_paths));
+    let Some(path) = opts.sidecar else {
+        return Ok(meshes);
+    };
+    let sc = Sidecar::read(path).map_err(|e| e.to_string())?;
+    for b in sc.bodies.iter().filter(|b| !b.bounding.is_empty()) {
+        let es = b
+            .bounding
+            .iter()
+            .map(|e| e.ellipsoid())
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|e| format!("{}: [[body]] '{}': bounding: {e}", path.display(), b.name))?;
+        meshes = meshes.with_bounding(&b.name, es);
     }
+    Ok(meshes)
+}
+
+/// One SVG per link with an `<inertial>` into `dir`, all or none.
+fn write_plots(
+    robot: &Robot,
+    report: &UrdfReport,
+    meshes: &mut Meshes,
+    dir: &Path,
+    inputs: &[&Path],
+) -> Result<(), String> {
+    use crate::plots::geometry::{LinkFigure, file_name, link_svg};
+    let folder = super::OutDir::create(dir)?;
+    let mut staged = Staged::protecting(inputs.iter().copied());
+    let mut taken = std::collections::HashSet::new();
+    for r in &report.links {
+        let Some(link) = robot.links.iter().find(|l| l.name == r.name) else {
+            continue;
+        };
+        let points = geometry_points(link, meshes, 3000);
+        let svg = link_svg(&LinkFigure {
+            report: r,
+            points: &points,
+        })?;
+        let path = dir.join(file_name(&r.name, &mut taken));
+        staged.add_text(&path, &svg).map_err(|e| e.to_string())?;
+    }
+    staged.commit().map_err(|e| e.to_string())?;
+    folder.keep();
+    eprintln!(
+        "wrote {} link figure(s) to {}",
+        report.links.len(),
+        dir.display()
+    );
+    Ok(())
 }
 
 /// The options of `check`.
 pub struct CheckArgs<'a> {
     /// One JSON object instead of the table.
     pub json: bool,
-    /// Where to write the repaired copy.
-    pub repair: Option<&'a Path>,
+    /// Where to write the repaired copy, and how to repair.
+    pub repair: Option<(&'a Path, RepairOptions)>,
+    /// Bounding ellipsoids for links by name (a sidecar).
+    pub sidecar: Option<&'a Path>,
+    /// Folder for the links' figures.
+    pub out: Option<&'a Path>,
     /// Folders of `package://` meshes.
     pub package_paths: &'a [PathBuf],
     /// Degenerate links (singular J) are findings (exit 1).
@@ -149,11 +230,11 @@ fn write_repair(
     file: &Path,
     text: &str,
     report: &UrdfReport,
-    out: &Path,
+    (out, how): (&Path, &RepairOptions),
     json: bool,
 ) -> Result<(), String> {
     let (fixed, names) =
-        repair_urdf(text, report, &file.display().to_string()).map_err(|e| e.to_string())?;
+        repair_urdf(text, report, &file.display().to_string(), how).map_err(|e| e.to_string())?;
     // the repaired file must itself check clean before it is written
     match check_urdf_str(&fixed, &out.display().to_string()) {
         Ok(r)

@@ -4,7 +4,7 @@ use momentlmi::data::Staged;
 use momentlmi::data::{Dataset, ReadOptions};
 use momentlmi::diagnose::{DiagnoseOptions, Diagnosis, diagnose};
 use momentlmi::dynamics::ParamChoice;
-use momentlmi::dynamics::robots::load_robot;
+use momentlmi::dynamics::robots::load_robot_with;
 use std::path::Path;
 
 /// Arguments of `diagnose`.
@@ -13,6 +13,8 @@ pub struct DiagnoseArgs<'a> {
     pub robot: &'a str,
     /// Optional sidecar for a URDF.
     pub sidecar: Option<&'a Path>,
+    /// Folders of `package://` meshes.
+    pub package_paths: &'a [std::path::PathBuf],
     /// Measured data.
     pub data: &'a Path,
     /// `cad`, `true` or a parameter file.
@@ -27,7 +29,7 @@ pub struct DiagnoseArgs<'a> {
 
 fn diagnosis(a: &DiagnoseArgs) -> Result<Diagnosis, String> {
     let opts = DiagnoseOptions::default().with_max_memory(super::gib(a.max_memory_gib)?);
-    let robot = load_robot(a.robot, a.sidecar).map_err(|e| e.to_string())?;
+    let robot = load_robot_with(a.robot, a.sidecar, a.package_paths).map_err(|e| e.to_string())?;
     if a.nominal == Some("true") {
         super::warn_robot(&robot);
     }

@@ -4,7 +4,7 @@
 use momentlmi::data::{Dataset, ReadOptions};
 use momentlmi::dynamics::ParamChoice;
 use momentlmi::dynamics::RobotDescription;
-use momentlmi::dynamics::robots::load_robot;
+use momentlmi::dynamics::robots::load_robot_with;
 use momentlmi::identify::{Identification, IdentifyError, IdentifyResult, Level};
 use std::path::Path;
 
@@ -14,6 +14,8 @@ pub struct IdentifyArgs<'a> {
     pub robot: &'a str,
     /// Sidecar for a URDF.
     pub sidecar: Option<&'a Path>,
+    /// Folders of `package://` meshes.
+    pub package_paths: &'a [std::path::PathBuf],
     /// Training data.
     pub data: &'a Path,
     /// Level name.
@@ -132,7 +134,12 @@ fn identification<'r>(
 
 fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
     parse_level(a.constraints, "--constraints")?;
-    let robot = load_robot(a.robot, a.sidecar).map_err(|e| e.to_string())?;
+    let robot = load_robot_with(a.robot, a.sidecar, a.package_paths).map_err(|e| e.to_string())?;
+    if a.constraints == "ellipsoid" || a.levels.iter().any(|l| l.trim_end().ends_with("ellipsoid"))
+    {
+        // the bounding volumes come from the geometry these warnings are about
+        super::warn_robot(&robot);
+    }
     let names = robot.model.joint_names();
     let train =
         Dataset::read_csv(a.data, &names, ReadOptions::default()).map_err(|e| e.to_string())?;

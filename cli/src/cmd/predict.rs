@@ -4,7 +4,7 @@ use momentlmi::data::Dataset;
 use momentlmi::data::{ReadOptions, Staged};
 use momentlmi::dynamics::ParamChoice;
 use momentlmi::dynamics::predict::predict_torques;
-use momentlmi::dynamics::robots::load_robot;
+use momentlmi::dynamics::robots::load_robot_with;
 use serde_json::json;
 use std::path::Path;
 
@@ -14,6 +14,8 @@ pub struct PredictArgs<'a> {
     pub robot: &'a str,
     /// Optional sidecar for a URDF.
     pub sidecar: Option<&'a Path>,
+    /// Folders of `package://` meshes.
+    pub package_paths: &'a [std::path::PathBuf],
     /// `true`, `cad` or a parameter file.
     pub params: Option<&'a str>,
     /// Input data.
@@ -48,7 +50,7 @@ fn staged_output(a: &PredictArgs) -> Result<Staged, String> {
 
 fn run_inner(a: &PredictArgs) -> Result<(), String> {
     let mut staged = staged_output(a)?;
-    let robot = load_robot(a.robot, a.sidecar).map_err(|e| e.to_string())?;
+    let robot = load_robot_with(a.robot, a.sidecar, a.package_paths).map_err(|e| e.to_string())?;
     if a.params.is_some_and(|p| p == "true") {
         super::warn_robot(&robot);
     }

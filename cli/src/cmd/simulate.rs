@@ -4,7 +4,7 @@
 use momentlmi::data::{Staged, record_path, stage_with_record};
 use momentlmi::dynamics::Effect;
 use momentlmi::dynamics::effect::parse_override;
-use momentlmi::dynamics::robots::load_robot;
+use momentlmi::dynamics::robots::load_robot_with;
 use momentlmi::sim::{Effects, SimConfig, TrueRobot, simulate};
 use std::path::Path;
 
@@ -14,6 +14,8 @@ pub struct SimulateArgs<'a> {
     pub robot: &'a str,
     /// Sidecar for a URDF.
     pub sidecar: Option<&'a Path>,
+    /// Folders of `package://` meshes.
+    pub package_paths: &'a [std::path::PathBuf],
     /// Duration (s).
     pub seconds: f64,
     /// Effects.
@@ -51,7 +53,7 @@ fn staged_outputs(a: &SimulateArgs) -> Result<Staged, String> {
 
 fn run_inner(a: &SimulateArgs) -> Result<(), String> {
     let mut staged = staged_outputs(a)?;
-    let robot = load_robot(a.robot, a.sidecar).map_err(|e| e.to_string())?;
+    let robot = load_robot_with(a.robot, a.sidecar, a.package_paths).map_err(|e| e.to_string())?;
     let mut effects = Effects::new(a.effects.iter().copied());
     for o in a.effect_params {
         let (p, v) = parse_override(o).map_err(|e| e.to_string())?;

@@ -1,5 +1,6 @@
-//! SVG figures (plotters, SVG backend): the experiment's Fig. 4–6 and the
-//! diagnosis plots.
+//! SVG figures (plotters, SVG backend): the experiment's Fig. 4–6, the
+//! diagnosis plots and the links' geometry (`check --out`).
 
 pub mod diagnosis;
 pub mod figures;
+pub mod geometry;
