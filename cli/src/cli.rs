@@ -121,6 +121,14 @@ enum Command {
         /// Torque noise σ in N·m (default 0.3; 0 writes exact, unprocessed states).
         #[arg(long)]
         noise: Option<f64>,
+        /// Cut-off (Hz) of the offline filter of q, q̇, q̈ (default: 30 Hz, or 10× the top
+        /// frequency of a multi-sine excitation when lower, at least 5 Hz).
+        #[arg(long, value_name = "HZ")]
+        cutoff: Option<f64>,
+        /// Bits per turn of the link-side encoders of revolute joints without a rotor
+        /// (default 19; joints with a rotor have 2^14 counts per motor turn).
+        #[arg(long, value_name = "BITS")]
+        link_encoder_bits: Option<f64>,
         /// Effect parameter override NAME=VALUE (repeatable), e.g. `stiffness=300`;
         /// the defaults come from the robot's description.
         #[arg(long = "effect-param")]
@@ -283,6 +291,8 @@ pub fn main() -> i32 {
             out,
             seed,
             noise,
+            cutoff,
+            link_encoder_bits,
             effect_param,
         } => simulate::run(&simulate::SimulateArgs {
             robot: &robot,
@@ -294,6 +304,8 @@ pub fn main() -> i32 {
             out: &out,
             seed,
             noise,
+            cutoff,
+            link_encoder_bits,
         }),
         Command::Identify {
             robot:

@@ -28,6 +28,14 @@ pub fn memory_estimate(n: usize, samples: usize) -> u64 {
     8 * (40 * n * n + 16 * s * n)
 }
 
+fn default_link_bits() -> f64 {
+    19.0
+}
+
+fn default_linear_resolution() -> f64 {
+    1e-6
+}
+
 /// The largest torque noise σ (N·m) a simulation may add.
 pub const MAX_NOISE_SIGMA: f64 = 1e4;
 
@@ -46,11 +54,27 @@ pub struct SimConfig {
     pub effects: Effects,
     /// Torque noise σ (N·m), Gaussian, white.
     pub noise_sigma: f64,
-    /// Encoder counts per motor turn (0: no quantisation); the joint
-    /// resolution is `2π / (counts · N)`.
+    /// Encoder counts per motor turn, for a joint with a rotor (a gear ratio
+    /// N): the joint resolution is `2π / (counts · N)` (0: no quantisation
+    /// on any joint).
     pub encoder_counts: f64,
-    /// Cut-off (Hz) of the zero-phase filter of the offline processing.
+    /// Bits per turn of a link-side encoder, for a revolute joint without a
+    /// rotor (default 19: 2π/2¹⁹ ≈ 12 µrad, as on modern arms' joint
+    /// encoders; 0: none).
+    #[serde(default = "default_link_bits")]
+    pub link_encoder_bits: f64,
+    /// Resolution (m) of a prismatic joint without a rotor (default 1 µm).
+    #[serde(default = "default_linear_resolution")]
+    pub linear_resolution_m: f64,
+    /// Cut-off (Hz) of the zero-phase filter of the offline processing
+    /// (default: 30 Hz, or 10× the top frequency of a multi-sine excitation
+    /// when that is lower, at least 5 Hz).
     pub cutoff_hz: f64,
+    /// Seconds simulated and processed before and after the data and then
+    /// dropped, as an offline pipeline drops its filter's edges (default
+    /// 0.5 s; 0 in records older than it).
+    #[serde(default)]
+    pub edge_seconds: f64,
     /// RNG seed.
     pub seed: u64,
     /// Whether q̇, q̈ are estimated from the (quantised) positions as the
@@ -60,21 +84,54 @@ pub struct SimConfig {
 }
 
 impl SimConfig {
-    /// Defaults for a robot: 1 kHz, σ = 0.3 N·m, 2¹⁴ counts, 30 Hz cut-off,
-    /// the description's excitation.
+    /// Defaults for a robot: 1 kHz, σ = 0.3 N·m, 2¹⁴ counts per motor turn
+    /// where a joint has a rotor, 19-bit link-side encoders (1 µm on a
+    /// prismatic joint) where not, the cut-off for the excitation's bandwidth,
+    /// 0.5 s edges, the description's excitation.
     pub fn for_robot(robot: &RobotDescription, seconds: f64, effects: Effects, seed: u64) -> Self {
+        let trajectory = Trajectory::for_excitation(&robot.excitation, &robot.model, seed);
+        let cutoff_hz = trajectory
+            .top_hz()
+            .map_or(30.0, |f| (10.0 * f).clamp(5.0, 30.0));
         Self {
             robot: robot.source.clone(),
             seconds,
             rate_hz: 1000.0,
-            trajectory: Trajectory::for_excitation(&robot.excitation, &robot.model, seed),
+            trajectory,
             effects,
             noise_sigma: 0.3,
             encoder_counts: 16384.0,
-            cutoff_hz: 30.0,
+            link_encoder_bits: default_link_bits(),
+            linear_resolution_m: default_linear_resolution(),
+            cutoff_hz,
+            edge_seconds: 0.5,
             seed,
             processed: true,
         }
+    }
+
+    /// Joint `j`'s position resolution (rad or m; 0: exact) and where its
+    /// encoder is.
+    pub fn encoder(&self, model: &Model, j: usize) -> (f64, &'static str) {
+        use std::f64::consts::TAU;
+        if self.encoder_counts <= 0.0 {
+            return (0.0, "none");
+        }
+        if let Some(r) = model.rotor_of(j) {
+            return (TAU / (self.encoder_counts * r.gear_ratio), "motor side");
+        }
+        if model.joints[j].kind == crate::dynamics::JointKind::Prismatic {
+            return (self.linear_resolution_m, "link side (linear)");
+        }
+        match self.link_encoder_bits {
+            b if b > 0.0 => (TAU / b.exp2(), "link side"),
+            _ => (0.0, "none"),
+        }
+    }
+
+    /// The samples simulated before and after the data (dropped).
+    pub fn edge_samples(&self) -> usize {
+        (self.edge_seconds * self.rate_hz).round() as usize
     }
 
     /// Checks every setting; returns the number of samples.
@@ -106,6 +163,23 @@ impl SimConfig {
                 "must be ≥ 0 and finite",
             );
         }
+        if !(0.0..=64.0).contains(&self.link_encoder_bits) {
+            return bad(
+                "link_encoder_bits",
+                self.link_encoder_bits,
+                "must be in [0, 64]",
+            );
+        }
+        if !(self.linear_resolution_m >= 0.0 && self.linear_resolution_m <= 1.0) {
+            return bad(
+                "linear_resolution_m",
+                self.linear_resolution_m,
+                "must be in [0, 1] m",
+            );
+        }
+        if !(0.0..=10.0).contains(&self.edge_seconds) {
+            return bad("edge_seconds", self.edge_seconds, "must be in [0, 10] s");
+        }
         if self.processed && !(self.cutoff_hz > 0.0 && self.cutoff_hz < 0.5 * self.rate_hz) {
             return bad(
                 "cutoff_hz",
@@ -128,7 +202,7 @@ impl SimConfig {
                 &format!("{samples} samples at this rate; a data set needs at least 2"),
             );
         }
-        let need = memory_estimate(model.dof(), samples as usize);
+        let need = memory_estimate(model.dof(), samples as usize + 2 * self.edge_samples());
         if need > MAX_SIM_BYTES {
             return bad(
                 "seconds",
@@ -171,7 +245,7 @@ struct States {
 fn sample_states(
     model: &Model,
     cfg: &SimConfig,
-    samples: usize,
+    (first, samples): (isize, usize),
     delay: f64,
     progress: &mut impl FnMut(usize, usize),
 ) -> Result<States, SimError> {
@@ -183,7 +257,7 @@ fn sample_states(
         delayed: Default::default(),
     };
     for k in 0..samples {
-        let t = k as f64 * dt;
+        let t = (first + k as isize) as f64 * dt;
         let (q, qd, qdd) = state(t)?;
         let (qx, qdx, qddx) = if delay > 0.0 {
             state(t - delay)?
@@ -254,16 +328,12 @@ fn add_noise(cfg: &SimConfig, tau: &mut [Vec<f64>]) {
     }
 }
 
-/// Encoder quantisation per motor turn, then the offline processing: q and
-/// q̇ from the zero-phase filtered positions and their derivative, q̈ from q̇.
+/// Encoder quantisation ([`SimConfig::encoder`]), then the offline
+/// processing: q and q̇ from the zero-phase filtered positions and their
+/// derivative, q̈ from q̇.
 fn process(model: &Model, cfg: &SimConfig, d: &mut Dataset) {
     for j in 0..model.dof() {
-        let gear = model.rotor_of(j).map_or(1.0, |r| r.gear_ratio);
-        let res = if cfg.encoder_counts > 0.0 {
-            2.0 * std::f64::consts::PI / (cfg.encoder_counts * gear)
-        } else {
-            0.0
-        };
+        let (res, _) = cfg.encoder(model, j);
         let raw: Vec<f64> =
             d.q.iter()
                 .map(|q| {
@@ -294,7 +364,9 @@ pub fn simulate(
     let model = &robot.model;
     let samples = cfg.validate(model)?;
     let truth = TrueRobot::new(robot, &cfg.effects)?;
-    let states = sample_states(model, cfg, samples, truth.delay(), &mut progress)?;
+    let edge = if cfg.processed { cfg.edge_samples() } else { 0 };
+    let span = (-(edge as isize), samples + 2 * edge);
+    let states = sample_states(model, cfg, span, truth.delay(), &mut progress)?;
     let [qs, qds, qdds] = &states.delayed;
     let mut tau = truth.torques(qs, qds, qdds)?;
     add_compliance(&truth, cfg, &states, &mut tau)?;
@@ -311,6 +383,9 @@ pub fn simulate(
     if cfg.processed {
         process(model, cfg, &mut d);
     }
+    let mut d = d.slice(edge..edge + samples);
+    // the kept samples' times, exactly k / rate from 0
+    d.t = (0..samples).map(|k| k as f64 / cfg.rate_hz).collect();
     within_reader_limits(&d)?;
     progress(samples, samples);
     Ok(d)

@@ -118,6 +118,17 @@ impl Trajectory {
         }
     }
 
+    /// The top frequency (Hz) of a multi-sine; `None` for the shell.
+    pub fn top_hz(&self) -> Option<f64> {
+        match self {
+            Trajectory::Fourier { omega, a, .. } => {
+                let harmonics = a.iter().map(Vec::len).max().unwrap_or(0);
+                Some(omega.abs() * harmonics as f64 / (2.0 * std::f64::consts::PI))
+            }
+            Trajectory::Shell(_) => None,
+        }
+    }
+
     /// (q, q̇, q̈) at t by 4th-order central differences of q.
     pub fn state(&self, t: f64) -> Option<(Vec<f64>, Vec<f64>, Vec<f64>)> {
         let h = 1e-4;

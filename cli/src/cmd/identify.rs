@@ -20,7 +20,7 @@ pub struct IdentifyArgs<'a> {
     pub data: &'a Path,
     /// Level name.
     pub constraints: &'a str,
-    /// Prior: cad | true | FILE (default: cad for cheetah3-leg, the URDF's own otherwise).
+    /// Prior: cad | true | FILE (default: cad, the description's prior: the sidecar's, else the URDF's own inertias).
     pub prior: Option<&'a str>,
     /// Weight w_π.
     pub weight: f64,

@@ -28,6 +28,10 @@ pub struct SimulateArgs<'a> {
     pub seed: u64,
     /// Torque noise σ (N·m).
     pub noise: Option<f64>,
+    /// Filter cut-off (Hz).
+    pub cutoff: Option<f64>,
+    /// Link-side encoder bits.
+    pub link_encoder_bits: Option<f64>,
 }
 
 /// Exit codes: 0 written, 2 bad input or failure (nothing written).
@@ -67,6 +71,12 @@ fn run_inner(a: &SimulateArgs) -> Result<(), String> {
             cfg.processed = false;
         }
     }
+    if let Some(c) = a.cutoff {
+        cfg.cutoff_hz = c;
+    }
+    if let Some(b) = a.link_encoder_bits {
+        cfg.link_encoder_bits = b;
+    }
     let samples = cfg.validate(&robot.model).map_err(|e| e.to_string())?;
     super::warn_robot(&robot);
     let truth = TrueRobot::new(&robot, &cfg.effects).map_err(|e| e.to_string())?;
@@ -91,6 +101,10 @@ fn run_inner(a: &SimulateArgs) -> Result<(), String> {
         "samples": d.len(),
         "joints": d.joints,
         "config": cfg,
+        "encoders": (0..robot.model.dof()).map(|j| {
+            let (resolution, side) = cfg.encoder(&robot.model, j);
+            serde_json::json!({"joint": robot.model.joints[j].name, "resolution": resolution, "where": side})
+        }).collect::<Vec<_>>(),
         "effect_magnitudes": magnitudes,
         "nominal_friction": robot.friction,
         "tool": robot.model.tool.map(|t| serde_json::json!({

@@ -1,0 +1,79 @@
+//! The Panda arm in `robots/panda` (URDF, sidecar and collision meshes in the
+//! repository): simulated with the defaults, identified with the same code
+//! path as the leg, from a prior that is not the truth.
+
+use momentlmi::dynamics::robots::load_robot;
+use momentlmi::dynamics::{Effect, RobotDescription};
+use momentlmi::identify::{Identification, Level};
+use momentlmi::sim::{Effects, SimConfig, simulate};
+use std::path::Path;
+
+fn panda() -> RobotDescription {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/panda");
+    let urdf = dir.join("panda.urdf");
+    load_robot(urdf.to_str().unwrap(), Some(&dir.join("panda.toml"))).unwrap()
+}
+
+/// The URDF's inertias, each body's π scaled by 0.7 or 1.3 in turn (a scaled
+/// π stays physically consistent).
+fn perturbed_prior(r: &RobotDescription) -> Vec<f64> {
+    r.prior
+        .iter()
+        .enumerate()
+        .flat_map(|(b, p)| {
+            let f = if b % 2 == 0 { 1.3 } else { 0.7 };
+            p.0.map(|x| x * f)
+        })
+        .collect()
+}
+
+#[test]
+fn the_arm_identifies_to_the_noise_floor_from_a_wrong_prior() {
+    let r = panda();
+    assert!(r.warnings.is_empty(), "{:?}", r.warnings);
+    let effects = Effects::new([Effect::Coulomb, Effect::Viscous]);
+    let data = |seed| {
+        let cfg = SimConfig::for_robot(&r, 15.0, effects.clone(), seed);
+        simulate(&r, &cfg, |_, _| {}).unwrap()
+    };
+    let (train, val) = (data(1), data(2));
+    let prior = perturbed_prior(&r);
+    for level in [Level::Consistent, Level::Ellipsoid] {
+        let res = Identification::for_robot(&r, level, 1e-6)
+            .unwrap()
+            .prior(1e-6, prior.clone())
+            .unwrap()
+            .identify(&train, Some(&val))
+            .unwrap();
+        let rms = res.validation_rms.clone().unwrap();
+        for (j, v) in rms.iter().enumerate() {
+            assert!(
+                *v <= 1.1 * 0.3,
+                "{level:?}: joint {j}: held-out RMS {v} > 1.1 σ"
+            );
+        }
+        assert!(res.bodies.iter().all(|b| b.consistent), "{level:?}");
+        if level == Level::Ellipsoid {
+            // the URDF's own inertias (the truth here) are not density
+            // realizable in the collision meshes' ellipsoids for six of the
+            // seven links (`momentlmi check`): the masses cannot come back
+            continue;
+        }
+        for (b, body) in res.bodies.iter().enumerate() {
+            // No link mass of a fixed-base revolute chain is identifiable
+            // from joint torques (each regroups into its parent's
+            // parameters): the data fix combinations and the prior the rest.
+            // Measured with this prior: every mass within 38 % of the truth,
+            // none further than the prior's by more than 8 % of the truth
+            // (link5: 1.69 kg, prior 1.59, truth 1.23).
+            let truth = r.model.params()[10 * b];
+            let err = (body.mass - truth).abs();
+            assert!(
+                err <= 0.5 * truth,
+                "{} mass {} (truth {truth})",
+                body.name,
+                body.mass
+            );
+        }
+    }
+}
