@@ -2,7 +2,7 @@
 //! down by motion regime, position, frequency band and time, with whiteness
 //! and cross-correlation checks.
 
-use crate::data::filter::filtfilt;
+use rustfft::{FftPlanner, num_complex::Complex};
 use serde::Serialize;
 
 /// Residual statistics of one group of samples of one joint.
@@ -176,29 +176,7 @@ pub fn analyse_joint(
             )
         })
         .collect();
-    // spectrum: variance between low-pass cut-offs
-    let edges = [0.0, 1.0, 5.0, 20.0, fs / 2.0];
-    let total_var = r.iter().map(|x| (x - all.bias).powi(2)).sum::<f64>();
-    let lp = |fc: f64| -> Vec<f64> {
-        if fc <= 0.0 {
-            vec![all.bias; n]
-        } else if fc >= fs / 2.0 {
-            r.to_vec()
-        } else {
-            filtfilt(r, fc, fs)
-        }
-    };
-    let mut spectrum = vec![];
-    let mut prev = lp(edges[0]);
-    for w in edges.windows(2) {
-        let next = lp(w[1]);
-        let e: f64 = next.iter().zip(&prev).map(|(a, b)| (a - b).powi(2)).sum();
-        spectrum.push((
-            format!("{:.0}–{:.0} Hz", w[0], w[1]),
-            if total_var > 0.0 { e / total_var } else { 0.0 },
-        ));
-        prev = next;
-    }
+    let spectrum = band_shares(r, all.bias, fs, &[0.0, 1.0, 5.0, 20.0, fs / 2.0]);
     let autocorrelation: Vec<f64> = (1..=20)
         .map(|l| {
             if n > l {
@@ -269,4 +247,66 @@ pub fn summarise(w: &JointWhere) -> String {
         "; residual is correlated (structure left)"
     };
     s
+}
+
+/// The shares of the residual's variance (about `mean`) in the frequency
+/// bands between `edges` (Hz; the last band includes its upper edge), from
+/// its periodogram: by Parseval the shares sum to 1 (all 0 for a constant
+/// residual).
+fn band_shares(r: &[f64], mean: f64, fs: f64, edges: &[f64]) -> Vec<(String, f64)> {
+    let n = r.len();
+    let bands = edges.len().saturating_sub(1);
+    let mut power = vec![0.0; bands];
+    if n >= 2 && bands > 0 {
+        let mut x: Vec<Complex<f64>> = r.iter().map(|v| Complex::new(v - mean, 0.0)).collect();
+        FftPlanner::new().plan_fft_forward(n).process(&mut x);
+        for (k, c) in x.iter().enumerate().skip(1) {
+            let f = k.min(n - k) as f64 * fs / n as f64;
+            let b = edges[1..bands].iter().filter(|&&e| f >= e).count();
+            power[b] += c.norm_sqr();
+        }
+    }
+    let total: f64 = power.iter().sum();
+    edges
+        .windows(2)
+        .zip(power)
+        .map(|(w, p)| {
+            let share = if total > 0.0 { p / total } else { 0.0 };
+            (format!("{:.0}–{:.0} Hz", w[0], w[1]), share)
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod band_tests {
+    use super::band_shares;
+
+    #[test]
+    fn band_shares_are_shares_of_the_variance() {
+        let fs = 1000.0;
+        let edges = [0.0, 1.0, 5.0, 20.0, 500.0];
+        // 10 Hz (variance 0.5) and 100 Hz (variance 0.125), 3 s, with an offset
+        let r: Vec<f64> = (0..3000)
+            .map(|k| {
+                let t = k as f64 / fs;
+                2.0 + (std::f64::consts::TAU * 10.0 * t).sin()
+                    + 0.5 * (std::f64::consts::TAU * 100.0 * t).sin()
+            })
+            .collect();
+        let s = band_shares(&r, 2.0, fs, &edges);
+        let total: f64 = s.iter().map(|b| b.1).sum();
+        assert!((total - 1.0).abs() < 1e-12, "{s:?}");
+        assert!(
+            (s[2].1 - 0.8).abs() < 1e-9 && (s[3].1 - 0.2).abs() < 1e-9,
+            "{s:?}"
+        );
+        assert!(s[0].1 < 1e-12 && s[1].1 < 1e-12, "{s:?}");
+        assert_eq!(s[2].0, "5–20 Hz");
+        // a constant residual has no variance to share
+        assert!(
+            band_shares(&[1.0; 100], 1.0, fs, &edges)
+                .iter()
+                .all(|b| b.1 == 0.0)
+        );
+    }
 }
