@@ -24,6 +24,14 @@ struct RobotArgs {
     package_path: Vec<PathBuf>,
 }
 
+/// `simulate --help`'s list of effect parameters.
+fn effect_param_help() -> String {
+    format!(
+        "Effect parameter override NAME=VALUE (repeatable), e.g. `stiffness=300`; a parameter of an effect that is not switched on is an error. The robot's sidecar [effects] table replaces the built-in defaults below.\n{}",
+        momentlmi::dynamics::effect::Param::help_table()
+    )
+}
+
 /// Physically consistent inertial parameter identification and SDP tools.
 #[derive(Parser, Debug)]
 #[command(name = "momentlmi", version, about)]
@@ -131,7 +139,7 @@ enum Command {
         link_encoder_bits: Option<f64>,
         /// Effect parameter override NAME=VALUE (repeatable), e.g. `stiffness=300`;
         /// the defaults come from the robot's description.
-        #[arg(long = "effect-param")]
+        #[arg(long = "effect-param", value_name = "NAME=VALUE", long_help = effect_param_help())]
         effect_param: Vec<String>,
     },
     /// Identify link and rotor inertias and friction from data (the paper's SDP (25)).
@@ -170,7 +178,8 @@ enum Command {
         #[arg(long, default_value_t = 8.0)]
         max_memory_gib: f64,
     },
-    /// Diagnose the gap between a nominal model and measured data (first version).
+    /// Diagnose the gap between a nominal model and measured data: where it lies, which unmodelled
+    /// effect explains it, how far it shrinks (docs/diagnosis.md).
     Diagnose {
         #[command(flatten)]
         robot: RobotArgs,

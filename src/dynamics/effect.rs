@@ -172,6 +172,16 @@ macro_rules! effect_params {
                 match self { $(Param::$variant => stringify!($field),)+ }
             }
 
+            /// Its documentation (meaning, unit, range).
+            pub fn doc(self) -> &'static str {
+                match self { $(Param::$variant => concat!($($doc),+).trim_ascii(),)+ }
+            }
+
+            /// Its built-in default (before a robot's `[effects]` table).
+            pub fn default_value(self) -> f64 {
+                match self { $(Param::$variant => $default,)+ }
+            }
+
             /// The effects it belongs to.
             pub fn effects(self) -> &'static [Effect] {
                 match self { $(Param::$variant => &[$(Effect::$effect),+],)+ }
@@ -243,6 +253,25 @@ pub const MAX_ABS_EFFECT: f64 = 1e6;
 pub const MAX_DELAY_S: f64 = 1.0;
 
 impl Param {
+    /// One line per parameter: name, effects, meaning and unit, built-in
+    /// default (for `simulate --help`).
+    pub fn help_table() -> String {
+        Self::ALL
+            .iter()
+            .map(|p| {
+                let effects: Vec<&str> = p.effects().iter().map(|e| e.name()).collect();
+                format!(
+                    "  {} ({}): {} Default {}.",
+                    p.name(),
+                    effects.join(", "),
+                    p.doc(),
+                    p.default_value()
+                )
+            })
+            .collect::<Vec<_>>()
+            .join("\n")
+    }
+
     /// `a, b, c` of every parameter's name.
     pub fn names() -> String {
         Self::ALL

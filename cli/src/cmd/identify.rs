@@ -60,15 +60,30 @@ pub fn run(a: &IdentifyArgs) -> i32 {
             for w in &r.warnings {
                 eprintln!("warning: {w}");
             }
-            for d in &r.unidentifiable_directions {
-                eprintln!("warning: not excited by the data (set by the prior/constraints): {d}");
-            }
+            warn_unexcited(&r.unidentifiable_directions);
             if r.constraints_satisfied { 0 } else { 1 }
         }
         Err(e) => {
             eprintln!("error: {e}");
             2
         }
+    }
+}
+
+/// The directions the data do not excite: each when there are few, else
+/// their number and the first three (the JSON has them all).
+fn warn_unexcited(dirs: &[String]) {
+    const LIST: usize = 5;
+    if dirs.len() <= LIST {
+        for d in dirs {
+            eprintln!("warning: not excited by the data (set by the prior/constraints): {d}");
+        }
+    } else {
+        eprintln!(
+            "warning: {} parameter directions are not excited by the data and are set by the prior and the constraints, e.g. {}; all in --json (unidentifiable_directions)",
+            dirs.len(),
+            dirs[..3].join("; ")
+        );
     }
 }
 
