@@ -47,6 +47,22 @@ impl Candidate {
         }
     }
 
+    /// Why it cannot apply to `model`, if it cannot: cogging ("per motor
+    /// turn") and the transmission's compliance (between a motor side that
+    /// the encoders measure and the links) need a rotor on some joint; a
+    /// robot without rotors measures its links directly, and there the
+    /// rigid link dynamics hold whatever the transmission does.
+    pub fn inapplicable(self, model: &Model) -> Option<&'static str> {
+        let needs_rotor = matches!(
+            self,
+            Candidate::Effect(Effect::Cogging | Effect::Elasticity | Effect::Backlash)
+        );
+        let has_rotor = (0..model.dof()).any(|j| model.rotor_of(j).is_some());
+        (needs_rotor && !has_rotor).then_some(
+            "not proposed: the model has no rotors, so no motor side whose turns or compliance the data could show",
+        )
+    }
+
     /// Whether it is a compliance hypothesis (fitted by simulation,
     /// [`super::compliance`]).
     pub fn is_compliance(self) -> bool {

@@ -299,7 +299,10 @@ fn library(
     (r, split, (with_inertial, with_compliance)): (&[f64], &Split, (bool, bool)),
     warnings: &mut Vec<String>,
 ) -> Result<Vec<Vec<Columns>>, DiagnoseError> {
-    let lin = if with_compliance {
+    let applies = Candidate::Effect(Effect::Elasticity)
+        .inapplicable(model)
+        .is_none();
+    let lin = if with_compliance && applies {
         compliance::Linearisation::new(model, data).map_err(|e| {
             warnings.push(format!(
                 "elasticity, backlash: no linearisation of the link dynamics: {e}"
@@ -308,7 +311,18 @@ fn library(
     } else {
         Err(())
     };
-    Candidate::ALL
+    let proposed: Vec<Candidate> = Candidate::ALL
+        .iter()
+        .copied()
+        .filter(|c| match c.inapplicable(model) {
+            Some(why) => {
+                warnings.push(format!("{}: {why}", c.name()));
+                false
+            }
+            None => true,
+        })
+        .collect();
+    proposed
         .iter()
         .map(|&c| {
             let inertial = matches!(
