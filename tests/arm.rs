@@ -2,6 +2,7 @@
 //! repository): simulated with the defaults, identified with the same code
 //! path as the leg, from a prior that is not the truth.
 
+use momentlmi::diagnose::{DiagnoseOptions, diagnose};
 use momentlmi::dynamics::robots::load_robot;
 use momentlmi::dynamics::{Effect, RobotDescription};
 use momentlmi::identify::{Identification, Level};
@@ -75,5 +76,57 @@ fn the_arm_identifies_to_the_noise_floor_from_a_wrong_prior() {
                 body.mass
             );
         }
+    }
+}
+
+/// The withheld-effect benchmark's rules on the arm: the nominal model
+/// identified (ellipsoid level) on 20 s of other data with the base
+/// effects; 15 s diagnosed, with the withheld effect added.
+#[test]
+fn the_arm_diagnosis_names_a_withheld_effect_and_invents_none() {
+    let r = panda();
+    let sim = |effects: &str, seconds, seed| {
+        let fx = Effects::parse(effects, &[]).unwrap();
+        simulate(&r, &SimConfig::for_robot(&r, seconds, fx, seed), |_, _| {}).unwrap()
+    };
+    let base = "coulomb,viscous";
+    let opts = momentlmi::identify::IdentifyOptions::for_robot(&r, Level::Ellipsoid, 1e-6).unwrap();
+    let (m, f) = momentlmi::identify::identify(&r.model, &sim(base, 20.0, 101), None, &opts)
+        .unwrap()
+        .applied_to(&r.model)
+        .unwrap();
+    for (withheld, expect) in [
+        ("", None),
+        ("joint_offset", Some("joint_offset")),
+        ("offset", Some("offset")),
+    ] {
+        let effects = if withheld.is_empty() {
+            base.to_string()
+        } else {
+            format!("{base},{withheld}")
+        };
+        let dg = diagnose(&m, &f, &sim(&effects, 15.0, 7), &DiagnoseOptions::default()).unwrap();
+        let accepted: Vec<(&str, &[String])> = dg
+            .ranked_effects
+            .iter()
+            .filter(|e| e.accepted)
+            .map(|e| (e.effect.as_str(), e.tied_with.as_slice()))
+            .collect();
+        match expect {
+            None => assert!(accepted.is_empty(), "null case: accepted {accepted:?}"),
+            Some(e) => assert!(
+                accepted
+                    .iter()
+                    .any(|(a, t)| *a == e || t.iter().any(|x| x == e)),
+                "{withheld}: accepted {accepted:?}"
+            ),
+        }
+        assert!(!dg.unexplained, "{withheld}: {:?}", dg.unexplained_where);
+        // no motor side: the compliance and cogging hypotheses are not proposed, and say so
+        assert!(
+            dg.warnings
+                .iter()
+                .any(|w| w.starts_with("elasticity: not proposed"))
+        );
     }
 }

@@ -82,6 +82,7 @@ fn single_effects_are_found_and_close_the_gap() {
         ("time_delay", vec![]),
         ("cogging", vec![]),
         ("torque_gain", vec![]),
+        ("joint_offset", vec![]),
     ] {
         let d = run(BASE, effect, &params);
         assert!(

@@ -105,7 +105,7 @@ fn each_effect_alone_adds_its_formula_and_off_is_absent() {
     for e in Effect::ALL.map(Effect::name) {
         if matches!(
             e,
-            "time_delay" | "payload" | "rotor_inertia" | "elasticity" | "backlash"
+            "time_delay" | "payload" | "rotor_inertia" | "elasticity" | "backlash" | "joint_offset"
         ) {
             continue; // checked below through the dynamics
         }
@@ -166,6 +166,23 @@ fn each_effect_alone_adds_its_formula_and_off_is_absent() {
         let t = rnea(&heavy, &mut d, &q[k], &qd[k], &qdd[k]).unwrap();
         assert!((0..3).all(|i| (t[i] - pay[k][i]).abs() < 1e-12));
     }
+    // joint offset: the encoders read q − δ, so the torques are the rigid
+    // ones at q + δ (δ = 0.02 here)
+    let off = TrueRobot::new(
+        &leg,
+        &Effects::parse("joint_offset", &["joint_offset=0.02".into()]).unwrap(),
+    )
+    .unwrap()
+    .torques(&q, &qd, &qdd)
+    .unwrap();
+    let mut d = Data::new(&links);
+    for k in 0..q.len() {
+        let qs: Vec<f64> = q[k].iter().map(|x| x + 0.02).collect();
+        let t = rnea(&links, &mut d, &qs, &qd[k], &qdd[k]).unwrap();
+        assert!((0..3).all(|i| (t[i] - off[k][i]).abs() < 1e-12));
+        assert!((0..3).any(|i| (t[i] - none[k][i]).abs() > 1e-6));
+    }
+    assert!(Effects::parse("joint_offset", &["joint_offset=0.6".into()]).is_err());
     assert!(Effects::parse("coulomb,warp_drive", &[]).is_err());
 
     assert!(Effects::parse("offset", &["offset=abc".into()]).is_err());

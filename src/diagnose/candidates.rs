@@ -23,7 +23,7 @@ pub enum Candidate {
 
 impl Candidate {
     /// Every candidate, in the order they are tried.
-    pub const ALL: [Candidate; 13] = [
+    pub const ALL: [Candidate; 14] = [
         Candidate::Effect(Effect::Coulomb),
         Candidate::Effect(Effect::Viscous),
         Candidate::Effect(Effect::Stribeck),
@@ -37,6 +37,7 @@ impl Candidate {
         Candidate::Effect(Effect::TorqueGain),
         Candidate::Effect(Effect::Elasticity),
         Candidate::Effect(Effect::Backlash),
+        Candidate::Effect(Effect::JointOffset),
     ];
 
     /// The name in reports (an effect's name, or `link_inertia`).
@@ -165,9 +166,43 @@ pub fn build(
             Effect::TimeDelay => Ok(time_delay(d, &tau_hat()?)),
             Effect::RotorInertia | Effect::Payload => inertial(candidate, model, d),
             Effect::Elasticity | Effect::Backlash => Ok(vec![]),
+            Effect::JointOffset => one(joint_offset(model, friction, d)?),
         },
         Candidate::LinkInertia => inertial(candidate, model, d),
     }
+}
+
+/// Per joint j, `∂τ̂/∂q_j` by a central difference (h = 10⁻⁴ rad or m):
+/// the torque change an encoder zero offset δ_j makes, to first order.
+fn joint_offset(
+    model: &Model,
+    friction: &Friction,
+    d: &Dataset,
+) -> Result<Vec<Vec<f64>>, DiagnoseError> {
+    const H: f64 = 1e-4;
+    let n = d.joints.len();
+    (0..n)
+        .map(|j| {
+            let at = |s: f64| -> Vec<Vec<f64>> {
+                d.q.iter()
+                    .map(|q| {
+                        let mut q = q.clone();
+                        q[j] += s;
+                        q
+                    })
+                    .collect()
+            };
+            let plus = predict_torques(model, friction, &at(H), &d.qd, &d.qdd)
+                .map_err(DiagnoseError::Predict)?;
+            let minus = predict_torques(model, friction, &at(-H), &d.qd, &d.qdd)
+                .map_err(DiagnoseError::Predict)?;
+            Ok(flat(&plus)
+                .iter()
+                .zip(flat(&minus))
+                .map(|(a, b)| (a - b) / (2.0 * H))
+                .collect())
+        })
+        .collect()
 }
 
 fn stribeck(d: &Dataset) -> Vec<Columns> {

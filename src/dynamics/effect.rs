@@ -63,11 +63,14 @@ pub enum Effect {
     Elasticity,
     /// Backlash (a dead band) in a compliant transmission.
     Backlash,
+    /// An encoder zero offset: the measured position is the true one minus
+    /// a constant (a calibration error).
+    JointOffset,
 }
 
 impl Effect {
     /// Every effect, in the order reports list them.
-    pub const ALL: [Effect; 12] = [
+    pub const ALL: [Effect; 13] = [
         Effect::RotorInertia,
         Effect::Coulomb,
         Effect::Viscous,
@@ -80,6 +83,7 @@ impl Effect {
         Effect::TorqueGain,
         Effect::Elasticity,
         Effect::Backlash,
+        Effect::JointOffset,
     ];
 
     /// The name used on the command line and in files (`rotor_inertia`, …).
@@ -97,6 +101,7 @@ impl Effect {
             Effect::TorqueGain => "torque_gain",
             Effect::Elasticity => "elasticity",
             Effect::Backlash => "backlash",
+            Effect::JointOffset => "joint_offset",
         }
     }
 
@@ -244,6 +249,8 @@ effect_params! {
     damping, Damping, [Elasticity, Backlash], 5.0;
     /// Dead-band half-width b (rad), ≥ 0.
     backlash_width, BacklashWidth, [Backlash], 0.005;
+    /// Encoder zero offset δ (rad or m), every joint: true q = measured q + δ; |δ| ≤ 0.5.
+    joint_offset, JointOffsetValue, [JointOffset], 0.05;
 }
 
 /// The largest magnitude of any effect parameter: beyond it the simulated
@@ -292,6 +299,7 @@ impl Param {
                 Param::PayloadMass | Param::Damping | Param::BacklashWidth => v >= 0.0,
                 Param::GainError => v > -1.0,
                 Param::Asymmetry => (-1.0..=1.0).contains(&v),
+                Param::JointOffsetValue => v.abs() <= 0.5,
                 _ => true,
             }
     }

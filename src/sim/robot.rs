@@ -257,6 +257,18 @@ impl TrueRobot {
         qdd: &[Vec<f64>],
     ) -> Result<Vec<Vec<f64>>, SimError> {
         let n = self.model.dof();
+        let shifted: Vec<Vec<f64>>;
+        let q = if self.effects.has(Effect::JointOffset) {
+            // the encoders read q − δ: the robot is really at q + δ
+            let d = self.params.joint_offset;
+            shifted = q
+                .iter()
+                .map(|r| r.iter().map(|x| x + d).collect())
+                .collect();
+            &shifted[..]
+        } else {
+            q
+        };
         let mut tau = predict_torques(&self.model, &self.friction_on(), q, qd, qdd)?;
         let gain = self.gain();
         for (k, t) in tau.iter_mut().enumerate() {
