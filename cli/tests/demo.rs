@@ -63,3 +63,39 @@ fn small_experiment_writes_figures_and_tables() {
     assert_eq!(summary.sample_study.len(), 8);
     let _ = std::fs::remove_dir_all(&out);
 }
+
+/// The demo's arm part: the Panda of robots/panda identified at the noise
+/// floor, every body consistent, its files staged and written together.
+#[test]
+fn the_arm_part_identifies_and_diagnoses_the_panda() {
+    let out = std::env::temp_dir().join(format!("momentlmi-demo-arm-{}", std::process::id()));
+    std::fs::create_dir_all(&out).unwrap();
+    let mut staged = momentlmi::data::Staged::new();
+    let mut stages = vec![];
+    let ran = momentlmi_cli::cmd::demo_arm::run((&out, &mut staged), &mut |s: &str| {
+        stages.push(s.to_string())
+    })
+    .unwrap();
+    assert_eq!(ran, Some(()), "robots/panda is in the repository");
+    assert_eq!(stages.len(), 5, "{stages:?}");
+    assert!(!out.join("arm_diagnosis.json").exists());
+    staged.commit().unwrap();
+    let d: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("arm_diagnosis.json")).unwrap())
+            .unwrap();
+    let accepted: Vec<&str> = d["accepted"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|v| v.as_str())
+        .collect();
+    assert!(accepted.contains(&"joint_offset"), "{accepted:?}");
+    for f in [
+        "arm_validation.svg",
+        "arm_effects.svg",
+        "arm_residual_panda_joint1.svg",
+    ] {
+        assert!(std::fs::metadata(out.join(f)).unwrap().len() > 100, "{f}");
+    }
+    let _ = std::fs::remove_dir_all(&out);
+}

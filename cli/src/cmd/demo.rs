@@ -226,8 +226,24 @@ fn run_inner(out: &Path) -> Result<(), String> {
     let best = results.last().ok_or("no identification result")?;
     let d = diagnose_real_leg(&robot, best, (out, &mut staged))
         .map_err(|e| format!("diagnosis: {e}"))?;
+    print_diagnosis(&d, out);
+    let bar = indicatif::ProgressBar::new(5);
+    if let Ok(style) = indicatif::ProgressStyle::with_template("   {bar:40} {pos}/{len} {msg}") {
+        bar.set_style(style);
+    }
+    let mut tick = |what: &str| {
+        bar.set_message(what.to_string());
+        bar.inc(1);
+    };
+    let arm = super::demo_arm::run((out, &mut staged), &mut tick);
+    bar.finish_and_clear();
+    arm.map_err(|e| format!("the arm: {e}"))?;
     staged.commit().map_err(|e| e.to_string())?;
     dir.keep();
-    print_diagnosis(&d, out);
+    println!(
+        "
+   every file is in {}",
+        out.display()
+    );
     Ok(())
 }

@@ -3,6 +3,7 @@
 
 pub mod check;
 pub mod demo;
+pub mod demo_arm;
 pub mod diagnose;
 pub mod identify;
 pub mod predict;

@@ -126,6 +126,7 @@ fn effects_plot(svg: &mut String, d: &Diagnosis) -> Svg {
         .collect();
     let top = vals.iter().fold(1e-9f64, |a, v| a.max(*v)) * 1.15;
     let names: Vec<String> = acc.iter().map(|r| r.effect.clone()).collect();
+    let n = names.len().max(1);
     let mut c = ChartBuilder::on(&root)
         .margin(15)
         .x_label_area_size(35)
@@ -134,19 +135,29 @@ fn effects_plot(svg: &mut String, d: &Diagnosis) -> Svg {
             "held-out mean-square torque error removed by each accepted effect (sum over joints)",
             ("sans-serif", 15),
         )
-        .build_cartesian_2d(0.0..names.len().max(1) as f64, 0.0..top)
+        .build_cartesian_2d((0..n - 1).into_segmented(), 0.0..top)
         .map_err(e)?;
+    // one label under each bar, at its centre
     c.configure_mesh()
-        .x_labels(names.len().max(1))
-        .x_label_formatter(&|x| names.get(*x as usize).cloned().unwrap_or_default())
+        .disable_x_mesh()
+        .x_labels(n)
+        .x_label_formatter(&|v| match v {
+            SegmentValue::CenterOf(k) => names.get(*k).cloned().unwrap_or_default(),
+            _ => String::new(),
+        })
         .y_desc("[N²·m²]")
         .draw()
         .map_err(e)?;
     c.draw_series(vals.iter().enumerate().map(|(k, v)| {
-        Rectangle::new(
-            [(k as f64 + 0.2, 0.0), (k as f64 + 0.8, *v)],
+        let mut bar = Rectangle::new(
+            [
+                (SegmentValue::Exact(k), 0.0),
+                (SegmentValue::Exact(k + 1), *v),
+            ],
             RGBColor(31, 119, 180).filled(),
-        )
+        );
+        bar.set_margin(0, 0, 20, 20);
+        bar
     }))
     .map_err(e)?;
     root.present()
