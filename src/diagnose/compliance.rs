@@ -15,18 +15,20 @@
 //! ```
 //!
 //! which is ~100× cheaper to integrate than the full link dynamics (RK4,
-//! one step per sample; a step in which a joint enters or leaves its dead
+//! one step per sample, the mass matrix factored once per step's middle and
+//! end and shared by the four stages; a step in which a joint enters or leaves its dead
 //! band is redone in 16 substeps, since the spring force has a kink there),
 //! so the hypothesis can be searched:
 //!
-//! 1. a grid shared by every joint over K (30 values, 150 … 8,600 N·m/rad),
-//!    damping ratio ζ (0.05 … 0.4) and, for backlash, b (13 values,
+//! 1. a grid shared by every joint over K (15 values, 150 … 8,000 N·m/rad),
+//!    damping ratio ζ (0.05, 0.15, 0.4) and, for backlash, b (13 values,
 //!    0.001 … 0.023 rad), on the first 3 s of the training part; each joint
 //!    takes the grid point that explains its own residual best (scaled by
 //!    its best coefficient, so the grid judges timing, not amplitude);
-//! 2. two sweeps of coordinate descent over the whole training part: per
-//!    joint a local (K_i, D_i, b_i) grid, then the axial split s_i at a fixed
-//!    ringing frequency K_i / (M_ii + s_i);
+//! 2. coordinate descent over the whole training part (one sweep for
+//!    elasticity, two for backlash): per joint a local (K_i, D_i, b_i) grid
+//!    (3 × 3 for elasticity, 5 × 5 × 3 for backlash), then the axial split
+//!    s_i at a fixed ringing frequency K_i / (M_ii + s_i);
 //! 3. Levenberg–Marquardt on (ln K_i, ln D_i, b_i, s_i).
 //!
 //! The damping matters as much as K: the spring–damper's torque jumps by
@@ -54,6 +56,15 @@ const REFINED: usize = 16;
 pub const WARM_UP: f64 = 0.3;
 /// The grid search uses this much of the training part after the warm-up (s).
 const SEARCH_WINDOW: f64 = 3.0;
+/// The stage-1 grid: stiffness 150 · K_STEPʲ N·m/rad (j < GRID_K, up to
+/// about 8,000), dead band 0.001 · B_STEPʲ rad (j < GRID_B, up to 0.023).
+const GRID_K: usize = 15;
+const K_STEP: f64 = 1.33;
+const GRID_B: usize = 13;
+/// Sweeps of the coordinate descent (stage 2): the dead band's rougher cost
+/// needs two.
+const SWEEPS: [usize; 2] = [1, 2];
+const B_STEP: f64 = 1.3;
 
 /// Per-joint transmission parameters.
 #[derive(Clone, Debug, PartialEq)]
@@ -101,9 +112,9 @@ pub struct Linearisation {
     pub axial: Vec<f64>,
 }
 
-/// Solves the small SPD system `A y = f` in place (Cholesky, row-major A,
-/// overwritten); `false` if A is not positive definite.
-fn solve_spd(a: &mut [f64], f: &mut [f64], n: usize) -> bool {
+/// The Cholesky factor of the small SPD matrix `a` in place (row-major,
+/// lower triangle); `false` if it is not positive definite.
+fn cholesky(a: &mut [f64], n: usize) -> bool {
     for j in 0..n {
         let mut d = a[j * n + j];
         for k in 0..j {
@@ -122,21 +133,61 @@ fn solve_spd(a: &mut [f64], f: &mut [f64], n: usize) -> bool {
             a[i * n + j] = s / d;
         }
     }
+    true
+}
+
+/// Solves `L Lᵀ y = f` in place with the factor of [`cholesky`].
+fn cholesky_solve(l: &[f64], f: &mut [f64], n: usize) {
     for i in 0..n {
         let mut s = f[i];
         for k in 0..i {
-            s -= a[i * n + k] * f[k];
+            s -= l[i * n + k] * f[k];
         }
-        f[i] = s / a[i * n + i];
+        f[i] = s / l[i * n + i];
     }
     for i in (0..n).rev() {
         let mut s = f[i];
         for k in i + 1..n {
-            s -= a[k * n + i] * f[k];
+            s -= l[k * n + i] * f[k];
         }
-        f[i] = s / a[i * n + i];
+        f[i] = s / l[i * n + i];
     }
-    true
+}
+
+/// The linearised dynamics at one instant: the factored mass matrix, G, C
+/// and τ_L, interpolated between two samples.
+#[derive(Clone)]
+struct Node {
+    chol: Vec<f64>,
+    g: Vec<f64>,
+    c: Vec<f64>,
+    tau: Vec<f64>,
+}
+
+impl Node {
+    fn new(n: usize) -> Self {
+        Self {
+            chol: vec![0.0; n * n],
+            g: vec![0.0; n * n],
+            c: vec![0.0; n * n],
+            tau: vec![0.0; n],
+        }
+    }
+
+    /// `ẋ` for the state `x = (x, ẋ)`: `M ẍ = τ_L − G x − C ẋ − τ_s`.
+    fn rhs(&self, p: &Transmission, x: &[f64], dx: &mut [f64]) {
+        let n = self.tau.len();
+        for i in 0..n {
+            let mut s = self.tau[i] - p.torque(i, x[i], x[n + i]);
+            let (g, c) = (&self.g[i * n..(i + 1) * n], &self.c[i * n..(i + 1) * n]);
+            for j in 0..n {
+                s -= g[j] * x[j] + c[j] * x[n + j];
+            }
+            dx[n + i] = s;
+        }
+        cholesky_solve(&self.chol, &mut dx[n..], n);
+        dx[..n].copy_from_slice(&x[n..]);
+    }
 }
 
 impl Linearisation {
@@ -281,34 +332,28 @@ impl Linearisation {
             }
             ts.extend((0..n).map(|i| self.tau_shifted(p, k, i)));
         }
-        let mut f = vec![0.0; n];
-        let mut a_m = vec![0.0; n * n];
-        let mut rhs = |k: usize, a: f64, x: &[f64], dx: &mut [f64]| -> bool {
-            let lerp = |u: &[f64], v: &[f64], j: usize| u[j] + a * (v[j] - u[j]);
+        // the dynamics at k + a (a ∈ [0, 1]) between samples k and k + 1
+        let node_at = |k: usize, a: f64, out: &mut Node| -> bool {
             let k1 = (k + 1).min(last);
             let (r0, r1) = (k - from, k1 - from);
-            let (t0, t1) = (&ts[r0 * n..(r0 + 1) * n], &ts[r1 * n..(r1 + 1) * n]);
+            let lerp = |u: &[f64], v: &[f64], dst: &mut [f64]| {
+                for ((d, u), v) in dst.iter_mut().zip(u).zip(v) {
+                    *d = u + a * (v - u);
+                }
+            };
+            lerp(
+                &ts[r0 * n..(r0 + 1) * n],
+                &ts[r1 * n..(r1 + 1) * n],
+                &mut out.tau,
+            );
+            lerp(&self.g[k], &self.g[k1], &mut out.g);
+            lerp(&self.c[k], &self.c[k1], &mut out.c);
             let (m0, m1) = (
                 &ms[r0 * n * n..(r0 + 1) * n * n],
                 &ms[r1 * n * n..(r1 + 1) * n * n],
             );
-            for i in 0..n {
-                let mut s = lerp(t0, t1, i) - p.torque(i, x[i], x[n + i]);
-                for j in 0..n {
-                    s -= lerp(&self.g[k], &self.g[k1], i * n + j) * x[j]
-                        + lerp(&self.c[k], &self.c[k1], i * n + j) * x[n + j];
-                    a_m[i * n + j] = lerp(m0, m1, i * n + j);
-                }
-                f[i] = s;
-            }
-            if !solve_spd(&mut a_m, &mut f, n) {
-                return false;
-            }
-            for i in 0..n {
-                dx[i] = x[n + i];
-                dx[n + i] = f[i];
-            }
-            true
+            lerp(m0, m1, &mut out.chol);
+            cholesky(&mut out.chol, n)
         };
         let (mut k1, mut k2, mut k3, mut k4, mut y) = (
             vec![0.0; 2 * n],
@@ -319,6 +364,12 @@ impl Linearisation {
         );
         let mut x0 = vec![0.0; 2 * n];
         let in_contact = |x: &[f64], i: usize| x[i].abs() > p.backlash[i];
+        // nodes at the step's start, middle and end; the end of one step is
+        // the start of the next
+        let (mut n0, mut nh, mut n1) = (Node::new(n), Node::new(n), Node::new(n));
+        if !node_at(from, 0.0, &mut n0) {
+            return None;
+        }
         for k in from..to {
             for i in 0..n {
                 out.push(p.torque(i, x[i], x[n + i]) - ts[(k - from) * n + i]);
@@ -337,24 +388,30 @@ impl Linearisation {
                     let a0 = s as f64 / substeps as f64;
                     let ah = (s as f64 + 0.5) / substeps as f64;
                     let a1 = (s as f64 + 1.0) / substeps as f64;
-                    let mut ok = rhs(k, a0, &x, &mut k1);
+                    if substeps > 1 && !node_at(k, a0, &mut n0) {
+                        return None;
+                    }
+                    if !(node_at(k, ah, &mut nh) && node_at(k, a1, &mut n1)) {
+                        return None;
+                    }
+                    n0.rhs(p, &x, &mut k1);
                     for i in 0..2 * n {
                         y[i] = x[i] + 0.5 * h * k1[i];
                     }
-                    ok &= rhs(k, ah, &y, &mut k2);
+                    nh.rhs(p, &y, &mut k2);
                     for i in 0..2 * n {
                         y[i] = x[i] + 0.5 * h * k2[i];
                     }
-                    ok &= rhs(k, ah, &y, &mut k3);
+                    nh.rhs(p, &y, &mut k3);
                     for i in 0..2 * n {
                         y[i] = x[i] + h * k3[i];
                     }
-                    ok &= rhs(k, a1, &y, &mut k4);
-                    if !ok {
-                        return None;
-                    }
+                    n1.rhs(p, &y, &mut k4);
                     for i in 0..2 * n {
                         x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+                    }
+                    if substeps > 1 && s + 1 < substeps {
+                        std::mem::swap(&mut n0, &mut n1);
                     }
                 }
                 let crossed =
@@ -363,6 +420,8 @@ impl Linearisation {
                     break;
                 }
             }
+            // the end node of this step starts the next (k + 1 at a = 0)
+            std::mem::swap(&mut n0, &mut n1);
             if !x.iter().all(|v| v.is_finite() && v.abs() < 1e3) {
                 return None;
             }
@@ -464,10 +523,10 @@ impl Search<'_> {
         let window = t
             .partition_point(|&s| s < t[self.warm.min(t.len() - 1)] + SEARCH_WINDOW)
             .min(self.upto);
-        let ks: Vec<f64> = (0..30).map(|j| 150.0 * 1.15f64.powi(j)).collect();
-        let zetas = [0.05, 0.1, 0.2, 0.4];
+        let ks: Vec<f64> = (0..GRID_K).map(|j| 150.0 * K_STEP.powi(j as i32)).collect();
+        let zetas = [0.05, 0.15, 0.4];
         let bs: Vec<f64> = if self.backlash {
-            (0..13).map(|j| 0.001 * 1.3f64.powi(j)).collect()
+            (0..GRID_B).map(|j| 0.001 * B_STEP.powi(j as i32)).collect()
         } else {
             vec![0.0]
         };
@@ -512,8 +571,14 @@ impl Search<'_> {
             vec![1.0]
         };
         let mut trials = vec![];
-        for f in [0.85, 0.93, 1.0, 1.07, 1.15] {
-            for g in [0.7, 0.85, 1.0, 1.2, 1.4] {
+        // a finer local grid where the dead band makes the cost rougher
+        let (fs, gs): (&[f64], &[f64]) = if self.backlash {
+            (&[0.85, 0.93, 1.0, 1.07, 1.15], &[0.7, 0.85, 1.0, 1.2, 1.4])
+        } else {
+            (&[0.88, 1.0, 1.13], &[0.75, 1.0, 1.3])
+        };
+        for &f in fs {
+            for &g in gs {
                 for &h in &hs {
                     trials.push(with(p, i, k0 * f, d0 * g, b0 * h));
                 }
@@ -680,7 +745,7 @@ pub fn fit(lin: &Linearisation, r: &[f64], upto: usize, backlash: bool) -> Optio
     };
     let mut p = search.grid_start();
     let mut best = search.cost_on(&p, upto)?.0;
-    for _ in 0..2 {
+    for _ in 0..SWEEPS[usize::from(backlash)] {
         for i in 0..lin.n {
             search.descend(&mut p, &mut best, i);
         }
