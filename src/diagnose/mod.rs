@@ -217,6 +217,10 @@ pub struct EffectReport {
     pub accepted: bool,
     /// Candidates that explain the same within noise.
     pub tied_with: Vec<String>,
+    /// Why its fitted parameters are physically doubtful, if they are: a
+    /// nonlinear parameter at the edge of its grid, an encoder offset beyond
+    /// 0.2 rad. An accepted effect with a flag is also a warning.
+    pub implausible: Option<String>,
 }
 
 /// The diagnosis.
@@ -384,6 +388,12 @@ fn forward_selection(
             .map(|&j| evals[j].report.effect.clone())
             .collect();
         let e = &mut evals[chosen];
+        if let Some(why) = &e.report.implausible {
+            warnings.push(format!(
+                "round {round}: accepted '{}' although {why}",
+                e.report.effect
+            ));
+        }
         e.report.accepted = true;
         e.report.tied_with = tied_names;
         r = e.after.clone();

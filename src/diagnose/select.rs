@@ -143,11 +143,46 @@ pub fn evaluate(
             z: block_bootstrap_z(&diffs),
             accepted: false,
             tied_with: vec![],
+            implausible: implausible(variants, v, &beta, names),
         },
         after,
         gain: m,
         gain_se: sd / (diffs.len() as f64).sqrt(),
     })
+}
+
+/// The largest encoder zero offset (rad or m) a calibration error is taken
+/// to have.
+const MAX_JOINT_OFFSET: f64 = 0.2;
+
+/// Why the fit of `chosen` (one of `variants`, coefficients `beta`) is
+/// physically doubtful, if it is.
+fn implausible(
+    variants: &[Columns],
+    chosen: &Columns,
+    beta: &[f64],
+    names: &[String],
+) -> Option<String> {
+    use crate::dynamics::Effect;
+    let at = variants.iter().position(|v| std::ptr::eq(v, chosen))?;
+    if variants.len() > 2 && (at == 0 || at + 1 == variants.len()) {
+        return Some(format!(
+            "its nonlinear parameter ({}) is at the edge of the grid searched; the true value may lie beyond it",
+            chosen.detail
+        ));
+    }
+    if chosen.candidate == super::candidates::Candidate::Effect(Effect::JointOffset)
+        && let Some((j, b)) = beta
+            .iter()
+            .enumerate()
+            .find(|(_, b)| b.abs() > MAX_JOINT_OFFSET)
+    {
+        return Some(format!(
+            "the offset of joint '{}' is {b:.3} rad (or m), beyond {MAX_JOINT_OFFSET}: more than a calibration error",
+            names.get(j).map_or("?", String::as_str)
+        ));
+    }
+    None
 }
 
 /// Whether a candidate is accepted on its own merits: the block test
@@ -191,9 +226,35 @@ pub fn choose(evals: &mut [Evaluation], before: &[f64]) -> Option<(usize, Vec<us
 
 #[cfg(test)]
 mod tests {
-    use super::{Split, block_bootstrap_z, evaluate};
+    use super::{Split, block_bootstrap_z, evaluate, implausible};
     use crate::diagnose::candidates::{Candidate, Columns};
     use crate::dynamics::Effect;
+
+    /// A fit at the edge of its grid, or an encoder offset beyond a
+    /// calibration error, is flagged; one inside its grid is not.
+    #[test]
+    fn implausible_fits_are_flagged() {
+        let col = |c, detail: &str| Columns {
+            candidate: Candidate::Effect(c),
+            detail: detail.into(),
+            cols: vec![vec![1.0; 4]],
+            bodies: vec![],
+            nonneg: false,
+            nonlinear: 1,
+        };
+        let grid: Vec<Columns> = ["1 ms", "2 ms", "3 ms"]
+            .iter()
+            .map(|d| col(Effect::TimeDelay, d))
+            .collect();
+        let names = vec!["knee".to_string()];
+        assert!(implausible(&grid, &grid[1], &[1.0], &names).is_none());
+        let edge = implausible(&grid, &grid[2], &[1.0], &names).unwrap();
+        assert!(edge.contains("3 ms") && edge.contains("edge"), "{edge}");
+        let off = [col(Effect::JointOffset, "")];
+        assert!(implausible(&off, &off[0], &[0.05], &names).is_none());
+        let far = implausible(&off, &off[0], &[-0.4], &names).unwrap();
+        assert!(far.contains("'knee'") && far.contains("-0.400"), "{far}");
+    }
 
     /// A candidate whose fit fails is skipped with a warning naming it, and
     /// the variant that fits is still scored.
