@@ -23,6 +23,17 @@ fn color(i: usize) -> RGBColor {
     ][i % 6]
 }
 
+/// A tick label as people write it: 100, 1000, 0.5, 0.25 (no trailing
+/// ".0", no float noise).
+fn tick(v: f64) -> String {
+    let r = (v * 1e6).round() / 1e6;
+    if r.abs() >= 1e6 || (r != 0.0 && r.abs() < 1e-4) {
+        format!("{v:.0e}")
+    } else {
+        format!("{r}")
+    }
+}
+
 fn bounds(panels: &[Vec<Series>]) -> Vec<(f64, f64, f64, f64)> {
     panels
         .iter()
@@ -68,6 +79,7 @@ pub fn line_panels(
             let mut cb = ChartBuilder::on(area);
             cb.caption(pt, ("sans-serif", 16))
                 .margin(8)
+                .margin_right(30)
                 .x_label_area_size(35)
                 .y_label_area_size(60);
             macro_rules! draw {
@@ -77,6 +89,8 @@ pub fn line_panels(
                         .configure_mesh()
                         .x_desc(x_label)
                         .y_desc(y_label)
+                        .x_label_formatter(&|v| tick(*v))
+                        .y_label_formatter(&|v| tick(*v))
                         .draw()
                         .map_err(|e| e.to_string())?;
                     for s in series {
@@ -92,6 +106,7 @@ pub fn line_panels(
                     }
                     chart
                         .configure_series_labels()
+                        .position(SeriesLabelPosition::UpperRight)
                         .background_style(WHITE.mix(0.8))
                         .border_style(BLACK)
                         .draw()
