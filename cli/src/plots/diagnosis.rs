@@ -5,10 +5,18 @@
 use momentlmi::diagnose::Diagnosis;
 use plotters::prelude::*;
 
-fn range(v: impl Iterator<Item = f64> + Clone) -> (f64, f64) {
-    let lo = v.clone().fold(f64::INFINITY, f64::min);
-    let hi = v.fold(f64::NEG_INFINITY, f64::max);
-    let pad = 0.05 * (hi - lo).max(1e-9);
+/// The axis range of the values: from the 0.1 % to the 99.9 % quantile,
+/// padded, so that a few extreme samples (a filter's edge, a spike) do not
+/// squeeze the rest into a line; the few beyond are clipped.
+fn range(v: impl Iterator<Item = f64>) -> (f64, f64) {
+    let mut x: Vec<f64> = v.filter(|x| x.is_finite()).collect();
+    if x.is_empty() {
+        return (-1.0, 1.0);
+    }
+    x.sort_by(f64::total_cmp);
+    let at = |q: f64| x[((x.len() - 1) as f64 * q).round() as usize];
+    let (lo, hi) = (at(0.001), at(0.999));
+    let pad = 0.08 * (hi - lo).max(1e-9);
     (lo - pad, hi + pad)
 }
 
@@ -88,22 +96,28 @@ fn residual_plot(svg: &mut String, d: &Diagnosis, i: usize) -> Svg {
                 "share of the nominal residual's variance per band",
                 ("sans-serif", 14),
             )
-            .build_cartesian_2d(0.0..spec.len() as f64, 0.0..1.0)
+            .build_cartesian_2d((0..spec.len().max(1) - 1).into_segmented(), 0.0..1.0)
             .map_err(e)?;
+        // one label under each band's bar
         c.configure_mesh()
-            .x_labels(spec.len())
-            .x_label_formatter(&|x| {
-                spec.get(*x as usize)
-                    .map(|s| s.0.clone())
-                    .unwrap_or_default()
+            .disable_x_mesh()
+            .x_labels(spec.len().max(1))
+            .x_label_formatter(&|v| match v {
+                SegmentValue::CenterOf(k) => spec.get(*k).map(|s| s.0.clone()).unwrap_or_default(),
+                _ => String::new(),
             })
             .draw()
             .map_err(e)?;
         c.draw_series(spec.iter().enumerate().map(|(k, (_, v))| {
-            Rectangle::new(
-                [(k as f64 + 0.15, 0.0), (k as f64 + 0.85, *v)],
+            let mut bar = Rectangle::new(
+                [
+                    (SegmentValue::Exact(k), 0.0),
+                    (SegmentValue::Exact(k + 1), *v),
+                ],
                 RGBColor(214, 39, 40).filled(),
-            )
+            );
+            bar.set_margin(0, 0, 12, 12);
+            bar
         }))
         .map_err(e)?;
         root.present().map_err(e)?;
