@@ -36,7 +36,9 @@ fn diagnosis(a: &DiagnoseArgs) -> Result<Diagnosis, String> {
     let choice = a
         .nominal
         .map_or(ParamChoice::Own, |p| p.parse().expect("infallible"));
-    let (model, friction) = robot.parameters(&choice).map_err(|e| e.to_string())?;
+    let (model, friction) = robot
+        .parameters(&choice)
+        .map_err(|e| format!("--nominal {}: {e}", a.nominal.unwrap_or("")))?;
     let d = Dataset::read_csv(a.data, &model.joint_names(), ReadOptions::default())
         .map_err(|e| e.to_string())?;
     diagnose(&model, &friction, &d, &opts).map_err(|e| e.to_string())

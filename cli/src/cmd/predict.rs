@@ -57,7 +57,9 @@ fn run_inner(a: &PredictArgs) -> Result<(), String> {
     let choice = a
         .params
         .map_or(ParamChoice::Own, |p| p.parse().expect("infallible"));
-    let (model, friction) = robot.parameters(&choice).map_err(|e| e.to_string())?;
+    let (model, friction) = robot
+        .parameters(&choice)
+        .map_err(|e| format!("--params {}: {e}", a.params.unwrap_or("")))?;
     let names = model.joint_names();
     let d = Dataset::read_csv(
         a.data,
