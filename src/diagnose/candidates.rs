@@ -87,6 +87,9 @@ pub struct Columns {
     /// Nonlinear parameters chosen by search before the linear fit (a delay,
     /// a Stribeck velocity, a stiffness per joint, …); they count in ΔBIC.
     pub nonlinear: usize,
+    /// Why the nonlinear parameters found are physically doubtful, if they
+    /// are (set where they are fitted).
+    pub doubt: Option<String>,
 }
 
 impl Columns {
@@ -109,6 +112,7 @@ impl Columns {
             bodies: vec![],
             nonneg: false,
             nonlinear,
+            doubt: None,
         }
     }
 
@@ -318,5 +322,6 @@ fn inertial(
             .collect(),
         nonneg: payload,
         nonlinear: 0,
+        doubt: None,
     }])
 }

@@ -754,6 +754,25 @@ pub fn fit(lin: &Linearisation, r: &[f64], upto: usize, backlash: bool) -> Optio
     Some(ComplianceFit { transmission, rss })
 }
 
+/// Stiffness range (N·m/rad) a robot joint's transmission is taken to have:
+/// below it the joint would sag visibly under its own weight, above it the
+/// spring is too stiff to ring within the data's bandwidth.
+const PLAUSIBLE_STIFFNESS: (f64, f64) = (50.0, 1e5);
+
+/// Why a fitted transmission is physically doubtful, if it is.
+fn doubtful(p: &Transmission) -> Option<String> {
+    let (lo, hi) = PLAUSIBLE_STIFFNESS;
+    let (i, k) = p
+        .stiffness
+        .iter()
+        .enumerate()
+        .find(|(_, k)| !(lo..=hi).contains(*k))?;
+    Some(format!(
+        "joint {}'s fitted stiffness {k:.0} N·m/rad is outside {lo}–{hi:.0} N·m/rad",
+        i + 1
+    ))
+}
+
 /// The candidate's columns on all samples (one per joint) for a fitted
 /// hypothesis (zero during the warm-up).
 pub fn columns(candidate: Candidate, lin: &Linearisation, fit: &ComplianceFit) -> Option<Columns> {
@@ -784,6 +803,7 @@ pub fn columns(candidate: Candidate, lin: &Linearisation, fit: &ComplianceFit) -
     Some(Columns {
         candidate,
         detail,
+        doubt: doubtful(p),
         cols,
         bodies: vec![],
         nonneg: false,
@@ -794,4 +814,26 @@ pub fn columns(candidate: Candidate, lin: &Linearisation, fit: &ComplianceFit) -
             3 * n
         },
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Transmission, doubtful};
+
+    #[test]
+    fn a_fitted_stiffness_outside_a_joints_range_is_doubtful() {
+        let t = |k: f64| Transmission {
+            stiffness: vec![2000.0, k],
+            damping: vec![5.0; 2],
+            backlash: vec![0.0; 2],
+            axial_shift: vec![0.0; 2],
+        };
+        assert!(doubtful(&t(800.0)).is_none());
+        let why = doubtful(&t(4.0)).unwrap();
+        assert!(
+            why.contains("joint 2") && why.contains("4 N·m/rad"),
+            "{why}"
+        );
+        assert!(doubtful(&t(3e6)).is_some());
+    }
 }

@@ -160,6 +160,7 @@ mod tests {
             bodies: vec![],
             nonneg,
             nonlinear: 0,
+            doubt: None,
         }
     }
 

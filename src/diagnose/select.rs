@@ -164,6 +164,9 @@ fn implausible(
     names: &[String],
 ) -> Option<String> {
     use crate::dynamics::Effect;
+    if let Some(why) = &chosen.doubt {
+        return Some(why.clone());
+    }
     let at = variants.iter().position(|v| std::ptr::eq(v, chosen))?;
     if variants.len() > 2 && (at == 0 || at + 1 == variants.len()) {
         return Some(format!(
@@ -241,6 +244,7 @@ mod tests {
             bodies: vec![],
             nonneg: false,
             nonlinear: 1,
+            doubt: None,
         };
         let grid: Vec<Columns> = ["1 ms", "2 ms", "3 ms"]
             .iter()
@@ -254,6 +258,11 @@ mod tests {
         assert!(implausible(&off, &off[0], &[0.05], &names).is_none());
         let far = implausible(&off, &off[0], &[-0.4], &names).unwrap();
         assert!(far.contains("'knee'") && far.contains("-0.400"), "{far}");
+        // a doubt found where the parameters were fitted (a compliance fit) is kept
+        let mut soft = col(Effect::Elasticity, "K = (3)");
+        soft.doubt = Some("stiffness 3 N·m/rad".into());
+        let why = implausible(std::slice::from_ref(&soft), &soft, &[1.0], &names).unwrap();
+        assert!(why.contains("stiffness 3"), "{why}");
     }
 
     /// A candidate whose fit fails is skipped with a warning naming it, and
@@ -272,6 +281,7 @@ mod tests {
             bodies: vec![],
             nonneg: false,
             nonlinear: 0,
+            doubt: None,
         };
         let split = Split::new(400, n, 0.6);
         let names = vec!["j".to_string()];
