@@ -408,3 +408,30 @@ fn link_side_differs_by_the_reflected_spin_inertia() {
         }
     }
 }
+
+/// A record written before the link-side encoder settings existed reads
+/// back with the old rule (counts per joint turn) and no dropped edges; a
+/// new record says which encoder each joint has.
+#[test]
+fn older_records_keep_their_encoders() {
+    let leg = cheetah3::description();
+    let cfg = SimConfig::for_robot(&leg, 1.0, Effects::default(), 1);
+    let links = leg.model.link_side();
+    let no_rotors =
+        momentlmi::dynamics::Model::new("links", links.joints.clone(), vec![], links.gravity)
+            .unwrap();
+    let (res, side) = cfg.encoder(&no_rotors, 0);
+    assert_eq!(side, "link side");
+    assert!((res - std::f64::consts::TAU / 2f64.powi(19)).abs() < 1e-18);
+    let (res, side) = cfg.encoder(&leg.model, 0);
+    assert_eq!(side, "motor side");
+    assert!((res - std::f64::consts::TAU / (16384.0 * cheetah3::GEAR_RATIO)).abs() < 1e-15);
+    let mut v = serde_json::to_value(&cfg).unwrap();
+    for k in ["link_encoder_bits", "linear_resolution_m", "edge_seconds"] {
+        v.as_object_mut().unwrap().remove(k);
+    }
+    let old: SimConfig = serde_json::from_value(v).unwrap();
+    assert_eq!((old.link_encoder_bits, old.edge_seconds), (None, 0.0));
+    let (res, _) = old.encoder(&no_rotors, 0);
+    assert!((res - std::f64::consts::TAU / 16384.0).abs() < 1e-15);
+}

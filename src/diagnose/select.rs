@@ -168,7 +168,12 @@ fn implausible(
         return Some(why.clone());
     }
     let at = variants.iter().position(|v| std::ptr::eq(v, chosen))?;
-    if variants.len() > 2 && (at == 0 || at + 1 == variants.len()) {
+    // the top of a grid (the longest delay, the finest cogging, the widest
+    // Stribeck velocity) can hide a larger value; its bottom only can where
+    // smaller values exist (a Stribeck velocity; not a one-sample delay or
+    // one period per turn)
+    let bottom_open = chosen.candidate == super::candidates::Candidate::Effect(Effect::Stribeck);
+    if variants.len() > 2 && (at + 1 == variants.len() || (at == 0 && bottom_open)) {
         return Some(format!(
             "its nonlinear parameter ({}) is at the edge of the grid searched; the true value may lie beyond it",
             chosen.detail
@@ -252,6 +257,8 @@ mod tests {
             .collect();
         let names = vec!["knee".to_string()];
         assert!(implausible(&grid, &grid[1], &[1.0], &names).is_none());
+        // a one-sample delay is the bottom of what can be resolved, not a doubt
+        assert!(implausible(&grid, &grid[0], &[1.0], &names).is_none());
         let edge = implausible(&grid, &grid[2], &[1.0], &names).unwrap();
         assert!(edge.contains("3 ms") && edge.contains("edge"), "{edge}");
         let off = [col(Effect::JointOffset, "")];

@@ -115,7 +115,9 @@ pub fn point_masses_on_union(
         UnionRealization::Realizable(pieces) => {
             let mut out = Vec::new();
             for (q, s) in pieces.iter().zip(parts) {
-                if q.mass() > 1e-9 * pi.mass() {
+                // a piece this light is within the union test's tolerance of
+                // nothing; its own four masses could be judged outside
+                if q.mass() > 1e-6 * pi.mass() {
                     out.extend(four_point_masses_in(q, s)?);
                 }
             }

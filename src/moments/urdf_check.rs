@@ -430,6 +430,11 @@ pub fn check_urdf_file_with(
     Ok((text, robot, rep))
 }
 
+/// The note [`repair_urdf`] adds to a consistent link it leaves as it is
+/// (no inertia inside its bounding volume found).
+pub const LEFT_AS_IS: &str =
+    "(left as it is: no nearby inertia inside its geometry's bounding volume was found)";
+
 /// What `check --repair` projects an inertial onto.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(
@@ -566,7 +571,9 @@ fn indent_before(text: &str, at: usize) -> &str {
 /// kept, strict margin [`RepairOptions::margin`], see [`nearest_consistent`]). Everything else in
 /// the file is kept byte for byte. `report` must come from this `text`
 /// (checked). Returns the text and the repaired links (with a note where the
-/// repair could not keep the link inside its bounding volume).
+/// repair could not keep the link inside its bounding volume; a consistent
+/// link for which no inertia inside its volume was found is left as it is
+/// and named so).
 pub fn repair_urdf(
     text: &str,
     report: &UrdfReport,
@@ -593,6 +600,12 @@ pub fn repair_urdf(
             });
         }
         let (xml, note) = repaired_inertial(text, rep, path, opts.margin)?;
+        if note.is_some() && rep.verdict == Verdict::Ok {
+            // consistent already, and no inertia inside its geometry found:
+            // the nearest consistent one would be itself; left as it is
+            repaired.push(format!("{} {LEFT_AS_IS}", rep.name));
+            continue;
+        }
         edits.push((r, xml));
         repaired.push(match note {
             Some(n) => format!("{} ({n})", rep.name),

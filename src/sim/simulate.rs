@@ -60,12 +60,14 @@ pub struct SimConfig {
     pub encoder_counts: f64,
     /// Bits per turn of a link-side encoder, for a revolute joint without a
     /// rotor (default 19: 2π/2¹⁹ ≈ 12 µrad, as on modern arms' joint
-    /// encoders; 0: none).
-    #[serde(default = "default_link_bits")]
-    pub link_encoder_bits: f64,
+    /// encoders; 0: none). `None` (records made before it existed): those
+    /// joints had `encoder_counts` per turn of the joint itself.
+    #[serde(default)]
+    pub link_encoder_bits: Option<f64>,
     /// Resolution (m) of a prismatic joint without a rotor (default 1 µm).
-    #[serde(default = "default_linear_resolution")]
-    pub linear_resolution_m: f64,
+    /// `None` (older records): `2π / encoder_counts` m.
+    #[serde(default)]
+    pub linear_resolution_m: Option<f64>,
     /// Cut-off (Hz) of the zero-phase filter of the offline processing
     /// (default: 30 Hz, or 10× the top frequency of a multi-sine excitation
     /// when that is lower, at least 5 Hz).
@@ -101,8 +103,8 @@ impl SimConfig {
             effects,
             noise_sigma: 0.3,
             encoder_counts: 16384.0,
-            link_encoder_bits: default_link_bits(),
-            linear_resolution_m: default_linear_resolution(),
+            link_encoder_bits: Some(default_link_bits()),
+            linear_resolution_m: Some(default_linear_resolution()),
             cutoff_hz,
             edge_seconds: 0.5,
             seed,
@@ -120,12 +122,18 @@ impl SimConfig {
         if let Some(r) = model.rotor_of(j) {
             return (TAU / (self.encoder_counts * r.gear_ratio), "motor side");
         }
+        // records made before the link-side settings: counts per joint turn
+        let legacy = TAU / self.encoder_counts;
         if model.joints[j].kind == crate::dynamics::JointKind::Prismatic {
-            return (self.linear_resolution_m, "link side (linear)");
+            return (
+                self.linear_resolution_m.unwrap_or(legacy),
+                "link side (linear)",
+            );
         }
         match self.link_encoder_bits {
-            b if b > 0.0 => (TAU / b.exp2(), "link side"),
-            _ => (0.0, "none"),
+            None => (legacy, "link side"),
+            Some(b) if b > 0.0 => (TAU / b.exp2(), "link side"),
+            Some(_) => (0.0, "none"),
         }
     }
 
@@ -163,19 +171,15 @@ impl SimConfig {
                 "must be ≥ 0 and finite",
             );
         }
-        if !(0.0..=64.0).contains(&self.link_encoder_bits) {
-            return bad(
-                "link_encoder_bits",
-                self.link_encoder_bits,
-                "must be in [0, 64]",
-            );
+        if let Some(b) = self.link_encoder_bits
+            && !(0.0..=64.0).contains(&b)
+        {
+            return bad("link_encoder_bits", b, "must be in [0, 64]");
         }
-        if !(self.linear_resolution_m >= 0.0 && self.linear_resolution_m <= 1.0) {
-            return bad(
-                "linear_resolution_m",
-                self.linear_resolution_m,
-                "must be in [0, 1] m",
-            );
+        if let Some(r) = self.linear_resolution_m
+            && !(0.0..=1.0).contains(&r)
+        {
+            return bad("linear_resolution_m", r, "must be in [0, 1] m");
         }
         if !(0.0..=10.0).contains(&self.edge_seconds) {
             return bad("edge_seconds", self.edge_seconds, "must be in [0, 10] s");
@@ -355,7 +359,8 @@ fn process(model: &Model, cfg: &SimConfig, d: &mut Dataset) {
 }
 
 /// Simulates `robot` (its model's own parameters are the truth);
-/// `progress(done, total)` is called every 1000 samples.
+/// `progress(done, total)` is called every 1000 samples simulated (the
+/// total includes the dropped edges).
 pub fn simulate(
     robot: &RobotDescription,
     cfg: &SimConfig,
@@ -387,7 +392,8 @@ pub fn simulate(
     // the kept samples' times, exactly k / rate from 0
     d.t = (0..samples).map(|k| k as f64 / cfg.rate_hz).collect();
     within_reader_limits(&d)?;
-    progress(samples, samples);
+    // the total counts the dropped edges too
+    progress(span.1, span.1);
     Ok(d)
 }
 

@@ -5,7 +5,8 @@ use momentlmi::data::{Staged, same_file};
 use momentlmi::dynamics::sidecar::Sidecar;
 use momentlmi::moments::shape_points::geometry_points;
 use momentlmi::moments::urdf_check::{
-    Meshes, RepairOptions, UrdfReport, check_urdf_file_with, check_urdf_str, repair_urdf,
+    LEFT_AS_IS, Meshes, RepairOptions, UrdfReport, check_urdf_file_with, check_urdf_str,
+    repair_urdf,
 };
 use momentlmi::urdf::Robot;
 use momentlmi::urdf::mesh::MeshPaths;
@@ -246,10 +247,11 @@ fn write_repair(
         }
     }
     momentlmi::data::write_whole(out, &fixed).map_err(|e| e.to_string())?;
+    let left = names.iter().filter(|n| n.ends_with(LEFT_AS_IS)).count();
     let msg = format!(
         "wrote {} ({} inertial(s) repaired{}{})",
         out.display(),
-        names.len(),
+        names.len() - left,
         if names.is_empty() { "" } else { ": " },
         names.join(", ")
     );

@@ -75,7 +75,7 @@ fn run_inner(a: &SimulateArgs) -> Result<(), String> {
         cfg.cutoff_hz = c;
     }
     if let Some(b) = a.link_encoder_bits {
-        cfg.link_encoder_bits = b;
+        cfg.link_encoder_bits = Some(b);
     }
     let samples = cfg.validate(&robot.model).map_err(|e| e.to_string())?;
     super::warn_robot(&robot);
@@ -88,8 +88,11 @@ fn run_inner(a: &SimulateArgs) -> Result<(), String> {
         indicatif::ProgressStyle::with_template("simulating {bar:40} {pos}/{len} samples")
             .map_err(|e| e.to_string())?,
     );
-    let d = simulate(&robot, &cfg, |done, _| bar.set_position(done as u64))
-        .map_err(|e| e.to_string())?;
+    let d = simulate(&robot, &cfg, |done, total| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64)
+    })
+    .map_err(|e| e.to_string())?;
     bar.finish_and_clear();
     // the record states what the robot description filled in
     let magnitudes = cfg
