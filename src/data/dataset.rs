@@ -28,6 +28,17 @@ impl Dataset {
         self.t.is_empty()
     }
 
+    /// Keeps only the samples in `range`, in place (no copy); empty series
+    /// (no torques) stay empty.
+    pub fn keep(&mut self, range: std::ops::Range<usize>) {
+        self.t.truncate(range.end);
+        self.t.drain(..range.start.min(self.t.len()));
+        for v in [&mut self.q, &mut self.qd, &mut self.qdd, &mut self.tau] {
+            v.truncate(range.end);
+            v.drain(..range.start.min(v.len()));
+        }
+    }
+
     /// The samples `range` as a new data set.
     pub fn slice(&self, range: std::ops::Range<usize>) -> Dataset {
         let cut = |v: &Vec<Vec<f64>>| {

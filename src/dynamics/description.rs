@@ -168,8 +168,8 @@ impl RobotDescription {
             self.warnings.extend(
                 notes
                     .iter()
-                    .filter(|n| n.contains("mesh '"))
-                    .map(|n| format!("link '{}': {n}", f.name)),
+                    .filter(|n| n.mesh)
+                    .map(|n| format!("link '{}': {}", f.name, n.text)),
             );
             // x_body = Eᵀ x_link + r
             let (e, r) = (f.placement.e.transpose(), f.placement.r);
@@ -408,16 +408,7 @@ fn bounding_of(
     entry: Option<&SidecarBody>,
     err: &dyn Fn(String) -> DynamicsError,
 ) -> Result<Vec<Ellipsoid>, DynamicsError> {
-    let Some(b) = entry else {
-        return Ok(vec![]);
-    };
-    b.bounding
-        .iter()
-        .map(|e| {
-            e.ellipsoid()
-                .map_err(|m| err(format!("[[body]] '{}': bounding: {m}", b.name)))
-        })
-        .collect()
+    entry.map_or(Ok(vec![]), |b| b.ellipsoids().map_err(err))
 }
 
 /// The sidecar's `[identify]` and per-body levels, with the bodies checked.

@@ -173,6 +173,17 @@ pub struct EllipsoidSpec {
     pub rpy: [f64; 3],
 }
 
+impl SidecarBody {
+    /// Its bounding ellipsoids (`[]` without any); the error names the body.
+    pub fn ellipsoids(&self) -> Result<Vec<Ellipsoid>, String> {
+        self.bounding
+            .iter()
+            .map(|e| e.ellipsoid())
+            .collect::<Result<_, _>>()
+            .map_err(|m| format!("[[body]] '{}': bounding: {m}", self.name))
+    }
+}
+
 impl EllipsoidSpec {
     /// The ellipsoid (an error when a semi-axis is not positive or a number
     /// not finite).

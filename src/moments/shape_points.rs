@@ -14,11 +14,7 @@ use std::f64::consts::PI;
 /// through each shape's points). Shapes that cannot be read give none (the
 /// checker warns about them).
 pub fn geometry_points(link: &Link, meshes: &mut Meshes, max: usize) -> Vec<Vector3<f64>> {
-    let shapes = if link.collisions.is_empty() {
-        &link.visuals
-    } else {
-        &link.collisions
-    };
+    let (shapes, _) = super::urdf_check::bounded_shapes(link);
     let per_shape = max / shapes.len().max(1);
     let mut out = Vec::new();
     for s in shapes {

@@ -70,6 +70,9 @@ pub struct LinkReport {
     /// The bounding ellipsoids used for `realizable_in_geometry` (link frame).
     #[serde(rename = "bounding_ellipsoids", serialize_with = "ellipsoids_json")]
     pub(crate) ellipsoids: Vec<Ellipsoid>,
+    /// Which of `geometry_notes` are meshes that could not be used.
+    #[serde(skip)]
+    pub(crate) mesh_notes: Vec<bool>,
     #[serde(skip)]
     pub(crate) verdict: Verdict,
     #[serde(skip)]
@@ -81,6 +84,25 @@ impl LinkReport {
     /// shape that gave one.
     pub fn bounding_ellipsoids(&self) -> &[Ellipsoid] {
         &self.ellipsoids
+    }
+
+    /// The notes on meshes that could not be found or read (also in
+    /// [`UrdfReport::warnings`]).
+    pub fn mesh_warnings(&self) -> impl Iterator<Item = &str> {
+        self.notes_where(true)
+    }
+
+    /// The notes on the other shapes that gave no bounding ellipsoid (a
+    /// primitive without one, a failed union solve).
+    pub fn shape_notes(&self) -> impl Iterator<Item = &str> {
+        self.notes_where(false)
+    }
+
+    fn notes_where(&self, mesh: bool) -> impl Iterator<Item = &str> {
+        let flag = |k: usize| self.mesh_notes.get(k).copied().unwrap_or(false);
+        (0..self.geometry_notes.len())
+            .filter(move |&k| flag(k) == mesh)
+            .map(|k| self.geometry_notes[k].as_str())
     }
 
     /// The verdict.
@@ -239,9 +261,19 @@ fn mesh_ellipsoid(points: &[Vector3<f64>], scale: [f64; 3]) -> Result<Ellipsoid,
     Ellipsoid::minimum_volume_enclosing(&scaled, 1e-7).map_err(|e| e.to_string())
 }
 
+/// Why one shape gave no bounding ellipsoid.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShapeNote {
+    /// The reason, naming the shape (`collision 2: …`).
+    pub text: String,
+    /// A mesh that could not be found or read (a warning of the report,
+    /// not only a note on the link).
+    pub mesh: bool,
+}
+
 /// The bounding ellipsoid of one shape, in the link frame, or why there is
-/// none.
-fn shape_ellipsoid(s: &Shape, meshes: &mut Meshes) -> Result<Ellipsoid, String> {
+/// none (and whether it is a mesh that could not be used).
+fn shape_ellipsoid(s: &Shape, meshes: &mut Meshes) -> Result<Ellipsoid, (bool, String)> {
     let e = match &s.geometry {
         Geometry::Box { size } => Ellipsoid::bounding_box(Vector3::from(*size)),
         Geometry::Cylinder { radius, length } => Ellipsoid::bounding_cylinder(*radius, *length),
@@ -251,14 +283,24 @@ fn shape_ellipsoid(s: &Shape, meshes: &mut Meshes) -> Result<Ellipsoid, String> 
             let e = meshes
                 .vertices(filename)
                 .and_then(|v| mesh_ellipsoid(v, *scale))
-                .map_err(|m| format!("mesh '{filename}': {m}"))?;
+                .map_err(|m| (true, format!("mesh '{filename}': {m}")))?;
             Ok(e)
         }
-        Geometry::Invalid { message } => return Err(message.clone()),
+        Geometry::Invalid { message } => return Err((false, message.clone())),
     }
-    .map_err(|e| e.to_string())?;
+    .map_err(|e| (false, e.to_string()))?;
     let (r, p) = pose_of(&s.origin);
     Ok(e.transformed(&r, &p))
+}
+
+/// The shapes that bound a link: its collision shapes, else its visual
+/// ones, and which they are.
+pub fn bounded_shapes(link: &crate::urdf::Link) -> (&[crate::urdf::Shape], &'static str) {
+    if link.collisions.is_empty() {
+        (&link.visuals, "visual")
+    } else {
+        (&link.collisions, "collision")
+    }
 }
 
 /// Bounding ellipsoids of a link's shapes (collision, else visual; link
@@ -267,15 +309,11 @@ fn shape_ellipsoid(s: &Shape, meshes: &mut Meshes) -> Result<Ellipsoid, String> 
 pub fn geometry_ellipsoids(
     link: &crate::urdf::Link,
     meshes: &mut Meshes,
-) -> (Vec<Ellipsoid>, Vec<String>) {
+) -> (Vec<Ellipsoid>, Vec<ShapeNote>) {
     if let Some(es) = meshes.given.get(&link.name) {
         return (es.clone(), vec![]);
     }
-    let (shapes, kind) = if link.collisions.is_empty() {
-        (&link.visuals, "visual")
-    } else {
-        (&link.collisions, "collision")
-    };
+    let (shapes, kind) = bounded_shapes(link);
     let mut es = vec![];
     let mut notes = vec![];
     for (k, s) in shapes.iter().enumerate() {
@@ -284,7 +322,10 @@ pub fn geometry_ellipsoids(
         }
         match shape_ellipsoid(s, meshes) {
             Ok(e) => es.push(e),
-            Err(m) => notes.push(format!("{kind} {}: {m}", k + 1)),
+            Err((mesh, m)) => notes.push(ShapeNote {
+                text: format!("{kind} {}: {m}", k + 1),
+                mesh,
+            }),
         }
     }
     (es, notes)
@@ -312,7 +353,9 @@ fn link_report(link: &crate::urdf::Link, meshes: &mut Meshes) -> Option<LinkRepo
         inertial.origin.rpy,
         inertial.inertia,
     );
-    let (ellipsoids, mut geometry_notes) = geometry_ellipsoids(link, meshes);
+    let (ellipsoids, notes) = geometry_ellipsoids(link, meshes);
+    let mesh_notes: Vec<bool> = notes.iter().map(|n| n.mesh).collect();
+    let mut geometry_notes: Vec<String> = notes.into_iter().map(|n| n.text).collect();
     let rep = check_consistency(&pi, DEFAULT_TOL);
     let realizable = if rep.consistent {
         realizable_in(&pi, &ellipsoids).unwrap_or_else(|m| {
@@ -342,6 +385,7 @@ fn link_report(link: &crate::urdf::Link, meshes: &mut Meshes) -> Option<LinkRepo
         geometry_primitives: ellipsoids.len(),
         realizable_in_geometry: realizable,
         geometry_notes,
+        mesh_notes,
         params: pi.0,
         verdict: rep.verdict,
         ellipsoids,
@@ -381,8 +425,7 @@ pub fn check_robot_with(
         if let Some(r) = &report
             && meshes.paths.is_some()
         {
-            let mesh = r.geometry_notes.iter().filter(|n| n.contains("mesh '"));
-            warnings.extend(mesh.map(|n| format!("link '{}': {n}", l.name)));
+            warnings.extend(r.mesh_warnings().map(|n| format!("link '{}': {n}", l.name)));
         }
         match report {
             Some(r) => links.push(r),

@@ -388,7 +388,7 @@ pub fn simulate(
     if cfg.processed {
         process(model, cfg, &mut d);
     }
-    let mut d = d.slice(edge..edge + samples);
+    d.keep(edge..edge + samples);
     // the kept samples' times, exactly k / rate from 0
     d.t = (0..samples).map(|k| k as f64 / cfg.rate_hz).collect();
     within_reader_limits(&d)?;

@@ -52,7 +52,7 @@ fn print_table(file: &Path, r: &UrdfReport) {
     }
     for l in &r.links {
         // mesh notes are warnings of the report (printed on stderr)
-        for n in l.geometry_notes.iter().filter(|n| !n.contains("mesh '")) {
+        for n in l.shape_notes() {
             println!("geometry not used, link '{}': {n}", l.name);
         }
     }
@@ -164,11 +164,8 @@ fn geometry_source(file: &Path, opts: &CheckArgs) -> Result<Meshes, String> {
     let sc = Sidecar::read(path).map_err(|e| e.to_string())?;
     for b in sc.bodies.iter().filter(|b| !b.bounding.is_empty()) {
         let es = b
-            .bounding
-            .iter()
-            .map(|e| e.ellipsoid())
-            .collect::<Result<Vec<_>, _>>()
-            .map_err(|e| format!("{}: [[body]] '{}': bounding: {e}", path.display(), b.name))?;
+            .ellipsoids()
+            .map_err(|e| format!("{}: {e}", path.display()))?;
         meshes = meshes.with_bounding(&b.name, es);
     }
     Ok(meshes)
