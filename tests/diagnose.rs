@@ -231,7 +231,7 @@ fn linearised_compliance_matches_the_full_simulation() {
             backlash: vec![b; 3],
             axial_shift: vec![0.0; 3],
         };
-        let h = lin.simulate(&p, 0, d.len()).unwrap();
+        let h = lin.simulate(&p, d.len()).unwrap();
         for i in 0..3 {
             let (mut effect, mut miss) = (0.0, 0.0);
             for k in 500..d.len() {
@@ -254,7 +254,7 @@ fn linearised_compliance_matches_the_full_simulation() {
             stiffness: vec![600.0; 3],
             ..p.clone()
         };
-        let h = lin.simulate(&wrong, 0, d.len()).unwrap();
+        let h = lin.simulate(&wrong, d.len()).unwrap();
         let miss: f64 = (500 * 3..d.len() * 3)
             .map(|q| (d.tau[q / 3][q % 3] - rigid[q / 3][q % 3] - h[q]).powi(2))
             .sum();

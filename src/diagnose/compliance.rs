@@ -14,17 +14,23 @@
 //! G = ∂τ_L/∂q,  C = ∂τ_L/∂q̇  (at the measured state)
 //! ```
 //!
-//! which is ~100× cheaper to integrate than the full link dynamics (RK4,
-//! one step per sample, the mass matrix factored once per step's middle and
-//! end and shared by the four stages; a step in which a joint enters or leaves its dead
-//! band is redone in 16 substeps, since the spring force has a kink there),
-//! so the hypothesis can be searched:
+//! which is ~100× cheaper to integrate than the full link dynamics. The
+//! coefficients are solved for the acceleration once per data set and axial
+//! shift, at every sample ([`Nodes`]: `ẍ = b − P x − Q ẋ − A τ_s`, `A = M⁻¹`;
+//! the shifts of recent simulations are cached), so a step is four
+//! matrix–vector products: RK4, one step per sample, its middle node the
+//! mean of its ends; a step in which a joint enters or leaves its dead band
+//! is redone in 16 substeps on interpolated nodes, since the spring force
+//! has a kink there. The loops are compiled for each joint count up to 7.
+//! The hypothesis is searched in three stages:
 //!
-//! 1. a grid shared by every joint over K (15 values, 150 … 8,000 N·m/rad),
-//!    damping ratio ζ (0.05, 0.15, 0.4) and, for backlash, b (13 values,
-//!    0.001 … 0.023 rad), on the first 3 s of the training part; each joint
-//!    takes the grid point that explains its own residual best (scaled by
-//!    its best coefficient, so the grid judges timing, not amplitude);
+//! 1. a grid shared by every joint over K (150 … 8,000 N·m/rad: 15 values
+//!    for elasticity; 8 for backlash, with 7 dead bands 0.001 … 0.023 rad,
+//!    each joint's pick then refined on a 3 × 3 (K, b) grid), damping ratio
+//!    ζ (0.05, 0.15, 0.4), on the first 3 s of the training part; each
+//!    joint takes the grid point that explains its own residual best
+//!    (scaled by its best coefficient, so the grid judges timing, not
+//!    amplitude);
 //! 2. coordinate descent over the whole training part (one sweep for
 //!    elasticity, two for backlash): per joint a local (K_i, D_i, b_i) grid
 //!    (3 × 3 for elasticity, 5 × 5 × 3 for backlash), then the axial split
@@ -44,9 +50,8 @@ use crate::dynamics::{DynamicsError, Model};
 use crate::sim::compliance::Compliance;
 use nalgebra::DMatrix;
 use rayon::prelude::*;
+use std::sync::{Arc, Mutex};
 
-/// Integration substeps per sample interval (RK4).
-const SUBSTEPS: usize = 1;
 /// Substeps for a sample interval in which a joint enters or leaves its dead
 /// band.
 const REFINED: usize = 16;
@@ -60,11 +65,17 @@ const SEARCH_WINDOW: f64 = 3.0;
 /// about 8,000), dead band 0.001 · B_STEPʲ rad (j < GRID_B, up to 0.023).
 const GRID_K: usize = 15;
 const K_STEP: f64 = 1.33;
-const GRID_B: usize = 13;
+const GRID_B: usize = 7;
+/// For backlash the stiffness grid is coarser (and the dead band's step
+/// [`B_STEP`] too), each joint's pick then refined by these steps.
+const GRID_K_COARSE: usize = 8;
+const K_STEP_COARSE: f64 = 1.75;
+const K_STEP_FINE: f64 = 1.32;
+const B_STEP_FINE: f64 = 1.3;
 /// Sweeps of the coordinate descent (stage 2): the dead band's rougher cost
 /// needs two.
 const SWEEPS: [usize; 2] = [1, 2];
-const B_STEP: f64 = 1.3;
+const B_STEP: f64 = 1.68;
 
 /// Per-joint transmission parameters.
 #[derive(Clone, Debug, PartialEq)]
@@ -110,7 +121,23 @@ pub struct Linearisation {
     dtau: Vec<Vec<Vec<f64>>>,
     /// Link-side `M_ii` averaged over the motion (kg·m²).
     pub axial: Vec<f64>,
+    /// The nodes without axial shift, on every sample (`None` if a mass
+    /// matrix is not positive definite: nothing simulates).
+    rigid: Option<Nodes>,
+    /// The nodes of recently simulated axial shifts, most recent first (at
+    /// most [`CACHED_SHIFTS`]): a search varies K, D and b far more often
+    /// than the shift.
+    cache: Mutex<Vec<Arc<Nodes>>>,
 }
+
+/// Axial shifts whose nodes [`Linearisation`] keeps.
+const CACHED_SHIFTS: usize = 4;
+
+/// The node sets a compliance search holds at once, at most: the unshifted
+/// one, the cached shifts, and one being solved per hypothesis searched in
+/// parallel (elasticity and backlash, each with a simulation per thread;
+/// counted as four).
+pub const NODE_SETS: u64 = 1 + CACHED_SHIFTS as u64 + 4;
 
 /// The Cholesky factor of the small SPD matrix `a` in place (row-major,
 /// lower triangle); `false` if it is not positive definite.
@@ -136,58 +163,155 @@ fn cholesky(a: &mut [f64], n: usize) -> bool {
     true
 }
 
-/// Solves `L Lᵀ y = f` in place with the factor of [`cholesky`].
-fn cholesky_solve(l: &[f64], f: &mut [f64], n: usize) {
-    for i in 0..n {
-        let mut s = f[i];
-        for k in 0..i {
-            s -= l[i * n + k] * f[k];
-        }
-        f[i] = s / l[i * n + i];
-    }
-    for i in (0..n).rev() {
-        let mut s = f[i];
-        for k in i + 1..n {
-            s -= l[k * n + i] * f[k];
-        }
-        f[i] = s / l[i * n + i];
-    }
+/// The linearised dynamics at one instant solved for the acceleration,
+/// `ẍ = b − P x − Q ẋ − A τ_s` with `A = M⁻¹`, `P = A G`, `Q = A C` and
+/// `b = A τ_L` (M, G, C, τ_L interpolated between two samples), stored flat
+/// as `[b (n), P (n×n), Q (n×n), A (n×n)]`, row-major.
+fn node_len(n: usize) -> usize {
+    3 * n * n + n
 }
 
-/// The linearised dynamics at one instant: the factored mass matrix, G, C
-/// and τ_L, interpolated between two samples.
-#[derive(Clone)]
-struct Node {
-    chol: Vec<f64>,
-    g: Vec<f64>,
-    c: Vec<f64>,
-    tau: Vec<f64>,
-}
-
-impl Node {
-    fn new(n: usize) -> Self {
-        Self {
-            chol: vec![0.0; n * n],
-            g: vec![0.0; n * n],
-            c: vec![0.0; n * n],
-            tau: vec![0.0; n],
-        }
+/// Fills `node` ([`node_len`]) from `M` (in `s.m`, overwritten by its
+/// Cholesky factor), `G`, `C` and `τ_L`: `A = M⁻¹ = L⁻ᵀ L⁻¹` from the
+/// factor's inverse, then `P = A G`, `Q = A C`, `b = A τ_L`; `false` if `M`
+/// is not positive definite.
+fn solve_node<D: Dim>(
+    d: D,
+    s: &mut Scratch,
+    g: &[f64],
+    c: &[f64],
+    tau: &[f64],
+    node: &mut [f64],
+) -> bool {
+    let n = d.n();
+    let nn = n * n;
+    let (l, li) = (&mut s.m[..nn], &mut s.li[..nn]);
+    if !cholesky(l, n) {
+        return false;
     }
-
-    /// `ẋ` for the state `x = (x, ẋ)`: `M ẍ = τ_L − G x − C ẋ − τ_s`.
-    fn rhs(&self, p: &Transmission, x: &[f64], dx: &mut [f64]) {
-        let n = self.tau.len();
-        for i in 0..n {
-            let mut s = self.tau[i] - p.torque(i, x[i], x[n + i]);
-            let (g, c) = (&self.g[i * n..(i + 1) * n], &self.c[i * n..(i + 1) * n]);
-            for j in 0..n {
-                s -= g[j] * x[j] + c[j] * x[n + j];
+    // L⁻¹, lower triangular
+    for j in 0..n {
+        li[j * n + j] = 1.0 / l[j * n + j];
+        for i in j + 1..n {
+            let mut v = 0.0;
+            for k in j..i {
+                v += l[i * n + k] * li[k * n + j];
             }
-            dx[n + i] = s;
+            li[i * n + j] = -v / l[i * n + i];
         }
-        cholesky_solve(&self.chol, &mut dx[n..], n);
-        dx[..n].copy_from_slice(&x[n..]);
     }
+    let (b, rest) = node[..3 * nn + n].split_at_mut(n);
+    let (p, rest) = rest.split_at_mut(nn);
+    let (q, a) = rest.split_at_mut(nn);
+    for i in 0..n {
+        for j in 0..=i {
+            let mut v = 0.0;
+            for k in i..n {
+                v += li[k * n + i] * li[k * n + j];
+            }
+            a[i * n + j] = v;
+            a[j * n + i] = v;
+        }
+    }
+    let (g, c, tau) = (&g[..nn], &c[..nn], &tau[..n]);
+    for i in 0..n {
+        let ar = &a[i * n..(i + 1) * n];
+        b[i] = (0..n).map(|k| ar[k] * tau[k]).sum();
+        for j in 0..n {
+            let (mut vp, mut vq) = (0.0, 0.0);
+            for k in 0..n {
+                vp += ar[k] * g[k * n + j];
+                vq += ar[k] * c[k * n + j];
+            }
+            p[i * n + j] = vp;
+            q[i * n + j] = vq;
+        }
+    }
+    true
+}
+
+/// The joint count of an integration: fixed at compile time for the common
+/// sizes (the loops unroll), or known only at run time.
+trait Dim: Copy + Send + Sync {
+    fn n(self) -> usize;
+}
+
+#[derive(Clone, Copy)]
+struct Fixed<const N: usize>;
+
+impl<const N: usize> Dim for Fixed<N> {
+    #[inline(always)]
+    fn n(self) -> usize {
+        N
+    }
+}
+
+#[derive(Clone, Copy)]
+struct Dynamic(usize);
+
+impl Dim for Dynamic {
+    #[inline(always)]
+    fn n(self) -> usize {
+        self.0
+    }
+}
+
+/// Per joint (K, D, b) of a transmission, for the integrator.
+fn springs(p: &Transmission) -> Vec<Compliance> {
+    (0..p.stiffness.len())
+        .map(|i| Compliance {
+            stiffness: p.stiffness[i],
+            damping: p.damping[i],
+            backlash: p.backlash[i],
+        })
+        .collect()
+}
+
+/// `ẋ` for the state `x = (x, ẋ)` at a node of [`solve_node`].
+#[inline(always)]
+fn rhs<D: Dim>(d: D, node: &[f64], sp: &[Compliance], x: &[f64], dx: &mut [f64], ts: &mut [f64]) {
+    let n = d.n();
+    let (sp, x, dx, ts) = (&sp[..n], &x[..2 * n], &mut dx[..2 * n], &mut ts[..n]);
+    let node = &node[..3 * n * n + n];
+    for i in 0..n {
+        ts[i] = sp[i].torque(x[i], x[n + i]);
+    }
+    let (b, rest) = node.split_at(n);
+    let (pm, rest) = rest.split_at(n * n);
+    let (qm, am) = rest.split_at(n * n);
+    for i in 0..n {
+        let (pr, qr, ar) = (
+            &pm[i * n..(i + 1) * n],
+            &qm[i * n..(i + 1) * n],
+            &am[i * n..(i + 1) * n],
+        );
+        let mut s = b[i];
+        for j in 0..n {
+            s -= pr[j] * x[j] + qr[j] * x[n + j] + ar[j] * ts[j];
+        }
+        dx[n + i] = s;
+    }
+    dx[..n].copy_from_slice(&x[n..]);
+}
+
+/// Values per sample of one node set ([`Nodes`]) for `n` joints: the node
+/// and the shifted τ_L.
+pub fn node_values(n: usize) -> u64 {
+    (node_len(n) + n) as u64
+}
+
+/// The nodes of one axial shift at every sample `0..=last`; a step's
+/// middle node is the mean of its ends (the coefficients change by ~0.1 %
+/// per sample, so this differs from solving the interpolated M at the
+/// middle by far less than the data's noise).
+pub struct Nodes {
+    shift: Vec<f64>,
+    /// The last sample covered.
+    last: usize,
+    /// Shifted `τ_L` per sample (n per sample).
+    tau: Vec<f64>,
+    /// [`node_len`] values per node.
+    nodes: Vec<f64>,
 }
 
 impl Linearisation {
@@ -275,6 +399,8 @@ impl Linearisation {
             dm: vec![vec![]; n],
             dtau: vec![vec![]; n],
             axial: vec![0.0; n],
+            rigid: None,
+            cache: Mutex::new(vec![]),
         };
         for (m, tau, g, c, dm, dtau) in per_sample {
             for i in 0..n {
@@ -289,139 +415,160 @@ impl Linearisation {
                 lin.dtau[i].push(b);
             }
         }
+        lin.rigid = lin.nodes(&vec![0.0; n], usize::MAX);
         Ok(lin)
     }
 
-    /// `τ_L(θ) + Σ s_i ∂τ_L/∂s_i` at sample k.
-    fn tau_shifted(&self, p: &Transmission, k: usize, i: usize) -> f64 {
-        self.tau[k][i]
-            + (0..self.n)
-                .map(|j| p.axial_shift[j] * self.dtau[j][k][i])
-                .sum::<f64>()
+    /// The nodes of the axial shift `shift` (kg·m² per joint) for samples
+    /// `0..=last`; `None` if a mass matrix is not positive definite.
+    pub fn nodes(&self, shift: &[f64], last: usize) -> Option<Nodes> {
+        match self.n {
+            1 => self.nodes_of(Fixed::<1>, shift, last),
+            2 => self.nodes_of(Fixed::<2>, shift, last),
+            3 => self.nodes_of(Fixed::<3>, shift, last),
+            4 => self.nodes_of(Fixed::<4>, shift, last),
+            5 => self.nodes_of(Fixed::<5>, shift, last),
+            6 => self.nodes_of(Fixed::<6>, shift, last),
+            7 => self.nodes_of(Fixed::<7>, shift, last),
+            n => self.nodes_of(Dynamic(n), shift, last),
+        }
+    }
+
+    fn nodes_of<D: Dim>(&self, d: D, shift: &[f64], last: usize) -> Option<Nodes> {
+        let n = d.n();
+        let last = last.min(self.t.len().checked_sub(1)?);
+        let len = node_len(n);
+        let mut tau = vec![0.0; (last + 1) * n];
+        let mut nodes = vec![0.0; (last + 1) * len];
+        let ok = nodes
+            .par_chunks_mut(len * CHUNK)
+            .zip(tau.par_chunks_mut(n * CHUNK))
+            .enumerate()
+            .all(|(c, (nodes, tau))| {
+                let mut s = Scratch::new(n);
+                nodes
+                    .chunks_mut(len)
+                    .zip(tau.chunks_mut(n))
+                    .enumerate()
+                    .all(|(j, (node, t))| {
+                        let k = c * CHUNK + j;
+                        s.m.copy_from_slice(&self.m[k]);
+                        t.copy_from_slice(&self.tau[k]);
+                        for (l, &sl) in shift.iter().enumerate().filter(|(_, s)| **s != 0.0) {
+                            for (e, d) in s.m.iter_mut().zip(&self.dm[l][k]) {
+                                *e += sl * d;
+                            }
+                            for (e, d) in t.iter_mut().zip(&self.dtau[l][k]) {
+                                *e += sl * d;
+                            }
+                        }
+                        solve_node(d, &mut s, &self.g[k], &self.c[k], t, node)
+                    })
+            });
+        ok.then(|| Nodes {
+            shift: shift.to_vec(),
+            last,
+            tau,
+            nodes,
+        })
     }
 
     /// `τ_s − τ_L(θ)` per sample (sample-major, n per sample) for samples
-    /// `from..to`, starting in quasi-static deflection at `from`; `None` if
-    /// the integration diverges.
-    pub fn simulate(&self, p: &Transmission, from: usize, to: usize) -> Option<Vec<f64>> {
-        let n = self.n;
+    /// `0..to`, starting in quasi-static deflection at the first sample;
+    /// `None` if the integration diverges.
+    pub fn simulate(&self, p: &Transmission, to: usize) -> Option<Vec<f64>> {
+        let rigid = self.rigid.as_ref()?;
+        if p.axial_shift == rigid.shift {
+            return self.simulate_on(rigid, p, to);
+        }
+        let cached = |c: &mut Vec<Arc<Nodes>>| {
+            let j = c
+                .iter()
+                .position(|e| e.shift == p.axial_shift && e.last + 1 >= to)?;
+            let e = c.remove(j);
+            c.insert(0, e.clone());
+            Some(e)
+        };
+        let hit = cached(&mut *self.cache.lock().ok()?);
+        let at = match hit {
+            Some(at) => at,
+            None => {
+                let at = Arc::new(self.nodes(&p.axial_shift, to)?);
+                let mut c = self.cache.lock().ok()?;
+                c.insert(0, at.clone());
+                c.truncate(CACHED_SHIFTS);
+                at
+            }
+        };
+        self.simulate_on(&at, p, to)
+    }
+
+    /// [`Self::simulate`] on the nodes of `p`'s axial shift.
+    fn simulate_on(&self, at: &Nodes, p: &Transmission, to: usize) -> Option<Vec<f64>> {
+        match self.n {
+            1 => self.integrate(Fixed::<1>, at, p, to),
+            2 => self.integrate(Fixed::<2>, at, p, to),
+            3 => self.integrate(Fixed::<3>, at, p, to),
+            4 => self.integrate(Fixed::<4>, at, p, to),
+            5 => self.integrate(Fixed::<5>, at, p, to),
+            6 => self.integrate(Fixed::<6>, at, p, to),
+            7 => self.integrate(Fixed::<7>, at, p, to),
+            n => self.integrate(Dynamic(n), at, p, to),
+        }
+    }
+
+    /// RK4, one step per sample interval; a step across a dead band's edge
+    /// (the spring force has a kink there) is redone in [`REFINED`]
+    /// substeps, its nodes interpolated.
+    fn integrate<D: Dim>(&self, d: D, at: &Nodes, p: &Transmission, to: usize) -> Option<Vec<f64>> {
+        let n = d.n();
+        let len = node_len(n);
+        let to = to.min(at.last + 1);
+        let sp = springs(p);
         let mut x = vec![0.0; 2 * n];
         for i in 0..n {
-            let k = p.stiffness[i].max(1e-9);
-            let t = self.tau_shifted(p, from, i);
-            x[i] = t / k + p.backlash[i] * t.signum();
+            let t = at.tau[i];
+            x[i] = t / p.stiffness[i].max(1e-9) + p.backlash[i] * t.signum();
         }
-        let mut out = Vec::with_capacity((to - from) * n);
-        // the shifted mass matrix and torque at the samples used
-        let last = to.min(self.t.len() - 1);
-        let shifted = p.axial_shift.iter().any(|s| *s != 0.0);
-        // (flat: n×n and n per sample from `from`)
-        let (mut ms, mut ts) = (
-            Vec::with_capacity((last + 1 - from) * n * n),
-            Vec::with_capacity((last + 1 - from) * n),
-        );
-        for k in from..=last {
-            let start = ms.len();
-            ms.extend_from_slice(&self.m[k]);
-            if shifted {
-                for (l, sl) in p.axial_shift.iter().enumerate() {
-                    for (e, d) in ms[start..].iter_mut().zip(&self.dm[l][k]) {
-                        *e += sl * d;
-                    }
-                }
-            }
-            ts.extend((0..n).map(|i| self.tau_shifted(p, k, i)));
-        }
-        // the dynamics at k + a (a ∈ [0, 1]) between samples k and k + 1
-        let node_at = |k: usize, a: f64, out: &mut Node| -> bool {
-            let k1 = (k + 1).min(last);
-            let (r0, r1) = (k - from, k1 - from);
-            let lerp = |u: &[f64], v: &[f64], dst: &mut [f64]| {
-                for ((d, u), v) in dst.iter_mut().zip(u).zip(v) {
-                    *d = u + a * (v - u);
-                }
-            };
-            lerp(
-                &ts[r0 * n..(r0 + 1) * n],
-                &ts[r1 * n..(r1 + 1) * n],
-                &mut out.tau,
-            );
-            lerp(&self.g[k], &self.g[k1], &mut out.g);
-            lerp(&self.c[k], &self.c[k1], &mut out.c);
-            let (m0, m1) = (
-                &ms[r0 * n * n..(r0 + 1) * n * n],
-                &ms[r1 * n * n..(r1 + 1) * n * n],
-            );
-            lerp(m0, m1, &mut out.chol);
-            cholesky(&mut out.chol, n)
-        };
-        let (mut k1, mut k2, mut k3, mut k4, mut y) = (
-            vec![0.0; 2 * n],
-            vec![0.0; 2 * n],
-            vec![0.0; 2 * n],
-            vec![0.0; 2 * n],
-            vec![0.0; 2 * n],
-        );
+        let mut out = Vec::with_capacity(to * n);
+        let mut work = vec![0.0; 11 * n];
         let mut x0 = vec![0.0; 2 * n];
+        // interpolated nodes (start, middle, end)
+        let mut step = vec![0.0; 3 * len];
         let in_contact = |x: &[f64], i: usize| x[i].abs() > p.backlash[i];
-        // nodes at the step's start, middle and end; the end of one step is
-        // the start of the next
-        let (mut n0, mut nh, mut n1) = (Node::new(n), Node::new(n), Node::new(n));
-        if !node_at(from, 0.0, &mut n0) {
-            return None;
-        }
-        for k in from..to {
+        let dead_band = p.backlash.iter().any(|&b| b > 0.0);
+        for s in 0..to {
             for i in 0..n {
-                out.push(p.torque(i, x[i], x[n + i]) - ts[(k - from) * n + i]);
+                out.push(sp[i].torque(x[i], x[n + i]) - at.tau[s * n + i]);
             }
-            if k + 1 >= to {
+            if s + 1 >= to {
                 break;
             }
-            let dt = self.t[k + 1] - self.t[k];
+            let dt = self.t[s + 1] - self.t[s];
             x0.copy_from_slice(&x);
-            // one step per sample; a step across a dead band's edge (the
-            // spring force has a kink there) is redone in finer substeps
-            for substeps in [SUBSTEPS, REFINED] {
-                let h = dt / substeps as f64;
+            let ends = &at.nodes[s * len..(s + 2) * len];
+            let (n0, n1) = ends.split_at(len);
+            for j in 0..len {
+                step[len + j] = 0.5 * (n0[j] + n1[j]);
+            }
+            rk4(d, [n0, &step[len..2 * len], n1], &sp, dt, &mut x, &mut work);
+            let crossed = dead_band
+                && (0..n).any(|i| p.backlash[i] > 0.0 && in_contact(&x, i) != in_contact(&x0, i));
+            if crossed {
                 x.copy_from_slice(&x0);
-                for s in 0..substeps {
-                    let a0 = s as f64 / substeps as f64;
-                    let ah = (s as f64 + 0.5) / substeps as f64;
-                    let a1 = (s as f64 + 1.0) / substeps as f64;
-                    if substeps > 1 && !node_at(k, a0, &mut n0) {
-                        return None;
+                let r = REFINED as f64;
+                for sub in 0..REFINED {
+                    for e in 0..3 {
+                        let a = (sub as f64 + 0.5 * e as f64) / r;
+                        for j in 0..len {
+                            step[e * len + j] = n0[j] + a * (n1[j] - n0[j]);
+                        }
                     }
-                    if !(node_at(k, ah, &mut nh) && node_at(k, a1, &mut n1)) {
-                        return None;
-                    }
-                    n0.rhs(p, &x, &mut k1);
-                    for i in 0..2 * n {
-                        y[i] = x[i] + 0.5 * h * k1[i];
-                    }
-                    nh.rhs(p, &y, &mut k2);
-                    for i in 0..2 * n {
-                        y[i] = x[i] + 0.5 * h * k2[i];
-                    }
-                    nh.rhs(p, &y, &mut k3);
-                    for i in 0..2 * n {
-                        y[i] = x[i] + h * k3[i];
-                    }
-                    n1.rhs(p, &y, &mut k4);
-                    for i in 0..2 * n {
-                        x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-                    }
-                    if substeps > 1 && s + 1 < substeps {
-                        std::mem::swap(&mut n0, &mut n1);
-                    }
-                }
-                let crossed =
-                    (0..n).any(|i| p.backlash[i] > 0.0 && in_contact(&x, i) != in_contact(&x0, i));
-                if !crossed {
-                    break;
+                    let (s0, rest) = step.split_at(len);
+                    let (sh, s1) = rest.split_at(len);
+                    rk4(d, [s0, sh, s1], &sp, dt / r, &mut x, &mut work);
                 }
             }
-            // the end node of this step starts the next (k + 1 at a = 0)
-            std::mem::swap(&mut n0, &mut n1);
             if !x.iter().all(|v| v.is_finite() && v.abs() < 1e3) {
                 return None;
             }
@@ -429,6 +576,61 @@ impl Linearisation {
         Some(out)
     }
 }
+
+/// One RK4 step of length `h` on the nodes at its start, middle and end;
+/// `work` holds 11 n values.
+#[inline(always)]
+fn rk4<D: Dim>(
+    d: D,
+    nodes: [&[f64]; 3],
+    sp: &[Compliance],
+    h: f64,
+    x: &mut [f64],
+    work: &mut [f64],
+) {
+    let m = 2 * d.n();
+    let (x, work) = (&mut x[..m], &mut work[..5 * m + d.n()]);
+    let (k, rest) = work.split_at_mut(4 * m);
+    let (y, ts) = rest.split_at_mut(m);
+    let (k0, rest) = k.split_at_mut(m);
+    let (k1, rest) = rest.split_at_mut(m);
+    let (k2, k3) = rest.split_at_mut(m);
+    rhs(d, nodes[0], sp, x, k0, ts);
+    for i in 0..m {
+        y[i] = x[i] + 0.5 * h * k0[i];
+    }
+    rhs(d, nodes[1], sp, y, k1, ts);
+    for i in 0..m {
+        y[i] = x[i] + 0.5 * h * k1[i];
+    }
+    rhs(d, nodes[1], sp, y, k2, ts);
+    for i in 0..m {
+        y[i] = x[i] + h * k2[i];
+    }
+    rhs(d, nodes[2], sp, y, k3, ts);
+    for i in 0..m {
+        x[i] += h / 6.0 * (k0[i] + 2.0 * k1[i] + 2.0 * k2[i] + k3[i]);
+    }
+}
+
+/// Buffers for [`solve_node`]: `M` (then its factor) and the factor's
+/// inverse.
+struct Scratch {
+    m: Vec<f64>,
+    li: Vec<f64>,
+}
+
+impl Scratch {
+    fn new(n: usize) -> Self {
+        Self {
+            m: vec![0.0; n * n],
+            li: vec![0.0; n * n],
+        }
+    }
+}
+
+/// Samples per parallel task when nodes are solved.
+const CHUNK: usize = 1024;
 
 /// The fitted hypothesis.
 #[derive(Clone, Debug)]
@@ -461,7 +663,7 @@ impl Search<'_> {
     /// its error vector; `None` if it does not simulate.
     fn cost_on(&self, p: &Transmission, to: usize) -> Option<(f64, Vec<f64>)> {
         let n = self.lin.n;
-        let h = self.lin.simulate(p, 0, to)?;
+        let h = self.lin.simulate(p, to)?;
         let e: Vec<f64> = (self.warm * n..to * n).map(|k| self.r[k] - h[k]).collect();
         let v = e.iter().map(|x| x * x).sum::<f64>();
         v.is_finite().then_some((v, e))
@@ -496,7 +698,7 @@ impl Search<'_> {
     /// judges timing, not amplitude.
     fn projected(&self, p: &Transmission, window: usize) -> Option<Vec<f64>> {
         let n = self.lin.n;
-        let h = self.lin.simulate(p, 0, window)?;
+        let h = self.lin.simulate(p, window)?;
         Some(
             (0..n)
                 .map(|i| {
@@ -516,48 +718,84 @@ impl Search<'_> {
 
     /// Stage 1: one transmission shared by every joint over a K × ζ × b grid
     /// on the search window; each joint takes the grid point that explains
-    /// its own residual best.
+    /// its own residual best; for backlash the grid is coarse and each
+    /// joint's pick is then refined on a 3 × 3 (K, b) grid around it.
     fn grid_start(&self) -> Transmission {
-        let n = self.lin.n;
         let t = &self.lin.t;
         let window = t
             .partition_point(|&s| s < t[self.warm.min(t.len() - 1)] + SEARCH_WINDOW)
             .min(self.upto);
-        let ks: Vec<f64> = (0..GRID_K).map(|j| 150.0 * K_STEP.powi(j as i32)).collect();
-        let zetas = [0.05, 0.15, 0.4];
-        let bs: Vec<f64> = if self.backlash {
-            (0..GRID_B).map(|j| 0.001 * B_STEP.powi(j as i32)).collect()
+        let geometric = |x0: f64, step: f64, len: usize| -> Vec<f64> {
+            (0..len).map(|j| x0 * step.powi(j as i32)).collect()
+        };
+        let (ks, bs) = if self.backlash {
+            (
+                geometric(150.0, K_STEP_COARSE, GRID_K_COARSE),
+                geometric(0.001, B_STEP, GRID_B),
+            )
         } else {
-            vec![0.0]
+            (geometric(150.0, K_STEP, GRID_K), vec![0.0])
         };
-        let grid: Vec<(f64, f64, f64)> = ks
-            .iter()
-            .flat_map(|&k| zetas.iter().map(move |&z| (k, z)))
-            .flat_map(|(k, z)| bs.iter().map(move |&b| (k, z, b)))
-            .collect();
         let rigid = self.rigid();
-        let at = |&(k, z, b): &(f64, f64, f64)| {
-            (0..n).fold(rigid.clone(), |q, i| {
-                with(&q, i, k, self.damping_for(k, i, z), b)
-            })
-        };
-        let costs: Vec<Option<Vec<f64>>> = grid
-            .par_iter()
-            .map(|g| self.projected(&at(g), window))
-            .collect();
-        let mut p = rigid.clone();
-        for i in 0..n {
-            let pick = costs
-                .iter()
-                .zip(&grid)
-                .filter_map(|(c, g)| c.as_ref().map(|c| (c[i], *g)))
-                .min_by(|a, b| a.0.total_cmp(&b.0))
-                .map(|(_, g)| g);
-            if let Some((k, z, b)) = pick {
-                p = with(&p, i, k, self.damping_for(k, i, z), b);
+        let mut trials = vec![];
+        for &k in &ks {
+            for z in [0.05, 0.15, 0.4] {
+                for &b in &bs {
+                    trials.push((0..self.lin.n).fold(rigid.clone(), |q, i| {
+                        with(&q, i, k, self.damping_for(k, i, z), b)
+                    }));
+                }
             }
         }
-        p
+        let p = self.pick_per_joint(&rigid, &trials, window);
+        if !self.backlash {
+            return p;
+        }
+        let mut trials = vec![];
+        for f in [1.0 / K_STEP_FINE, 1.0, K_STEP_FINE] {
+            for h in [1.0 / B_STEP_FINE, 1.0, B_STEP_FINE] {
+                let mut q = p.clone();
+                for i in 0..self.lin.n {
+                    q = with(
+                        &q,
+                        i,
+                        p.stiffness[i] * f,
+                        p.damping[i] * f.sqrt(),
+                        p.backlash[i] * h,
+                    );
+                }
+                trials.push(q);
+            }
+        }
+        self.pick_per_joint(&p, &trials, window)
+    }
+
+    /// Per joint, the trial whose simulation explains that joint's residual
+    /// best on samples up to `window` (scaled by its best coefficient, see
+    /// [`Self::projected`]): `p` with each joint's parameters taken from its
+    /// pick (`p` for a joint that no trial simulates).
+    fn pick_per_joint(
+        &self,
+        p: &Transmission,
+        trials: &[Transmission],
+        window: usize,
+    ) -> Transmission {
+        let costs: Vec<Option<Vec<f64>>> = trials
+            .par_iter()
+            .map(|q| self.projected(q, window))
+            .collect();
+        let mut out = p.clone();
+        for i in 0..self.lin.n {
+            let pick = costs
+                .iter()
+                .zip(trials)
+                .filter_map(|(c, q)| c.as_ref().map(|c| (c[i], q)))
+                .min_by(|a, b| a.0.total_cmp(&b.0));
+            if let Some((_, q)) = pick {
+                copy_joint(q, &mut out, i);
+            }
+        }
+        out
     }
 
     /// Stage 2, one joint: a local (K_i, D_i, b_i) grid on the whole
@@ -732,6 +970,14 @@ fn with(p: &Transmission, i: usize, k: f64, d: f64, b: f64) -> Transmission {
     q
 }
 
+/// Joint i's stiffness, damping, dead band and axial shift from `q` into `p`.
+fn copy_joint(q: &Transmission, p: &mut Transmission, i: usize) {
+    p.stiffness[i] = q.stiffness[i];
+    p.damping[i] = q.damping[i];
+    p.backlash[i] = q.backlash[i];
+    p.axial_shift[i] = q.axial_shift[i];
+}
+
 /// Fits the hypothesis to the residual `r` (sample-major, n per sample) on
 /// samples `0..upto`: a grid start, two sweeps of coordinate descent, then
 /// Levenberg–Marquardt (see the module docs); `None` when nothing simulates.
@@ -778,7 +1024,7 @@ fn doubtful(p: &Transmission) -> Option<String> {
 pub fn columns(candidate: Candidate, lin: &Linearisation, fit: &ComplianceFit) -> Option<Columns> {
     let n = lin.n;
     let ns = lin.t.len();
-    let h = lin.simulate(&fit.transmission, 0, ns)?;
+    let h = lin.simulate(&fit.transmission, ns)?;
     let mut cols = vec![vec![0.0; ns * n]; n];
     for s in warm_up(&lin.t)..ns {
         for i in 0..n {

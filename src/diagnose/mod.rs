@@ -32,6 +32,7 @@ use crate::dynamics::params_file::Friction;
 use crate::dynamics::predict::predict_torques;
 use crate::dynamics::{Effect, Model};
 use candidates::{Candidate, Columns, build, flat};
+use rayon::prelude::*;
 use select::{Evaluation, choose, evaluate};
 use serde::Serialize;
 use split::{Split, rms_per_joint};
@@ -68,7 +69,8 @@ impl Default for DiagnoseOptions {
 /// part of the candidate library: one value per sample, joint and column
 /// (twice: the columns and their fitted copies), and the compliance
 /// searches' linearisation (per sample: M, ∂τ/∂q, ∂τ/∂q̇ and one ∂M/∂sᵢ
-/// per joint, n³ in all).
+/// per joint, n³ in all) and the node sets its simulations are solved on
+/// ([`compliance::NODE_SETS`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct MemoryEstimate {
     /// Friction, offset, gain, delay, cogging and payload columns (~12 per joint).
@@ -86,7 +88,13 @@ pub fn memory_estimate(model: &Model, samples: usize) -> MemoryEstimate {
     MemoryEstimate {
         base: per_column * (12 * n + 10),
         inertial: per_column * 10 * nb,
-        compliance: 8 * samples as u64 * (3 * n * n + n * n * n + n * n + 4 * n),
+        compliance: 8
+            * samples as u64
+            * (3 * n * n
+                + n * n * n
+                + n * n
+                + 4 * n
+                + compliance::NODE_SETS * compliance::node_values(n as usize)),
     }
 }
 
@@ -326,31 +334,42 @@ fn library(
             None => true,
         })
         .collect();
-    proposed
-        .iter()
+    // built in parallel; the warnings are kept in the library's order
+    type Built = (Result<Vec<Columns>, DiagnoseError>, Option<String>);
+    let built: Vec<Built> = proposed
+        .par_iter()
         .map(|&c| {
             let inertial = matches!(
                 c,
                 Candidate::LinkInertia | Candidate::Effect(Effect::RotorInertia)
             );
             if inertial && !with_inertial {
-                return Ok(vec![]);
+                return (Ok(vec![]), None);
             }
             if !c.is_compliance() {
-                return build(c, model, friction, data);
+                return (build(c, model, friction, data), None);
             }
-            let Ok(lin) = &lin else { return Ok(vec![]) };
+            let Ok(lin) = &lin else {
+                return (Ok(vec![]), None);
+            };
             let backlash = c == Candidate::Effect(Effect::Backlash);
             let fitted = compliance::fit(lin, r, split.first_heldout, backlash)
                 .and_then(|f| compliance::columns(c, lin, &f));
-            if fitted.is_none() {
-                warnings.push(format!(
+            let warning = fitted.is_none().then(|| {
+                format!(
                     "{}: {}",
                     c.name(),
                     FitError::Compliance("no hypothesis of the search could be simulated")
-                ));
-            }
-            Ok(fitted.into_iter().collect())
+                )
+            });
+            (Ok(fitted.into_iter().collect()), warning)
+        })
+        .collect();
+    built
+        .into_iter()
+        .map(|(columns, warning)| {
+            warnings.extend(warning);
+            columns
         })
         .collect()
 }
@@ -371,14 +390,23 @@ fn forward_selection(
     let mut accepted: Vec<String> = vec![];
     for round in 1..=opts.max_effects {
         let before = rms_per_joint(&r[split.heldout.clone()], split.joints);
-        let mut evals: Vec<Evaluation> = library
-            .iter()
+        // scored in parallel; the warnings are kept in the library's order
+        let scored: Vec<(Option<Evaluation>, Vec<String>)> = library
+            .par_iter()
             .filter(|v| {
                 v.first()
                     .is_some_and(|c| !accepted.iter().any(|a| a == c.name()))
             })
-            .filter_map(|v| evaluate(v, split, &r, round, opts.blocks, names, warnings))
+            .map(|v| {
+                let mut w = vec![];
+                (evaluate(v, split, &r, round, opts.blocks, names, &mut w), w)
+            })
             .collect();
+        let mut evals: Vec<Evaluation> = vec![];
+        for (e, w) in scored {
+            warnings.extend(w);
+            evals.extend(e);
+        }
         let Some((chosen, tied)) = choose(&mut evals, &before) else {
             ranked.extend(evals.into_iter().map(|e| e.report));
             break;
