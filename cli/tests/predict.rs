@@ -145,8 +145,14 @@ fn predict_cli_on_cheetah_with_true_params_and_friction() {
     ] {
         let o = bin().args(&args).output().unwrap();
         assert_eq!(o.status.code(), Some(2));
-        assert!(!String::from_utf8_lossy(&o.stderr).contains("panicked"));
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!err.contains("panicked"));
         assert!(!out2.exists());
+        // the flag is named, and a missing file once
+        if args.contains(&"--params") {
+            assert!(err.contains("--params: "), "{err}");
+            assert_eq!(err.matches("/nonexistent.json").count(), 1, "{err}");
+        }
     }
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -33,12 +33,8 @@ fn diagnosis(a: &DiagnoseArgs) -> Result<Diagnosis, String> {
     if a.nominal == Some("true") {
         super::warn_robot(&robot);
     }
-    let choice = a
-        .nominal
-        .map_or(ParamChoice::Own, |p| p.parse().expect("infallible"));
-    let (model, friction) = robot
-        .parameters(&choice)
-        .map_err(|e| format!("--nominal {}: {e}", a.nominal.unwrap_or("")))?;
+    let (model, friction) =
+        super::parameters_for(&robot, "--nominal", a.nominal, ParamChoice::Own)?;
     let d = Dataset::read_csv(a.data, &model.joint_names(), ReadOptions::default())
         .map_err(|e| e.to_string())?;
     diagnose(&model, &friction, &d, &opts).map_err(|e| e.to_string())

@@ -98,10 +98,7 @@ fn identification<'r>(
     robot: &'r RobotDescription,
 ) -> Result<Identification<'r>, String> {
     let level = parse_level(a.constraints, "--constraints")?;
-    let choice: ParamChoice = a.prior.unwrap_or("cad").parse().expect("infallible");
-    let (prior, _) = robot
-        .parameters(&choice)
-        .map_err(|e| format!("--prior {}: {e}", a.prior.unwrap_or("cad")))?;
+    let (prior, _) = super::parameters_for(robot, "--prior", a.prior, ParamChoice::Cad)?;
     let mut id = Identification::for_robot(robot, level, a.weight)
         .and_then(|id| id.prior(a.weight, prior.params()))
         .map_err(|e| format!("--weight / --prior: {e}"))?;

@@ -19,6 +19,31 @@ pub(crate) fn warn_robot(robot: &momentlmi::dynamics::RobotDescription) {
     }
 }
 
+/// The model and friction of a parameter choice given with `flag`; an error
+/// names the flag and, unless it is a file (whose errors name it), the
+/// value typed.
+pub(crate) fn parameters_for(
+    robot: &momentlmi::dynamics::RobotDescription,
+    flag: &str,
+    value: Option<&str>,
+    default: momentlmi::dynamics::ParamChoice,
+) -> Result<
+    (
+        momentlmi::dynamics::Model,
+        momentlmi::dynamics::params_file::Friction,
+    ),
+    String,
+> {
+    use momentlmi::dynamics::ParamChoice;
+    let choice = value.map_or(default, |p| p.parse().expect("infallible"));
+    robot
+        .parameters(&choice)
+        .map_err(|e| match (&choice, value) {
+            (ParamChoice::File(_), _) | (_, None) => format!("{flag}: {e}"),
+            (_, Some(v)) => format!("{flag} {v}: {e}"),
+        })
+}
+
 /// The files a command reads, to protect from its outputs: `files`, and
 /// each of `specs` (a robot or parameter choice: a built-in name, `cad`,
 /// `true` or a path) that names an existing file.

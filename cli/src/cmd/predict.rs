@@ -54,12 +54,7 @@ fn run_inner(a: &PredictArgs) -> Result<(), String> {
     if a.params.is_some_and(|p| p == "true") {
         super::warn_robot(&robot);
     }
-    let choice = a
-        .params
-        .map_or(ParamChoice::Own, |p| p.parse().expect("infallible"));
-    let (model, friction) = robot
-        .parameters(&choice)
-        .map_err(|e| format!("--params {}: {e}", a.params.unwrap_or("")))?;
+    let (model, friction) = super::parameters_for(&robot, "--params", a.params, ParamChoice::Own)?;
     let names = model.joint_names();
     let d = Dataset::read_csv(
         a.data,
