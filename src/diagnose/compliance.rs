@@ -1064,7 +1064,44 @@ pub fn columns(candidate: Candidate, lin: &Linearisation, fit: &ComplianceFit) -
 
 #[cfg(test)]
 mod tests {
-    use super::{Transmission, doubtful};
+    use super::{Dynamic, Fixed, Linearisation, Transmission, doubtful};
+
+    /// The integrator compiled for three joints and the run-time one agree,
+    /// and a shift's cached nodes give what freshly solved ones give.
+    #[test]
+    fn fixed_and_dynamic_integrators_and_the_node_cache_agree() {
+        use crate::dynamics::cheetah3;
+        use crate::sim::{Effects, SimConfig, simulate};
+        let leg = cheetah3::description();
+        let fx = Effects::parse("rotor_inertia,backlash", &[]).unwrap();
+        let d = simulate(&leg, &SimConfig::for_robot(&leg, 1.0, fx, 3), |_, _| {}).unwrap();
+        let lin = Linearisation::new(&leg.model, &d).unwrap();
+        let p = Transmission {
+            stiffness: vec![2000.0, 1500.0, 2500.0],
+            damping: vec![5.0, 4.0, 6.0],
+            backlash: vec![0.005, 0.004, 0.006],
+            axial_shift: vec![0.001, -0.002, 0.0005],
+        };
+        let to = d.len();
+        let fresh = lin.nodes(&p.axial_shift, to).unwrap();
+        let a = lin.integrate(Fixed::<3>, &fresh, &p, to).unwrap();
+        let b = lin.integrate(Dynamic(3), &fresh, &p, to).unwrap();
+        assert_eq!(a.len(), to * 3);
+        let max = a
+            .iter()
+            .zip(&b)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max);
+        assert!(max < 1e-12, "{max}");
+        // the effect is there (the dead band rings), not a zero trace
+        assert!(a.iter().map(|x| x.abs()).fold(0.0, f64::max) > 0.1);
+        let first = lin.simulate(&p, to).unwrap();
+        let cached = lin.simulate(&p, to).unwrap();
+        assert_eq!(first, a);
+        assert_eq!(cached, a);
+        // a shorter run is the start of the longer one
+        assert_eq!(lin.simulate(&p, 100).unwrap(), a[..300].to_vec());
+    }
 
     #[test]
     fn a_fitted_stiffness_outside_a_joints_range_is_doubtful() {
