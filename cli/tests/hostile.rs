@@ -352,8 +352,10 @@ fn a_robot_beyond_the_memory_limit_is_refused_before_it_starts() {
         "GiB limit",
         "diagnose --max-memory-gib",
     );
-    // a limit between the base library and the inertial candidates: the
-    // diagnosis runs without them and says so
+    // 2,000 samples of the leg: the base library needs ~4.4 MB, the
+    // inertial candidates ~5.8 MB and the compliance searches ~6.0 MB
+    // (`diagnose::memory_estimate`). A limit above the base only: the
+    // diagnosis runs without the other two and says so
     let o = leg("diagnose", "0.006");
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{err}");
@@ -362,7 +364,19 @@ fn a_robot_beyond_the_memory_limit_is_refused_before_it_starts() {
         "{err}"
     );
     assert!(
-        !err.contains("elasticity, backlash: not considered"),
+        err.contains("elasticity, backlash: not considered"),
+        "{err}"
+    );
+    // room for the inertial candidates but not the compliance searches
+    let o = leg("diagnose", "0.012");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        !err.contains("link_inertia, rotor_inertia: not considered"),
+        "{err}"
+    );
+    assert!(
+        err.contains("elasticity, backlash: not considered"),
         "{err}"
     );
     // and a fitting run writes finite numbers only
