@@ -91,15 +91,19 @@ pub struct Transmission {
 }
 
 impl Transmission {
-    /// The transmitted torque of joint i at deflection x and rate xd.
-    #[inline]
-    pub fn torque(&self, i: usize, x: f64, xd: f64) -> f64 {
+    /// Joint i's spring–damper and dead band.
+    pub fn spring(&self, i: usize) -> Compliance {
         Compliance {
             stiffness: self.stiffness[i],
             damping: self.damping[i],
             backlash: self.backlash[i],
         }
-        .torque(x, xd)
+    }
+
+    /// The transmitted torque of joint i at deflection x and rate xd.
+    #[inline]
+    pub fn torque(&self, i: usize, x: f64, xd: f64) -> f64 {
+        self.spring(i).torque(x, xd)
     }
 }
 
@@ -163,10 +167,10 @@ fn cholesky(a: &mut [f64], n: usize) -> bool {
     true
 }
 
-/// The linearised dynamics at one instant solved for the acceleration,
-/// `ẍ = b − P x − Q ẋ − A τ_s` with `A = M⁻¹`, `P = A G`, `Q = A C` and
-/// `b = A τ_L` (M, G, C, τ_L interpolated between two samples), stored flat
-/// as `[b (n), P (n×n), Q (n×n), A (n×n)]`, row-major.
+/// The values of a node, the linearised dynamics at one sample solved for
+/// the acceleration, `ẍ = b − P x − Q ẋ − A τ_s` with `A = M⁻¹`, `P = A G`,
+/// `Q = A C` and `b = A τ_L`, stored flat as `[b (n), P (n×n), Q (n×n),
+/// A (n×n)]`, row-major.
 fn node_len(n: usize) -> usize {
     3 * n * n + n
 }
@@ -256,15 +260,45 @@ impl Dim for Dynamic {
     }
 }
 
-/// Per joint (K, D, b) of a transmission, for the integrator.
-fn springs(p: &Transmission) -> Vec<Compliance> {
-    (0..p.stiffness.len())
-        .map(|i| Compliance {
-            stiffness: p.stiffness[i],
-            damping: p.damping[i],
-            backlash: p.backlash[i],
-        })
-        .collect()
+/// `$body` with `$d` the [`Dim`] of `$n` joints: [`Fixed`] up to 7,
+/// [`Dynamic`] above.
+macro_rules! by_dim {
+    ($n:expr, $d:ident => $body:expr) => {
+        match $n {
+            1 => {
+                let $d = Fixed::<1>;
+                $body
+            }
+            2 => {
+                let $d = Fixed::<2>;
+                $body
+            }
+            3 => {
+                let $d = Fixed::<3>;
+                $body
+            }
+            4 => {
+                let $d = Fixed::<4>;
+                $body
+            }
+            5 => {
+                let $d = Fixed::<5>;
+                $body
+            }
+            6 => {
+                let $d = Fixed::<6>;
+                $body
+            }
+            7 => {
+                let $d = Fixed::<7>;
+                $body
+            }
+            n => {
+                let $d = Dynamic(n);
+                $body
+            }
+        }
+    };
 }
 
 /// `ẋ` for the state `x = (x, ẋ)` at a node of [`solve_node`].
@@ -422,16 +456,7 @@ impl Linearisation {
     /// The nodes of the axial shift `shift` (kg·m² per joint) for samples
     /// `0..=last`; `None` if a mass matrix is not positive definite.
     pub fn nodes(&self, shift: &[f64], last: usize) -> Option<Nodes> {
-        match self.n {
-            1 => self.nodes_of(Fixed::<1>, shift, last),
-            2 => self.nodes_of(Fixed::<2>, shift, last),
-            3 => self.nodes_of(Fixed::<3>, shift, last),
-            4 => self.nodes_of(Fixed::<4>, shift, last),
-            5 => self.nodes_of(Fixed::<5>, shift, last),
-            6 => self.nodes_of(Fixed::<6>, shift, last),
-            7 => self.nodes_of(Fixed::<7>, shift, last),
-            n => self.nodes_of(Dynamic(n), shift, last),
-        }
+        by_dim!(self.n, d => self.nodes_of(d, shift, last))
     }
 
     fn nodes_of<D: Dim>(&self, d: D, shift: &[f64], last: usize) -> Option<Nodes> {
@@ -505,16 +530,7 @@ impl Linearisation {
 
     /// [`Self::simulate`] on the nodes of `p`'s axial shift.
     fn simulate_on(&self, at: &Nodes, p: &Transmission, to: usize) -> Option<Vec<f64>> {
-        match self.n {
-            1 => self.integrate(Fixed::<1>, at, p, to),
-            2 => self.integrate(Fixed::<2>, at, p, to),
-            3 => self.integrate(Fixed::<3>, at, p, to),
-            4 => self.integrate(Fixed::<4>, at, p, to),
-            5 => self.integrate(Fixed::<5>, at, p, to),
-            6 => self.integrate(Fixed::<6>, at, p, to),
-            7 => self.integrate(Fixed::<7>, at, p, to),
-            n => self.integrate(Dynamic(n), at, p, to),
-        }
+        by_dim!(self.n, d => self.integrate(d, at, p, to))
     }
 
     /// RK4, one step per sample interval; a step across a dead band's edge
@@ -524,7 +540,7 @@ impl Linearisation {
         let n = d.n();
         let len = node_len(n);
         let to = to.min(at.last + 1);
-        let sp = springs(p);
+        let sp: Vec<Compliance> = (0..n).map(|i| p.spring(i)).collect();
         let mut x = vec![0.0; 2 * n];
         for i in 0..n {
             let t = at.tau[i];
