@@ -207,12 +207,13 @@ enum Command {
         /// Print one JSON object instead of text.
         #[arg(long)]
         json: bool,
-        /// EXPERIMENTAL: turn on Clarabel's chordal decomposition (off by
-        /// default). It can report a wrong optimum as solved (SDPLIB control1
-        /// ends "solved" near 18.05; the optimum is 17.7846): check results
-        /// without it. A warning is printed to stderr when it is used.
-        #[arg(long)]
-        chordal: bool,
+        /// Clarabel's chordal decomposition of sparse PSD blocks: `verified`
+        /// checks the decomposed result against the original problem and
+        /// solves again without it when the check fails (Clarabel 0.11 can end
+        /// "solved" at a wrong optimum, e.g. SDPLIB control1); `unchecked`
+        /// returns the decomposed result as it is; `off` never decomposes.
+        #[arg(long, value_enum, default_value_t = sdpa::DecompositionArg::Verified)]
+        decomposition: sdpa::DecompositionArg,
         /// Use QDLDL instead of faer's supernodal LDLᵀ for the KKT systems.
         #[arg(long)]
         qdldl: bool,
@@ -373,14 +374,14 @@ pub fn main() -> i32 {
         Command::Sdpa {
             file,
             json,
-            chordal,
+            decomposition,
             qdldl,
             verbose,
             max_memory_gib,
         } => sdpa::run(&sdpa::SdpaArgs {
             file: &file,
             json,
-            chordal,
+            decomposition,
             qdldl,
             verbose,
             max_memory_gib,

@@ -1,6 +1,6 @@
 //! `momentlmi sdpa` on hostile files written here: every error is a named
 //! message with exit code 2, never a panic (101) or an abort; the memory
-//! limit; the --chordal warning in --help and on stderr.
+//! limit; the --decomposition choice in --help and --json.
 
 use std::process::Output;
 
@@ -153,18 +153,26 @@ fn an_lp_block_of_100000_solves_in_linear_memory() {
 }
 
 #[test]
-fn chordal_is_marked_experimental_in_help_and_warns() {
+fn decomposition_is_a_choice_reported_in_json() {
     let (code, out, _) = run(&["sdpa", "--help"]);
     assert_eq!(code, 0);
     let help = out.replace('\n', " ");
-    assert!(help.contains("EXPERIMENTAL"), "{out}");
-    assert!(help.contains("wrong optimum"), "{out}");
-    assert!(help.contains("--max-memory-gib"), "{out}");
-    let d = TempDir::new("sdpa-chordal");
+    for v in [
+        "verified",
+        "unchecked",
+        "off",
+        "wrong optimum",
+        "--max-memory-gib",
+    ] {
+        assert!(help.contains(v), "{v}: {out}");
+    }
+    let d = TempDir::new("sdpa-decomposition");
     let f = d.write("small.dat-s", SMALL);
-    let (code, _, err) = sdpa(&f, &["--chordal"]);
+    let (code, out, err) = sdpa(&f, &["--json", "--decomposition", "off"]);
     assert_eq!(code, 0, "{err}");
-    assert!(err.contains("warning: --chordal is experimental"), "{err}");
-    let (_, _, err) = sdpa(&f, &[]);
-    assert!(!err.contains("warning"), "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).expect("json");
+    assert_eq!(v["decomposition"], "off", "{out}");
+    let (code, _, err) = sdpa(&f, &["--decomposition", "sometimes"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("sometimes"), "{err}");
 }

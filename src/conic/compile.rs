@@ -304,8 +304,38 @@ impl Compiled {
         self.b.len()
     }
 
-    /// Solves with Clarabel and maps the result back.
+    /// Solves with Clarabel and maps the result back, with the chordal
+    /// decomposition as [`Settings`] asks (checked and, if the check fails,
+    /// solved again without it; [`Solution::decomposition`] says which).
     pub fn solve(&self) -> Result<Solution, ConicError> {
+        use super::settings::Decomposition;
+        use super::solution::DecompositionOutcome as Outcome;
+        let mode = self.settings.decomposition;
+        if mode == Decomposition::Off {
+            return Ok(self.to_solution(self.run(false)?, Outcome::Off));
+        }
+        let t0 = Instant::now();
+        let first = self.run(true)?;
+        if !first.decomposed {
+            return Ok(self.to_solution(first, Outcome::Off));
+        }
+        if mode == Decomposition::Unchecked {
+            return Ok(self.to_solution(first, Outcome::Unchecked));
+        }
+        let s = &first.solver.solution;
+        match self.verify(s.status, &s.x, &s.z) {
+            Ok(()) => Ok(self.to_solution(first, Outcome::Used)),
+            Err(reason) => {
+                let mut again = self.run(false)?;
+                again.setup += first.setup;
+                again.extra_solve = t0.elapsed().as_secs_f64() - first.setup;
+                Ok(self.to_solution(again, Outcome::FellBack(reason)))
+            }
+        }
+    }
+
+    /// One Clarabel run, decomposing or not.
+    fn run(&self, decompose: bool) -> Result<Run, ConicError> {
         #[cfg(feature = "faer-lapack")]
         crate::faer_lapack::ensure_linked();
         let t0 = Instant::now();
@@ -319,7 +349,7 @@ impl Compiled {
                 &self.a,
                 &self.b,
                 &self.cones,
-                self.settings.to_clarabel(),
+                self.settings.to_clarabel(decompose),
             )
             .map_err(|e| ConicError::Solver(e.to_string()))?;
             let setup = t0.elapsed().as_secs_f64();
@@ -327,8 +357,27 @@ impl Compiled {
             Ok((solver, setup))
         }));
         let (solver, setup) = run.map_err(|p| ConicError::Solver(panic_text(&p)))??;
-        let setup = setup + self.compile_time;
-        let s = &solver.solution;
+        // a decomposition adds PSD cones (one per clique)
+        let psd = |c: &[SupportedConeT<f64>]| {
+            c.iter()
+                .filter(|c| matches!(c, SupportedConeT::PSDTriangleConeT(_)))
+                .count()
+        };
+        let decomposed = psd(&solver.data.cones) > psd(&self.cones);
+        Ok(Run {
+            solver,
+            setup: setup + self.compile_time,
+            extra_solve: 0.0,
+            decomposed,
+        })
+    }
+
+    fn to_solution(
+        &self,
+        run: Run,
+        decomposition: super::solution::DecompositionOutcome,
+    ) -> Solution {
+        let s = &run.solver.solution;
         let status = match s.status {
             SolverStatus::Solved => Status::Solved,
             SolverStatus::AlmostSolved => Status::SolvedInaccurately,
@@ -352,7 +401,7 @@ impl Compiled {
             .windows(2)
             .map(|w| s.z[w[0]..w[1]].to_vec())
             .collect();
-        Ok(Solution {
+        Solution {
             status,
             primal_objective: sign * (s.obj_val + self.obj_const),
             dual_objective: sign * (s.obj_val_dual + self.obj_const),
@@ -366,8 +415,19 @@ impl Compiled {
             iterations: s.iterations,
             primal_residual: s.r_prim,
             dual_residual: s.r_dual,
-            setup_time_s: setup,
-            solve_time_s: s.solve_time,
-        })
+            setup_time_s: run.setup,
+            solve_time_s: s.solve_time + run.extra_solve,
+            decomposition,
+        }
     }
+}
+
+/// A finished Clarabel run.
+struct Run {
+    solver: DefaultSolver<f64>,
+    setup: f64,
+    /// Time before this run that counts as solving (a failed decomposed
+    /// solve and its check).
+    extra_solve: f64,
+    decomposed: bool,
 }

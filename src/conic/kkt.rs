@@ -32,7 +32,7 @@ impl KktReport {
 }
 
 /// Distance of `v` outside the cone (0 inside).
-fn cone_violation(kind: ConeKind, v: &[f64], dual: bool) -> f64 {
+pub(crate) fn cone_violation(kind: ConeKind, v: &[f64], dual: bool) -> f64 {
     match kind {
         ConeKind::Zero => {
             if dual {

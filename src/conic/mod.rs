@@ -48,6 +48,7 @@ mod matexpr;
 mod problem;
 mod settings;
 mod solution;
+mod verify;
 
 pub use compile::Compiled;
 pub use error::ConicError;
@@ -55,5 +56,5 @@ pub use expr::{AffExpr, Var, sum};
 pub use kkt::{KktReport, check_optimality};
 pub use matexpr::MatExpr;
 pub use problem::{ConeKind, ConstraintId, Problem, Sense, SymVar};
-pub use settings::{KktSolver, LeastSquaresForm, Settings};
-pub use solution::{Dual, Solution, Status, svec_to_mat};
+pub use settings::{Decomposition, KktSolver, LeastSquaresForm, Settings};
+pub use solution::{DecompositionOutcome, Dual, Solution, Status, svec_to_mat};

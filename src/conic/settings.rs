@@ -28,6 +28,23 @@ pub enum KktSolver {
     Qdldl,
 }
 
+/// Whether Clarabel's chordal decomposition of sparse PSD cones is used.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Decomposition {
+    /// Decompose; then check the result against the original, undecomposed
+    /// problem (primal and dual cone membership with the dual PSD-completed,
+    /// stationarity, duality gap, all relative to the data's scale) and
+    /// solve again without decomposition when the check fails. Clarabel 0.11
+    /// can end "solved" at a wrong optimum (SDPLIB control1: 18.0568 instead
+    /// of 17.7846; docs/benchmarks.md).
+    #[default]
+    Verified,
+    /// Decompose and return Clarabel's result unchecked.
+    Unchecked,
+    /// Never decompose.
+    Off,
+}
+
 /// Settings of the conic layer and of Clarabel.
 ///
 /// ```
@@ -48,7 +65,8 @@ pub struct Settings {
     pub(crate) tol_ktratio: f64,
     pub(crate) equilibrate: bool,
     pub(crate) presolve: bool,
-    pub(crate) chordal_decomposition: bool,
+    pub(crate) decomposition: Decomposition,
+    pub(crate) decomposition_check_tol: f64,
     pub(crate) least_squares: LeastSquaresForm,
     pub(crate) kkt_solver: KktSolver,
 }
@@ -67,7 +85,8 @@ impl Default for Settings {
             tol_ktratio: 1e-6,
             equilibrate: true,
             presolve: true,
-            chordal_decomposition: false,
+            decomposition: Decomposition::Verified,
+            decomposition_check_tol: 1e-5,
             least_squares: LeastSquaresForm::Quadratic,
             kkt_solver: KktSolver::Faer,
         }
@@ -109,9 +128,11 @@ impl Settings {
         /// Clarabel's presolve, dropping redundant rows (default on).
         presolve: bool,
         /// Clarabel's chordal decomposition of sparse PSD cones (default
-        /// OFF: with it on, Clarabel 0.11 has been seen to report "Solved"
-        /// with a wrong objective on SDPLIB control1).
-        chordal_decomposition: bool,
+        /// [`Decomposition::Verified`]).
+        decomposition: Decomposition,
+        /// Largest relative residual the check of a decomposed result
+        /// accepts (default 1e-5; see [`Decomposition::Verified`]).
+        decomposition_check_tol: f64,
         /// How least-squares terms reach the solver (default quadratic).
         least_squares: LeastSquaresForm,
         /// Sparse LDLᵀ used for the KKT systems (default faer's supernodal).
@@ -133,6 +154,7 @@ impl Settings {
             ("tol_infeas_abs", self.tol_infeas_abs),
             ("tol_infeas_rel", self.tol_infeas_rel),
             ("tol_ktratio", self.tol_ktratio),
+            ("decomposition_check_tol", self.decomposition_check_tol),
         ];
         for (name, v) in tols {
             if !(v.is_finite() && v > 0.0) {
@@ -157,7 +179,8 @@ impl Settings {
         Ok(())
     }
 
-    pub(crate) fn to_clarabel(&self) -> clarabel::solver::DefaultSettings<f64> {
+    /// Clarabel's settings, with the decomposition on or off.
+    pub(crate) fn to_clarabel(&self, decompose: bool) -> clarabel::solver::DefaultSettings<f64> {
         clarabel::solver::DefaultSettings {
             max_iter: self.max_iter,
             time_limit: self.time_limit,
@@ -170,7 +193,8 @@ impl Settings {
             tol_ktratio: self.tol_ktratio,
             equilibrate_enable: self.equilibrate,
             presolve_enable: self.presolve,
-            chordal_decomposition_enable: self.chordal_decomposition,
+            chordal_decomposition_enable: decompose,
+            chordal_decomposition_complete_dual: true,
             direct_solve_method: match self.kkt_solver {
                 KktSolver::Faer => "faer".to_string(),
                 KktSolver::Qdldl => "qdldl".to_string(),

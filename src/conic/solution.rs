@@ -78,6 +78,45 @@ impl std::fmt::Display for Status {
     }
 }
 
+/// What became of Clarabel's chordal decomposition in a solve
+/// (see [`Decomposition`](super::Decomposition)).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case", tag = "decomposition", content = "reason")]
+pub enum DecompositionOutcome {
+    /// Decomposed, and the result passed the check against the original
+    /// problem.
+    Used,
+    /// Decomposed on request without a check.
+    Unchecked,
+    /// The decomposed result failed the check (the reason says which
+    /// residual); this result was solved again without decomposition.
+    FellBack(String),
+    /// Not decomposed: turned off, or no PSD cone had a pattern Clarabel
+    /// splits.
+    Off,
+}
+
+impl DecompositionOutcome {
+    /// `used`, `unchecked`, `fell_back` or `off`.
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            Self::Used => "used",
+            Self::Unchecked => "unchecked",
+            Self::FellBack(_) => "fell_back",
+            Self::Off => "off",
+        }
+    }
+}
+
+impl std::fmt::Display for DecompositionOutcome {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::FellBack(r) => write!(f, "fell_back ({r})"),
+            o => f.write_str(o.as_str()),
+        }
+    }
+}
+
 /// The dual of one constraint.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Dual {
@@ -129,8 +168,11 @@ pub struct Solution {
     pub dual_residual: f64,
     /// Compile + solver setup time, seconds.
     pub setup_time_s: f64,
-    /// Interior-point solve time, seconds.
+    /// Interior-point solve time, seconds (after a fall-back: both solves
+    /// and the check).
     pub solve_time_s: f64,
+    /// Whether the chordal decomposition was used.
+    pub decomposition: DecompositionOutcome,
 }
 
 impl Solution {

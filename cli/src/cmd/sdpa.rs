@@ -1,6 +1,6 @@
-//! `momentlmi sdpa FILE [--json] [--max-memory-gib G] [--chordal] [--qdldl] [--verbose]`.
+//! `momentlmi sdpa FILE [--json] [--max-memory-gib G] [--decomposition verified|unchecked|off] [--qdldl] [--verbose]`.
 
-use momentlmi::conic::{KktSolver, Settings, Solution};
+use momentlmi::conic::{Decomposition, KktSolver, Settings, Solution};
 use momentlmi::sdpa::{MemoryEstimate, SdpaOptions, SdpaProblem};
 use serde_json::json;
 use std::path::Path;
@@ -11,8 +11,8 @@ pub struct SdpaArgs<'a> {
     pub file: &'a Path,
     /// Print one JSON object.
     pub json: bool,
-    /// Clarabel's chordal decomposition (experimental).
-    pub chordal: bool,
+    /// Clarabel's chordal decomposition.
+    pub decomposition: DecompositionArg,
     /// QDLDL instead of faer.
     pub qdldl: bool,
     /// The solver's iteration log.
@@ -21,18 +21,31 @@ pub struct SdpaArgs<'a> {
     pub max_memory_gib: f64,
 }
 
-/// Printed to stderr whenever `--chordal` is given.
-pub const CHORDAL_WARNING: &str = "warning: --chordal is experimental: Clarabel's chordal \
-decomposition can end \"solved\" at a wrong optimum (SDPLIB control1: about 18.05 instead of 17.7846); \
-check the result without --chordal";
+/// `--decomposition`'s values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum DecompositionArg {
+    /// Decompose, check against the original problem, fall back if wrong.
+    Verified,
+    /// Decompose without a check.
+    Unchecked,
+    /// Never decompose.
+    Off,
+}
+
+impl From<DecompositionArg> for Decomposition {
+    fn from(a: DecompositionArg) -> Self {
+        match a {
+            DecompositionArg::Verified => Decomposition::Verified,
+            DecompositionArg::Unchecked => Decomposition::Unchecked,
+            DecompositionArg::Off => Decomposition::Off,
+        }
+    }
+}
 
 /// Solves the file; exit code 0 when solved, 1 when the solver ended
 /// otherwise, 2 on unreadable or too large input (the error names the
 /// line, block or entry, or the memory it would need).
 pub fn run(a: &SdpaArgs) -> i32 {
-    if a.chordal {
-        eprintln!("{CHORDAL_WARNING}");
-    }
     let fail = |e: &dyn std::fmt::Display| {
         eprintln!("error: {}: {e}", a.file.display());
         2
@@ -52,7 +65,7 @@ pub fn run(a: &SdpaArgs) -> i32 {
         KktSolver::Faer
     };
     let settings = Settings::default()
-        .chordal_decomposition(a.chordal)
+        .decomposition(a.decomposition.into())
         .kkt_solver(kkt)
         .verbose(a.verbose && !a.json);
     let result = prob
@@ -74,7 +87,11 @@ fn print_result(a: &SdpaArgs, prob: &SdpaProblem, est: &MemoryEstimate, sol: &So
             "m": prob.m(),
             "blocks": prob.blocks,
             "memory_estimate_gib": est.total_gib(),
-            "chordal": a.chordal,
+            "decomposition": sol.decomposition.as_str(),
+            "decomposition_reason": match &sol.decomposition {
+                momentlmi::conic::DecompositionOutcome::FellBack(r) => Some(r.as_str()),
+                _ => None,
+            },
             "status": sol.status.as_str(),
             "primal_objective": sol.primal_objective,
             "dual_objective": sol.dual_objective,
@@ -89,6 +106,7 @@ fn print_result(a: &SdpaArgs, prob: &SdpaProblem, est: &MemoryEstimate, sol: &So
         println!("blocks            {:?}", prob.blocks);
         println!("memory estimate   {:.3} GiB", est.total_gib());
         println!("status            {}", sol.status);
+        println!("decomposition     {}", sol.decomposition);
         // an infeasible or unbounded end has no finite objective to show
         let show = |v: f64| {
             if v.is_finite() {
