@@ -3,9 +3,10 @@
 //! scaling of the streaming reduction with the number of samples.
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use momentlmi::conic::Decomposition;
 use momentlmi::dynamics::cheetah3;
 use momentlmi::identify::{
-    IdentifyOptions, Level, StreamReducer, reduce_samples, solve_identification,
+    IdentifyOptions, Level, StreamReducer, default_settings, reduce_samples, solve_identification,
 };
 use momentlmi::sim::{Effects, SimConfig, simulate};
 use std::hint::black_box;
@@ -41,6 +42,16 @@ fn bench(c: &mut Criterion) {
     let o = opts(Level::Ellipsoid);
     g.bench_function("sdp_only/ellipsoid", |b| {
         b.iter(|| black_box(solve_identification(&model, &red, &o).unwrap().theta[0]))
+    });
+    // the same with Clarabel's chordal decomposition off (the default before
+    // issue 18): the 4 × 4 blocks are dense, so the default only adds
+    // Clarabel's sparsity analysis, which this pair measures
+    let off = o
+        .clone()
+        .with_settings(default_settings().decomposition(Decomposition::Off))
+        .unwrap();
+    g.bench_function("sdp_only/ellipsoid/decomposition_off", |b| {
+        b.iter(|| black_box(solve_identification(&model, &red, &off).unwrap().theta[0]))
     });
     g.finish();
     let mut g = c.benchmark_group("stream_reduction");

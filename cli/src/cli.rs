@@ -210,8 +210,10 @@ enum Command {
         /// Clarabel's chordal decomposition of sparse PSD blocks: `verified`
         /// checks the decomposed result against the original problem and
         /// solves again without it when the check fails (Clarabel 0.11 can end
-        /// "solved" at a wrong optimum, e.g. SDPLIB control1); `unchecked`
-        /// returns the decomposed result as it is; `off` never decomposes.
+        /// "solved" at a wrong optimum, e.g. SDPLIB control1), unless that
+        /// undecomposed solve would exceed --max-memory-gib (then an error);
+        /// `unchecked` returns the decomposed result as it is; `off` never
+        /// decomposes.
         #[arg(long, value_enum, default_value_t = sdpa::DecompositionArg::Verified)]
         decomposition: sdpa::DecompositionArg,
         /// Use QDLDL instead of faer's supernodal LDLᵀ for the KKT systems.
@@ -221,8 +223,9 @@ enum Command {
         #[arg(long)]
         verbose: bool,
         /// Refuse files whose reading or solve would need more than this
-        /// many GiB by the reader's estimate (docs/inputs.md); a PSD block
-        /// of side n needs about 14·n⁴ bytes.
+        /// many GiB by the reader's estimate (docs/inputs.md); a dense PSD
+        /// block of side n needs about 14·n⁴ bytes, a sparse one decomposed
+        /// that of its cliques.
         #[arg(long, value_name = "GIB", default_value_t = momentlmi::sdpa::DEFAULT_MAX_MEMORY_GIB)]
         max_memory_gib: f64,
     },

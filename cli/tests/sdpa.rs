@@ -108,13 +108,15 @@ fn hostile_headers_are_named_errors_with_exit_code_2() {
 #[test]
 fn the_memory_limit_is_a_setting() {
     let d = TempDir::new("sdpa-memory");
-    // a PSD block of side 60: about 0.2 GiB by the estimate
+    // a PSD block of side 60: about 0.2 GiB by the estimate undecomposed;
+    // its pattern is diagonal, so decomposed it is 60 cones of side 1
     let mut text = "1\n1\n60\n1.0\n".to_string();
     for k in 1..=60 {
         text += &format!("1 1 {k} {k} 1.0\n");
     }
     let f = d.write("side60.dat-s", &text);
-    let (code, _, err) = sdpa(&f, &["--max-memory-gib", "0.05"]);
+    let off = ["--max-memory-gib", "0.05", "--decomposition", "off"];
+    let (code, _, err) = sdpa(&f, &off);
     assert_eq!(code, 2, "{err}");
     assert!(
         err.contains("more than the limit of 0.050 GiB") && err.contains("largest of side 60"),
@@ -175,4 +177,44 @@ fn decomposition_is_a_choice_reported_in_json() {
     let (code, _, err) = sdpa(&f, &["--decomposition", "sometimes"]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("sometimes"), "{err}");
+}
+
+/// The max-cut relaxation of a star of side n in SDPA form,
+/// min Σ yᵢ s.t. diag(y) − L/4 ⪰ 0 (F₀ = L/4, the star's pattern, whose
+/// maximal cliques are its edges).
+fn star_max_cut(n: usize) -> String {
+    let mut text = format!("{n}\n1\n{n}\n{}\n", vec!["1"; n].join(" "));
+    for k in 1..=n {
+        text += &format!("{k} 1 {k} {k} 1.0\n");
+    }
+    text += &format!("0 1 1 1 {}\n", 0.25 * (n - 1) as f64);
+    for k in 2..=n {
+        text += &format!("0 1 {k} {k} 0.25\n0 1 1 {k} -0.25\n");
+    }
+    text
+}
+
+#[test]
+fn a_problem_that_fits_only_decomposed_is_solved_decomposed() {
+    // side 120: ≈ 2.75 GiB undecomposed, ≈ 60 MiB as 119 cones of side 2
+    let d = TempDir::new("sdpa-fits-decomposed");
+    let f = d.write("star.dat-s", &star_max_cut(120));
+    let (code, out, err) = sdpa(&f, &["--json", "--max-memory-gib", "0.5"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).expect("json");
+    assert_eq!(v["decomposition"], "used", "{out}");
+    assert!(v["memory_estimate_gib"].as_f64().unwrap() > 1.0, "{out}");
+    assert!(
+        v["memory_estimate_decomposed_gib"].as_f64().unwrap() < 0.5,
+        "{out}"
+    );
+    // the max cut of a star with unit weights cuts every edge: 119
+    let obj = v["primal_objective"].as_f64().unwrap();
+    assert!((obj - 119.0).abs() < 1e-5, "{out}");
+    let (code, _, err) = sdpa(&f, &["--max-memory-gib", "0.5", "--decomposition", "off"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("would need") && err.contains("--max-memory-gib"),
+        "{err}"
+    );
 }

@@ -314,21 +314,36 @@ impl Compiled {
         if mode == Decomposition::Off {
             return Ok(self.to_solution(self.run(false)?, Outcome::Off));
         }
-        let t0 = Instant::now();
-        let first = self.run(true)?;
+        let mut first = self.run(true)?;
         if !first.decomposed {
             return Ok(self.to_solution(first, Outcome::Off));
         }
         if mode == Decomposition::Unchecked {
             return Ok(self.to_solution(first, Outcome::Unchecked));
         }
+        let t0 = Instant::now();
         let s = &first.solver.solution;
-        match self.verify(s.status, &s.x, &s.z) {
-            Ok(()) => Ok(self.to_solution(first, Outcome::Used)),
-            Err(reason) => {
+        let verdict = self.verify(s.status, &s.x, &s.z);
+        let check = t0.elapsed().as_secs_f64();
+        match (verdict, &self.settings.no_fallback) {
+            (Ok(()), _) => {
+                first.extra_solve = check;
+                Ok(self.to_solution(first, Outcome::Used))
+            }
+            // a run that claims nothing (an iteration or time limit) is
+            // returned as it is: its status says it is no answer
+            (Err(_), Some(_)) if !claims_an_answer(first.solver.solution.status) => {
+                first.extra_solve = check;
+                Ok(self.to_solution(first, Outcome::Unchecked))
+            }
+            (Err(reason), Some(why)) => Err(ConicError::DecompositionRejected {
+                reason,
+                why: why.clone(),
+            }),
+            (Err(reason), None) => {
                 let mut again = self.run(false)?;
                 again.setup += first.setup;
-                again.extra_solve = t0.elapsed().as_secs_f64() - first.setup;
+                again.extra_solve = first.solve + check;
                 Ok(self.to_solution(again, Outcome::FellBack(reason)))
             }
         }
@@ -353,10 +368,11 @@ impl Compiled {
             )
             .map_err(|e| ConicError::Solver(e.to_string()))?;
             let setup = t0.elapsed().as_secs_f64();
+            let t1 = Instant::now();
             solver.solve();
-            Ok((solver, setup))
+            Ok((solver, setup, t1.elapsed().as_secs_f64()))
         }));
-        let (solver, setup) = run.map_err(|p| ConicError::Solver(panic_text(&p)))??;
+        let (solver, setup, solve) = run.map_err(|p| ConicError::Solver(panic_text(&p)))??;
         // a decomposition adds PSD cones (one per clique)
         let psd = |c: &[SupportedConeT<f64>]| {
             c.iter()
@@ -366,7 +382,8 @@ impl Compiled {
         let decomposed = psd(&solver.data.cones) > psd(&self.cones);
         Ok(Run {
             solver,
-            setup: setup + self.compile_time,
+            setup,
+            solve,
             extra_solve: 0.0,
             decomposed,
         })
@@ -415,19 +432,37 @@ impl Compiled {
             iterations: s.iterations,
             primal_residual: s.r_prim,
             dual_residual: s.r_dual,
-            setup_time_s: run.setup,
-            solve_time_s: s.solve_time + run.extra_solve,
+            setup_time_s: self.compile_time + run.setup,
+            solve_time_s: run.solve + run.extra_solve,
             decomposition,
         }
     }
 }
 
+/// Whether a status claims an optimum or an infeasibility certificate (what
+/// the check of a decomposed result can confirm or refute).
+fn claims_an_answer(s: SolverStatus) -> bool {
+    matches!(
+        s,
+        SolverStatus::Solved
+            | SolverStatus::AlmostSolved
+            | SolverStatus::PrimalInfeasible
+            | SolverStatus::AlmostPrimalInfeasible
+            | SolverStatus::DualInfeasible
+            | SolverStatus::AlmostDualInfeasible
+    )
+}
+
 /// A finished Clarabel run.
 struct Run {
     solver: DefaultSolver<f64>,
+    /// Clarabel's setup (its `solve_time` counts it too, so this layer
+    /// times setup and solve itself), seconds.
     setup: f64,
+    /// The interior-point solve, seconds.
+    solve: f64,
     /// Time before this run that counts as solving (a failed decomposed
-    /// solve and its check).
+    /// solve and its check), seconds.
     extra_solve: f64,
     decomposed: bool,
 }

@@ -63,6 +63,19 @@ pub enum ConicError {
         /// What was asked for (values, duals).
         what: &'static str,
     },
+    /// A decomposed result failed its check against the original problem
+    /// and [`Settings::forbid_decomposition_fallback`](super::Settings::forbid_decomposition_fallback)
+    /// forbade solving it again without decomposition.
+    #[error(
+        "the chordally decomposed solve's result failed its check against the original problem \
+         ({reason}); solving again without decomposition was not allowed: {why}"
+    )]
+    DecompositionRejected {
+        /// What the check found.
+        reason: String,
+        /// Why no fall-back was allowed, as the caller said.
+        why: String,
+    },
     /// A negative weight of a least-squares term.
     #[error("weight of square #{square} is {weight}: it must be finite and ≥ 0")]
     NegativeWeight {

@@ -67,6 +67,7 @@ pub struct Settings {
     pub(crate) presolve: bool,
     pub(crate) decomposition: Decomposition,
     pub(crate) decomposition_check_tol: f64,
+    pub(crate) no_fallback: Option<String>,
     pub(crate) least_squares: LeastSquaresForm,
     pub(crate) kkt_solver: KktSolver,
 }
@@ -87,6 +88,7 @@ impl Default for Settings {
             presolve: true,
             decomposition: Decomposition::Verified,
             decomposition_check_tol: 1e-5,
+            no_fallback: None,
             least_squares: LeastSquaresForm::Quadratic,
             kkt_solver: KktSolver::Faer,
         }
@@ -137,6 +139,17 @@ impl Settings {
         least_squares: LeastSquaresForm,
         /// Sparse LDLᵀ used for the KKT systems (default faer's supernodal).
         kkt_solver: KktSolver,
+    }
+
+    /// Forbids solving again without decomposition when a decomposed result
+    /// fails its check ([`Decomposition::Verified`]): the solve then ends in
+    /// [`ConicError::DecompositionRejected`] carrying `why`. For callers that
+    /// cannot afford the undecomposed solve's memory (the SDPA reader when
+    /// its memory limit admits only the decomposed solve). By default the
+    /// fall-back is allowed.
+    pub fn forbid_decomposition_fallback(mut self, why: impl Into<String>) -> Self {
+        self.no_fallback = Some(why.into());
+        self
     }
 
     /// The least-squares form chosen.

@@ -166,10 +166,12 @@ pub struct Solution {
     pub primal_residual: f64,
     /// Clarabel's dual residual.
     pub dual_residual: f64,
-    /// Compile + solver setup time, seconds.
+    /// Compile + solver setup time, seconds (after a fall-back: both
+    /// setups).
     pub setup_time_s: f64,
-    /// Interior-point solve time, seconds (after a fall-back: both solves
-    /// and the check).
+    /// Interior-point solve time, seconds, without the setup (with a
+    /// verified decomposition: and the check; after a fall-back: both
+    /// solves and the check).
     pub solve_time_s: f64,
     /// Whether the chordal decomposition was used.
     pub decomposition: DecompositionOutcome,

@@ -7,8 +7,11 @@
 
 use super::error::SdpaError;
 use super::format::SdpaProblem;
+use super::memory::MemoryEstimate;
 use super::options::SdpaOptions;
-use crate::conic::{AffExpr, ConeKind, ConicError, ConstraintId, MatExpr, Problem, Sense, Var};
+use crate::conic::{
+    AffExpr, ConeKind, ConicError, ConstraintId, MatExpr, Problem, Sense, Settings, Solution, Var,
+};
 
 type Entry = (usize, usize, usize, usize, f64);
 
@@ -69,10 +72,39 @@ impl SdpaProblem {
     /// [`memory_estimate`](SdpaProblem::memory_estimate) against
     /// `opts`' limit ([`SdpaError::TooLarge`] with the numbers), so
     /// nothing is allocated for a problem that would not fit.
+    ///
+    /// The check is of the total `opts`' decomposition will need (the
+    /// decomposed one by default): solve the problem with
+    /// [`MemoryEstimate::settings_for`]'s settings, or call
+    /// [`solve_with`](Self::solve_with), so that a verified decomposition does
+    /// not fall back to an undecomposed solve beyond the limit.
     pub fn to_problem_with(&self, opts: &SdpaOptions) -> Result<(Problem, Vec<Var>), SdpaError> {
         opts.validate()?;
         self.validate()?;
         self.memory_estimate()?.check(opts)?;
+        self.build()
+    }
+
+    /// Validates, estimates the memory once and checks it against `opts`'
+    /// limit, builds the problem and solves it with `settings` as
+    /// [`MemoryEstimate::settings_for`] adapts them (`opts`' decomposition,
+    /// and no fall-back beyond the limit). The solution's `x()` is x₁..x_m.
+    pub fn solve_with(
+        &self,
+        opts: &SdpaOptions,
+        settings: Settings,
+    ) -> Result<(Solution, MemoryEstimate), SdpaError> {
+        opts.validate()?;
+        self.validate()?;
+        let est = self.memory_estimate()?;
+        est.check(opts)?;
+        let (p, _) = self.build()?;
+        let sol = p.solve(&est.settings_for(opts, settings))?;
+        Ok((sol, est))
+    }
+
+    /// The conic problem of a validated problem whose memory was checked.
+    fn build(&self) -> Result<(Problem, Vec<Var>), SdpaError> {
         let mut p = Problem::new();
         let x = p.vector("x", self.m());
         p.minimize(AffExpr::linear(&x, &self.c, 0.0)?);

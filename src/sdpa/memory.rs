@@ -19,11 +19,18 @@
 //! factor's fill between them and the block), rows = Σ t + Σ |LP sizes|.
 //! Diagonal (LP) blocks are linear in their size. Fill-in between variables
 //! through LP rows is not estimated (it is what a sparse LP costs anyway).
+//!
+//! With chordal decomposition (the default) a sparse block becomes several
+//! smaller cones: [`MemoryEstimate::decomposed_dense_bytes`] charges the same
+//! 56 bytes per t² to the estimated Σ t² of those cones (`sdpa::cliques`)
+//! instead of the block's t². Which of the two totals is held against the
+//! limit follows [`SdpaOptions::decomposition`].
 
+use super::cliques::decomposed_t2;
 use super::error::{SdpaError, gib};
 use super::format::SdpaProblem;
 use super::options::{GIB, SdpaOptions};
-use crate::conic::AffExpr;
+use crate::conic::{AffExpr, Decomposition, Settings};
 use std::path::Path;
 
 /// Bytes per `t²` of a PSD block with `t = n(n+1)/2` rows.
@@ -54,6 +61,12 @@ pub const READ_BYTES_PER_FILE_BYTE: f64 = 8.0;
 pub struct MemoryEstimate {
     /// Bytes of the PSD blocks' dense parts (`Θ(n⁴)` per block of side n).
     pub dense_bytes: f64,
+    /// The same with the blocks that Clarabel's chordal decomposition is
+    /// estimated to split charged for their cones instead (module docs);
+    /// equal to `dense_bytes` when no block splits.
+    pub decomposed_dense_bytes: f64,
+    /// How many PSD blocks are estimated to split.
+    pub decomposed_blocks: usize,
     /// Bytes linear in the rows, variables, entries and blocks, plus a
     /// fixed 32 MiB.
     pub linear_bytes: f64,
@@ -64,9 +77,41 @@ pub struct MemoryEstimate {
 }
 
 impl MemoryEstimate {
-    /// Total bytes.
+    /// Total bytes without decomposition.
     pub fn total_bytes(&self) -> f64 {
         self.dense_bytes + self.linear_bytes
+    }
+
+    /// Total bytes with chordal decomposition.
+    pub fn decomposed_total_bytes(&self) -> f64 {
+        self.decomposed_dense_bytes + self.linear_bytes
+    }
+
+    /// The total held against the limit: decomposed unless `opts` turn
+    /// decomposition off.
+    pub fn bytes_for(&self, opts: &SdpaOptions) -> f64 {
+        match opts.decomposition_mode() {
+            Decomposition::Off => self.total_bytes(),
+            _ => self.decomposed_total_bytes(),
+        }
+    }
+
+    /// `settings` with `opts`' decomposition, and with the fall-back to an
+    /// undecomposed solve forbidden when that solve's estimate is above the
+    /// limit (the solve then ends in
+    /// [`ConicError::DecompositionRejected`](crate::conic::ConicError::DecompositionRejected)
+    /// rather than allocate it).
+    pub fn settings_for(&self, opts: &SdpaOptions, settings: Settings) -> Settings {
+        let s = settings.decomposition(opts.decomposition_mode());
+        if self.total_bytes() <= opts.max_memory_bytes() {
+            return s;
+        }
+        s.forbid_decomposition_fallback(format!(
+            "without decomposition the solve would need {} GiB, above the limit of {} GiB \
+             (raise --max-memory-gib, SdpaOptions::max_memory_gib, to allow it)",
+            gib(self.total_gib()),
+            gib(opts.memory_limit_gib())
+        ))
     }
 
     /// Total GiB.
@@ -76,6 +121,18 @@ impl MemoryEstimate {
 
     /// The parts of the estimate, for a message.
     pub fn detail(&self) -> String {
+        if self.decomposed_blocks > 0 {
+            return format!(
+                "{}; with chordal decomposition of {} block(s) {} GiB for their cones",
+                self.undecomposed_detail(),
+                self.decomposed_blocks,
+                gib(self.decomposed_dense_bytes / GIB)
+            );
+        }
+        self.undecomposed_detail()
+    }
+
+    fn undecomposed_detail(&self) -> String {
         let linear = format!(
             "{} GiB for {} rows, the variables and the entries",
             gib(self.linear_bytes / GIB),
@@ -91,15 +148,17 @@ impl MemoryEstimate {
         )
     }
 
-    /// [`SdpaError::TooLarge`] if the total is above `opts`' limit.
+    /// [`SdpaError::TooLarge`] if the total ([`bytes_for`](Self::bytes_for))
+    /// is above `opts`' limit.
     pub fn check(&self, opts: &SdpaOptions) -> Result<(), SdpaError> {
         opts.validate()?;
-        if self.total_bytes() <= opts.max_memory_bytes() {
+        let needed = self.bytes_for(opts);
+        if needed <= opts.max_memory_bytes() {
             return Ok(());
         }
         Err(SdpaError::TooLarge {
             what: "the solve".into(),
-            needed_gib: self.total_gib(),
+            needed_gib: needed / GIB,
             limit_gib: opts.memory_limit_gib(),
             detail: self.detail(),
         })
@@ -130,10 +189,25 @@ fn psd_rows(block: usize, n: u64) -> Result<usize, SdpaError> {
         .ok_or_else(|| overflow(block, n as u64, "n(n+1)/2"))
 }
 
+/// Bytes of a PSD block of side n with t rows touched by mₖ variables,
+/// whole and decomposed as estimated from its off-diagonal pattern.
+fn psd_block_bytes(t: usize, mk: f64, n: u64, pattern: &[(usize, usize)]) -> (f64, f64) {
+    let (tf, nf) = (t as f64, n as f64);
+    let rest = BYTES_PER_COUPLING * (2.0 * tf * mk + mk * mk) + BYTES_PER_SIDE_SQUARED * nf * nf;
+    let whole = tf * tf;
+    let split =
+        decomposed_t2(n as usize, pattern.iter().copied()).map_or(whole, |t2| t2.min(whole));
+    (
+        BYTES_PER_DENSE * whole + rest,
+        BYTES_PER_DENSE * split + rest,
+    )
+}
+
 impl SdpaProblem {
     /// The memory converting and solving this problem will need (module
     /// docs of `sdpa::memory`, docs/inputs.md); an error if a size
-    /// overflows. Takes O(entries) time and no memory of the declared sizes.
+    /// overflows. Takes O(entries) time and no memory of the declared sizes,
+    /// plus the bounded clique analysis of each PSD block (`sdpa::cliques`).
     pub fn memory_estimate(&self) -> Result<MemoryEstimate, SdpaError> {
         let m = self.m() as f64;
         let mut per_block = vec![0usize; self.blocks.len()];
@@ -142,15 +216,16 @@ impl SdpaProblem {
                 *c += 1;
             }
         }
-        let (mut dense, mut rows, mut largest) = (0.0, 0usize, 0usize);
+        let patterns = self.block_patterns();
+        let (mut dense, mut decomposed, mut split) = (0.0, 0.0, 0usize);
+        let (mut rows, mut largest) = (0usize, 0usize);
         for (b, (&size, &touched)) in self.blocks.iter().zip(&per_block).enumerate() {
             let n = size.unsigned_abs();
             let r = if size > 0 {
                 let t = psd_rows(b + 1, n)?;
-                let (tf, mk, nf) = (t as f64, m.min(touched as f64), n as f64);
-                dense += BYTES_PER_DENSE * tf * tf
-                    + BYTES_PER_COUPLING * (2.0 * tf * mk + mk * mk)
-                    + BYTES_PER_SIDE_SQUARED * nf * nf;
+                let (d, dd) = psd_block_bytes(t, m.min(touched as f64), n, &patterns[b]);
+                (dense, decomposed) = (dense + d, decomposed + dd);
+                split += usize::from(dd < d);
                 largest = largest.max(n as usize);
                 t
             } else {
@@ -169,10 +244,26 @@ impl SdpaProblem {
             + BYTES_PER_BLOCK * self.blocks.len() as f64;
         Ok(MemoryEstimate {
             dense_bytes: dense,
+            decomposed_dense_bytes: decomposed,
+            decomposed_blocks: split,
             linear_bytes: linear,
             rows,
             largest_psd_side: largest,
         })
+    }
+}
+
+impl SdpaProblem {
+    /// The off-diagonal positions (0-based) of each PSD block's entries, in
+    /// one pass over the entries.
+    fn block_patterns(&self) -> Vec<Vec<(usize, usize)>> {
+        let mut p = vec![Vec::new(); self.blocks.len()];
+        for e in self.entries.iter().filter(|e| e.2 != e.3) {
+            if self.blocks.get(e.1).is_some_and(|&s| s > 0) {
+                p[e.1].push((e.2, e.3));
+            }
+        }
+        p
     }
 }
 

@@ -24,6 +24,7 @@
 //! ("SDPA problems").
 
 mod check;
+pub mod cliques;
 mod convert;
 mod error;
 mod format;

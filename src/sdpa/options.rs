@@ -1,6 +1,7 @@
 //! Options of the SDPA reader: a builder with defaults, validated once.
 
 use super::error::SdpaError;
+use crate::conic::Decomposition;
 
 /// Default memory limit in GiB (docs/inputs.md, "SDPA problems").
 pub const DEFAULT_MAX_MEMORY_GIB: f64 = 8.0;
@@ -18,12 +19,14 @@ pub const DEFAULT_MAX_MEMORY_GIB: f64 = 8.0;
 #[derive(Clone, Debug, PartialEq)]
 pub struct SdpaOptions {
     max_memory_gib: f64,
+    decomposition: Decomposition,
 }
 
 impl Default for SdpaOptions {
     fn default() -> Self {
         Self {
             max_memory_gib: DEFAULT_MAX_MEMORY_GIB,
+            decomposition: Decomposition::Verified,
         }
     }
 }
@@ -35,6 +38,21 @@ impl SdpaOptions {
     pub fn max_memory_gib(mut self, gib: f64) -> Self {
         self.max_memory_gib = gib;
         self
+    }
+
+    /// The chordal decomposition the solve will use (default
+    /// [`Decomposition::Verified`], as [`Settings`](crate::conic::Settings)):
+    /// it decides which memory estimate is held against the limit, and
+    /// [`MemoryEstimate::settings_for`](super::MemoryEstimate::settings_for)
+    /// passes it on to the solver.
+    pub fn decomposition(mut self, d: Decomposition) -> Self {
+        self.decomposition = d;
+        self
+    }
+
+    /// The chordal decomposition chosen.
+    pub fn decomposition_mode(&self) -> Decomposition {
+        self.decomposition
     }
 
     /// The memory limit in GiB.

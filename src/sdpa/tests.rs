@@ -2,8 +2,9 @@
 //! numbers, entries outside the declared sizes, duplicates, problems built
 //! in code, and diagonal (LP) blocks that must cost O(n).
 
+use super::options::GIB;
 use super::*;
-use crate::conic::{AffExpr, MatExpr, Problem, Settings, Status};
+use crate::conic::{AffExpr, Decomposition, MatExpr, Problem, Settings, Status};
 
 /// A block of side `side` with one entry, m = 1.
 fn one_block(side: &str) -> String {
@@ -29,7 +30,13 @@ fn wrapping_block_sides_are_named_errors_not_panics() {
 #[test]
 fn terabyte_header_fails_before_allocating() {
     // a PSD block of side 10⁶ would need ~10¹⁶ GiB; one of side 4000, ~3.3 PiB
-    for (side, at_least_gib) in [("1000000", 1e15), ("4000", 3e6)] {
+    // (undecomposed; side 10⁶ is too large for the clique analysis, so it
+    // counts as dense with decomposition too)
+    let off = SdpaOptions::default().decomposition(Decomposition::Off);
+    for (side, at_least_gib, opts) in [
+        ("1000000", 1e15, SdpaOptions::default()),
+        ("4000", 3e6, off),
+    ] {
         let p = SdpaProblem::parse(&one_block(side)).unwrap();
         let est = p.memory_estimate().unwrap();
         assert!(
@@ -37,7 +44,7 @@ fn terabyte_header_fails_before_allocating() {
             "{side}: {}",
             est.total_gib()
         );
-        let e = p.to_problem().unwrap_err();
+        let e = p.to_problem_with(&opts).unwrap_err();
         let SdpaError::TooLarge {
             needed_gib,
             limit_gib,
@@ -55,15 +62,23 @@ fn terabyte_header_fails_before_allocating() {
     }
 }
 
-#[test]
-fn a_max_cut_of_side_250_is_estimated_at_tens_of_gib() {
-    // Θ(n⁴): t = n(n+1)/2 = 31375 rows, 56·t² ≈ 51 GiB
-    let n = 250;
+/// An SDPA problem of side n, m = n, whose F₀ has a star's pattern (entry
+/// (1, k) for every k), Fₖ = eₖeₖᵀ.
+fn star(n: usize) -> String {
     let mut text = format!("{n}\n1\n{n}\n{}\n", vec!["1"; n].join(" "));
     for k in 1..=n {
         text += &format!("{k} 1 {k} {k} 1.0\n0 1 1 {k} 0.5\n");
     }
-    let p = SdpaProblem::parse(&text).unwrap();
+    text
+}
+
+#[test]
+fn a_max_cut_of_side_250_is_estimated_at_tens_of_gib() {
+    // Θ(n⁴): t = n(n+1)/2 = 31375 rows, 56·t² ≈ 51 GiB undecomposed; F₀'s
+    // pattern is a star, whose maximal cliques are its 249 edges, so the
+    // decomposed estimate is mostly the coupling term (≈ 0.23 GiB), the
+    // linear part and the n × n expression
+    let p = SdpaProblem::parse(&star(250)).unwrap();
     let est = p.memory_estimate().unwrap();
     assert_eq!(est.rows, 31375);
     assert!(
@@ -71,9 +86,45 @@ fn a_max_cut_of_side_250_is_estimated_at_tens_of_gib() {
         "{}",
         est.total_gib()
     );
-    assert!(matches!(p.to_problem(), Err(SdpaError::TooLarge { .. })));
-    let roomy = SdpaOptions::default().max_memory_gib(64.0);
+    let off = SdpaOptions::default().decomposition(Decomposition::Off);
+    assert!(matches!(
+        p.to_problem_with(&off),
+        Err(SdpaError::TooLarge { .. })
+    ));
+    let roomy = off.max_memory_gib(64.0);
     assert!(est.check(&roomy).is_ok());
+    // decomposed: S = 249 · 2³, Σ t² ≤ S^{1/3} · S
+    let s = 249.0 * 8.0f64;
+    assert_eq!(est.decomposed_blocks, 1);
+    let expected = est.dense_bytes + BYTES_PER_DENSE * (s.cbrt() * s - 31375f64.powi(2));
+    approx::assert_relative_eq!(est.decomposed_dense_bytes, expected, max_relative = 1e-9);
+    assert!(est.decomposed_total_bytes() < 0.5 * GIB, "{}", est.detail());
+    assert!(est.check(&SdpaOptions::default()).is_ok());
+}
+
+#[test]
+fn a_decomposed_estimate_that_fits_forbids_an_undecomposed_fall_back_that_does_not() {
+    // the star of side 120: ≈ 2.75 GiB whole, ≈ 60 MiB decomposed
+    let est = SdpaProblem::parse(&star(120))
+        .unwrap()
+        .memory_estimate()
+        .unwrap();
+    assert!(est.total_gib() > 1.0 && est.decomposed_total_bytes() < 0.1 * GIB);
+    let tight = SdpaOptions::default().max_memory_gib(0.5);
+    assert!(est.check(&tight).is_ok());
+    let s = est.settings_for(&tight, Settings::default());
+    assert!(
+        s.no_fallback
+            .as_deref()
+            .is_some_and(|w| w.contains("--max-memory-gib"))
+    );
+    let roomy = SdpaOptions::default();
+    assert_eq!(
+        est.settings_for(&roomy, Settings::default()),
+        Settings::default()
+    );
+    let off = tight.clone().decomposition(Decomposition::Off);
+    assert!(matches!(est.check(&off), Err(SdpaError::TooLarge { .. })));
 }
 
 #[test]

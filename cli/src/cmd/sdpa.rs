@@ -50,13 +50,11 @@ pub fn run(a: &SdpaArgs) -> i32 {
         eprintln!("error: {}: {e}", a.file.display());
         2
     };
-    let opts = SdpaOptions::default().max_memory_gib(a.max_memory_gib);
+    let opts = SdpaOptions::default()
+        .max_memory_gib(a.max_memory_gib)
+        .decomposition(a.decomposition.into());
     let prob = match SdpaProblem::read_with(a.file, &opts) {
         Ok(p) => p,
-        Err(e) => return fail(&e),
-    };
-    let estimate = match prob.memory_estimate() {
-        Ok(m) => m,
         Err(e) => return fail(&e),
     };
     let kkt = if a.qdldl {
@@ -65,15 +63,10 @@ pub fn run(a: &SdpaArgs) -> i32 {
         KktSolver::Faer
     };
     let settings = Settings::default()
-        .decomposition(a.decomposition.into())
         .kkt_solver(kkt)
         .verbose(a.verbose && !a.json);
-    let result = prob
-        .to_problem_with(&opts)
-        .map_err(|e| e.to_string())
-        .and_then(|(p, _)| p.solve(&settings).map_err(|e| e.to_string()));
-    let sol = match result {
-        Ok(s) => s,
+    let (sol, estimate) = match prob.solve_with(&opts, settings) {
+        Ok(r) => r,
         Err(e) => return fail(&e),
     };
     print_result(a, &prob, &estimate, &sol);
@@ -87,6 +80,7 @@ fn print_result(a: &SdpaArgs, prob: &SdpaProblem, est: &MemoryEstimate, sol: &So
             "m": prob.m(),
             "blocks": prob.blocks,
             "memory_estimate_gib": est.total_gib(),
+            "memory_estimate_decomposed_gib": est.decomposed_total_bytes() / 1024f64.powi(3),
             "decomposition": sol.decomposition.as_str(),
             "decomposition_reason": match &sol.decomposition {
                 momentlmi::conic::DecompositionOutcome::FellBack(r) => Some(r.as_str()),
@@ -104,7 +98,11 @@ fn print_result(a: &SdpaArgs, prob: &SdpaProblem, est: &MemoryEstimate, sol: &So
         println!("file              {}", a.file.display());
         println!("variables m       {}", prob.m());
         println!("blocks            {:?}", prob.blocks);
-        println!("memory estimate   {:.3} GiB", est.total_gib());
+        println!(
+            "memory estimate   {:.3} GiB ({:.3} GiB decomposed)",
+            est.total_gib(),
+            est.decomposed_total_bytes() / 1024f64.powi(3)
+        );
         println!("status            {}", sol.status);
         println!("decomposition     {}", sol.decomposition);
         // an infeasible or unbounded end has no finite objective to show
