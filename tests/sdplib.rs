@@ -6,7 +6,7 @@
 //!
 //! Every instance is solved with the defaults: the reader's default options
 //! (memory limit 8 GiB) and the default solver settings (verified chordal
-//! decomposition), through `MemoryEstimate::settings_for` as the command
+//! decomposition), through `SdpaProblem::solve_with` as the command
 //! does. gpp100 (a dense PSD block of side 100, which decomposition cannot
 //! help: Clarabel's KKT system holds a dense `n(n+1)/2`-square block, 80 s
 //! here) and arch0 (sparse: 15–17 s in release with the decomposition,
@@ -69,11 +69,8 @@ fn check(name: &str) {
         .find(|(n, _)| *n == name)
         .expect("known instance");
     let prob = SdpaProblem::read(&d.join(format!("{name}.dat-s"))).expect("readable");
-    let opts = SdpaOptions::default();
-    let est = prob.memory_estimate().expect("sizes fit");
-    let (p, _) = prob.to_problem_with(&opts).expect("convertible");
-    let sol = p
-        .solve(&est.settings_for(&opts, Settings::default()))
+    let (sol, _) = prob
+        .solve_with(&SdpaOptions::default(), Settings::default())
         .expect("solvable");
     let hinf = name.starts_with("hinf");
     assert!(

@@ -324,16 +324,12 @@ impl Compiled {
         let t0 = Instant::now();
         let s = &first.solver.solution;
         let verdict = self.verify(s.status, &s.x, &s.z);
-        let check = t0.elapsed().as_secs_f64();
+        first.extra_solve = t0.elapsed().as_secs_f64();
         match (verdict, &self.settings.no_fallback) {
-            (Ok(()), _) => {
-                first.extra_solve = check;
-                Ok(self.to_solution(first, Outcome::Used))
-            }
+            (Ok(()), _) => Ok(self.to_solution(first, Outcome::Used)),
             // a run that claims nothing (an iteration or time limit) is
             // returned as it is: its status says it is no answer
             (Err(_), Some(_)) if !claims_an_answer(first.solver.solution.status) => {
-                first.extra_solve = check;
                 Ok(self.to_solution(first, Outcome::Unchecked))
             }
             (Err(reason), Some(why)) => Err(ConicError::DecompositionRejected {
@@ -343,7 +339,7 @@ impl Compiled {
             (Err(reason), None) => {
                 let mut again = self.run(false)?;
                 again.setup += first.setup;
-                again.extra_solve = first.solve + check;
+                again.extra_solve = first.solve + first.extra_solve;
                 Ok(self.to_solution(again, Outcome::FellBack(reason)))
             }
         }
@@ -461,8 +457,9 @@ struct Run {
     setup: f64,
     /// The interior-point solve, seconds.
     solve: f64,
-    /// Time before this run that counts as solving (a failed decomposed
-    /// solve and its check), seconds.
+    /// Time that counts as solving besides `solve`: the check of this
+    /// decomposed run, or a failed decomposed solve and its check before
+    /// this one, seconds.
     extra_solve: f64,
     decomposed: bool,
 }

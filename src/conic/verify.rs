@@ -16,7 +16,12 @@ fn inf_norm(v: &[f64]) -> f64 {
     v.iter().fold(0.0, |a, x| a.max(x.abs()))
 }
 
-/// `y += M v` (`transpose`: `y += Mᵀ v`).
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// `y += M v` (`transpose`: `y += Mᵀ v`). Clarabel 0.11's own `gemv` and
+/// `symv` on `CscMatrix` are crate-private, hence these two.
 fn csc_mul(m: &CscMatrix<f64>, v: &[f64], y: &mut [f64], transpose: bool) {
     for c in 0..m.n {
         for k in m.colptr[c]..m.colptr[c + 1] {
@@ -91,9 +96,7 @@ impl Compiled {
             SolverStatus::Solved | SolverStatus::AlmostSolved => {
                 let s: Vec<f64> = self.b.iter().zip(&ax).map(|(b, a)| b - a).collect();
                 let px = sym_mul(&self.p, x);
-                let xpx: f64 = px.iter().zip(x).map(|(a, b)| a * b).sum();
-                let qx: f64 = self.q.iter().zip(x).map(|(a, b)| a * b).sum();
-                let bz: f64 = self.b.iter().zip(z).map(|(a, b)| a * b).sum();
+                let (xpx, qx, bz) = (dot(&px, x), dot(&self.q, x), dot(&self.b, z));
                 let stat: Vec<f64> = (0..x.len()).map(|i| px[i] + self.q[i] + atz[i]).collect();
                 let scale_d = 1.0 + inf_norm(&self.q).max(inf_norm(&px)).max(inf_norm(&atz));
                 let (pobj, dobj) = (0.5 * xpx + qx, -0.5 * xpx - bz);
@@ -116,7 +119,7 @@ impl Compiled {
             }
             SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => {
                 // a certificate: Aᵀz = 0, bᵀz < 0, z ∈ K*
-                let bz: f64 = self.b.iter().zip(z).map(|(a, b)| a * b).sum();
+                let bz = dot(&self.b, z);
                 if !(bz < 0.0) {
                     return Err(format!("infeasibility certificate has bᵀz = {bz:.1e} ≥ 0"));
                 }
@@ -129,7 +132,7 @@ impl Compiled {
             }
             SolverStatus::DualInfeasible | SolverStatus::AlmostDualInfeasible => {
                 // a certificate: Px = 0, −Ax ∈ K, qᵀx < 0
-                let qx: f64 = self.q.iter().zip(x).map(|(a, b)| a * b).sum();
+                let qx = dot(&self.q, x);
                 if !(qx < 0.0) {
                     return Err(format!("unboundedness certificate has qᵀx = {qx:.1e} ≥ 0"));
                 }

@@ -79,10 +79,18 @@ impl SdpaProblem {
     /// [`solve_with`](Self::solve_with), so that a verified decomposition does
     /// not fall back to an undecomposed solve beyond the limit.
     pub fn to_problem_with(&self, opts: &SdpaOptions) -> Result<(Problem, Vec<Var>), SdpaError> {
+        self.checked(opts)?;
+        self.build()
+    }
+
+    /// Validates `opts` and the problem and checks the memory estimate
+    /// against `opts`' limit; the estimate.
+    fn checked(&self, opts: &SdpaOptions) -> Result<MemoryEstimate, SdpaError> {
         opts.validate()?;
         self.validate()?;
-        self.memory_estimate()?.check(opts)?;
-        self.build()
+        let est = self.memory_estimate()?;
+        est.check(opts)?;
+        Ok(est)
     }
 
     /// Validates, estimates the memory once and checks it against `opts`'
@@ -94,10 +102,7 @@ impl SdpaProblem {
         opts: &SdpaOptions,
         settings: Settings,
     ) -> Result<(Solution, MemoryEstimate), SdpaError> {
-        opts.validate()?;
-        self.validate()?;
-        let est = self.memory_estimate()?;
-        est.check(opts)?;
+        let est = self.checked(opts)?;
         let (p, _) = self.build()?;
         let sol = p.solve(&est.settings_for(opts, settings))?;
         Ok((sol, est))
