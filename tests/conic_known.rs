@@ -8,24 +8,9 @@ use momentlmi::conic::{
 };
 use nalgebra::DMatrix;
 
-/// Deterministic xorshift for test data.
-struct Rng(u64);
-impl Rng {
-    fn f(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    }
-    fn sym(&mut self, n: usize) -> DMatrix<f64> {
-        let m = DMatrix::from_fn(n, n, |_, _| self.f());
-        (&m + m.transpose()) * 0.5
-    }
-    fn spd(&mut self, n: usize) -> DMatrix<f64> {
-        let m = DMatrix::from_fn(n, n, |_, _| self.f());
-        &m * m.transpose() + DMatrix::identity(n, n) * 0.5
-    }
-}
+#[path = "support/rng.rs"]
+mod rng;
+use rng::Rng;
 
 fn tight() -> Settings {
     Settings::default()

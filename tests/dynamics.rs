@@ -365,18 +365,9 @@ fn check_cases(model: &Model, v: &serde_json::Value, ncols: usize) {
 }
 
 /// Deterministic test states.
-struct Rng(u64);
-impl Rng {
-    fn f(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    }
-    fn v(&mut self, s: f64) -> Vec<f64> {
-        (0..3).map(|_| s * self.f()).collect()
-    }
-}
+#[path = "support/rng.rs"]
+mod rng;
+use rng::Rng;
 
 #[test]
 fn regressor_times_params_equals_rnea_with_rotors_and_friction() {

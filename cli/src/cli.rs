@@ -159,6 +159,11 @@ enum Command {
         /// Regularisation weight w_π toward the prior (0 turns it off).
         #[arg(long, default_value_t = 1e-6)]
         weight: f64,
+        /// How the prior enters the objective: euclidean (w‖π − π̂‖²) or entropic
+        /// (w Σ d(J‖Ĵ), the log-det divergence of each body's pseudo-inertia: unit and
+        /// frame invariant; needs a strictly consistent prior; weights around 1e-2 to 1).
+        #[arg(long, default_value = "euclidean", value_parser = ["euclidean", "entropic"])]
+        regularizer: String,
         /// Held-out validation data CSV.
         #[arg(long)]
         validate: Option<PathBuf>,
@@ -331,6 +336,7 @@ pub fn main() -> i32 {
             constraints,
             prior,
             weight,
+            regularizer,
             validate,
             json,
             levels,
@@ -345,6 +351,7 @@ pub fn main() -> i32 {
             constraints: &constraints,
             prior: prior.as_deref(),
             weight,
+            regularizer: &regularizer,
             validate: validate.as_deref(),
             json,
             levels: &levels,

@@ -151,6 +151,7 @@ impl Problem {
                 ConeKind::Nonnegative => SupportedConeT::NonnegativeConeT(k),
                 ConeKind::SecondOrder => SupportedConeT::SecondOrderConeT(k),
                 ConeKind::Psd { n } => SupportedConeT::PSDTriangleConeT(n),
+                ConeKind::Exponential => SupportedConeT::ExponentialConeT(),
             };
             // merge runs of zero / nonnegative cones
             match (cones.last_mut(), &cone) {

@@ -1,7 +1,8 @@
 //! A generic optimality check for any solved [`Problem`].
 //!
-//! With the constraints `sᵢ(x) ∈ Kᵢ` and duals `zᵢ ∈ Kᵢ*` (all cones used
-//! here are self-dual, the zero cone's dual is free), a point is optimal
+//! With the constraints `sᵢ(x) ∈ Kᵢ` and duals `zᵢ ∈ Kᵢ*` (the orthant,
+//! second-order and PSD cones are self-dual, the zero cone's dual is free,
+//! the exponential cone's dual is its own set), a point is optimal
 //! when it is primal feasible, dual feasible, complementary
 //! (`Σ ⟨sᵢ(x), zᵢ⟩ = 0`) and stationary (`∇f(x) = Σᵢ Dsᵢᵀ zᵢ`).
 
@@ -55,6 +56,33 @@ pub(crate) fn cone_violation(kind: ConeKind, v: &[f64], dual: bool) -> f64 {
             let lmin = m.symmetric_eigenvalues().min();
             (-lmin).max(0.0)
         }
+        ConeKind::Exponential => match v {
+            [x, y, z] if dual => exp_dual_violation(*x, *y, *z),
+            [x, y, z] => exp_violation(*x, *y, *z),
+            _ => f64::INFINITY,
+        },
+    }
+}
+
+/// How far `(x, y, z)` is outside `K_exp = cl{y > 0, y e^{x/y} ≤ z}`: in the
+/// interior region the excess `x − y ln(z/y)` of the hypograph form, else the
+/// distance to the face `{x ≤ 0, y = 0, z ≥ 0}` (0 exactly on the cone).
+fn exp_violation(x: f64, y: f64, z: f64) -> f64 {
+    if y > 0.0 && z > 0.0 {
+        (x - y * (z / y).ln()).max(0.0)
+    } else {
+        y.abs().max(x).max(-z).max(0.0)
+    }
+}
+
+/// How far `(u, v, w)` is outside `K_exp* = cl{u < 0, −u e^{v/u} ≤ e w}`,
+/// i.e. `v ≥ u (1 + ln(w / −u))`; on the face `{u = 0, v ≥ 0, w ≥ 0}` the
+/// distance to it.
+fn exp_dual_violation(u: f64, v: f64, w: f64) -> f64 {
+    if u < 0.0 && w > 0.0 {
+        (u * (1.0 + (w / -u).ln()) - v).max(0.0)
+    } else {
+        u.abs().max(-v).max(-w).max(0.0)
     }
 }
 
@@ -98,5 +126,43 @@ pub fn check_optimality(problem: &Problem, sol: &Solution) -> KktReport {
         dual_infeasibility: dinf,
         complementarity: comp.abs(),
         stationarity: grad.iter().fold(0.0, |a, g| a.max(g.abs())),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn exponential_cone_membership() {
+        let e = std::f64::consts::E;
+        // inside, on the boundary, on the closure's face
+        for v in [
+            [0.0, 1.0, 1.5],
+            [1.0, 1.0, e],
+            [-3.0, 0.0, 2.0],
+            [0.0, 0.0, 0.0],
+        ] {
+            assert!(exp_violation(v[0], v[1], v[2]) < 1e-15, "{v:?}");
+        }
+        // outside: above the boundary, negative y, positive x on the face
+        assert!((exp_violation(2.0, 1.0, e) - 1.0).abs() < 1e-12);
+        assert!(exp_violation(0.0, -1.0, 1.0) >= 1.0);
+        assert!(exp_violation(0.5, 0.0, 1.0) >= 0.5);
+        // the dual: (−1, 0, 1/e) is on its boundary (−u e^{v/u} = 1 = e w)
+        assert!(exp_dual_violation(-1.0, 0.0, 1.0 / e) < 1e-15);
+        assert!(exp_dual_violation(0.0, 1.0, 1.0) < 1e-15);
+        assert!(exp_dual_violation(-1.0, -0.5, 1.0 / e) > 0.4);
+        assert!(exp_dual_violation(1.0, 1.0, 1.0) >= 1.0);
+        // the cones are dual: ⟨s, z⟩ ≥ 0 on samples of both
+        for (s, z) in [
+            ([1.0, 1.0, e], [-1.0, 0.0, 1.0 / e]),
+            ([-1.0, 2.0, 2.0], [-0.5, 1.0, 3.0]),
+        ] {
+            assert!(exp_violation(s[0], s[1], s[2]) < 1e-12);
+            assert!(exp_dual_violation(z[0], z[1], z[2]) < 1e-12);
+            assert!(s.iter().zip(&z).map(|(a, b)| a * b).sum::<f64>() >= -1e-12);
+        }
+        assert!(cone_violation(ConeKind::Exponential, &[1.0, 2.0], false).is_infinite());
     }
 }

@@ -2,13 +2,14 @@
 //!
 //! ```text
 //! minimise    cᵀx + c₀ + Σₖ wₖ (aₖᵀx + bₖ)²
-//! subject to  sᵢ(x) ∈ Kᵢ,   Kᵢ ∈ {0, ℝ₊ⁿ, second-order cone, PSD cone}
+//! subject to  sᵢ(x) ∈ Kᵢ,   Kᵢ ∈ {0, ℝ₊ⁿ, second-order, PSD, exponential cone}
 //! ```
 //!
 //! Variables ([`Var`], [`SymVar`]) live in a [`Problem`]; affine scalar
 //! expressions ([`AffExpr`]) and affine matrix expressions ([`MatExpr`])
 //! combine them with `+`, `−`, scalar `×`, constant matrix products, blocks,
-//! trace and inner products. Constraints return a [`ConstraintId`] whose dual
+//! trace and inner products. `log`, relative entropy and `log det` are
+//! atoms on the exponential cone ([`Problem::add_logdet_ge`]). Constraints return a [`ConstraintId`] whose dual
 //! the [`Solution`] gives back (PSD duals as full symmetric matrices).
 //! [`Problem::compile`] produces Clarabel's `(P, q, A, b, K)` once
 //! ([`Compiled`]), with PSD cones as √2-scaled upper triangles.
@@ -44,6 +45,7 @@ mod compile;
 mod error;
 mod expr;
 mod kkt;
+mod logdet;
 mod matexpr;
 mod problem;
 mod settings;
@@ -54,6 +56,7 @@ pub use compile::Compiled;
 pub use error::ConicError;
 pub use expr::{AffExpr, Var, sum};
 pub use kkt::{KktReport, check_optimality};
+pub use logdet::LogDet;
 pub use matexpr::MatExpr;
 pub use problem::{ConeKind, ConstraintId, Problem, Sense, SymVar};
 pub use settings::{Decomposition, KktSolver, LeastSquaresForm, Settings};

@@ -64,6 +64,10 @@ pub enum ConeKind {
         /// Side of the matrix.
         n: usize,
     },
+    /// The exponential cone `K_exp = cl{(x, y, z) : y > 0, y·e^{x/y} ≤ z}`
+    /// (three rows `x, y, z`; Clarabel's `ExponentialConeT`). Its dual is
+    /// `K_exp* = cl{(u, v, w) : u < 0, −u·e^{v/u} ≤ e·w}`.
+    Exponential,
 }
 
 /// Handle of a constraint of one problem, for its dual and name; using it
@@ -169,7 +173,7 @@ pub enum Sense {
 /// ```
 ///
 /// with Kᵢ the zero cone (equalities), the nonnegative orthant, a
-/// second-order cone or a PSD cone. It compiles to Clarabel's
+/// second-order cone, a PSD cone or the exponential cone. It compiles to Clarabel's
 /// `min ½xᵀPx + qᵀx s.t. Ax + s = b, s ∈ K`.
 ///
 /// ```
@@ -419,6 +423,22 @@ impl Problem {
         let mut rows = vec![t.into()];
         rows.extend(x);
         self.push(ConeKind::SecondOrder, rows, "SOC")
+    }
+
+    /// `(x, y, z) ∈ K_exp`, i.e. `y·e^{x/y} ≤ z` with `y > 0` (or, in the
+    /// closure, `x ≤ 0, y = 0, z ≥ 0`). Its dual is a 3-vector in
+    /// `K_exp* = cl{(u, v, w) : u < 0, −u·e^{v/u} ≤ e·w}`. The atoms built on
+    /// it (`log`, `log det`, relative entropy) are in this layer's
+    /// [`Problem::add_log_ge`], [`Problem::add_logdet_ge`] and
+    /// [`Problem::add_rel_entropy_le`].
+    pub fn add_exp_cone(
+        &mut self,
+        x: impl Into<AffExpr>,
+        y: impl Into<AffExpr>,
+        z: impl Into<AffExpr>,
+    ) -> Result<ConstraintId, ConicError> {
+        let rows = vec![x.into(), y.into(), z.into()];
+        self.push(ConeKind::Exponential, rows, "exp cone")
     }
 
     /// `M ⪰ 0` for a symmetric `n × n` expression (a `&MatExpr`, a

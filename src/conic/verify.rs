@@ -50,23 +50,28 @@ fn sym_mul(p: &CscMatrix<f64>, x: &[f64]) -> Vec<f64> {
     y
 }
 
-fn kind(c: &SupportedConeT<f64>) -> (ConeKind, usize) {
-    match *c {
+/// The layer's kind of a Clarabel cone and its rows; `None` for a cone this
+/// layer never compiles (its rows cannot be checked).
+fn kind(c: &SupportedConeT<f64>) -> Option<(ConeKind, usize)> {
+    Some(match *c {
         SupportedConeT::ZeroConeT(k) => (ConeKind::Zero, k),
         SupportedConeT::NonnegativeConeT(k) => (ConeKind::Nonnegative, k),
         SupportedConeT::SecondOrderConeT(k) => (ConeKind::SecondOrder, k),
         SupportedConeT::PSDTriangleConeT(n) => (ConeKind::Psd { n }, n * (n + 1) / 2),
-        // the layer compiles no other cone
-        _ => (ConeKind::Zero, 0),
-    }
+        SupportedConeT::ExponentialConeT() => (ConeKind::Exponential, 3),
+        _ => return None,
+    })
 }
 
-/// Largest cone violation of `v` (row-stacked over `cones`), or of the dual.
+/// Largest cone violation of `v` (row-stacked over `cones`), or of the dual;
+/// infinite when a cone cannot be checked.
 fn violation(cones: &[SupportedConeT<f64>], v: &[f64], dual: bool) -> f64 {
     let mut start = 0;
     let mut worst = 0.0f64;
     for c in cones {
-        let (k, len) = kind(c);
+        let Some((k, len)) = kind(c) else {
+            return f64::INFINITY;
+        };
         let end = (start + len).min(v.len());
         worst = worst.max(cone_violation(k, &v[start..end], dual));
         start = end;

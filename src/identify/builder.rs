@@ -28,11 +28,15 @@
 //! ```
 
 use super::error::IdentifyError;
-use super::problem::{IdentifyOptions, Level, Solved, default_settings, parameter_names};
+use super::problem::{
+    IdentifyOptions, Level, Regularizer, Solved, default_settings, parameter_names,
+};
 use super::reduce::Reduced;
 use crate::conic::{AffExpr, Problem, Settings, Status};
 use crate::dynamics::{Model, RobotDescription};
-use crate::moments::{Ellipsoid, lmi::BodyVars};
+use crate::moments::{
+    Ellipsoid, InertialParams, MomentsError, add_entropic_divergence, lmi::BodyVars,
+};
 use faer::Mat;
 
 /// A hook: adds constraints to the problem, given every body's and joint's
@@ -114,6 +118,7 @@ pub struct Identification<'m> {
     bodies: Vec<BodySpec>,
     weight: f64,
     prior: Vec<f64>,
+    regularizer: Regularizer,
     com_lmi: bool,
     eps: f64,
     settings: Settings,
@@ -136,6 +141,7 @@ impl<'m> Identification<'m> {
             ],
             weight: 0.0,
             prior: vec![],
+            regularizer: Regularizer::Euclidean,
             com_lmi: false,
             eps: 0.0,
             settings: default_settings(),
@@ -164,6 +170,7 @@ impl<'m> Identification<'m> {
         }
         s.weight = opts.weight;
         s.prior = opts.prior.clone();
+        s.regularizer = opts.regularizer;
         s.com_lmi = opts.com_lmi;
         s.eps = opts.eps;
         s.settings = opts.settings.clone();
@@ -256,6 +263,29 @@ impl<'m> Identification<'m> {
         self.weight = o.weight;
         self.prior = o.prior;
         Ok(self)
+    }
+
+    /// How the prior enters the objective (default [`Regularizer::Euclidean`];
+    /// [`Regularizer::Entropic`] needs every prior body strictly consistent).
+    pub fn regularizer(mut self, r: Regularizer) -> Self {
+        self.regularizer = r;
+        self
+    }
+
+    /// The regulariser set.
+    pub fn regularizer_kind(&self) -> Regularizer {
+        self.regularizer
+    }
+
+    /// Body `b`'s prior π̂, when the regularisation is on.
+    pub fn prior_body(&self, b: usize) -> Option<InertialParams> {
+        (self.weight > 0.0 && self.prior.len() >= 10 * (b + 1))
+            .then(|| InertialParams(std::array::from_fn(|k| self.prior[10 * b + k])))
+    }
+
+    /// Whether the entropic divergence is in the objective.
+    fn entropic(&self) -> bool {
+        self.weight > 0.0 && self.regularizer == Regularizer::Entropic
     }
 
     /// Adds the CoM-in-ellipsoid LMI (22) to every constrained body with an ellipsoid.
@@ -352,7 +382,8 @@ impl<'m> Identification<'m> {
         let ns = red.samples as f64;
         let t0 = std::time::Instant::now();
         let reg = (self.weight, self.prior.as_slice());
-        if self.hooks.is_empty() && self.bodies.iter().all(|b| b.level == Level::None) {
+        let direct = self.hooks.is_empty() && !self.entropic();
+        if direct && self.bodies.iter().all(|b| b.level == Level::None) {
             return Ok(Solved {
                 theta: solve_direct(&r, &d, ns, reg, nb)?,
                 bodies: model.body_names(),
@@ -364,10 +395,13 @@ impl<'m> Identification<'m> {
                 rank,
             });
         }
-        let (mut prob, theta) = scaled_problem(&r, &d, ns, reg, nb)?;
+        let (mut prob, theta) = scaled_problem(&r, &d, ns, reg, nb, !self.entropic())?;
         let vars = self.vars(&theta);
         let bodies: Vec<BodyVars> = vars.bodies.iter().map(|(_, b)| b.clone()).collect();
         self.add_body_constraints(&mut prob, &bodies, &model.body_names())?;
+        if self.entropic() {
+            self.add_entropic(&mut prob, &bodies, &model.body_names())?;
+        }
         prob.add_nonneg(theta[10 * nb..].to_vec())?; // B ⪰ 0, B_c ⪰ 0
         for h in &self.hooks {
             h(&mut prob, &vars)?;
@@ -443,6 +477,35 @@ impl<'m> Identification<'m> {
         Ok(())
     }
 
+    /// The objective's `w Σ_b d(J_b ‖ Ĵ_b)`; a prior body that is not
+    /// strictly consistent is an error naming it.
+    fn add_entropic(
+        &self,
+        prob: &mut Problem,
+        bodies: &[BodyVars],
+        names: &[String],
+    ) -> Result<(), IdentifyError> {
+        let mut total = AffExpr::zero();
+        for (b, (body, name)) in bodies.iter().zip(names).enumerate() {
+            let prior = self.prior_body(b).expect("the entropic term needs a prior");
+            let term = add_entropic_divergence(prob, body, &prior).map_err(|e| match e {
+                MomentsError::NotPositiveSemidefinite { min_eig } => IdentifyError::Option {
+                    option: "prior",
+                    message: format!(
+                        "body '{name}': its prior pseudo-inertia is not positive definite (smallest eigenvalue {min_eig:.3e}); the entropic regulariser needs a strictly consistent prior (repair it with `check --repair`, or use --regularizer euclidean)"
+                    ),
+                },
+                e => IdentifyError::Option {
+                    option: "prior",
+                    message: format!("body '{name}': {e}"),
+                },
+            })?;
+            total += term.divergence * self.weight;
+        }
+        prob.minimize(total);
+        Ok(())
+    }
+
     /// After an infeasible solve: the first body whose own constraint set is
     /// empty, else the status itself (the caller's constraints conflict).
     fn explain_infeasible(&self, status: Status) -> Result<IdentifyError, IdentifyError> {
@@ -455,6 +518,7 @@ impl<'m> Identification<'m> {
                 bodies: vec![self.bodies[b]],
                 weight: 0.0,
                 prior: vec![],
+                regularizer: Regularizer::Euclidean,
                 com_lmi: self.com_lmi,
                 eps: self.eps,
                 settings: self.settings.clone(),
@@ -559,14 +623,16 @@ fn solve_direct(
 }
 
 /// The constrained levels' SDP in scaled variables θ = D z (D = 1 / the
-/// column norms of R, 1 for unexcited columns), with its objective; returns
-/// the problem and θ as expressions of z.
+/// column norms of R, 1 for unexcited columns), with its objective (the
+/// Euclidean prior's squares when `prior_squares`); returns the problem and
+/// θ as expressions of z.
 fn scaled_problem(
     r: &Mat<f64>,
     d: &[f64],
     ns: f64,
     (weight, prior): (f64, &[f64]),
     nb: usize,
+    prior_squares: bool,
 ) -> Result<(Problem, Vec<AffExpr>), IdentifyError> {
     let p = r.ncols();
     let dscale: Vec<f64> = (0..p)
@@ -595,8 +661,10 @@ fn scaled_problem(
         .collect();
     if weight > 0.0 {
         prob.add_squares(1.0 / ns, residual_rows);
-        for k in 0..10 * nb {
-            prob.add_square(weight, theta[k].clone() - prior[k]);
+        if prior_squares {
+            for k in 0..10 * nb {
+                prob.add_square(weight, theta[k].clone() - prior[k]);
+            }
         }
     } else {
         // Without regularisation, minimise the residual norm itself (same

@@ -16,7 +16,7 @@ mod robot_facts;
 pub use builder::{Identification, Vars};
 pub use error::IdentifyError;
 pub use problem::{
-    IdentifyOptions, Level, default_settings, parameter_names, solve_identification,
+    IdentifyOptions, Level, Regularizer, default_settings, parameter_names, solve_identification,
 };
 pub use reduce::{Cost, Reduced, StreamReducer, cost, reduce_samples};
 pub use result::{BodyResult, Contributions, IdentifyResult, identify, predict_split, rms};

@@ -1,13 +1,16 @@
 //! The identification problem (25) of the paper, built with `conic`:
 //!
 //! ```text
-//! minimise    (1/n_s) Σ ‖Y π + B q̇ + B_c sign(q̇) − τ‖² + w_π ‖π − π̂‖²
+//! minimise    (1/n_s) Σ ‖Y π + B q̇ + B_c sign(q̇) − τ‖² + w_π R(π, π̂)
 //! subject to  per body, the chosen level: none | I(π) ⪰ εI | J(π) ⪰ εI
 //!             | J(π) ⪰ εI and tr(J(π) Q) ≥ 0   [and the CoM LMI (22)],
 //!             B ⪰ 0, B_c ⪰ 0 (diagonal, i.e. elementwise ≥ 0)
 //! ```
 //!
-//! with the data entering only through the reduced factor `R, d`
+//! with `R(π, π̂)` the [`Regularizer`]: `‖π − π̂‖²` (Euclidean) or
+//! `Σ_bodies d(J(π) ‖ J(π̂))` (entropic, the log-det divergence of
+//! [`crate::moments::entropic_divergence`]), and the data entering only
+//! through the reduced factor `R, d`
 //! ([`super::reduce`]). The unconstrained level is solved directly (SVD, no
 //! interior point), so noise-free data are fitted to round-off. For the
 //! constrained levels the variables are scaled by the column norms of R so
@@ -59,6 +62,39 @@ impl Level {
     }
 }
 
+/// How the prior π̂ enters the objective, with the weight w_π.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Regularizer {
+    /// `w ‖π − π̂‖²` over every body's ten parameters (units mixed: kg,
+    /// kg·m, kg·m²; w in N²·m² per unit²).
+    #[default]
+    Euclidean,
+    /// `w Σ_b d(J_b ‖ Ĵ_b)`, `d(J ‖ Ĵ) = −log det(Ĵ⁻¹J) + tr(Ĵ⁻¹J) − 4`:
+    /// dimensionless and frame invariant (w in N²·m²); keeps every J ≻ 0
+    /// and needs every prior body strictly consistent.
+    Entropic,
+}
+
+impl Regularizer {
+    /// From the CLI name.
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "euclidean" => Some(Self::Euclidean),
+            "entropic" => Some(Self::Entropic),
+            _ => None,
+        }
+    }
+
+    /// The CLI name.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::Euclidean => "euclidean",
+            Self::Entropic => "entropic",
+        }
+    }
+}
+
 /// Options of [`solve_identification`], validated at construction; what
 /// depends on the model (the prior's and the ellipsoids' lengths) is checked
 /// against it when solving.
@@ -67,6 +103,7 @@ pub struct IdentifyOptions {
     pub(crate) level: Level,
     pub(crate) weight: f64,
     pub(crate) prior: Vec<f64>,
+    pub(crate) regularizer: Regularizer,
     pub(crate) ellipsoids: Option<Vec<Ellipsoid>>,
     pub(crate) com_lmi: bool,
     pub(crate) eps: f64,
@@ -91,6 +128,7 @@ impl IdentifyOptions {
             level,
             weight: 0.0,
             prior: vec![],
+            regularizer: Regularizer::Euclidean,
             ellipsoids: None,
             com_lmi: false,
             eps: 0.0,
@@ -147,6 +185,12 @@ impl IdentifyOptions {
         Ok(self)
     }
 
+    /// How the prior enters the objective (default Euclidean).
+    pub fn with_regularizer(mut self, r: Regularizer) -> Self {
+        self.regularizer = r;
+        self
+    }
+
     /// One bounding ellipsoid per body (the ellipsoid level and the CoM LMI).
     pub fn with_ellipsoids(mut self, ellipsoids: Vec<Ellipsoid>) -> Self {
         self.ellipsoids = Some(ellipsoids);
@@ -192,6 +236,11 @@ impl IdentifyOptions {
     /// The prior (10 per body).
     pub fn prior(&self) -> &[f64] {
         &self.prior
+    }
+
+    /// The regulariser.
+    pub fn regularizer(&self) -> Regularizer {
+        self.regularizer
     }
 
     /// The ellipsoids, if given.

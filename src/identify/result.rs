@@ -2,13 +2,14 @@
 
 use super::builder::Identification;
 use super::error::IdentifyError;
-use super::problem::{IdentifyOptions, Level};
+use super::problem::{IdentifyOptions, Level, Regularizer};
 use super::reduce::reduce_samples;
 use crate::data::Dataset;
 use crate::dynamics::params_file::{BodyParams, Friction, ParamsFile};
 use crate::dynamics::{Data, Model, regressor};
 use crate::moments::{
     ConsistencyReport, InertialParams, RealizabilityReport, check_consistency, check_realizable,
+    entropic_divergence,
 };
 use serde::Serialize;
 
@@ -41,6 +42,10 @@ pub struct BodyResult {
     pub consistency: ConsistencyReport,
     /// Realizability in the body's ellipsoid, when one is given.
     pub realizability: Option<RealizabilityReport>,
+    /// The entropic divergence `d(J(π) ‖ J(π̂))` from the prior
+    /// (dimensionless), with either regulariser; `None` without a prior or
+    /// when π or π̂ is not strictly consistent (the divergence is infinite).
+    pub divergence_from_prior: Option<f64>,
 }
 
 /// Torque contributions on the validation data (Fig. 5 of the paper).
@@ -67,6 +72,8 @@ pub struct IdentifyResult {
     pub constraints: Level,
     /// Regularisation weight.
     pub weight: f64,
+    /// How the prior entered the objective.
+    pub regularizer: Regularizer,
     /// Bodies.
     pub bodies: Vec<BodyResult>,
     /// Friction.
@@ -255,6 +262,9 @@ fn body_results(id: &Identification, theta: &[f64]) -> (Vec<BodyResult>, bool) {
             consistent: rep.consistent,
             consistency: rep,
             realizability: real,
+            divergence_from_prior: id
+                .prior_body(b)
+                .and_then(|prior| entropic_divergence(&pi, &prior).ok()),
         });
     }
     (bodies, ok)
@@ -339,6 +349,7 @@ impl Identification<'_> {
             parameter_order: "m, hx, hy, hz, Ixx, Ixy, Ixz, Iyy, Iyz, Izz".into(),
             constraints: self.common_level(),
             weight: self.weight(),
+            regularizer: self.regularizer_kind(),
             bodies,
             friction,
             constraints_satisfied: ok,

@@ -17,10 +17,14 @@
 //!   the same moments;
 //! - [`lmi`]: the LMIs as [`conic`](crate::conic) expressions;
 //! - [`nearest_consistent`]: repair of an inconsistent π;
+//! - [`entropic_divergence`]: the log-det Bregman divergence `d(J ‖ Ĵ)`
+//!   between two bodies, its gradient, and [`add_entropic_divergence`] to
+//!   write it into a `conic` problem;
 //! - [`urdf_check`]: the URDF inertia checker behind `momentlmi check`;
 //! - [`shape_points`]: points on a link's shapes (for plots).
 
 mod check;
+mod divergence;
 mod ellipsoid;
 mod error;
 pub mod lmi;
@@ -34,6 +38,9 @@ pub mod urdf_check;
 pub use check::{
     ConsistencyReport, DEFAULT_TOL, RealizabilityReport, Verdict, check_consistency,
     check_realizable,
+};
+pub use divergence::{
+    EntropicTerm, add_entropic_divergence, entropic_divergence, entropic_gradient,
 };
 pub use ellipsoid::{Ellipsoid, rpy_rotation};
 pub use error::MomentsError;

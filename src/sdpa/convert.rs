@@ -143,7 +143,8 @@ impl SdpaProblem {
     /// Writes a conic problem in SDPA form. Nonnegative rows become diagonal
     /// blocks, equalities pairs of opposite rows, second-order cones the arrow
     /// LMI `[[t, uᵀ], [u, tI]] ⪰ 0`, PSD constraints dense blocks. Least-squares
-    /// terms and objective constants have no SDPA form and are rejected.
+    /// terms, objective constants and exponential cones have no SDPA form and
+    /// are rejected.
     pub fn from_problem(p: &Problem) -> Result<Self, SdpaError> {
         if !p.squares.is_empty() {
             return Err(
@@ -202,6 +203,13 @@ impl SdpaProblem {
                     for r in 1..k {
                         put(blk, 0, r, &con.rows[r]);
                     }
+                }
+                ConeKind::Exponential => {
+                    return Err(ConicError::Unsupported(format!(
+                        "{}: an exponential cone has no SDPA form",
+                        con.name
+                    ))
+                    .into());
                 }
                 ConeKind::Psd { n } => {
                     blocks.push(n as i64);

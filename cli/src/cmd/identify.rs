@@ -1,11 +1,12 @@
 //! `momentlmi identify --robot MODEL --data FILE.csv --constraints LEVEL
-//! [--prior cad|true|FILE] [--weight W] [--validate FILE.csv] [--json]`.
+//! [--prior cad|true|FILE] [--weight W] [--regularizer euclidean|entropic]
+//! [--validate FILE.csv] [--json]`.
 
 use momentlmi::data::{Dataset, ReadOptions};
 use momentlmi::dynamics::ParamChoice;
 use momentlmi::dynamics::RobotDescription;
 use momentlmi::dynamics::robots::load_robot_with;
-use momentlmi::identify::{Identification, IdentifyError, IdentifyResult, Level};
+use momentlmi::identify::{Identification, IdentifyError, IdentifyResult, Level, Regularizer};
 use std::path::Path;
 
 /// Arguments of `identify`.
@@ -24,6 +25,8 @@ pub struct IdentifyArgs<'a> {
     pub prior: Option<&'a str>,
     /// Weight w_π.
     pub weight: f64,
+    /// Regulariser name (euclidean | entropic).
+    pub regularizer: &'a str,
     /// Validation data.
     pub validate: Option<&'a Path>,
     /// JSON output.
@@ -99,9 +102,16 @@ fn identification<'r>(
 ) -> Result<Identification<'r>, String> {
     let level = parse_level(a.constraints, "--constraints")?;
     let (prior, _) = super::parameters_for(robot, "--prior", a.prior, ParamChoice::Cad)?;
+    let regularizer = Regularizer::parse(a.regularizer).ok_or_else(|| {
+        format!(
+            "--regularizer: '{}' is not one of euclidean, entropic",
+            a.regularizer
+        )
+    })?;
     let mut id = Identification::for_robot(robot, level, a.weight)
         .and_then(|id| id.prior(a.weight, prior.params()))
-        .map_err(|e| format!("--weight / --prior: {e}"))?;
+        .map_err(|e| format!("--weight / --prior: {e}"))?
+        .regularizer(regularizer);
     for l in a.levels {
         let (body, lv) = l
             .split_once('=')
@@ -171,6 +181,9 @@ fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
         } => {
             format!("--constraints ellipsoid: {e}")
         }
+        IdentifyError::Option {
+            option: "prior", ..
+        } => format!("--prior / --regularizer: {e}"),
         e => e.to_string(),
     })
 }
@@ -178,25 +191,29 @@ fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
 /// A short human report.
 pub fn print_report(r: &IdentifyResult) {
     println!(
-        "{} — constraints: {}, weight {:e}, {} training samples, rank {}/{}",
+        "{} — constraints: {}, {} prior with weight {:e}, {} training samples, rank {}/{}",
         r.robot,
         r.constraints.as_str(),
+        r.regularizer.as_str(),
         r.weight,
         r.training_samples,
         r.rank,
         r.num_parameters
     );
     println!(
-        "{:<12} {:>9} {:>28} {:>34} {:>11}",
-        "body", "mass", "CoM [m]", "principal moments [kg·m²]", "consistent"
+        "{:<12} {:>9} {:>28} {:>34} {:>11} {:>11}",
+        "body", "mass", "CoM [m]", "principal moments [kg·m²]", "consistent", "d(J‖Ĵ)"
     );
     for b in &r.bodies {
         let com = b.com.map_or_else(
             || format!("{:>28}", "- (no positive mass)"),
             |c| format!("({:>8.4}, {:>8.4}, {:>8.4})", c[0], c[1], c[2]),
         );
+        let div = b
+            .divergence_from_prior
+            .map_or_else(|| "-".to_string(), |d| format!("{d:.3e}"));
         println!(
-            "{:<12} {:>9.4} {com} ({:>10.3e}, {:>10.3e}, {:>10.3e}) {:>11}",
+            "{:<12} {:>9.4} {com} ({:>10.3e}, {:>10.3e}, {:>10.3e}) {:>11} {div:>11}",
             b.name,
             b.mass,
             b.principal_moments[0],
