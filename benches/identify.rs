@@ -1,12 +1,14 @@
 //! Identification benchmarks: 10,000 samples of the 6-body leg with
-//! ellipsoid constraints end to end (regressor + reduction + SDP), and the
-//! scaling of the streaming reduction with the number of samples.
+//! ellipsoid constraints end to end (regressor + reduction + SDP), with the
+//! entropic prior (`end_to_end/entropic/...`, issue 19's ≤ 50 ms target),
+//! and the scaling of the streaming reduction with the number of samples.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use momentlmi::conic::Decomposition;
 use momentlmi::dynamics::cheetah3;
 use momentlmi::identify::{
-    IdentifyOptions, Level, StreamReducer, default_settings, reduce_samples, solve_identification,
+    IdentifyOptions, Level, Regularizer, StreamReducer, default_settings, reduce_samples,
+    solve_identification,
 };
 use momentlmi::sim::{Effects, SimConfig, simulate};
 use std::hint::black_box;
@@ -23,6 +25,17 @@ fn bench(c: &mut Criterion) {
     for level in [Level::None, Level::Consistent, Level::Ellipsoid] {
         let o = opts(level);
         g.bench_function(format!("end_to_end/{}", level.as_str()), |b| {
+            b.iter(|| {
+                let red = reduce_samples(&model, &d.q, &d.qd, &d.qdd, &d.tau, 1024).unwrap();
+                black_box(solve_identification(&model, &red, &o).unwrap().theta[0])
+            })
+        });
+    }
+    for level in [Level::Consistent, Level::Ellipsoid] {
+        let o = IdentifyOptions::for_robot(&leg, level, 1e-2)
+            .unwrap()
+            .with_regularizer(Regularizer::Entropic);
+        g.bench_function(format!("end_to_end/entropic/{}", level.as_str()), |b| {
             b.iter(|| {
                 let red = reduce_samples(&model, &d.q, &d.qd, &d.qdd, &d.tau, 1024).unwrap();
                 black_box(solve_identification(&model, &red, &o).unwrap().theta[0])

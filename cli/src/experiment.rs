@@ -1,8 +1,11 @@
 //! The paper's experiment (Section VI) on simulated Cheetah 3 leg data:
 //! simulate, identify at every constraint level, validate on the next
-//! samples, and write the tables and figures (Fig. 4–6).
+//! samples, and write the tables and figures (Fig. 4–6), and the
+//! Euclidean-against-entropic prior study beside Fig. 6
+//! ([`crate::regularizer_study`]).
 
 use crate::plots::figures::{Series, line_panels};
+use crate::regularizer_study::{RegularizerRow, regularizer_figure, regularizer_study};
 use momentlmi::data::{Dataset, Staged, stage_with_record};
 use momentlmi::dynamics::{Effect, RobotDescription, cheetah3};
 use momentlmi::identify::{IdentifyOptions, IdentifyResult, Level, identify};
@@ -23,6 +26,8 @@ pub struct ExperimentConfig {
     pub weight: f64,
     /// Training sizes for the sample-size study (Fig. 6).
     pub sizes: Vec<usize>,
+    /// Training sizes for the regulariser study (Fig. 7).
+    pub regularizer_sizes: Vec<usize>,
     /// Seed.
     pub seed: u64,
 }
@@ -35,6 +40,7 @@ impl Default for ExperimentConfig {
             noise: 0.3,
             weight: 1e-6,
             sizes: vec![100, 200, 400, 700, 1000, 2000, 4000, 7000, 10_000],
+            regularizer_sizes: vec![100, 200, 400, 1000, 4000, 10_000],
             seed: 1,
         }
     }
@@ -66,6 +72,8 @@ pub struct ExperimentSummary {
     pub levels: Vec<LevelSummary>,
     /// Sample-size study: `(level, samples, overall validation RMS)`.
     pub sample_study: Vec<(Level, usize, f64)>,
+    /// Euclidean against entropic prior, each at its chosen weight.
+    pub regularizers: Vec<RegularizerRow>,
     /// Files written.
     pub files: Vec<String>,
 }
@@ -300,7 +308,7 @@ pub fn run_experiment(
     mut progress: impl FnMut(usize, usize, &str),
 ) -> Result<(ExperimentSummary, Vec<IdentifyResult>), String> {
     let robot = cheetah3::description();
-    let total_steps = 2 + 4 + 4 * cfg.sizes.len();
+    let total_steps = 2 + 4 + 4 * cfg.sizes.len() + cfg.regularizer_sizes.len();
     let mut step = 0;
     let mut tick = |what: &str| {
         progress(step, total_steps, what);
@@ -320,16 +328,19 @@ pub fn run_experiment(
         &mut tick,
     )?;
     let study = sample_study(&robot, (&train, &val), cfg, &mut tick)?;
+    let regs = regularizer_study(&robot, (&train, &val), &cfg.regularizer_sizes, &mut tick)?;
     tick("writing figures");
     let best = &results[3];
     let mut written = figures_4_5(best, &val, (out, &mut *staged))?;
     written.extend(figure_6(&study, (out, &mut *staged))?);
     written.push(figure_4_5_csv(best, &val, (out, &mut *staged))?);
+    written.extend(regularizer_figure(&regs, (out, &mut *staged))?);
     files.extend(written.iter().map(|p| p.display().to_string()));
     let summary = ExperimentSummary {
         config: cfg.clone(),
         levels: table,
         sample_study: study,
+        regularizers: regs,
         files,
     };
     staged

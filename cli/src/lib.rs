@@ -9,5 +9,6 @@ mod cli;
 pub mod cmd;
 pub mod experiment;
 pub mod plots;
+pub mod regularizer_study;
 
 pub use cli::main;

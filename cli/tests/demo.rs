@@ -11,6 +11,7 @@ fn small_experiment_writes_figures_and_tables() {
         train: 3000,
         validate: 3000,
         sizes: vec![300, 3000],
+        regularizer_sizes: vec![300, 3000],
         ..Default::default()
     };
     std::fs::create_dir_all(&out).unwrap();
@@ -27,6 +28,8 @@ fn small_experiment_writes_figures_and_tables() {
         "fig5_contributions.svg",
         "fig6_samples.svg",
         "fig6_samples.csv",
+        "fig7_regularizers.svg",
+        "fig7_regularizers.csv",
         "summary.json",
         "identified_ellipsoid.json",
     ] {
@@ -53,6 +56,21 @@ fn small_experiment_writes_figures_and_tables() {
         );
         for (c, t) in l.coulomb.iter().zip([3.12, 1.25, 0.95]) {
             assert!((c - t).abs() < 0.1, "{:?}: {c} vs {t}", l.constraints);
+        }
+    }
+    // the regulariser study: both priors at both sizes, each at a weight
+    // of its own grid, consistent bodies (finite divergence); with 3000
+    // samples near the noise floor (0.3 s of data predict the next seconds
+    // poorly whatever the prior)
+    assert_eq!(summary.regularizers.len(), 4);
+    for r in &summary.regularizers {
+        assert!(
+            r.divergence_from_truth.is_some_and(|d| d.is_finite()),
+            "{r:?}"
+        );
+        assert!(r.weight > 0.0 && r.test_rms.is_finite(), "{r:?}");
+        if r.samples == 3000 {
+            assert!(r.test_rms < 0.33, "{r:?}");
         }
     }
     // the identified JSON is a parameter file predict can read
