@@ -130,3 +130,47 @@ fn the_arm_diagnosis_names_a_withheld_effect_and_invents_none() {
         );
     }
 }
+
+/// The entropic prior on the arm, from the same wrong prior: held-out RMS
+/// within 1.1 σ, every body consistent, and no link mass further from the
+/// truth than the prior's by more than 1 % of the truth. (Measured: the
+/// unidentifiable masses stay at the prior to within 0.012 kg, e.g. link1
+/// 6.467 kg against the prior's 6.462; the Euclidean prior moves link3 and
+/// link5 up to 8 % of the truth beyond the prior's error, see above. The
+/// strict "never further" of issue 17 cannot hold for a mass the data do
+/// not see: it sits at the prior, a few grams either side.)
+#[test]
+fn the_arm_with_the_entropic_prior_keeps_masses_near_the_prior() {
+    use momentlmi::identify::Regularizer;
+    let r = panda();
+    let effects = Effects::new([Effect::Coulomb, Effect::Viscous]);
+    let data = |seed| {
+        let cfg = SimConfig::for_robot(&r, 15.0, effects.clone(), seed);
+        simulate(&r, &cfg, |_, _| {}).unwrap()
+    };
+    let (train, val) = (data(1), data(2));
+    let prior = perturbed_prior(&r);
+    let w = 1e-2;
+    let res = Identification::for_robot(&r, Level::Consistent, w)
+        .unwrap()
+        .prior(w, prior.clone())
+        .unwrap()
+        .regularizer(Regularizer::Entropic)
+        .identify(&train, Some(&val))
+        .unwrap();
+    for (j, v) in res.validation_rms.clone().unwrap().iter().enumerate() {
+        assert!(*v <= 1.1 * 0.3, "joint {j}: held-out RMS {v} > 1.1 σ");
+    }
+    assert!(res.bodies.iter().all(|b| b.consistent));
+    for (b, body) in res.bodies.iter().enumerate() {
+        let truth = r.model.params()[10 * b];
+        let (err, prior_err) = ((body.mass - truth).abs(), (prior[10 * b] - truth).abs());
+        assert!(
+            err <= prior_err + 0.01 * truth,
+            "{} mass {} (prior {}, truth {truth})",
+            body.name,
+            body.mass,
+            prior[10 * b]
+        );
+    }
+}
