@@ -260,7 +260,6 @@ fn mvee_through_conic_matches_khachiyan() {
             assert!(conic.contains(q, 1e-6), "case {case}");
             assert!(khachiyan.contains(q, 1e-9), "case {case}");
         }
-        // the MVEE is unique: same volume, centre and shape
         // the MVEE is unique. Khachiyan stops at 20,000 iterations before
         // its 1e-10 tolerance and scales up to enclose the points, so it
         // is a little larger; the conic optimum is the smaller of the two

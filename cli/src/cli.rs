@@ -161,7 +161,7 @@ enum Command {
         weight: f64,
         /// How the prior enters the objective: euclidean (w‖π − π̂‖²) or entropic
         /// (w Σ d(J‖Ĵ), the log-det divergence of each body's pseudo-inertia: unit and
-        /// frame invariant; needs a strictly consistent prior; weights around 1e-2 to 1).
+        /// frame invariant; needs a strictly consistent prior and --weight > 0, typically 1e-3 to 1e-1).
         #[arg(long, default_value = "euclidean", value_parser = ["euclidean", "entropic"])]
         regularizer: String,
         /// Held-out validation data CSV.

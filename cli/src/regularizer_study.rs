@@ -47,14 +47,14 @@ pub struct RegularizerRow {
 }
 
 /// Overall RMS `√(‖Aθ − b‖² / (samples · dof))` from a reduced set's Gram
-/// matrix `[A b]ᵀ[A b]` (its lower triangle: the reduction fills only that).
+/// matrix `[A b]ᵀ[A b]`.
 fn rms_of(red: &Reduced, theta: &[f64], dof: usize) -> f64 {
     let g = &red.gram;
     let p = red.p;
     let mut x = theta.to_vec();
     x.push(-1.0);
     let sq: f64 = (0..=p)
-        .map(|i| x[i] * (0..=p).map(|j| g[(i.max(j), i.min(j))] * x[j]).sum::<f64>())
+        .map(|i| x[i] * (0..=p).map(|j| g[(i, j)] * x[j]).sum::<f64>())
         .sum();
     (sq.max(0.0) / (red.samples * dof) as f64).sqrt()
 }

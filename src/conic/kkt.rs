@@ -2,7 +2,8 @@
 //!
 //! With the constraints `sᵢ(x) ∈ Kᵢ` and duals `zᵢ ∈ Kᵢ*` (the orthant,
 //! second-order and PSD cones are self-dual, the zero cone's dual is free,
-//! the exponential cone's dual is its own set), a point is optimal
+//! the exponential cone is not: its dual K_exp* is checked as such), a point
+//! is optimal
 //! when it is primal feasible, dual feasible, complementary
 //! (`Σ ⟨sᵢ(x), zᵢ⟩ = 0`) and stationary (`∇f(x) = Σᵢ Dsᵢᵀ zᵢ`).
 

@@ -246,8 +246,9 @@ impl<'m> Identification<'m> {
         Ok(self)
     }
 
-    /// Regularisation `w ‖π − π̂‖²` toward `prior` (10 per body, links then
-    /// rotors); `w` ≥ 0 and finite (0: off), the prior finite.
+    /// Regularisation `w R(π, π̂)` toward `prior` (10 per body, links then
+    /// rotors; R the [`Regularizer`], Euclidean by default); `w` ≥ 0 and
+    /// finite (0: off), the prior finite.
     pub fn prior(mut self, weight: f64, prior: Vec<f64>) -> Result<Self, IdentifyError> {
         let o = IdentifyOptions::new(Level::None).with_prior(weight, prior)?;
         let nb = self.model.num_bodies();
@@ -487,7 +488,11 @@ impl<'m> Identification<'m> {
     ) -> Result<(), IdentifyError> {
         let mut total = AffExpr::zero();
         for (b, (body, name)) in bodies.iter().zip(names).enumerate() {
-            let prior = self.prior_body(b).expect("the entropic term needs a prior");
+            // `check` has matched the prior to the bodies when the weight is on
+            let prior = self.prior_body(b).ok_or_else(|| IdentifyError::Option {
+                option: "prior",
+                message: format!("body '{name}' has no prior for the entropic regulariser"),
+            })?;
             let term = add_entropic_divergence(prob, body, &prior).map_err(|e| match e {
                 MomentsError::NotPositiveSemidefinite { min_eig } => IdentifyError::Option {
                     option: "prior",
@@ -495,6 +500,7 @@ impl<'m> Identification<'m> {
                         "body '{name}': its prior pseudo-inertia is not positive definite (smallest eigenvalue {min_eig:.3e}); the entropic regulariser needs a strictly consistent prior (repair it with `check --repair`, or use --regularizer euclidean)"
                     ),
                 },
+                MomentsError::Conic(e) => IdentifyError::Conic(e),
                 e => IdentifyError::Option {
                     option: "prior",
                     message: format!("body '{name}': {e}"),

@@ -165,8 +165,9 @@ impl IdentifyOptions {
         }
     }
 
-    /// Regularisation `w ‖π − π̂‖²` toward `prior` (10 per body, links then
-    /// rotors); `w` ≥ 0 and finite (0: off), the prior finite.
+    /// Regularisation `w R(π, π̂)` toward `prior` (10 per body, links then
+    /// rotors; R the [`Regularizer`], Euclidean by default); `w` ≥ 0 and
+    /// finite (0: off), the prior finite.
     pub fn with_prior(mut self, weight: f64, prior: Vec<f64>) -> Result<Self, IdentifyError> {
         if !(weight >= 0.0 && weight.is_finite()) {
             return Err(IdentifyError::Option {

@@ -19,8 +19,7 @@ use rayon::prelude::*;
 /// The reduced least-squares data.
 #[derive(Clone, Debug)]
 pub struct Reduced {
-    /// Gram matrix `[A b]ᵀ[A b]`, (p + 1) × (p + 1); only its lower
-    /// triangle is read, and [`reduce_samples`] fills only that.
+    /// Gram matrix `[A b]ᵀ[A b]`, (p + 1) × (p + 1), symmetric.
     pub gram: Mat<f64>,
     /// Number of samples reduced.
     pub samples: usize,

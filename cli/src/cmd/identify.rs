@@ -108,6 +108,12 @@ fn identification<'r>(
             a.regularizer
         )
     })?;
+    if regularizer == Regularizer::Entropic && a.weight <= 0.0 {
+        return Err(format!(
+            "--regularizer entropic needs --weight > 0 (typically 1e-3 to 1e-1), got {}",
+            a.weight
+        ));
+    }
     let mut id = Identification::for_robot(robot, level, a.weight)
         .and_then(|id| id.prior(a.weight, prior.params()))
         .map_err(|e| format!("--weight / --prior: {e}"))?
