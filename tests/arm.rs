@@ -28,16 +28,18 @@ fn perturbed_prior(r: &RobotDescription) -> Vec<f64> {
         .collect()
 }
 
+/// 15 s of the arm with Coulomb and viscous friction (the defaults otherwise).
+fn friction_data(r: &RobotDescription, seed: u64) -> momentlmi::data::Dataset {
+    let effects = Effects::new([Effect::Coulomb, Effect::Viscous]);
+    let cfg = SimConfig::for_robot(r, 15.0, effects, seed);
+    simulate(r, &cfg, |_, _| {}).unwrap()
+}
+
 #[test]
 fn the_arm_identifies_to_the_noise_floor_from_a_wrong_prior() {
     let r = panda();
     assert!(r.warnings.is_empty(), "{:?}", r.warnings);
-    let effects = Effects::new([Effect::Coulomb, Effect::Viscous]);
-    let data = |seed| {
-        let cfg = SimConfig::for_robot(&r, 15.0, effects.clone(), seed);
-        simulate(&r, &cfg, |_, _| {}).unwrap()
-    };
-    let (train, val) = (data(1), data(2));
+    let (train, val) = (friction_data(&r, 1), friction_data(&r, 2));
     let prior = perturbed_prior(&r);
     for level in [Level::Consistent, Level::Ellipsoid] {
         let res = Identification::for_robot(&r, level, 1e-6)
@@ -143,12 +145,7 @@ fn the_arm_diagnosis_names_a_withheld_effect_and_invents_none() {
 fn the_arm_with_the_entropic_prior_keeps_masses_near_the_prior() {
     use momentlmi::identify::Regularizer;
     let r = panda();
-    let effects = Effects::new([Effect::Coulomb, Effect::Viscous]);
-    let data = |seed| {
-        let cfg = SimConfig::for_robot(&r, 15.0, effects.clone(), seed);
-        simulate(&r, &cfg, |_, _| {}).unwrap()
-    };
-    let (train, val) = (data(1), data(2));
+    let (train, val) = (friction_data(&r, 1), friction_data(&r, 2));
     let prior = perturbed_prior(&r);
     let w = 1e-2;
     let res = Identification::for_robot(&r, Level::Consistent, w)

@@ -7,19 +7,16 @@
 mod rng;
 
 use momentlmi::conic::{
-    AffExpr, ConeKind, ConicError, MatExpr, Problem, Settings, Solution, check_optimality,
+    AffExpr, ConeKind, ConicError, MatExpr, Problem, Solution, check_optimality,
 };
 use momentlmi::moments::Ellipsoid;
 use momentlmi::sdpa::SdpaProblem;
 use nalgebra::{DMatrix, Matrix3, Vector3};
 use rng::Rng;
 
-fn tight() -> Settings {
-    Settings::default()
-        .tol_gap_abs(1e-10)
-        .tol_gap_rel(1e-10)
-        .tol_feas(1e-10)
-}
+#[path = "support/tight.rs"]
+mod tight;
+use tight::tight;
 
 /// Solves, asserts an optimum whose KKT residuals are all below `kkt`.
 fn solve_checked(p: &Problem, kkt: f64) -> Solution {

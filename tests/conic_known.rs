@@ -12,12 +12,9 @@ use nalgebra::DMatrix;
 mod rng;
 use rng::Rng;
 
-fn tight() -> Settings {
-    Settings::default()
-        .tol_gap_abs(1e-10)
-        .tol_gap_rel(1e-10)
-        .tol_feas(1e-10)
-}
+#[path = "support/tight.rs"]
+mod tight;
+use tight::tight;
 
 #[test]
 fn lambda_max_equals_largest_eigenvalue() {

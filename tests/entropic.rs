@@ -4,8 +4,10 @@
 
 #[path = "support/rng.rs"]
 mod rng;
+#[path = "support/tight.rs"]
+mod tight;
 
-use momentlmi::conic::{Problem, Settings};
+use momentlmi::conic::Problem;
 use momentlmi::data::Dataset;
 use momentlmi::dynamics::cheetah3;
 use momentlmi::identify::{IdentifyError, IdentifyOptions, Level, Regularizer, identify};
@@ -16,6 +18,7 @@ use momentlmi::moments::{
 use momentlmi::sim::{Effects, SimConfig, simulate};
 use nalgebra::{Matrix3, Vector3};
 use rng::Rng;
+use tight::tight;
 
 /// A random strictly consistent body: mass 0.5–2.5 kg, CoM within 0.2 m,
 /// principal moments of an ellipsoid of density, rotated.
@@ -145,16 +148,7 @@ fn conic_divergence_is_tight_at_its_minimum() {
             p.add_square(0.5 * w[k], v.params()[k].clone() - target.0[k]);
         }
         p.minimize(term.divergence.clone());
-        let sol = p
-            .solve(
-                &Settings::default()
-                    .tol_gap_abs(1e-10)
-                    .tol_gap_rel(1e-10)
-                    .tol_feas(1e-10),
-            )
-            .unwrap()
-            .solved()
-            .unwrap();
+        let sol = p.solve(&tight()).unwrap().solved().unwrap();
         let pi = v.value(&sol).unwrap();
         let exact = entropic_divergence(&pi, &prior).unwrap();
         let bound = term.divergence.eval(sol.x());

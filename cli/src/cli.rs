@@ -5,6 +5,7 @@
 use crate::cmd::{check, demo, diagnose, identify, predict, sdpa, simulate};
 use clap::{Args, Parser, Subcommand};
 use momentlmi::dynamics::Effect;
+use momentlmi::identify::Regularizer;
 use momentlmi::moments::urdf_check::{RepairOptions, RepairTarget};
 use std::path::PathBuf;
 
@@ -162,8 +163,8 @@ enum Command {
         /// How the prior enters the objective: euclidean (w‖π − π̂‖²) or entropic
         /// (w Σ d(J‖Ĵ), the log-det divergence of each body's pseudo-inertia: unit and
         /// frame invariant; needs a strictly consistent prior and --weight > 0, typically 1e-3 to 1e-1).
-        #[arg(long, default_value = "euclidean", value_parser = ["euclidean", "entropic"])]
-        regularizer: String,
+        #[arg(long, value_enum, default_value_t = Regularizer::Euclidean)]
+        regularizer: Regularizer,
         /// Held-out validation data CSV.
         #[arg(long)]
         validate: Option<PathBuf>,
@@ -351,7 +352,7 @@ pub fn main() -> i32 {
             constraints: &constraints,
             prior: prior.as_deref(),
             weight,
-            regularizer: &regularizer,
+            regularizer,
             validate: validate.as_deref(),
             json,
             levels: &levels,

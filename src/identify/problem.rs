@@ -64,6 +64,7 @@ impl Level {
 
 /// How the prior π̂ enters the objective, with the weight w_π.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "snake_case")]
 pub enum Regularizer {
     /// `w ‖π − π̂‖²` over every body's ten parameters (units mixed: kg,

@@ -25,8 +25,8 @@ pub struct IdentifyArgs<'a> {
     pub prior: Option<&'a str>,
     /// Weight w_π.
     pub weight: f64,
-    /// Regulariser name (euclidean | entropic).
-    pub regularizer: &'a str,
+    /// How the prior enters the objective.
+    pub regularizer: Regularizer,
     /// Validation data.
     pub validate: Option<&'a Path>,
     /// JSON output.
@@ -102,12 +102,7 @@ fn identification<'r>(
 ) -> Result<Identification<'r>, String> {
     let level = parse_level(a.constraints, "--constraints")?;
     let (prior, _) = super::parameters_for(robot, "--prior", a.prior, ParamChoice::Cad)?;
-    let regularizer = Regularizer::parse(a.regularizer).ok_or_else(|| {
-        format!(
-            "--regularizer: '{}' is not one of euclidean, entropic",
-            a.regularizer
-        )
-    })?;
+    let regularizer = a.regularizer;
     if regularizer == Regularizer::Entropic && a.weight <= 0.0 {
         return Err(format!(
             "--regularizer entropic needs --weight > 0 (typically 1e-3 to 1e-1), got {}",
