@@ -90,11 +90,10 @@ fn the_arm_part_identifies_and_diagnoses_the_panda() {
     std::fs::create_dir_all(&out).unwrap();
     let mut staged = momentlmi::data::Staged::new();
     let mut stages = vec![];
-    let ran = momentlmi_cli::cmd::demo_arm::run((&out, &mut staged), &mut |s: &str| {
+    momentlmi_cli::cmd::demo_arm::run((&out, &mut staged), &mut |s: &str| {
         stages.push(s.to_string())
     })
     .unwrap();
-    assert_eq!(ran, Some(()), "robots/panda is in the repository");
     assert_eq!(stages.len(), 5, "{stages:?}");
     assert!(!out.join("arm_diagnosis.json").exists());
     staged.commit().unwrap();
@@ -116,4 +115,28 @@ fn the_arm_part_identifies_and_diagnoses_the_panda() {
         assert!(std::fs::metadata(out.join(f)).unwrap().len() > 100, "{f}");
     }
     let _ = std::fs::remove_dir_all(&out);
+}
+
+/// The arm's files built into the binary (for an installed `momentlmi demo`
+/// away from the repository) load to the same robot as the repository's,
+/// meshes included (the same bounding volumes, no warning).
+#[test]
+fn the_embedded_arm_is_the_repositorys() {
+    use momentlmi::dynamics::robots::load_robot;
+    let tmp = std::env::temp_dir().join(format!("momentlmi-embedded-arm-{}", std::process::id()));
+    momentlmi_cli::cmd::demo_arm::write_embedded_arm(&tmp).unwrap();
+    let load = |dir: &std::path::Path| {
+        load_robot(
+            dir.join("panda.urdf").to_str().unwrap(),
+            Some(&dir.join("panda.toml")),
+        )
+        .unwrap()
+    };
+    let repo = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../robots/panda");
+    let (a, b) = (load(&tmp), load(&repo));
+    assert!(a.warnings.is_empty(), "{:?}", a.warnings);
+    assert_eq!(a.prior_vector(), b.prior_vector());
+    assert_eq!(format!("{:?}", a.bounding), format!("{:?}", b.bounding));
+    assert!(!a.bounding.iter().all(|v| v.is_empty()), "meshes were read");
+    let _ = std::fs::remove_dir_all(&tmp);
 }

@@ -14,27 +14,63 @@ use momentlmi::moments::urdf_check::check_urdf_file;
 use momentlmi::sim::{Effects, SimConfig, simulate};
 use std::path::{Path, PathBuf};
 
-/// Where the repository keeps the arm (absent from an installed binary's
-/// machine unless the repository is there too).
+/// Where the repository keeps the arm.
 fn arm_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../robots/panda")
 }
 
-/// Runs the arm's part (`tick(what)` per stage), staging its files; `None`
-/// when the repository's `robots/panda` is not on this machine.
-pub fn run(
-    (out, staged): (&Path, &mut Staged),
-    tick: &mut dyn FnMut(&str),
-) -> Result<Option<()>, String> {
+/// The arm's files, built into the binary (188 KiB): the URDF, its sidecar,
+/// the collision meshes and their licence, at their paths below `robots/panda`.
+macro_rules! embedded {
+    ($($path:literal),* $(,)?) => {
+        [$(($path, include_bytes!(concat!("../../../robots/panda/", $path)) as &[u8])),*]
+    };
+}
+const ARM_FILES: [(&str, &[u8]); 13] = embedded![
+    "panda.urdf",
+    "panda.toml",
+    "example-robot-data/robots/panda_description/LICENSE",
+    "example-robot-data/robots/panda_description/meshes/collision/link0.stl",
+    "example-robot-data/robots/panda_description/meshes/collision/link1.stl",
+    "example-robot-data/robots/panda_description/meshes/collision/link2.stl",
+    "example-robot-data/robots/panda_description/meshes/collision/link3.stl",
+    "example-robot-data/robots/panda_description/meshes/collision/link4.stl",
+    "example-robot-data/robots/panda_description/meshes/collision/link5.stl",
+    "example-robot-data/robots/panda_description/meshes/collision/link6.stl",
+    "example-robot-data/robots/panda_description/meshes/collision/link7.stl",
+    "example-robot-data/robots/panda_description/meshes/collision/hand.stl",
+    "example-robot-data/robots/panda_description/meshes/collision/finger.stl",
+];
+
+/// The folder holding `panda.urdf` and `panda.toml`: the repository's when it
+/// is on this machine, else the embedded copy written to a temporary folder
+/// (kept alive by the returned guard).
+fn arm_files() -> Result<(PathBuf, Option<tempfile::TempDir>), String> {
     let dir = arm_dir();
-    let (urdf, sidecar) = (dir.join("panda.urdf"), dir.join("panda.toml"));
-    if !urdf.is_file() {
-        println!(
-            "\n4. The Panda arm: skipped ({} not found: run the demo from the repository)",
-            urdf.display()
-        );
-        return Ok(None);
+    if dir.join("panda.urdf").is_file() {
+        return Ok((dir, None));
     }
+    let tmp = tempfile::tempdir().map_err(|e| format!("a temporary folder for the arm: {e}"))?;
+    write_embedded_arm(tmp.path())?;
+    Ok((tmp.path().to_path_buf(), Some(tmp)))
+}
+
+/// Writes the arm's embedded files below `dir` (`dir/panda.urdf`, …).
+pub fn write_embedded_arm(dir: &Path) -> Result<(), String> {
+    for (path, bytes) in ARM_FILES {
+        let p = dir.join(path);
+        if let Some(parent) = p.parent() {
+            std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()))?;
+        }
+        std::fs::write(&p, bytes).map_err(|e| format!("{}: {e}", p.display()))?;
+    }
+    Ok(())
+}
+
+/// Runs the arm's part (`tick(what)` per stage), staging its files.
+pub fn run((out, staged): (&Path, &mut Staged), tick: &mut dyn FnMut(&str)) -> Result<(), String> {
+    let (dir, _guard) = arm_files()?;
+    let (urdf, sidecar) = (dir.join("panda.urdf"), dir.join("panda.toml"));
     println!(
         "\n4. Your own URDF: the Panda arm (robots/panda), the same commands and code path as the leg"
     );
@@ -86,7 +122,7 @@ pub fn run(
     let d = diagnose_arm(&robot, &best, &sim("coulomb,viscous,joint_offset", 7)?)?;
     stage_diagnosis(&d, (out, staged))?;
     print_diagnosis(&d);
-    Ok(Some(()))
+    Ok(())
 }
 
 fn print_level(r: &IdentifyResult) {
