@@ -328,16 +328,17 @@ fn rhs<D: Dim>(d: D, node: &[f64], sp: &[Compliance], x: &[f64], dx: &mut [f64],
     dx[..n].copy_from_slice(&x[n..]);
 }
 
-/// Values per sample of one node set ([`Nodes`]) for `n` joints: the node
-/// and the shifted τ_L.
+/// Values per sample of one node set ([`Nodes`]) for `n` joints: the node,
+/// the step's middle node and the shifted τ_L.
 pub fn node_values(n: usize) -> u64 {
-    (node_len(n) + n) as u64
+    (2 * node_len(n) + n) as u64
 }
 
 /// The nodes of one axial shift at every sample `0..=last`; a step's
 /// middle node is the mean of its ends (the coefficients change by ~0.1 %
 /// per sample, so this differs from solving the interpolated M at the
-/// middle by far less than the data's noise).
+/// middle by far less than the data's noise), computed once here for every
+/// simulation on these nodes.
 pub struct Nodes {
     shift: Vec<f64>,
     /// The last sample covered.
@@ -346,6 +347,8 @@ pub struct Nodes {
     tau: Vec<f64>,
     /// [`node_len`] values per node.
     nodes: Vec<f64>,
+    /// The middle node of each step `s → s + 1` (`last` of them).
+    mid: Vec<f64>,
 }
 
 impl Linearisation {
@@ -490,11 +493,24 @@ impl Linearisation {
                         solve_node(d, &mut s, &self.g[k], &self.c[k], t, node)
                     })
             });
-        ok.then(|| Nodes {
+        if !ok {
+            return None;
+        }
+        let mut mid = vec![0.0; last * len];
+        mid.par_chunks_mut(len * CHUNK)
+            .enumerate()
+            .for_each(|(c, chunk)| {
+                let ends = &nodes[c * CHUNK * len..];
+                for (j, m) in chunk.iter_mut().enumerate() {
+                    *m = 0.5 * (ends[j] + ends[j + len]);
+                }
+            });
+        Some(Nodes {
             shift: shift.to_vec(),
             last,
             tau,
             nodes,
+            mid,
         })
     }
 
@@ -502,14 +518,21 @@ impl Linearisation {
     /// `0..to`, starting in quasi-static deflection at the first sample;
     /// `None` if the integration diverges.
     pub fn simulate(&self, p: &Transmission, to: usize) -> Option<Vec<f64>> {
+        self.with_nodes(&p.axial_shift, to, |at| self.simulate_on(at, p, to))?
+    }
+
+    /// `f` on the nodes of the axial shift `shift` covering `0..to` (the
+    /// unshifted set, a cached one, or one solved now and cached); `None`
+    /// if they cannot be solved.
+    fn with_nodes<R>(&self, shift: &[f64], to: usize, f: impl FnOnce(&Nodes) -> R) -> Option<R> {
         let rigid = self.rigid.as_ref()?;
-        if p.axial_shift == rigid.shift {
-            return self.simulate_on(rigid, p, to);
+        if shift == rigid.shift.as_slice() {
+            return Some(f(rigid));
         }
         let cached = |c: &mut Vec<Arc<Nodes>>| {
             let j = c
                 .iter()
-                .position(|e| e.shift == p.axial_shift && e.last + 1 >= to)?;
+                .position(|e| e.shift == shift && e.last + 1 >= to)?;
             let e = c.remove(j);
             c.insert(0, e.clone());
             Some(e)
@@ -518,14 +541,14 @@ impl Linearisation {
         let at = match hit {
             Some(at) => at,
             None => {
-                let at = Arc::new(self.nodes(&p.axial_shift, to)?);
+                let at = Arc::new(self.nodes(shift, to)?);
                 let mut c = self.cache.lock().ok()?;
                 c.insert(0, at.clone());
                 c.truncate(CACHED_SHIFTS);
                 at
             }
         };
-        self.simulate_on(&at, p, to)
+        Some(f(&at))
     }
 
     /// [`Self::simulate`] on the nodes of `p`'s axial shift.
@@ -541,17 +564,11 @@ impl Linearisation {
         let len = node_len(n);
         let to = to.min(at.last + 1);
         let sp: Vec<Compliance> = (0..n).map(|i| p.spring(i)).collect();
-        let mut x = vec![0.0; 2 * n];
-        for i in 0..n {
-            let t = at.tau[i];
-            x[i] = t / p.stiffness[i].max(1e-9) + p.backlash[i] * t.signum();
-        }
+        let mut x = start_state(at, p, n);
         let mut out = Vec::with_capacity(to * n);
         let mut work = vec![0.0; 11 * n];
         let mut x0 = vec![0.0; 2 * n];
-        // interpolated nodes (start, middle, end)
         let mut step = vec![0.0; 3 * len];
-        let in_contact = |x: &[f64], i: usize| x[i].abs() > p.backlash[i];
         let dead_band = p.backlash.iter().any(|&b| b > 0.0);
         for s in 0..to {
             for i in 0..n {
@@ -564,32 +581,59 @@ impl Linearisation {
             x0.copy_from_slice(&x);
             let ends = &at.nodes[s * len..(s + 2) * len];
             let (n0, n1) = ends.split_at(len);
-            for j in 0..len {
-                step[len + j] = 0.5 * (n0[j] + n1[j]);
-            }
-            rk4(d, [n0, &step[len..2 * len], n1], &sp, dt, &mut x, &mut work);
-            let crossed = dead_band
-                && (0..n).any(|i| p.backlash[i] > 0.0 && in_contact(&x, i) != in_contact(&x0, i));
-            if crossed {
+            let mid = &at.mid[s * len..(s + 1) * len];
+            rk4(d, [n0, mid, n1], &sp, dt, &mut x, &mut work);
+            if dead_band && crossed(p, &x0, &x, n) {
                 x.copy_from_slice(&x0);
-                let r = REFINED as f64;
-                for sub in 0..REFINED {
-                    for e in 0..3 {
-                        let a = (sub as f64 + 0.5 * e as f64) / r;
-                        for j in 0..len {
-                            step[e * len + j] = n0[j] + a * (n1[j] - n0[j]);
-                        }
-                    }
-                    let (s0, rest) = step.split_at(len);
-                    let (sh, s1) = rest.split_at(len);
-                    rk4(d, [s0, sh, s1], &sp, dt / r, &mut x, &mut work);
-                }
+                refine(d, (n0, n1), &sp, dt, (&mut x, &mut step, &mut work));
             }
             if !x.iter().all(|v| v.is_finite() && v.abs() < 1e3) {
                 return None;
             }
         }
         Some(out)
+    }
+}
+
+/// The quasi-static start `x_i = τ_i / K_i + b_i sign(τ_i)`, `ẋ = 0`.
+fn start_state(at: &Nodes, p: &Transmission, n: usize) -> Vec<f64> {
+    let mut x = vec![0.0; 2 * n];
+    for i in 0..n {
+        let t = at.tau[i];
+        x[i] = t / p.stiffness[i].max(1e-9) + p.backlash[i] * t.signum();
+    }
+    x
+}
+
+/// Whether a step from `x0` to `x` entered or left a joint's dead band.
+fn crossed(p: &Transmission, x0: &[f64], x: &[f64], n: usize) -> bool {
+    let in_contact = |x: &[f64], i: usize| x[i].abs() > p.backlash[i];
+    (0..n).any(|i| p.backlash[i] > 0.0 && in_contact(x, i) != in_contact(x0, i))
+}
+
+/// A step of length `dt` from `x` in [`REFINED`] RK4 substeps on nodes
+/// interpolated between its ends `(n0, n1)`; `step` holds 3 nodes, `work`
+/// 11 n values.
+#[inline(always)]
+fn refine<D: Dim>(
+    d: D,
+    (n0, n1): (&[f64], &[f64]),
+    sp: &[Compliance],
+    dt: f64,
+    (x, step, work): (&mut [f64], &mut [f64], &mut [f64]),
+) {
+    let len = n0.len();
+    let r = REFINED as f64;
+    for sub in 0..REFINED {
+        for e in 0..3 {
+            let a = (sub as f64 + 0.5 * e as f64) / r;
+            for j in 0..len {
+                step[e * len + j] = n0[j] + a * (n1[j] - n0[j]);
+            }
+        }
+        let (s0, rest) = step.split_at(len);
+        let (sh, s1) = rest.split_at(len);
+        rk4(d, [s0, sh, &s1[..len]], sp, dt / r, x, work);
     }
 }
 
@@ -678,8 +722,12 @@ impl Search<'_> {
     /// The training cost `Σ (r − h)²` of a hypothesis simulated to `to`, and
     /// its error vector; `None` if it does not simulate.
     fn cost_on(&self, p: &Transmission, to: usize) -> Option<(f64, Vec<f64>)> {
+        self.error_of(&self.lin.simulate(p, to)?, to)
+    }
+
+    /// The cost and error vector `r − h` of a simulation `h` to `to`.
+    fn error_of(&self, h: &[f64], to: usize) -> Option<(f64, Vec<f64>)> {
         let n = self.lin.n;
-        let h = self.lin.simulate(p, to)?;
         let e: Vec<f64> = (self.warm * n..to * n).map(|k| self.r[k] - h[k]).collect();
         let v = e.iter().map(|x| x * x).sum::<f64>();
         v.is_finite().then_some((v, e))
@@ -701,35 +749,44 @@ impl Search<'_> {
         }
     }
 
-    /// The cheapest of `trials` on the whole training part.
+    /// The training cost of a simulation `h` (to `upto`), as [`Self::cost_on`]
+    /// gives it.
+    fn cost_of(&self, h: &[f64]) -> Option<f64> {
+        let n = self.lin.n;
+        let v = (self.warm * n..self.upto * n)
+            .map(|k| (self.r[k] - h[k]).powi(2))
+            .sum::<f64>();
+        v.is_finite().then_some(v)
+    }
+
+    /// The cheapest of `trials` on the whole training part (simulated in
+    /// lock-step groups; the first of equal costs, as a scan would pick).
     fn best_of(&self, trials: Vec<Transmission>) -> Option<(f64, Transmission)> {
-        trials
-            .into_par_iter()
-            .filter_map(|q| self.cost_on(&q, self.upto).map(|c| (c.0, q)))
+        let sims = self.lin.simulate_all(&trials, self.upto);
+        sims.iter()
+            .zip(trials)
+            .filter_map(|(h, q)| self.cost_of(h.as_deref()?).map(|c| (c, q)))
             .min_by(|a, b| a.0.total_cmp(&b.0))
     }
 
-    /// Per joint, the cost on the search window with the hypothesis scaled
-    /// by its best β ≥ 0 (the candidate's coefficient), so that the grid
+    /// Per joint, the cost on the search window of a hypothesis simulated
+    /// to `window` (`h`), scaled by its best β ≥ 0 (the candidate's coefficient), so that the grid
     /// judges timing, not amplitude.
-    fn projected(&self, p: &Transmission, window: usize) -> Option<Vec<f64>> {
+    fn projected(&self, h: &[f64], window: usize) -> Vec<f64> {
         let n = self.lin.n;
-        let h = self.lin.simulate(p, window)?;
-        Some(
-            (0..n)
-                .map(|i| {
-                    let (mut rh, mut hh, mut rr) = (0.0, 0.0, 0.0);
-                    for k in self.warm..window {
-                        let (a, b) = (self.r[k * n + i], h[k * n + i]);
-                        rh += a * b;
-                        hh += b * b;
-                        rr += a * a;
-                    }
-                    let beta = if hh > 0.0 { (rh / hh).max(0.0) } else { 0.0 };
-                    rr - 2.0 * beta * rh + beta * beta * hh
-                })
-                .collect(),
-        )
+        (0..n)
+            .map(|i| {
+                let (mut rh, mut hh, mut rr) = (0.0, 0.0, 0.0);
+                for k in self.warm..window {
+                    let (a, b) = (self.r[k * n + i], h[k * n + i]);
+                    rh += a * b;
+                    hh += b * b;
+                    rr += a * a;
+                }
+                let beta = if hh > 0.0 { (rh / hh).max(0.0) } else { 0.0 };
+                rr - 2.0 * beta * rh + beta * beta * hh
+            })
+            .collect()
     }
 
     /// Stage 1: one transmission shared by every joint over a K × ζ × b grid
@@ -796,9 +853,11 @@ impl Search<'_> {
         trials: &[Transmission],
         window: usize,
     ) -> Transmission {
-        let costs: Vec<Option<Vec<f64>>> = trials
-            .par_iter()
-            .map(|q| self.projected(q, window))
+        let costs: Vec<Option<Vec<f64>>> = self
+            .lin
+            .simulate_all(trials, window)
+            .iter()
+            .map(|h| h.as_deref().map(|h| self.projected(h, window)))
             .collect();
         let mut out = p.clone();
         for i in 0..self.lin.n {
@@ -913,13 +972,21 @@ impl Search<'_> {
         steps: &[f64],
     ) -> Option<(DMatrix<f64>, nalgebra::DVector<f64>)> {
         let np = v.len();
-        let jac: Vec<Vec<f64>> = (0..np)
-            .into_par_iter()
+        let trials: Vec<Transmission> = (0..np)
             .map(|j| {
                 let mut w = v.to_vec();
                 w[j] += steps[j];
-                let (_, ej) = self.cost_on(&self.unpack(&w), self.upto)?;
-                Some(e.iter().zip(&ej).map(|(a, b)| (a - b) / steps[j]).collect())
+                self.unpack(&w)
+            })
+            .collect();
+        let jac: Vec<Vec<f64>> = self
+            .lin
+            .simulate_all(&trials, self.upto)
+            .iter()
+            .zip(steps)
+            .map(|(h, step)| {
+                let (_, ej) = self.error_of(h.as_deref()?, self.upto)?;
+                Some(e.iter().zip(&ej).map(|(a, b)| (a - b) / step).collect())
             })
             .collect::<Option<_>>()?;
         let mut jtj = DMatrix::<f64>::zeros(np, np);
@@ -1078,9 +1145,22 @@ pub fn columns(candidate: Candidate, lin: &Linearisation, fit: &ComplianceFit) -
     })
 }
 
+// after `by_dim!`, which it uses
+mod lanes;
+
 #[cfg(test)]
 mod tests {
     use super::{Dynamic, Fixed, Linearisation, Transmission, doubtful};
+
+    /// The leg's linearisation along 1 s of data with rotors and backlash.
+    pub(super) fn leg_linearisation() -> Linearisation {
+        use crate::dynamics::cheetah3;
+        use crate::sim::{Effects, SimConfig, simulate};
+        let leg = cheetah3::description();
+        let fx = Effects::parse("rotor_inertia,backlash", &[]).unwrap();
+        let d = simulate(&leg, &SimConfig::for_robot(&leg, 1.0, fx, 3), |_, _| {}).unwrap();
+        Linearisation::new(&leg.model, &d).unwrap()
+    }
 
     /// The integrator compiled for three joints and the run-time one agree,
     /// and a shift's cached nodes give what freshly solved ones give.

@@ -1,0 +1,263 @@
+//! Several hypotheses with the same axial shift simulated in lock-step on
+//! one set of nodes: each node is read once for [`LANES`] hypotheses and
+//! the per-lane arithmetic vectorises. Every lane does exactly the scalar
+//! integrator's operations in the same order, so its result is the same to
+//! the last bit (a test below holds it to that).
+
+use super::{
+    Compliance, Dim, Dynamic, Fixed, Linearisation, Nodes, Transmission, node_len, refine,
+    start_state,
+};
+use rayon::prelude::*;
+
+/// Hypotheses simulated together.
+pub(super) const LANES: usize = 4;
+
+type Lanes = [f64; LANES];
+
+impl Linearisation {
+    /// [`Linearisation::simulate`] of every hypothesis in `ps`, those with a
+    /// common axial shift [`LANES`] at a time (in parallel over groups).
+    pub(super) fn simulate_all(&self, ps: &[Transmission], to: usize) -> Vec<Option<Vec<f64>>> {
+        ps.par_chunks(LANES)
+            .flat_map_iter(|group| {
+                let same = group.iter().all(|p| p.axial_shift == group[0].axial_shift);
+                let out: Vec<Option<Vec<f64>>> = if same && group.len() > 1 {
+                    self.simulate_group(group, to)
+                } else {
+                    group.iter().map(|p| self.simulate(p, to)).collect()
+                };
+                out.into_iter()
+            })
+            .collect()
+    }
+
+    /// One group (≤ [`LANES`], one axial shift); missing lanes repeat the
+    /// first hypothesis and are dropped.
+    fn simulate_group(&self, group: &[Transmission], to: usize) -> Vec<Option<Vec<f64>>> {
+        let ps: [&Transmission; LANES] = std::array::from_fn(|l| group.get(l).unwrap_or(&group[0]));
+        let run = |at: &Nodes| by_dim!(self.n, d => self.integrate_lanes(d, at, ps, to));
+        match self.with_nodes(&group[0].axial_shift, to, run) {
+            Some(out) => out.into_iter().take(group.len()).collect(),
+            None => vec![None; group.len()],
+        }
+    }
+
+    /// [`Linearisation::integrate`] for [`LANES`] hypotheses at once.
+    fn integrate_lanes<D: Dim>(
+        &self,
+        d: D,
+        at: &Nodes,
+        ps: [&Transmission; LANES],
+        to: usize,
+    ) -> [Option<Vec<f64>>; LANES] {
+        let n = d.n();
+        let len = node_len(n);
+        let to = to.min(at.last + 1);
+        let sp: Vec<[Compliance; LANES]> = (0..n)
+            .map(|i| std::array::from_fn(|l| ps[l].spring(i)))
+            .collect();
+        let starts: [Vec<f64>; LANES] = std::array::from_fn(|l| start_state(at, ps[l], n));
+        let mut x: Vec<Lanes> = (0..2 * n)
+            .map(|k| std::array::from_fn(|l| starts[l][k]))
+            .collect();
+        let mut out: [Vec<f64>; LANES] = std::array::from_fn(|_| Vec::with_capacity(to * n));
+        let mut alive = [true; LANES];
+        let dead_band: [bool; LANES] =
+            std::array::from_fn(|l| ps[l].backlash.iter().any(|&b| b > 0.0));
+        let mut x0 = x.clone();
+        let mut work = vec![[0.0; LANES]; 5 * 2 * n + n];
+        // one lane's scalar state, substeps and buffers, for a refined step
+        let mut xl = vec![0.0; 2 * n];
+        let mut step = vec![0.0; 3 * len];
+        let mut swork = vec![0.0; 11 * n];
+        let lane_sp: [Vec<Compliance>; LANES] =
+            std::array::from_fn(|l| (0..n).map(|i| sp[i][l]).collect());
+        for s in 0..to {
+            for (l, o) in out.iter_mut().enumerate() {
+                for i in 0..n {
+                    o.push(torque(&sp[i][l], x[i][l], x[n + i][l]) - at.tau[s * n + i]);
+                }
+            }
+            if s + 1 >= to {
+                break;
+            }
+            let dt = self.t[s + 1] - self.t[s];
+            x0.copy_from_slice(&x);
+            let ends = &at.nodes[s * len..(s + 2) * len];
+            let (n0, n1) = ends.split_at(len);
+            let mid = &at.mid[s * len..(s + 1) * len];
+            rk4_lanes(d, [n0, mid, n1], &sp, dt, &mut x, &mut work);
+            for l in 0..LANES {
+                if !alive[l] {
+                    continue;
+                }
+                if dead_band[l] && crossed_lane(ps[l], &x0, &x, l, n) {
+                    for k in 0..2 * n {
+                        xl[k] = x0[k][l];
+                    }
+                    let buffers = (&mut xl[..], &mut step[..], &mut swork[..]);
+                    refine(d, (n0, n1), &lane_sp[l], dt, buffers);
+                    for k in 0..2 * n {
+                        x[k][l] = xl[k];
+                    }
+                }
+                alive[l] = x[..2 * n]
+                    .iter()
+                    .all(|v| v[l].is_finite() && v[l].abs() < 1e3);
+            }
+            if !alive.iter().any(|&a| a) {
+                break;
+            }
+        }
+        let mut out = out.map(Some);
+        for (o, a) in out.iter_mut().zip(alive) {
+            if !a {
+                *o = None;
+            }
+        }
+        out
+    }
+}
+
+/// [`Compliance::torque`] without a branch (a select), so that the lanes
+/// vectorise; the same value.
+#[inline(always)]
+fn torque(c: &Compliance, x: f64, xd: f64) -> f64 {
+    let v = c.stiffness * (x - c.backlash * x.signum()) + c.damping * xd;
+    if x.abs() <= c.backlash { 0.0 } else { v }
+}
+
+/// [`super::crossed`] for lane `l`.
+#[inline(always)]
+fn crossed_lane(p: &Transmission, x0: &[Lanes], x: &[Lanes], l: usize, n: usize) -> bool {
+    let in_contact = |x: &[Lanes], i: usize| x[i][l].abs() > p.backlash[i];
+    (0..n).any(|i| p.backlash[i] > 0.0 && in_contact(x, i) != in_contact(x0, i))
+}
+
+/// [`super::rhs`] for [`LANES`] states: the same operations per lane.
+#[inline(always)]
+fn rhs_lanes<D: Dim>(
+    d: D,
+    node: &[f64],
+    sp: &[[Compliance; LANES]],
+    x: &[Lanes],
+    dx: &mut [Lanes],
+    ts: &mut [Lanes],
+) {
+    let n = d.n();
+    let (sp, x, dx, ts) = (&sp[..n], &x[..2 * n], &mut dx[..2 * n], &mut ts[..n]);
+    let node = &node[..3 * n * n + n];
+    for i in 0..n {
+        for l in 0..LANES {
+            ts[i][l] = torque(&sp[i][l], x[i][l], x[n + i][l]);
+        }
+    }
+    let (b, rest) = node.split_at(n);
+    let (pm, rest) = rest.split_at(n * n);
+    let (qm, am) = rest.split_at(n * n);
+    for i in 0..n {
+        let (pr, qr, ar) = (
+            &pm[i * n..(i + 1) * n],
+            &qm[i * n..(i + 1) * n],
+            &am[i * n..(i + 1) * n],
+        );
+        let mut s = [b[i]; LANES];
+        for j in 0..n {
+            for l in 0..LANES {
+                s[l] -= pr[j] * x[j][l] + qr[j] * x[n + j][l] + ar[j] * ts[j][l];
+            }
+        }
+        dx[n + i] = s;
+    }
+    dx[..n].copy_from_slice(&x[n..]);
+}
+
+/// [`super::rk4`] for [`LANES`] states: the same operations per lane.
+#[inline(always)]
+fn rk4_lanes<D: Dim>(
+    d: D,
+    nodes: [&[f64]; 3],
+    sp: &[[Compliance; LANES]],
+    h: f64,
+    x: &mut [Lanes],
+    work: &mut [Lanes],
+) {
+    let m = 2 * d.n();
+    let (x, work) = (&mut x[..m], &mut work[..5 * m + d.n()]);
+    let (k, rest) = work.split_at_mut(4 * m);
+    let (y, ts) = rest.split_at_mut(m);
+    let (k0, rest) = k.split_at_mut(m);
+    let (k1, rest) = rest.split_at_mut(m);
+    let (k2, k3) = rest.split_at_mut(m);
+    let axpy = |y: &mut [Lanes], x: &[Lanes], a: f64, k: &[Lanes]| {
+        for i in 0..m {
+            for l in 0..LANES {
+                y[i][l] = x[i][l] + a * k[i][l];
+            }
+        }
+    };
+    rhs_lanes(d, nodes[0], sp, x, k0, ts);
+    axpy(y, x, 0.5 * h, k0);
+    rhs_lanes(d, nodes[1], sp, y, k1, ts);
+    axpy(y, x, 0.5 * h, k1);
+    rhs_lanes(d, nodes[1], sp, y, k2, ts);
+    axpy(y, x, h, k2);
+    rhs_lanes(d, nodes[2], sp, y, k3, ts);
+    for i in 0..m {
+        for l in 0..LANES {
+            x[i][l] += h / 6.0 * (k0[i][l] + 2.0 * k1[i][l] + 2.0 * k2[i][l] + k3[i][l]);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::tests::leg_linearisation;
+    use super::*;
+
+    /// Lock-step lanes give the scalar integrator's results bit for bit:
+    /// elasticity, a dead band that is crossed, a diverging lane, a group
+    /// of mixed shifts and a partial group.
+    #[test]
+    fn lanes_equal_the_scalar_integrator() {
+        let lin = leg_linearisation();
+        let n = lin.n;
+        let base = Transmission {
+            stiffness: vec![2000.0; n],
+            damping: vec![2.0; n],
+            backlash: vec![0.0; n],
+            axial_shift: vec![0.0; n],
+        };
+        let mut ps = vec![];
+        for (k, b) in [
+            (300.0, 0.0),
+            (800.0, 0.004),
+            (5e3, 0.0),
+            (150.0, 0.01),
+            (1.0, 0.0),
+        ] {
+            let mut p = base.clone();
+            p.stiffness = vec![k; n];
+            p.backlash = vec![b; n];
+            // a nearly undamped, very soft spring diverges
+            if k == 1.0 {
+                p.damping = vec![-50.0; n];
+            }
+            ps.push(p);
+        }
+        let mut shifted = base.clone();
+        shifted.axial_shift[0] = 0.01 * lin.axial[0];
+        ps.push(shifted);
+        let to = 2000;
+        let lanes = lin.simulate_all(&ps, to);
+        assert_eq!(lanes.len(), ps.len());
+        let mut diverged = 0;
+        for (p, got) in ps.iter().zip(&lanes) {
+            let want = lin.simulate(p, to);
+            diverged += usize::from(want.is_none());
+            assert_eq!(got, &want, "{p:?}");
+        }
+        assert!(diverged >= 1, "the diverging lane must be tested");
+    }
+}
