@@ -158,7 +158,7 @@ enum Command {
         #[arg(long)]
         prior: Option<String>,
         /// Regularisation weight w_π toward the prior (0 turns it off).
-        #[arg(long, default_value_t = 1e-6)]
+        #[arg(long, default_value_t = 1e-6, allow_negative_numbers = true)]
         weight: f64,
         /// How the prior enters the objective: euclidean (w‖π − π̂‖²) or entropic
         /// (w Σ d(J‖Ĵ), the log-det divergence of each body's pseudo-inertia: unit and

@@ -12,5 +12,14 @@ fn main() {
             default(info);
         }
     }));
+    // A reader that closes the pipe (`momentlmi check robot.urdf | head`)
+    // ends the process quietly, as it ends other Unix tools, instead of a
+    // panic in the next print.
+    #[cfg(unix)]
+    // SAFETY: restoring the default action of one signal before any thread
+    // starts; no handler of ours is involved.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     std::process::exit(momentlmi_cli::main());
 }

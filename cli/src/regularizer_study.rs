@@ -147,37 +147,40 @@ pub fn regularizer_figure(
             })
             .collect()
     };
+    // both axes are logarithmic (`line_panels` with `log_x`): raw values
     let panels = vec![
         series(&|r| Some(r.test_rms)),
-        series(&|r| r.divergence_from_truth.map(f64::log10)),
-        series(&|r| Some(r.euclidean_error.log10())),
+        series(&|r| r.divergence_from_truth),
+        series(&|r| Some(r.euclidean_error)),
     ];
     let titles = [
         "test RMS [N·m] at the weight chosen on the selection set".to_string(),
-        "log₁₀ Σ d(J ‖ J_true) (entropic metric)".to_string(),
-        "log₁₀ ‖π − π_true‖ (Euclidean metric)".to_string(),
+        "Σ d(J ‖ J_true) (entropic metric, dimensionless)".to_string(),
+        "‖π − π_true‖ (Euclidean metric, mixed units)".to_string(),
     ];
     let svg = line_panels(
         "Euclidean vs entropic prior (ellipsoid level), beside Fig. 6",
         "training samples",
         &titles,
-        "",
+        "panel's quantity (log scale)",
         &panels,
         true,
     )?;
     let fig = out.join("fig7_regularizers.svg");
     staged.add_text(&fig, &svg).map_err(|e| e.to_string())?;
-    let mut csv =
-        String::from("regularizer,samples,weight,test_rms,divergence_from_truth,euclidean_error\n");
+    let mut csv = String::from(
+        "regularizer,samples,weight,weight_at_grid_edge,test_rms,divergence_from_truth,euclidean_error\n",
+    );
     for r in rows {
         let div = r
             .divergence_from_truth
             .map_or_else(String::new, |d| d.to_string());
         csv += &format!(
-            "{},{},{:e},{},{div},{}\n",
+            "{},{},{:e},{},{},{div},{}\n",
             r.regularizer.as_str(),
             r.samples,
             r.weight,
+            r.at_grid_edge,
             r.test_rms,
             r.euclidean_error
         );

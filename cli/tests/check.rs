@@ -578,3 +578,42 @@ fn out_draws_one_figure_per_link_in_three_views() {
         .unwrap();
     assert_eq!(o.status.code(), Some(2));
 }
+
+/// A reader that closes the pipe early (`check … | head -1`) ends the
+/// command quietly: no panic, nothing on stderr about stdout. The table of
+/// 2,000 links is larger than a pipe's buffer, so the command is still
+/// printing when the pipe closes.
+#[test]
+fn a_closed_pipe_is_not_a_panic() {
+    use std::fmt::Write as _;
+    use std::io::Read;
+    use std::process::Stdio;
+    let dir = TempDir::new("closed-pipe");
+    let mut urdf = String::from("<robot name=\"star\"><link name=\"base\"/>\n");
+    for k in 0..2000 {
+        let _ = write!(
+            urdf,
+            "<link name=\"l{k}\"><inertial><mass value=\"1\"/><inertia ixx=\"0.01\" iyy=\"0.01\" izz=\"0.01\" ixy=\"0\" ixz=\"0\" iyz=\"0\"/></inertial></link>\n<joint name=\"j{k}\" type=\"fixed\"><parent link=\"base\"/><child link=\"l{k}\"/></joint>\n"
+        );
+    }
+    urdf.push_str("</robot>\n");
+    let path = dir.write("star.urdf", &urdf);
+    let mut child = bin()
+        .args(["check", path.to_str().unwrap()])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut first = [0u8; 1];
+    child
+        .stdout
+        .as_mut()
+        .unwrap()
+        .read_exact(&mut first)
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(!err.contains("Broken pipe"), "{err}");
+}

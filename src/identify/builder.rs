@@ -497,7 +497,7 @@ impl<'m> Identification<'m> {
                 MomentsError::NotPositiveSemidefinite { min_eig } => IdentifyError::Option {
                     option: "prior",
                     message: format!(
-                        "body '{name}': its prior pseudo-inertia is not positive definite (smallest eigenvalue {min_eig:.3e}); the entropic regulariser needs a strictly consistent prior (repair it with `check --repair`, or use --regularizer euclidean)"
+                        "body '{name}': its prior pseudo-inertia is not positive definite (smallest eigenvalue {min_eig:.3e}); the entropic regulariser needs a strictly consistent prior (a URDF's inertias: `momentlmi check --repair`; a parameter file: correct that body), or use --regularizer euclidean"
                     ),
                 },
                 MomentsError::Conic(e) => IdentifyError::Conic(e),

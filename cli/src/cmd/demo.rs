@@ -132,7 +132,7 @@ fn print_regularizers(summary: &ExperimentSummary) {
         "\n   Euclidean vs entropic prior (ellipsoid level; weight chosen on held-out data, Fig. 7):"
     );
     println!(
-        "   {:<10} {:>7} {:>8} {:>9} {:>12} {:>10}",
+        "   {:<10} {:>7} {:>9} {:>9} {:>14} {:>10}",
         "prior", "samples", "weight", "test RMS", "Σ d(J‖Jtrue)", "‖π−πtrue‖"
     );
     for r in &summary.regularizers {
@@ -141,7 +141,7 @@ fn print_regularizers(summary: &ExperimentSummary) {
             .map_or_else(|| "singular".to_string(), |d| format!("{d:.3}"));
         let edge = if r.at_grid_edge { "*" } else { " " };
         println!(
-            "   {:<10} {:>7} {:>8.0e}{edge} {:>9.4} {div:>12} {:>10.4}",
+            "   {:<10} {:>7} {:>8.0e}{edge} {:>9.4} {div:>14} {:>10.4}",
             r.regularizer.as_str(),
             r.samples,
             r.weight,
