@@ -120,12 +120,10 @@ pub fn line_panels(
                     .flat_map(|s| s.points.iter().map(|p| p.1))
                     .filter(|y| *y > 0.0);
                 let (lo, hi) = ys.fold((f64::INFINITY, 0.0f64), |(a, b), y| (a.min(y), b.max(y)));
-                draw!(
-                    cb.build_cartesian_2d(
-                        (b.0..b.1).log_scale(),
-                        (0.8 * lo..1.25 * hi).log_scale()
-                    )
-                );
+                // headroom above the data for the legend in the upper right:
+                // a third of the data's decades
+                let top = hi * 10f64.powf(0.35 * (hi / lo).log10().max(0.1));
+                draw!(cb.build_cartesian_2d((b.0..b.1).log_scale(), (0.8 * lo..top).log_scale()));
             } else {
                 draw!(cb.build_cartesian_2d(b.0..b.1, b.2..b.3));
             }
