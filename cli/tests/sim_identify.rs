@@ -515,3 +515,78 @@ fn the_panda_identifies_at_the_ellipsoid_level_from_its_meshes() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `--regularizer entropic` from the command line: the text report names
+/// it and each body's divergence from the prior; an inconsistent prior
+/// body is a warning with the Euclidean prior and an error naming the body
+/// with the entropic one; weight 0 with entropic is refused.
+#[test]
+fn the_entropic_prior_from_the_command_line() {
+    let dir = common::TempDir::new("entropic");
+    let data = dir.0.join("leg.csv");
+    common::ok(&[
+        "simulate",
+        "--robot",
+        "cheetah3-leg",
+        "--seconds",
+        "3",
+        "--seed",
+        "9",
+        "--out",
+        data.to_str().unwrap(),
+    ]);
+    let identify = |extra: &[&str]| {
+        let mut args = vec![
+            "identify",
+            "--robot",
+            "cheetah3-leg",
+            "--data",
+            data.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        bin().args(&args).output().unwrap()
+    };
+    let o = identify(&["--regularizer", "entropic", "--weight", "1e-2"]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(text.contains("entropic prior with weight 1e-2"), "{text}");
+    assert!(text.contains("d(J‖Ĵ)"), "{text}");
+    // a prior whose knee has a negative Ixx
+    let mut pf: serde_json::Value = serde_json::from_slice(&identify(&["--json"]).stdout).unwrap();
+    let knee = pf["bodies"]
+        .as_array_mut()
+        .unwrap()
+        .iter_mut()
+        .find(|b| b["name"] == "knee")
+        .unwrap();
+    knee["params"][4] = serde_json::json!(-0.01);
+    let prior = dir.write("prior.json", &pf.to_string());
+    let o = identify(&["--prior", prior.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("--prior: body 'knee' is not physically consistent"),
+        "{err}"
+    );
+    let o = identify(&[
+        "--prior",
+        prior.to_str().unwrap(),
+        "--regularizer",
+        "entropic",
+        "--weight",
+        "1e-2",
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("body 'knee'") && err.contains("not positive definite"),
+        "{err}"
+    );
+    let o = identify(&["--regularizer", "entropic", "--weight", "0"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("needs --weight > 0"));
+}

@@ -90,6 +90,23 @@ fn warn_unexcited(dirs: &[String]) {
     }
 }
 
+/// A warning per prior body that is not physically consistent (the
+/// Euclidean prior pulls toward it regardless; the entropic one refuses it).
+fn warn_inconsistent_prior(bodies: &[String], prior: &[f64]) {
+    use momentlmi::moments::{InertialParams, check_consistency};
+    for (name, p) in bodies.iter().zip(prior.chunks_exact(10)) {
+        let pi = InertialParams(std::array::from_fn(|k| p[k]));
+        // a zero body is a placeholder (a massless frame), not a finding
+        if p.iter().any(|&x| x != 0.0)
+            && !check_consistency(&pi, momentlmi::identify::result::CHECK_TOL).consistent
+        {
+            eprintln!(
+                "warning: --prior: body '{name}' is not physically consistent (J(π̂) is not positive semidefinite); the prior pulls toward it"
+            );
+        }
+    }
+}
+
 fn parse_level(s: &str, what: &str) -> Result<Level, String> {
     Level::parse(s)
         .ok_or_else(|| format!("{what}: '{s}' is not one of none, semi, consistent, ellipsoid"))
@@ -102,6 +119,7 @@ fn identification<'r>(
 ) -> Result<Identification<'r>, String> {
     let level = parse_level(a.constraints, "--constraints")?;
     let (prior, _) = super::parameters_for(robot, "--prior", a.prior, ParamChoice::Cad)?;
+    warn_inconsistent_prior(&robot.model.body_names(), &prior.params());
     let regularizer = a.regularizer;
     if regularizer == Regularizer::Entropic && a.weight <= 0.0 {
         return Err(format!(
@@ -223,33 +241,21 @@ pub fn print_report(r: &IdentifyResult) {
             if b.consistent { "yes" } else { "NO" }
         );
     }
-    println!(
-        "viscous  {:?}",
-        r.friction
-            .viscous
-            .iter()
+    let list = |v: &[f64]| {
+        v.iter()
             .map(|x| format!("{x:.4}"))
             .collect::<Vec<_>>()
-    );
-    println!(
-        "Coulomb  {:?}",
-        r.friction
-            .coulomb
-            .iter()
-            .map(|x| format!("{x:.4}"))
-            .collect::<Vec<_>>()
-    );
-    println!(
-        "training RMS   {:?}",
-        r.training_rms
-            .iter()
-            .map(|x| format!("{x:.4}"))
-            .collect::<Vec<_>>()
-    );
+            .join(", ")
+    };
+    let joints = r.joints.join(", ");
+    println!("joints         {joints}");
+    println!("viscous        {} N·m·s/rad", list(&r.friction.viscous));
+    println!("Coulomb        {} N·m", list(&r.friction.coulomb));
+    println!("training RMS   {} N·m", list(&r.training_rms));
     if let Some(v) = &r.validation_rms {
         println!(
-            "validation RMS {:?} ({} samples)",
-            v.iter().map(|x| format!("{x:.4}")).collect::<Vec<_>>(),
+            "validation RMS {} N·m ({} samples)",
+            list(v),
             r.validation_samples
         );
     }
