@@ -553,26 +553,34 @@ impl Linearisation {
 
     /// [`Self::simulate`] on the nodes of `p`'s axial shift.
     fn simulate_on(&self, at: &Nodes, p: &Transmission, to: usize) -> Option<Vec<f64>> {
-        by_dim!(self.n, d => self.integrate(d, at, p, to))
+        let sink = Trace(Vec::with_capacity(to.min(at.last + 1) * self.n));
+        by_dim!(self.n, d => self.integrate(d, at, p, to, sink))
     }
 
-    /// RK4, one step per sample interval; a step across a dead band's edge
-    /// (the spring force has a kink there) is redone in [`REFINED`]
+    /// RK4, one step per sample interval, each output `τ_s − τ_L` (sample
+    /// by sample, joint by joint) into `out`; a step across a dead band's
+    /// edge (the spring force has a kink there) is redone in [`REFINED`]
     /// substeps, its nodes interpolated.
-    fn integrate<D: Dim>(&self, d: D, at: &Nodes, p: &Transmission, to: usize) -> Option<Vec<f64>> {
+    fn integrate<D: Dim, S: Sink>(
+        &self,
+        d: D,
+        at: &Nodes,
+        p: &Transmission,
+        to: usize,
+        mut out: S,
+    ) -> Option<S::Out> {
         let n = d.n();
         let len = node_len(n);
         let to = to.min(at.last + 1);
         let sp: Vec<Compliance> = (0..n).map(|i| p.spring(i)).collect();
         let mut x = start_state(at, p, n);
-        let mut out = Vec::with_capacity(to * n);
         let mut work = vec![0.0; 11 * n];
         let mut x0 = vec![0.0; 2 * n];
         let mut step = vec![0.0; 3 * len];
         let dead_band = p.backlash.iter().any(|&b| b > 0.0);
         for s in 0..to {
             for i in 0..n {
-                out.push(sp[i].torque(x[i], x[n + i]) - at.tau[s * n + i]);
+                out.push(s * n + i, sp[i].torque(x[i], x[n + i]) - at.tau[s * n + i]);
             }
             if s + 1 >= to {
                 break;
@@ -591,7 +599,49 @@ impl Linearisation {
                 return None;
             }
         }
-        Some(out)
+        Some(out.finish())
+    }
+}
+
+/// Where an integration's outputs go, in order (flat index `s·n + i`).
+trait Sink {
+    type Out;
+    fn push(&mut self, k: usize, v: f64);
+    fn finish(self) -> Self::Out;
+}
+
+/// Every output: the simulated trace.
+struct Trace(Vec<f64>);
+
+impl Sink for Trace {
+    type Out = Vec<f64>;
+    #[inline(always)]
+    fn push(&mut self, _: usize, v: f64) {
+        self.0.push(v);
+    }
+    fn finish(self) -> Vec<f64> {
+        self.0
+    }
+}
+
+/// Only `Σ_{k ≥ from} (r_k − h_k)²`, summed in the order a trace would be
+/// (so the same number to the last bit), with no trace kept.
+struct Cost<'a> {
+    r: &'a [f64],
+    from: usize,
+    acc: f64,
+}
+
+impl Sink for Cost<'_> {
+    type Out = f64;
+    #[inline(always)]
+    fn push(&mut self, k: usize, v: f64) {
+        if k >= self.from {
+            self.acc += (self.r[k] - v).powi(2);
+        }
+    }
+    fn finish(self) -> f64 {
+        self.acc
     }
 }
 
@@ -749,23 +799,19 @@ impl Search<'_> {
         }
     }
 
-    /// The training cost of a simulation `h` (to `upto`), as [`Self::cost_on`]
-    /// gives it.
-    fn cost_of(&self, h: &[f64]) -> Option<f64> {
-        let n = self.lin.n;
-        let v = (self.warm * n..self.upto * n)
-            .map(|k| (self.r[k] - h[k]).powi(2))
-            .sum::<f64>();
-        v.is_finite().then_some(v)
-    }
-
     /// The cheapest of `trials` on the whole training part (simulated in
     /// lock-step groups; the first of equal costs, as a scan would pick).
     fn best_of(&self, trials: Vec<Transmission>) -> Option<(f64, Transmission)> {
-        let sims = self.lin.simulate_all(&trials, self.upto);
-        sims.iter()
+        let from = self.warm * self.lin.n;
+        let costs = self.lin.run_all(&trials, self.upto, || Cost {
+            r: self.r,
+            from,
+            acc: 0.0,
+        });
+        costs
+            .into_iter()
             .zip(trials)
-            .filter_map(|(h, q)| self.cost_of(h.as_deref()?).map(|c| (c, q)))
+            .filter_map(|(c, q)| c.filter(|c| c.is_finite()).map(|c| (c, q)))
             .min_by(|a, b| a.0.total_cmp(&b.0))
     }
 
@@ -1150,7 +1196,7 @@ mod lanes;
 
 #[cfg(test)]
 mod tests {
-    use super::{Dynamic, Fixed, Linearisation, Transmission, doubtful};
+    use super::{Dynamic, Fixed, Linearisation, Trace, Transmission, doubtful};
 
     /// The leg's linearisation along 1 s of data with rotors and backlash.
     pub(super) fn leg_linearisation() -> Linearisation {
@@ -1180,8 +1226,12 @@ mod tests {
         };
         let to = d.len();
         let fresh = lin.nodes(&p.axial_shift, to).unwrap();
-        let a = lin.integrate(Fixed::<3>, &fresh, &p, to).unwrap();
-        let b = lin.integrate(Dynamic(3), &fresh, &p, to).unwrap();
+        let a = lin
+            .integrate(Fixed::<3>, &fresh, &p, to, Trace(vec![]))
+            .unwrap();
+        let b = lin
+            .integrate(Dynamic(3), &fresh, &p, to, Trace(vec![]))
+            .unwrap();
         assert_eq!(a.len(), to * 3);
         let max = a
             .iter()

@@ -5,8 +5,8 @@
 //! the last bit (a test below holds it to that).
 
 use super::{
-    Compliance, Dim, Dynamic, Fixed, Linearisation, Nodes, Transmission, node_len, refine,
-    start_state,
+    Compliance, Dim, Dynamic, Fixed, Linearisation, Nodes, Sink, Trace, Transmission, node_len,
+    refine, start_state,
 };
 use rayon::prelude::*;
 
@@ -19,38 +19,69 @@ impl Linearisation {
     /// [`Linearisation::simulate`] of every hypothesis in `ps`, those with a
     /// common axial shift [`LANES`] at a time (in parallel over groups).
     pub(super) fn simulate_all(&self, ps: &[Transmission], to: usize) -> Vec<Option<Vec<f64>>> {
+        let len = to * self.n;
+        self.run_all(ps, to, || Trace(Vec::with_capacity(len)))
+    }
+
+    /// Every hypothesis in `ps` simulated into a sink of `make`'s (what
+    /// [`Linearisation::simulate`] would feed it), [`LANES`] at a time
+    /// where they share an axial shift; `None` where one does not simulate.
+    pub(super) fn run_all<S, F>(
+        &self,
+        ps: &[Transmission],
+        to: usize,
+        make: F,
+    ) -> Vec<Option<S::Out>>
+    where
+        S: Sink,
+        S::Out: Send,
+        F: Fn() -> S + Sync,
+    {
         ps.par_chunks(LANES)
             .flat_map_iter(|group| {
                 let same = group.iter().all(|p| p.axial_shift == group[0].axial_shift);
-                let out: Vec<Option<Vec<f64>>> = if same && group.len() > 1 {
-                    self.simulate_group(group, to)
+                let out: Vec<Option<S::Out>> = if same && group.len() > 1 {
+                    self.run_group(group, to, &make)
                 } else {
-                    group.iter().map(|p| self.simulate(p, to)).collect()
+                    group.iter().map(|p| self.run_one(p, to, make())).collect()
                 };
                 out.into_iter()
             })
             .collect()
     }
 
+    /// One hypothesis into `sink`.
+    fn run_one<S: Sink>(&self, p: &Transmission, to: usize, sink: S) -> Option<S::Out> {
+        let run = |at: &Nodes| by_dim!(self.n, d => self.integrate(d, at, p, to, sink));
+        self.with_nodes(&p.axial_shift, to, run)?
+    }
+
     /// One group (≤ [`LANES`], one axial shift); missing lanes repeat the
     /// first hypothesis and are dropped.
-    fn simulate_group(&self, group: &[Transmission], to: usize) -> Vec<Option<Vec<f64>>> {
+    fn run_group<S: Sink>(
+        &self,
+        group: &[Transmission],
+        to: usize,
+        make: &impl Fn() -> S,
+    ) -> Vec<Option<S::Out>> {
         let ps: [&Transmission; LANES] = std::array::from_fn(|l| group.get(l).unwrap_or(&group[0]));
-        let run = |at: &Nodes| by_dim!(self.n, d => self.integrate_lanes(d, at, ps, to));
+        let sinks: [S; LANES] = std::array::from_fn(|_| make());
+        let run = |at: &Nodes| by_dim!(self.n, d => self.integrate_lanes(d, at, ps, to, sinks));
         match self.with_nodes(&group[0].axial_shift, to, run) {
             Some(out) => out.into_iter().take(group.len()).collect(),
-            None => vec![None; group.len()],
+            None => (0..group.len()).map(|_| None).collect(),
         }
     }
 
     /// [`Linearisation::integrate`] for [`LANES`] hypotheses at once.
-    fn integrate_lanes<D: Dim>(
+    fn integrate_lanes<D: Dim, S: Sink>(
         &self,
         d: D,
         at: &Nodes,
         ps: [&Transmission; LANES],
         to: usize,
-    ) -> [Option<Vec<f64>>; LANES] {
+        mut out: [S; LANES],
+    ) -> [Option<S::Out>; LANES] {
         let n = d.n();
         let len = node_len(n);
         let to = to.min(at.last + 1);
@@ -61,7 +92,6 @@ impl Linearisation {
         let mut x: Vec<Lanes> = (0..2 * n)
             .map(|k| std::array::from_fn(|l| starts[l][k]))
             .collect();
-        let mut out: [Vec<f64>; LANES] = std::array::from_fn(|_| Vec::with_capacity(to * n));
         let mut alive = [true; LANES];
         let dead_band: [bool; LANES] =
             std::array::from_fn(|l| ps[l].backlash.iter().any(|&b| b > 0.0));
@@ -76,7 +106,10 @@ impl Linearisation {
         for s in 0..to {
             for (l, o) in out.iter_mut().enumerate() {
                 for i in 0..n {
-                    o.push(torque(&sp[i][l], x[i][l], x[n + i][l]) - at.tau[s * n + i]);
+                    o.push(
+                        s * n + i,
+                        torque(&sp[i][l], x[i][l], x[n + i][l]) - at.tau[s * n + i],
+                    );
                 }
             }
             if s + 1 >= to {
@@ -110,13 +143,8 @@ impl Linearisation {
                 break;
             }
         }
-        let mut out = out.map(Some);
-        for (o, a) in out.iter_mut().zip(alive) {
-            if !a {
-                *o = None;
-            }
-        }
-        out
+        let mut alive = alive.into_iter();
+        out.map(|o| alive.next().is_some_and(|a| a).then(|| o.finish()))
     }
 }
 
@@ -259,5 +287,19 @@ mod tests {
             assert_eq!(got, &want, "{p:?}");
         }
         assert!(diverged >= 1, "the diverging lane must be tested");
+        // a cost-only sink sums what the trace would give, bit for bit
+        let r: Vec<f64> = (0..to * n).map(|k| (k as f64 * 0.37).sin()).collect();
+        let from = 100 * n;
+        let costs = lin.run_all(&ps, to, || super::super::Cost {
+            r: &r,
+            from,
+            acc: 0.0,
+        });
+        for (h, c) in lanes.iter().zip(&costs) {
+            let want = h
+                .as_ref()
+                .map(|h| (from..h.len()).map(|k| (r[k] - h[k]).powi(2)).sum::<f64>());
+            assert_eq!(c, &want);
+        }
     }
 }
