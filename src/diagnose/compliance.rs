@@ -624,6 +624,40 @@ impl Sink for Trace {
     }
 }
 
+/// Per joint, the cost on the search window of a hypothesis scaled by its
+/// best β ≥ 0 (the candidate's coefficient), so that the grid judges
+/// timing, not amplitude: from the sums `Σ r h, Σ h², Σ r²` over the
+/// samples from `from / n` on, accumulated in sample order (no trace kept).
+struct Projection<'a> {
+    r: &'a [f64],
+    n: usize,
+    from: usize,
+    sums: Vec<[f64; 3]>,
+}
+
+impl Sink for Projection<'_> {
+    type Out = Vec<f64>;
+    #[inline(always)]
+    fn push(&mut self, k: usize, h: f64) {
+        if k >= self.from {
+            let a = self.r[k];
+            let s = &mut self.sums[k % self.n];
+            s[0] += a * h;
+            s[1] += h * h;
+            s[2] += a * a;
+        }
+    }
+    fn finish(self) -> Vec<f64> {
+        self.sums
+            .iter()
+            .map(|&[rh, hh, rr]| {
+                let beta = if hh > 0.0 { (rh / hh).max(0.0) } else { 0.0 };
+                rr - 2.0 * beta * rh + beta * beta * hh
+            })
+            .collect()
+    }
+}
+
 /// Only `Σ_{k ≥ from} (r_k − h_k)²`, summed in the order a trace would be
 /// (so the same number to the last bit), with no trace kept.
 struct Cost<'a> {
@@ -815,26 +849,6 @@ impl Search<'_> {
             .min_by(|a, b| a.0.total_cmp(&b.0))
     }
 
-    /// Per joint, the cost on the search window of a hypothesis simulated
-    /// to `window` (`h`), scaled by its best β ≥ 0 (the candidate's coefficient), so that the grid
-    /// judges timing, not amplitude.
-    fn projected(&self, h: &[f64], window: usize) -> Vec<f64> {
-        let n = self.lin.n;
-        (0..n)
-            .map(|i| {
-                let (mut rh, mut hh, mut rr) = (0.0, 0.0, 0.0);
-                for k in self.warm..window {
-                    let (a, b) = (self.r[k * n + i], h[k * n + i]);
-                    rh += a * b;
-                    hh += b * b;
-                    rr += a * a;
-                }
-                let beta = if hh > 0.0 { (rh / hh).max(0.0) } else { 0.0 };
-                rr - 2.0 * beta * rh + beta * beta * hh
-            })
-            .collect()
-    }
-
     /// Stage 1: one transmission shared by every joint over a K × ζ × b grid
     /// on the search window; each joint takes the grid point that explains
     /// its own residual best; for backlash the grid is coarse and each
@@ -899,12 +913,12 @@ impl Search<'_> {
         trials: &[Transmission],
         window: usize,
     ) -> Transmission {
-        let costs: Vec<Option<Vec<f64>>> = self
-            .lin
-            .simulate_all(trials, window)
-            .iter()
-            .map(|h| h.as_deref().map(|h| self.projected(h, window)))
-            .collect();
+        let costs: Vec<Option<Vec<f64>>> = self.lin.run_all(trials, window, || Projection {
+            r: self.r,
+            n: self.lin.n,
+            from: self.warm * self.lin.n,
+            sums: vec![[0.0; 3]; self.lin.n],
+        });
         let mut out = p.clone();
         for i in 0..self.lin.n {
             let pick = costs

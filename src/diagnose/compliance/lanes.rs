@@ -301,5 +301,30 @@ mod tests {
                 .map(|h| (from..h.len()).map(|k| (r[k] - h[k]).powi(2)).sum::<f64>());
             assert_eq!(c, &want);
         }
+        // and the per-joint projection sums joint by joint in sample order
+        let proj = lin.run_all(&ps, to, || super::super::Projection {
+            r: &r,
+            n,
+            from,
+            sums: vec![[0.0; 3]; n],
+        });
+        for (h, c) in lanes.iter().zip(&proj) {
+            let want = h.as_ref().map(|h| {
+                (0..n)
+                    .map(|i| {
+                        let (mut rh, mut hh, mut rr) = (0.0, 0.0, 0.0);
+                        for k in (from / n)..h.len() / n {
+                            let (a, b) = (r[k * n + i], h[k * n + i]);
+                            rh += a * b;
+                            hh += b * b;
+                            rr += a * a;
+                        }
+                        let beta = if hh > 0.0 { (rh / hh).max(0.0) } else { 0.0 };
+                        rr - 2.0 * beta * rh + beta * beta * hh
+                    })
+                    .collect::<Vec<f64>>()
+            });
+            assert_eq!(c, &want);
+        }
     }
 }
