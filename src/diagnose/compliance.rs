@@ -301,33 +301,6 @@ macro_rules! by_dim {
     };
 }
 
-/// `ẋ` for the state `x = (x, ẋ)` at a node of [`solve_node`].
-#[inline(always)]
-fn rhs<D: Dim>(d: D, node: &[f64], sp: &[Compliance], x: &[f64], dx: &mut [f64], ts: &mut [f64]) {
-    let n = d.n();
-    let (sp, x, dx, ts) = (&sp[..n], &x[..2 * n], &mut dx[..2 * n], &mut ts[..n]);
-    let node = &node[..3 * n * n + n];
-    for i in 0..n {
-        ts[i] = sp[i].torque(x[i], x[n + i]);
-    }
-    let (b, rest) = node.split_at(n);
-    let (pm, rest) = rest.split_at(n * n);
-    let (qm, am) = rest.split_at(n * n);
-    for i in 0..n {
-        let (pr, qr, ar) = (
-            &pm[i * n..(i + 1) * n],
-            &qm[i * n..(i + 1) * n],
-            &am[i * n..(i + 1) * n],
-        );
-        let mut s = b[i];
-        for j in 0..n {
-            s -= pr[j] * x[j] + qr[j] * x[n + j] + ar[j] * ts[j];
-        }
-        dx[n + i] = s;
-    }
-    dx[..n].copy_from_slice(&x[n..]);
-}
-
 /// Values per sample of one node set ([`Nodes`]) for `n` joints: the node,
 /// the step's middle node and the shifted τ_L.
 pub fn node_values(n: usize) -> u64 {
@@ -558,48 +531,18 @@ impl Linearisation {
     }
 
     /// RK4, one step per sample interval, each output `τ_s − τ_L` (sample
-    /// by sample, joint by joint) into `out`; a step across a dead band's
-    /// edge (the spring force has a kink there) is redone in [`REFINED`]
-    /// substeps, its nodes interpolated.
+    /// by sample, joint by joint) into `out`: the one-lane case of the
+    /// lock-step integrator ([`lanes`]).
     fn integrate<D: Dim, S: Sink>(
         &self,
         d: D,
         at: &Nodes,
         p: &Transmission,
         to: usize,
-        mut out: S,
+        out: S,
     ) -> Option<S::Out> {
-        let n = d.n();
-        let len = node_len(n);
-        let to = to.min(at.last + 1);
-        let sp: Vec<Compliance> = (0..n).map(|i| p.spring(i)).collect();
-        let mut x = start_state(at, p, n);
-        let mut work = vec![0.0; 11 * n];
-        let mut x0 = vec![0.0; 2 * n];
-        let mut step = vec![0.0; 3 * len];
-        let dead_band = p.backlash.iter().any(|&b| b > 0.0);
-        for s in 0..to {
-            for i in 0..n {
-                out.push(s * n + i, sp[i].torque(x[i], x[n + i]) - at.tau[s * n + i]);
-            }
-            if s + 1 >= to {
-                break;
-            }
-            let dt = self.t[s + 1] - self.t[s];
-            x0.copy_from_slice(&x);
-            let ends = &at.nodes[s * len..(s + 2) * len];
-            let (n0, n1) = ends.split_at(len);
-            let mid = &at.mid[s * len..(s + 1) * len];
-            rk4(d, [n0, mid, n1], &sp, dt, &mut x, &mut work);
-            if dead_band && crossed(p, &x0, &x, n) {
-                x.copy_from_slice(&x0);
-                refine(d, (n0, n1), &sp, dt, (&mut x, &mut step, &mut work));
-            }
-            if !x.iter().all(|v| v.is_finite() && v.abs() < 1e3) {
-                return None;
-            }
-        }
-        Some(out.finish())
+        let [h] = self.integrate_lanes(d, at, [p], to, [out]);
+        h
     }
 }
 
@@ -687,74 +630,6 @@ fn start_state(at: &Nodes, p: &Transmission, n: usize) -> Vec<f64> {
         x[i] = t / p.stiffness[i].max(1e-9) + p.backlash[i] * t.signum();
     }
     x
-}
-
-/// Whether a step from `x0` to `x` entered or left a joint's dead band.
-fn crossed(p: &Transmission, x0: &[f64], x: &[f64], n: usize) -> bool {
-    let in_contact = |x: &[f64], i: usize| x[i].abs() > p.backlash[i];
-    (0..n).any(|i| p.backlash[i] > 0.0 && in_contact(x, i) != in_contact(x0, i))
-}
-
-/// A step of length `dt` from `x` in [`REFINED`] RK4 substeps on nodes
-/// interpolated between its ends `(n0, n1)`; `step` holds 3 nodes, `work`
-/// 11 n values.
-#[inline(always)]
-fn refine<D: Dim>(
-    d: D,
-    (n0, n1): (&[f64], &[f64]),
-    sp: &[Compliance],
-    dt: f64,
-    (x, step, work): (&mut [f64], &mut [f64], &mut [f64]),
-) {
-    let len = n0.len();
-    let r = REFINED as f64;
-    for sub in 0..REFINED {
-        for e in 0..3 {
-            let a = (sub as f64 + 0.5 * e as f64) / r;
-            for j in 0..len {
-                step[e * len + j] = n0[j] + a * (n1[j] - n0[j]);
-            }
-        }
-        let (s0, rest) = step.split_at(len);
-        let (sh, s1) = rest.split_at(len);
-        rk4(d, [s0, sh, &s1[..len]], sp, dt / r, x, work);
-    }
-}
-
-/// One RK4 step of length `h` on the nodes at its start, middle and end;
-/// `work` holds 11 n values.
-#[inline(always)]
-fn rk4<D: Dim>(
-    d: D,
-    nodes: [&[f64]; 3],
-    sp: &[Compliance],
-    h: f64,
-    x: &mut [f64],
-    work: &mut [f64],
-) {
-    let m = 2 * d.n();
-    let (x, work) = (&mut x[..m], &mut work[..5 * m + d.n()]);
-    let (k, rest) = work.split_at_mut(4 * m);
-    let (y, ts) = rest.split_at_mut(m);
-    let (k0, rest) = k.split_at_mut(m);
-    let (k1, rest) = rest.split_at_mut(m);
-    let (k2, k3) = rest.split_at_mut(m);
-    rhs(d, nodes[0], sp, x, k0, ts);
-    for i in 0..m {
-        y[i] = x[i] + 0.5 * h * k0[i];
-    }
-    rhs(d, nodes[1], sp, y, k1, ts);
-    for i in 0..m {
-        y[i] = x[i] + 0.5 * h * k1[i];
-    }
-    rhs(d, nodes[1], sp, y, k2, ts);
-    for i in 0..m {
-        y[i] = x[i] + h * k2[i];
-    }
-    rhs(d, nodes[2], sp, y, k3, ts);
-    for i in 0..m {
-        x[i] += h / 6.0 * (k0[i] + 2.0 * k1[i] + 2.0 * k2[i] + k3[i]);
-    }
 }
 
 /// Buffers for [`solve_node`]: `M` (then its factor) and the factor's

@@ -1,19 +1,20 @@
-//! Several hypotheses with the same axial shift simulated in lock-step on
-//! one set of nodes: each node is read once for [`LANES`] hypotheses and
-//! the per-lane arithmetic vectorises. Every lane does exactly the scalar
-//! integrator's operations in the same order, so its result is the same to
-//! the last bit (a test below holds it to that).
+//! The integrator of the linearised transmission dynamics, for L
+//! hypotheses with the same axial shift in lock-step on one set of nodes:
+//! each node is read once for all lanes and the per-lane arithmetic
+//! vectorises. One hypothesis is the one-lane case
+//! ([`Linearisation::integrate`]); every lane does the same operations in
+//! the same order, so a hypothesis gives the same numbers to the last bit
+//! in any group (a test below holds it to that). [`LANES`] at a time is
+//! what measured fastest (8 lanes ran out of registers).
 
 use super::{
-    Compliance, Dim, Dynamic, Fixed, Linearisation, Nodes, Sink, Trace, Transmission, node_len,
-    refine, start_state,
+    Compliance, Dim, Dynamic, Fixed, Linearisation, Nodes, REFINED, Sink, Trace, Transmission,
+    node_len, start_state,
 };
 use rayon::prelude::*;
 
 /// Hypotheses simulated together.
 pub(super) const LANES: usize = 4;
-
-type Lanes = [f64; LANES];
 
 impl Linearisation {
     /// [`Linearisation::simulate`] of every hypothesis in `ps`, those with a
@@ -73,36 +74,39 @@ impl Linearisation {
         }
     }
 
-    /// [`Linearisation::integrate`] for [`LANES`] hypotheses at once.
-    fn integrate_lanes<D: Dim, S: Sink>(
+    /// RK4 for L hypotheses at once, one step per sample interval, each
+    /// output `τ_s − τ_L` (sample by sample, joint by joint) into its lane's
+    /// sink; a step across a dead band's edge (the spring force has a kink
+    /// there) is redone for that lane in [`REFINED`] substeps, its nodes
+    /// interpolated; a lane that diverges gives `None`.
+    pub(super) fn integrate_lanes<D: Dim, S: Sink, const L: usize>(
         &self,
         d: D,
         at: &Nodes,
-        ps: [&Transmission; LANES],
+        ps: [&Transmission; L],
         to: usize,
-        mut out: [S; LANES],
-    ) -> [Option<S::Out>; LANES] {
+        mut out: [S; L],
+    ) -> [Option<S::Out>; L] {
         let n = d.n();
         let len = node_len(n);
         let to = to.min(at.last + 1);
-        let sp: Vec<[Compliance; LANES]> = (0..n)
+        let sp: Vec<[Compliance; L]> = (0..n)
             .map(|i| std::array::from_fn(|l| ps[l].spring(i)))
             .collect();
-        let starts: [Vec<f64>; LANES] = std::array::from_fn(|l| start_state(at, ps[l], n));
-        let mut x: Vec<Lanes> = (0..2 * n)
+        let starts: [Vec<f64>; L] = std::array::from_fn(|l| start_state(at, ps[l], n));
+        let mut x: Vec<[f64; L]> = (0..2 * n)
             .map(|k| std::array::from_fn(|l| starts[l][k]))
             .collect();
-        let mut alive = [true; LANES];
-        let dead_band: [bool; LANES] =
-            std::array::from_fn(|l| ps[l].backlash.iter().any(|&b| b > 0.0));
+        let mut alive = [true; L];
+        let dead_band: [bool; L] = std::array::from_fn(|l| ps[l].backlash.iter().any(|&b| b > 0.0));
         let mut x0 = x.clone();
-        let mut work = vec![[0.0; LANES]; 5 * 2 * n + n];
+        let mut work = vec![[0.0; L]; 5 * 2 * n + n];
         // one lane's scalar state, substeps and buffers, for a refined step
-        let mut xl = vec![0.0; 2 * n];
+        let mut xl = vec![[0.0]; 2 * n];
         let mut step = vec![0.0; 3 * len];
-        let mut swork = vec![0.0; 11 * n];
-        let lane_sp: [Vec<Compliance>; LANES] =
-            std::array::from_fn(|l| (0..n).map(|i| sp[i][l]).collect());
+        let mut swork = vec![[0.0]; 11 * n];
+        let lane_sp: [Vec<[Compliance; 1]>; L] =
+            std::array::from_fn(|l| (0..n).map(|i| [sp[i][l]]).collect());
         for s in 0..to {
             for (l, o) in out.iter_mut().enumerate() {
                 for i in 0..n {
@@ -121,18 +125,18 @@ impl Linearisation {
             let (n0, n1) = ends.split_at(len);
             let mid = &at.mid[s * len..(s + 1) * len];
             rk4_lanes(d, [n0, mid, n1], &sp, dt, &mut x, &mut work);
-            for l in 0..LANES {
+            for l in 0..L {
                 if !alive[l] {
                     continue;
                 }
                 if dead_band[l] && crossed_lane(ps[l], &x0, &x, l, n) {
                     for k in 0..2 * n {
-                        xl[k] = x0[k][l];
+                        xl[k] = [x0[k][l]];
                     }
                     let buffers = (&mut xl[..], &mut step[..], &mut swork[..]);
                     refine(d, (n0, n1), &lane_sp[l], dt, buffers);
                     for k in 0..2 * n {
-                        x[k][l] = xl[k];
+                        x[k][l] = xl[k][0];
                     }
                 }
                 alive[l] = x[..2 * n]
@@ -156,28 +160,61 @@ fn torque(c: &Compliance, x: f64, xd: f64) -> f64 {
     if x.abs() <= c.backlash { 0.0 } else { v }
 }
 
-/// [`super::crossed`] for lane `l`.
+/// Whether lane `l`'s step from `x0` to `x` entered or left a joint's dead band.
 #[inline(always)]
-fn crossed_lane(p: &Transmission, x0: &[Lanes], x: &[Lanes], l: usize, n: usize) -> bool {
-    let in_contact = |x: &[Lanes], i: usize| x[i][l].abs() > p.backlash[i];
+fn crossed_lane<const L: usize>(
+    p: &Transmission,
+    x0: &[[f64; L]],
+    x: &[[f64; L]],
+    l: usize,
+    n: usize,
+) -> bool {
+    let in_contact = |x: &[[f64; L]], i: usize| x[i][l].abs() > p.backlash[i];
     (0..n).any(|i| p.backlash[i] > 0.0 && in_contact(x, i) != in_contact(x0, i))
 }
 
-/// [`super::rhs`] for [`LANES`] states: the same operations per lane.
+/// One lane's step of length `dt` from `x` in [`REFINED`] RK4 substeps on
+/// nodes interpolated between its ends `(n0, n1)`; `step` holds 3 nodes,
+/// `work` 11 n values.
 #[inline(always)]
-fn rhs_lanes<D: Dim>(
+fn refine<D: Dim>(
+    d: D,
+    (n0, n1): (&[f64], &[f64]),
+    sp: &[[Compliance; 1]],
+    dt: f64,
+    (x, step, work): (&mut [[f64; 1]], &mut [f64], &mut [[f64; 1]]),
+) {
+    let len = n0.len();
+    let r = REFINED as f64;
+    for sub in 0..REFINED {
+        for e in 0..3 {
+            let a = (sub as f64 + 0.5 * e as f64) / r;
+            for j in 0..len {
+                step[e * len + j] = n0[j] + a * (n1[j] - n0[j]);
+            }
+        }
+        let (s0, rest) = step.split_at(len);
+        let (sh, s1) = rest.split_at(len);
+        rk4_lanes(d, [s0, sh, &s1[..len]], sp, dt / r, x, work);
+    }
+}
+
+/// `ẋ = b − P x − Q ẋ − A τ_s(x, ẋ)` for L states `(x, ẋ)` at a node of
+/// [`super::solve_node`], the same operations per lane.
+#[inline(always)]
+fn rhs_lanes<D: Dim, const L: usize>(
     d: D,
     node: &[f64],
-    sp: &[[Compliance; LANES]],
-    x: &[Lanes],
-    dx: &mut [Lanes],
-    ts: &mut [Lanes],
+    sp: &[[Compliance; L]],
+    x: &[[f64; L]],
+    dx: &mut [[f64; L]],
+    ts: &mut [[f64; L]],
 ) {
     let n = d.n();
     let (sp, x, dx, ts) = (&sp[..n], &x[..2 * n], &mut dx[..2 * n], &mut ts[..n]);
     let node = &node[..3 * n * n + n];
     for i in 0..n {
-        for l in 0..LANES {
+        for l in 0..L {
             ts[i][l] = torque(&sp[i][l], x[i][l], x[n + i][l]);
         }
     }
@@ -190,9 +227,9 @@ fn rhs_lanes<D: Dim>(
             &qm[i * n..(i + 1) * n],
             &am[i * n..(i + 1) * n],
         );
-        let mut s = [b[i]; LANES];
+        let mut s = [b[i]; L];
         for j in 0..n {
-            for l in 0..LANES {
+            for l in 0..L {
                 s[l] -= pr[j] * x[j][l] + qr[j] * x[n + j][l] + ar[j] * ts[j][l];
             }
         }
@@ -201,15 +238,16 @@ fn rhs_lanes<D: Dim>(
     dx[..n].copy_from_slice(&x[n..]);
 }
 
-/// [`super::rk4`] for [`LANES`] states: the same operations per lane.
+/// One RK4 step of length `h` for L states on the nodes at its start,
+/// middle and end; `work` holds 11 n values per lane.
 #[inline(always)]
-fn rk4_lanes<D: Dim>(
+fn rk4_lanes<D: Dim, const L: usize>(
     d: D,
     nodes: [&[f64]; 3],
-    sp: &[[Compliance; LANES]],
+    sp: &[[Compliance; L]],
     h: f64,
-    x: &mut [Lanes],
-    work: &mut [Lanes],
+    x: &mut [[f64; L]],
+    work: &mut [[f64; L]],
 ) {
     let m = 2 * d.n();
     let (x, work) = (&mut x[..m], &mut work[..5 * m + d.n()]);
@@ -218,9 +256,9 @@ fn rk4_lanes<D: Dim>(
     let (k0, rest) = k.split_at_mut(m);
     let (k1, rest) = rest.split_at_mut(m);
     let (k2, k3) = rest.split_at_mut(m);
-    let axpy = |y: &mut [Lanes], x: &[Lanes], a: f64, k: &[Lanes]| {
+    let axpy = |y: &mut [[f64; L]], x: &[[f64; L]], a: f64, k: &[[f64; L]]| {
         for i in 0..m {
-            for l in 0..LANES {
+            for l in 0..L {
                 y[i][l] = x[i][l] + a * k[i][l];
             }
         }
@@ -233,7 +271,7 @@ fn rk4_lanes<D: Dim>(
     axpy(y, x, h, k2);
     rhs_lanes(d, nodes[2], sp, y, k3, ts);
     for i in 0..m {
-        for l in 0..LANES {
+        for l in 0..L {
             x[i][l] += h / 6.0 * (k0[i][l] + 2.0 * k1[i][l] + 2.0 * k2[i][l] + k3[i][l]);
         }
     }
@@ -244,7 +282,7 @@ mod tests {
     use super::super::tests::leg_linearisation;
     use super::*;
 
-    /// Lock-step lanes give the scalar integrator's results bit for bit:
+    /// Groups of four give each hypothesis's one-lane results bit for bit:
     /// elasticity, a dead band that is crossed, a diverging lane, a group
     /// of mixed shifts and a partial group.
     #[test]
