@@ -111,18 +111,19 @@ impl Transmission {
 pub struct Linearisation {
     n: usize,
     t: Vec<f64>,
-    /// `M(θ)`, row-major n×n per sample.
-    m: Vec<Vec<f64>>,
-    /// `τ_L(θ, θ̇, θ̈)` per sample.
-    tau: Vec<Vec<f64>>,
-    /// `∂τ_L/∂q`, row-major.
-    g: Vec<Vec<f64>>,
-    /// `∂τ_L/∂q̇`, row-major.
-    c: Vec<Vec<f64>>,
-    /// Per joint i: `∂M/∂s_i` (row-major) and `∂τ_L/∂s_i` per sample, for a
-    /// unit axial inertia `a_i a_iᵀ` added to link i.
-    dm: Vec<Vec<Vec<f64>>>,
-    dtau: Vec<Vec<Vec<f64>>>,
+    /// `M(θ)`, row-major n×n per sample, the samples one after the other
+    /// (as every per-sample array here).
+    m: Vec<f64>,
+    /// `τ_L(θ, θ̇, θ̈)`, n per sample.
+    tau: Vec<f64>,
+    /// `∂τ_L/∂q`, row-major n×n per sample.
+    g: Vec<f64>,
+    /// `∂τ_L/∂q̇`, row-major n×n per sample.
+    c: Vec<f64>,
+    /// Per joint i: `∂M/∂s_i` (row-major n×n per sample) and `∂τ_L/∂s_i`
+    /// (n per sample), for a unit axial inertia `a_i a_iᵀ` added to link i.
+    dm: Vec<Vec<f64>>,
+    dtau: Vec<Vec<f64>>,
     /// Link-side `M_ii` averaged over the motion (kg·m²).
     pub axial: Vec<f64>,
     /// The nodes without axial shift, on every sample (`None` if a mass
@@ -132,16 +133,23 @@ pub struct Linearisation {
     /// most [`CACHED_SHIFTS`]): a search varies K, D and b far more often
     /// than the shift.
     cache: Mutex<Vec<Arc<Nodes>>>,
+    /// Node sets evicted from the cache, their buffers reused by the next
+    /// ones solved (at most [`SPARE_SETS`]): a fresh 2 MB buffer per set
+    /// cost as much in page faults as solving it.
+    spare: Mutex<Vec<Nodes>>,
 }
+
+/// Evicted node sets kept for their buffers.
+const SPARE_SETS: usize = 2;
 
 /// Axial shifts whose nodes [`Linearisation`] keeps.
 const CACHED_SHIFTS: usize = 4;
 
 /// The node sets a compliance search holds at once, at most: the unshifted
-/// one, the cached shifts, and one being solved per hypothesis searched in
-/// parallel (elasticity and backlash, each with a simulation per thread;
-/// counted as four).
-pub const NODE_SETS: u64 = 1 + CACHED_SHIFTS as u64 + 4;
+/// one, the cached shifts, the spare ones, and one being solved per
+/// hypothesis searched in parallel (elasticity and backlash, each with a
+/// simulation per thread; counted as four).
+pub const NODE_SETS: u64 = 1 + CACHED_SHIFTS as u64 + SPARE_SETS as u64 + 4;
 
 /// The Cholesky factor of the small SPD matrix `a` in place (row-major,
 /// lower triangle); `false` if it is not positive definite.
@@ -399,30 +407,32 @@ impl Linearisation {
             })
             .collect::<Result<_, DynamicsError>>()?;
         let ns = d.len().max(1) as f64;
+        let (nn, k) = (n * n, d.len());
         let mut lin = Self {
             n,
             t: d.t.clone(),
-            m: vec![],
-            tau: vec![],
-            g: vec![],
-            c: vec![],
-            dm: vec![vec![]; n],
-            dtau: vec![vec![]; n],
+            m: Vec::with_capacity(k * nn),
+            tau: Vec::with_capacity(k * n),
+            g: Vec::with_capacity(k * nn),
+            c: Vec::with_capacity(k * nn),
+            dm: vec![Vec::with_capacity(k * nn); n],
+            dtau: vec![Vec::with_capacity(k * n); n],
             axial: vec![0.0; n],
             rigid: None,
             cache: Mutex::new(vec![]),
+            spare: Mutex::new(vec![]),
         };
         for (m, tau, g, c, dm, dtau) in per_sample {
             for i in 0..n {
                 lin.axial[i] += m[i * n + i] / ns;
             }
-            lin.m.push(m);
-            lin.tau.push(tau);
-            lin.g.push(g);
-            lin.c.push(c);
+            lin.m.extend(m);
+            lin.tau.extend(tau);
+            lin.g.extend(g);
+            lin.c.extend(c);
             for (i, (a, b)) in dm.into_iter().zip(dtau).enumerate() {
-                lin.dm[i].push(a);
-                lin.dtau[i].push(b);
+                lin.dm[i].extend(a);
+                lin.dtau[i].extend(b);
             }
         }
         lin.rigid = lin.nodes(&vec![0.0; n], usize::MAX);
@@ -436,14 +446,19 @@ impl Linearisation {
     }
 
     fn nodes_of<D: Dim>(&self, d: D, shift: &[f64], last: usize) -> Option<Nodes> {
-        let n = d.n();
+        let (n, nn) = (d.n(), d.n() * d.n());
         let last = last.min(self.t.len().checked_sub(1)?);
         let len = node_len(n);
-        let mut tau = vec![0.0; (last + 1) * n];
-        let mut nodes = vec![0.0; (last + 1) * len];
-        let ok = nodes
+        let spare = self.spare.lock().ok().and_then(|mut s| s.pop());
+        let (mut tau, mut nodes, mut mid) = match spare {
+            Some(s) => (s.tau, s.nodes, s.mid),
+            None => (vec![], vec![], vec![]),
+        };
+        tau.resize((last + 1) * n, 0.0);
+        nodes.resize((last + 1) * len, 0.0);
+        let ok = nodes[..(last + 1) * len]
             .par_chunks_mut(len * CHUNK)
-            .zip(tau.par_chunks_mut(n * CHUNK))
+            .zip(tau[..(last + 1) * n].par_chunks_mut(n * CHUNK))
             .enumerate()
             .all(|(c, (nodes, tau))| {
                 let mut s = Scratch::new(n);
@@ -453,23 +468,27 @@ impl Linearisation {
                     .enumerate()
                     .all(|(j, (node, t))| {
                         let k = c * CHUNK + j;
-                        s.m.copy_from_slice(&self.m[k]);
-                        t.copy_from_slice(&self.tau[k]);
+                        let (kn, kt) = (k * nn..(k + 1) * nn, k * n..(k + 1) * n);
+                        s.m.copy_from_slice(&self.m[kn.clone()]);
+                        t.copy_from_slice(&self.tau[kt.clone()]);
                         for (l, &sl) in shift.iter().enumerate().filter(|(_, s)| **s != 0.0) {
-                            for (e, d) in s.m.iter_mut().zip(&self.dm[l][k]) {
+                            for (e, d) in s.m.iter_mut().zip(&self.dm[l][kn.clone()]) {
                                 *e += sl * d;
                             }
-                            for (e, d) in t.iter_mut().zip(&self.dtau[l][k]) {
+                            for (e, d) in t.iter_mut().zip(&self.dtau[l][kt.clone()]) {
                                 *e += sl * d;
                             }
                         }
-                        solve_node(d, &mut s, &self.g[k], &self.c[k], t, node)
+                        solve_node(d, &mut s, &self.g[kn.clone()], &self.c[kn], t, node)
                     })
             });
+        nodes.truncate((last + 1) * len);
+        tau.truncate((last + 1) * n);
         if !ok {
             return None;
         }
-        let mut mid = vec![0.0; last * len];
+        mid.resize(last * len, 0.0);
+        mid.truncate(last * len);
         mid.par_chunks_mut(len * CHUNK)
             .enumerate()
             .for_each(|(c, chunk)| {
@@ -517,11 +536,29 @@ impl Linearisation {
                 let at = Arc::new(self.nodes(shift, to)?);
                 let mut c = self.cache.lock().ok()?;
                 c.insert(0, at.clone());
-                c.truncate(CACHED_SHIFTS);
+                let keep = CACHED_SHIFTS.min(c.len());
+                let evicted: Vec<Arc<Nodes>> = c.drain(keep..).collect();
+                drop(c);
+                self.keep_spare(evicted);
                 at
             }
         };
         Some(f(&at))
+    }
+
+    /// The buffers of evicted node sets no simulation still reads, for
+    /// the next sets solved (at most [`SPARE_SETS`] kept).
+    fn keep_spare(&self, evicted: Vec<Arc<Nodes>>) {
+        let Ok(mut spare) = self.spare.lock() else {
+            return;
+        };
+        for e in evicted {
+            if spare.len() < SPARE_SETS
+                && let Ok(e) = Arc::try_unwrap(e)
+            {
+                spare.push(e);
+            }
+        }
     }
 
     /// [`Self::simulate`] on the nodes of `p`'s axial shift.
@@ -1136,6 +1173,37 @@ mod tests {
         assert_eq!(cached, a);
         // a shorter run is the start of the longer one
         assert_eq!(lin.simulate(&p, 100).unwrap(), a[..300].to_vec());
+    }
+
+    /// Node sets solved into the buffers of evicted ones (longer and
+    /// shorter runs mixed) simulate exactly as freshly solved ones.
+    #[test]
+    fn reused_node_buffers_give_the_fresh_nodes_simulation() {
+        use super::{CACHED_SHIFTS, Fixed, SPARE_SETS};
+        // the reference solved on its own linearisation (no spare buffers)
+        let (lin, other) = (leg_linearisation(), leg_linearisation());
+        let all = lin.t.len();
+        let p = |j: usize| Transmission {
+            stiffness: vec![2000.0, 1500.0, 2500.0],
+            damping: vec![5.0, 4.0, 6.0],
+            backlash: vec![0.005, 0.004, 0.006],
+            axial_shift: vec![1e-4 * j as f64, -2e-4, 5e-5 * j as f64],
+        };
+        let fresh = |j: usize, to: usize| {
+            let at = other.nodes(&p(j).axial_shift, to).unwrap();
+            other
+                .integrate(Fixed::<3>, &at, &p(j), to, Trace(vec![]))
+                .unwrap()
+        };
+        let runs = 3 * (CACHED_SHIFTS + SPARE_SETS);
+        for j in 0..runs {
+            let to = if j % 2 == 0 { all } else { all / 3 };
+            assert_eq!(lin.simulate(&p(j), to).unwrap(), fresh(j, to), "shift {j}");
+        }
+        assert!(
+            !lin.spare.lock().unwrap().is_empty(),
+            "no buffer was reused"
+        );
     }
 
     #[test]
