@@ -589,4 +589,19 @@ fn the_entropic_prior_from_the_command_line() {
     let o = identify(&["--regularizer", "entropic", "--weight", "0"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("needs --weight > 0"));
+    // the masses' extra weight: in the report and the JSON, a bad value named
+    let o = identify(&["--prior-mass-weight", "1e-2"]);
+    assert_eq!(o.status.code(), Some(0));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("(masses 1e-2)"));
+    let js: serde_json::Value =
+        serde_json::from_slice(&identify(&["--prior-mass-weight", "1e-2", "--json"]).stdout)
+            .unwrap();
+    assert_eq!(js["prior_mass_weight"], serde_json::json!(1e-2));
+    let o = identify(&["--prior-mass-weight", "-1"]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("--prior-mass-weight") && err.contains("≥ 0"),
+        "{err}"
+    );
 }

@@ -117,6 +117,7 @@ pub struct Identification<'m> {
     common: Level,
     bodies: Vec<BodySpec>,
     weight: f64,
+    mass_weight: f64,
     prior: Vec<f64>,
     regularizer: Regularizer,
     com_lmi: bool,
@@ -140,6 +141,7 @@ impl<'m> Identification<'m> {
                 model.num_bodies()
             ],
             weight: 0.0,
+            mass_weight: 0.0,
             prior: vec![],
             regularizer: Regularizer::Euclidean,
             com_lmi: false,
@@ -266,6 +268,31 @@ impl<'m> Identification<'m> {
         Ok(self)
     }
 
+    /// An extra `w_m Σ_b (m_b − m̂_b)²` toward the prior's masses (added to
+    /// the regulariser, either kind; `w_m` in the units of `weight`, ≥ 0 and
+    /// finite; 0, the default: off; needs the prior). For masses known
+    /// better than the rest of π (weighed links, CAD mass properties): no
+    /// joint torque of a fixed-base chain sees a link mass alone (each
+    /// regroups into its parent's first moment and inertia), so without it
+    /// the data's combinations move the masses whichever way the
+    /// regulariser prefers; with `w_m` ≫ `weight` they stay at the prior
+    /// and the first moments and inertias take the correction.
+    pub fn prior_mass_weight(mut self, mass_weight: f64) -> Result<Self, IdentifyError> {
+        if !(mass_weight >= 0.0 && mass_weight.is_finite()) {
+            return Err(IdentifyError::Option {
+                option: "prior mass weight",
+                message: format!("must be ≥ 0 and finite, got {mass_weight}"),
+            });
+        }
+        self.mass_weight = mass_weight;
+        Ok(self)
+    }
+
+    /// The extra weight on the prior's masses ([`Self::prior_mass_weight`]).
+    pub fn mass_weight(&self) -> f64 {
+        self.mass_weight
+    }
+
     /// How the prior enters the objective (default [`Regularizer::Euclidean`];
     /// [`Regularizer::Entropic`] needs every prior body strictly consistent).
     pub fn regularizer(mut self, r: Regularizer) -> Self {
@@ -335,13 +362,14 @@ impl<'m> Identification<'m> {
     fn check(&self) -> Result<(), IdentifyError> {
         let names = self.model.body_names();
         let nb = names.len();
-        if self.weight > 0.0 && self.prior.len() != 10 * nb {
+        if (self.weight > 0.0 || self.mass_weight > 0.0) && self.prior.len() != 10 * nb {
             return Err(IdentifyError::Option {
                 option: "prior",
                 message: format!(
-                    "{} numbers for {nb} bodies (10 per body) with weight {}",
+                    "{} numbers for {nb} bodies (10 per body) with weight {} and mass weight {}",
                     self.prior.len(),
-                    self.weight
+                    self.weight,
+                    self.mass_weight
                 ),
             });
         }
@@ -382,7 +410,11 @@ impl<'m> Identification<'m> {
         let (rank, unidentifiable) = identifiability(&r, &parameter_names(model))?;
         let ns = red.samples as f64;
         let t0 = std::time::Instant::now();
-        let reg = (self.weight, self.prior.as_slice());
+        let reg = Prior {
+            weight: self.weight,
+            mass_weight: self.mass_weight,
+            values: self.prior.as_slice(),
+        };
         let direct = self.hooks.is_empty() && !self.entropic();
         if direct && self.bodies.iter().all(|b| b.level == Level::None) {
             return Ok(Solved {
@@ -523,6 +555,7 @@ impl<'m> Identification<'m> {
                 common: self.common,
                 bodies: vec![self.bodies[b]],
                 weight: 0.0,
+                mass_weight: 0.0,
                 prior: vec![],
                 regularizer: Regularizer::Euclidean,
                 com_lmi: self.com_lmi,
@@ -584,17 +617,40 @@ fn identifiability(r: &Mat<f64>, names: &[String]) -> Result<(usize, Vec<String>
     Ok((rank, dirs))
 }
 
-/// The unconstrained level: `min ‖[R/√ns; √w E] θ − [d/√ns; √w π̂]‖²`,
-/// minimum norm, by SVD (so noise-free data are fitted to round-off).
+/// The prior's terms of the objective: `w ‖π − π̂‖²` (Euclidean) and the
+/// masses' `w_m Σ_b (m_b − m̂_b)²`.
+#[derive(Clone, Copy)]
+struct Prior<'a> {
+    weight: f64,
+    mass_weight: f64,
+    values: &'a [f64],
+}
+
+impl Prior<'_> {
+    /// Whether any term is on.
+    fn on(&self) -> bool {
+        self.weight > 0.0 || self.mass_weight > 0.0
+    }
+
+    /// The Euclidean weight of inertial parameter k (10 per body, the mass
+    /// first), with the masses' extra weight.
+    fn weight_of(&self, k: usize) -> f64 {
+        self.weight + if k % 10 == 0 { self.mass_weight } else { 0.0 }
+    }
+}
+
+/// The unconstrained level: `min ‖[R/√ns; √W E] θ − [d/√ns; √W π̂]‖²`
+/// (`W` the [`Prior`]'s weights), minimum norm, by SVD (so noise-free data
+/// are fitted to round-off).
 fn solve_direct(
     r: &Mat<f64>,
     d: &[f64],
     ns: f64,
-    (w, prior): (f64, &[f64]),
+    reg: Prior,
     nb: usize,
 ) -> Result<Vec<f64>, IdentifyError> {
-    let p = r.ncols();
-    let extra = if w > 0.0 { 10 * nb } else { 0 };
+    let (p, prior) = (r.ncols(), reg.values);
+    let extra = if reg.on() { 10 * nb } else { 0 };
     let rows = r.nrows() + extra;
     let mut a = Mat::<f64>::zeros(rows.max(p), p);
     let mut b = Mat::<f64>::zeros(rows.max(p), 1);
@@ -605,8 +661,9 @@ fn solve_direct(
         b[(i, 0)] = d[i] / ns.sqrt();
     }
     for k in 0..extra {
-        a[(r.nrows() + k, k)] = w.sqrt();
-        b[(r.nrows() + k, 0)] = w.sqrt() * prior[k];
+        let w = reg.weight_of(k).sqrt();
+        a[(r.nrows() + k, k)] = w;
+        b[(r.nrows() + k, 0)] = w * prior[k];
     }
     let svd = a.svd().map_err(|_| IdentifyError::Factorisation {
         what: "SVD of the least-squares problem",
@@ -636,10 +693,11 @@ fn scaled_problem(
     r: &Mat<f64>,
     d: &[f64],
     ns: f64,
-    (weight, prior): (f64, &[f64]),
+    reg: Prior,
     nb: usize,
     prior_squares: bool,
 ) -> Result<(Problem, Vec<AffExpr>), IdentifyError> {
+    let prior = reg.values;
     let p = r.ncols();
     let dscale: Vec<f64> = (0..p)
         .map(|j| {
@@ -665,11 +723,18 @@ fn scaled_problem(
             e
         })
         .collect();
-    if weight > 0.0 {
+    if reg.on() {
         prob.add_squares(1.0 / ns, residual_rows);
-        if prior_squares {
-            for k in 0..10 * nb {
-                prob.add_square(weight, theta[k].clone() - prior[k]);
+        for k in 0..10 * nb {
+            let w = if prior_squares {
+                reg.weight_of(k)
+            } else if k % 10 == 0 {
+                reg.mass_weight
+            } else {
+                0.0
+            };
+            if w > 0.0 {
+                prob.add_square(w, theta[k].clone() - prior[k]);
             }
         }
     } else {

@@ -72,6 +72,8 @@ pub struct IdentifyResult {
     pub constraints: Level,
     /// Regularisation weight.
     pub weight: f64,
+    /// The extra weight on the masses' distance from the prior's.
+    pub prior_mass_weight: f64,
     /// How the prior entered the objective.
     pub regularizer: Regularizer,
     /// Bodies.
@@ -349,6 +351,7 @@ impl Identification<'_> {
             parameter_order: "m, hx, hy, hz, Ixx, Ixy, Ixz, Iyy, Iyz, Izz".into(),
             constraints: self.common_level(),
             weight: self.weight(),
+            prior_mass_weight: self.mass_weight(),
             regularizer: self.regularizer_kind(),
             bodies,
             friction,

@@ -1,6 +1,6 @@
 //! `momentlmi identify --robot MODEL --data FILE.csv --constraints LEVEL
 //! [--prior cad|true|FILE] [--weight W] [--regularizer euclidean|entropic]
-//! [--validate FILE.csv] [--json]`.
+//! [--prior-mass-weight W] [--validate FILE.csv] [--json]`.
 
 use momentlmi::data::{Dataset, ReadOptions};
 use momentlmi::dynamics::ParamChoice;
@@ -27,6 +27,8 @@ pub struct IdentifyArgs<'a> {
     pub weight: f64,
     /// How the prior enters the objective.
     pub regularizer: Regularizer,
+    /// Extra weight on the masses' distance from the prior's.
+    pub prior_mass_weight: f64,
     /// Validation data.
     pub validate: Option<&'a Path>,
     /// JSON output.
@@ -130,6 +132,8 @@ fn identification<'r>(
     let mut id = Identification::for_robot(robot, level, a.weight)
         .and_then(|id| id.prior(a.weight, prior.params()))
         .map_err(|e| format!("--weight / --prior: {e}"))?
+        .prior_mass_weight(a.prior_mass_weight)
+        .map_err(|e| format!("--prior-mass-weight: {e}"))?
         .regularizer(regularizer);
     for l in a.levels {
         let (body, lv) = l
@@ -210,11 +214,16 @@ fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
 /// A short human report.
 pub fn print_report(r: &IdentifyResult) {
     println!(
-        "{} — constraints: {}, {} prior with weight {:e}, {} training samples, rank {}/{}",
+        "{} — constraints: {}, {} prior with weight {:e}{}, {} training samples, rank {}/{}",
         r.robot,
         r.constraints.as_str(),
         r.regularizer.as_str(),
         r.weight,
+        if r.prior_mass_weight > 0.0 {
+            format!(" (masses {:e})", r.prior_mass_weight)
+        } else {
+            String::new()
+        },
         r.training_samples,
         r.rank,
         r.num_parameters
