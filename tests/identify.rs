@@ -133,3 +133,52 @@ fn too_few_samples_warn_and_stay_consistent() {
     );
     assert!(e.is_err(), "no torques is an error");
 }
+
+/// `prior_mass_weight` keeps every body's mass (links and rotors) at the
+/// prior's with either regulariser and with the regulariser off, and needs
+/// a prior.
+#[test]
+fn the_prior_mass_weight_keeps_masses_at_the_prior() {
+    use momentlmi::identify::{Identification, Regularizer};
+    let leg = cheetah3::description();
+    let d = data(4.0, 0.3, "rotor_inertia,coulomb,viscous", 3);
+    let prior: Vec<f64> = leg.prior_vector().iter().map(|x| 1.2 * x).collect();
+    let largest_move = |w: f64, r: Regularizer, mass_weight: f64| {
+        let res = Identification::for_robot(&leg, Level::Consistent, w)
+            .unwrap()
+            .prior(w, prior.clone())
+            .unwrap()
+            .prior_mass_weight(mass_weight)
+            .unwrap()
+            .regularizer(r)
+            .identify(&d, None)
+            .unwrap();
+        assert!(res.bodies.iter().all(|b| b.consistent));
+        (0..res.bodies.len())
+            .map(|b| (res.bodies[b].mass / prior[10 * b] - 1.0).abs())
+            .fold(0.0, f64::max)
+    };
+    for (w, r) in [
+        (1e-6, Regularizer::Euclidean),
+        (1e-2, Regularizer::Entropic),
+        (0.0, Regularizer::Euclidean),
+    ] {
+        let (free, held) = (largest_move(w, r, 0.0), largest_move(w, r, 1e2));
+        assert!(
+            held < 5e-3 && held < 0.1 * free,
+            "{r:?} w {w}: {held} vs {free}"
+        );
+    }
+    let err = Identification::new(&leg.model)
+        .prior_mass_weight(1.0)
+        .unwrap()
+        .identify(&d, None)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("prior mass weight 1"), "{err}");
+    assert!(
+        Identification::new(&leg.model)
+            .prior_mass_weight(f64::NAN)
+            .is_err()
+    );
+}

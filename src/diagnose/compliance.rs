@@ -415,8 +415,8 @@ impl Linearisation {
             tau: Vec::with_capacity(k * n),
             g: Vec::with_capacity(k * nn),
             c: Vec::with_capacity(k * nn),
-            dm: vec![Vec::with_capacity(k * nn); n],
-            dtau: vec![Vec::with_capacity(k * n); n],
+            dm: (0..n).map(|_| Vec::with_capacity(k * nn)).collect(),
+            dtau: (0..n).map(|_| Vec::with_capacity(k * n)).collect(),
             axial: vec![0.0; n],
             rigid: None,
             cache: Mutex::new(vec![]),
@@ -449,16 +449,12 @@ impl Linearisation {
         let (n, nn) = (d.n(), d.n() * d.n());
         let last = last.min(self.t.len().checked_sub(1)?);
         let len = node_len(n);
-        let spare = self.spare.lock().ok().and_then(|mut s| s.pop());
-        let (mut tau, mut nodes, mut mid) = match spare {
-            Some(s) => (s.tau, s.nodes, s.mid),
-            None => (vec![], vec![], vec![]),
-        };
+        let (mut tau, mut nodes, mid) = self.take_buffers();
         tau.resize((last + 1) * n, 0.0);
         nodes.resize((last + 1) * len, 0.0);
-        let ok = nodes[..(last + 1) * len]
+        let ok = nodes
             .par_chunks_mut(len * CHUNK)
-            .zip(tau[..(last + 1) * n].par_chunks_mut(n * CHUNK))
+            .zip(tau.par_chunks_mut(n * CHUNK))
             .enumerate()
             .all(|(c, (nodes, tau))| {
                 let mut s = Scratch::new(n);
@@ -482,13 +478,19 @@ impl Linearisation {
                         solve_node(d, &mut s, &self.g[kn.clone()], &self.c[kn], t, node)
                     })
             });
-        nodes.truncate((last + 1) * len);
-        tau.truncate((last + 1) * n);
+        let mut at = Nodes {
+            shift: shift.to_vec(),
+            last,
+            tau,
+            nodes,
+            mid,
+        };
         if !ok {
+            self.keep_spare(vec![Arc::new(at)]);
             return None;
         }
-        mid.resize(last * len, 0.0);
-        mid.truncate(last * len);
+        at.mid.resize(last * len, 0.0);
+        let (nodes, mid) = (&at.nodes, &mut at.mid);
         mid.par_chunks_mut(len * CHUNK)
             .enumerate()
             .for_each(|(c, chunk)| {
@@ -497,13 +499,16 @@ impl Linearisation {
                     *m = 0.5 * (ends[j] + ends[j + len]);
                 }
             });
-        Some(Nodes {
-            shift: shift.to_vec(),
-            last,
-            tau,
-            nodes,
-            mid,
-        })
+        Some(at)
+    }
+
+    /// The buffers (τ, nodes, middle nodes) of a spare node set, or new
+    /// empty ones.
+    fn take_buffers(&self) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+        match self.spare.lock().ok().and_then(|mut s| s.pop()) {
+            Some(s) => (s.tau, s.nodes, s.mid),
+            None => (vec![], vec![], vec![]),
+        }
     }
 
     /// `τ_s − τ_L(θ)` per sample (sample-major, n per sample) for samples

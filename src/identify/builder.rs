@@ -268,8 +268,8 @@ impl<'m> Identification<'m> {
         Ok(self)
     }
 
-    /// An extra `w_m Σ_b (m_b − m̂_b)²` toward the prior's masses (added to
-    /// the regulariser, either kind; `w_m` in the units of `weight`, ≥ 0 and
+    /// An extra `w_m Σ_b (m_b − m̂_b)²` toward the prior's masses, every
+    /// body's (links and rotors; added to the regulariser, either kind; `w_m` in the units of `weight`, ≥ 0 and
     /// finite; 0, the default: off; needs the prior). For masses known
     /// better than the rest of π (weighed links, CAD mass properties): no
     /// joint torque of a fixed-base chain sees a link mass alone (each
@@ -280,7 +280,7 @@ impl<'m> Identification<'m> {
     pub fn prior_mass_weight(mut self, mass_weight: f64) -> Result<Self, IdentifyError> {
         if !(mass_weight >= 0.0 && mass_weight.is_finite()) {
             return Err(IdentifyError::Option {
-                option: "prior mass weight",
+                option: "prior_mass_weight",
                 message: format!("must be ≥ 0 and finite, got {mass_weight}"),
             });
         }
@@ -305,7 +305,7 @@ impl<'m> Identification<'m> {
         self.regularizer
     }
 
-    /// Body `b`'s prior π̂, when the regularisation is on.
+    /// Body `b`'s prior π̂, when the regulariser is on (`weight > 0`).
     pub fn prior_body(&self, b: usize) -> Option<InertialParams> {
         (self.weight > 0.0 && self.prior.len() >= 10 * (b + 1))
             .then(|| InertialParams(std::array::from_fn(|k| self.prior[10 * b + k])))
@@ -366,10 +366,14 @@ impl<'m> Identification<'m> {
             return Err(IdentifyError::Option {
                 option: "prior",
                 message: format!(
-                    "{} numbers for {nb} bodies (10 per body) with weight {} and mass weight {}",
+                    "{} numbers for {nb} bodies (10 per body) with weight {}{}",
                     self.prior.len(),
                     self.weight,
-                    self.mass_weight
+                    if self.mass_weight > 0.0 {
+                        format!(" and prior mass weight {}", self.mass_weight)
+                    } else {
+                        String::new()
+                    }
                 ),
             });
         }
@@ -632,10 +636,12 @@ impl Prior<'_> {
         self.weight > 0.0 || self.mass_weight > 0.0
     }
 
-    /// The Euclidean weight of inertial parameter k (10 per body, the mass
-    /// first), with the masses' extra weight.
-    fn weight_of(&self, k: usize) -> f64 {
-        self.weight + if k % 10 == 0 { self.mass_weight } else { 0.0 }
+    /// The weight of `(π_k − π̂_k)²` in the objective (k over 10 per body,
+    /// the mass first): the masses' extra weight, plus `weight` when the
+    /// regulariser is the Euclidean one.
+    fn weight_of(&self, k: usize, euclidean: bool) -> f64 {
+        let mass = if k % 10 == 0 { self.mass_weight } else { 0.0 };
+        mass + if euclidean { self.weight } else { 0.0 }
     }
 }
 
@@ -661,7 +667,7 @@ fn solve_direct(
         b[(i, 0)] = d[i] / ns.sqrt();
     }
     for k in 0..extra {
-        let w = reg.weight_of(k).sqrt();
+        let w = reg.weight_of(k, true).sqrt();
         a[(r.nrows() + k, k)] = w;
         b[(r.nrows() + k, 0)] = w * prior[k];
     }
@@ -726,13 +732,7 @@ fn scaled_problem(
     if reg.on() {
         prob.add_squares(1.0 / ns, residual_rows);
         for k in 0..10 * nb {
-            let w = if prior_squares {
-                reg.weight_of(k)
-            } else if k % 10 == 0 {
-                reg.mass_weight
-            } else {
-                0.0
-            };
+            let w = reg.weight_of(k, prior_squares);
             if w > 0.0 {
                 prob.add_square(w, theta[k].clone() - prior[k]);
             }
