@@ -269,8 +269,9 @@ impl<'m> Identification<'m> {
     }
 
     /// An extra `w_m Σ_b (m_b − m̂_b)²` toward the prior's masses, every
-    /// body's (links and rotors; added to the regulariser, either kind; `w_m` in the units of `weight`, ≥ 0 and
-    /// finite; 0, the default: off; needs the prior). For masses known
+    /// body's (links and rotors), added to the regulariser of either kind;
+    /// `w_m` in the units of `weight`, ≥ 0 and finite (0, the default: off);
+    /// needs the prior. For masses known
     /// better than the rest of π (weighed links, CAD mass properties): no
     /// joint torque of a fixed-base chain sees a link mass alone (each
     /// regroups into its parent's first moment and inertia), so without it

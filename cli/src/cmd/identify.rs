@@ -95,13 +95,12 @@ fn warn_unexcited(dirs: &[String]) {
 /// A warning per prior body that is not physically consistent (the
 /// Euclidean prior pulls toward it regardless; the entropic one refuses it).
 fn warn_inconsistent_prior(bodies: &[String], prior: &[f64]) {
-    use momentlmi::moments::{InertialParams, check_consistency};
+    use momentlmi::moments::{InertialParams, Verdict, check_consistency};
     for (name, p) in bodies.iter().zip(prior.chunks_exact(10)) {
         let pi = InertialParams(std::array::from_fn(|k| p[k]));
-        // a zero body is a placeholder (a massless frame), not a finding
-        if p.iter().any(|&x| x != 0.0)
-            && !check_consistency(&pi, momentlmi::identify::result::CHECK_TOL).consistent
-        {
+        let report = check_consistency(&pi, momentlmi::identify::result::CHECK_TOL);
+        // a placeholder (a massless frame) is not a finding
+        if !report.consistent && report.verdict != Verdict::Placeholder {
             eprintln!(
                 "warning: --prior: body '{name}' is not physically consistent (J(π̂) is not positive semidefinite); the prior pulls toward it"
             );
