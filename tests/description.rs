@@ -355,3 +355,25 @@ fn the_documented_sidecar_parses() {
         momentlmi::dynamics::EffectParams::default()
     );
 }
+
+/// A URDF `<mimic>` joint the sidecar does not lock is named in a warning
+/// (the model moves it on its own); locked, it is not.
+#[test]
+fn an_unlocked_mimic_joint_is_a_warning() {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("robots/panda");
+    let urdf = dir.join("panda.urdf");
+    let bare = load_robot(urdf.to_str().unwrap(), None).unwrap();
+    let mimic: Vec<&String> = bare
+        .warnings
+        .iter()
+        .filter(|w| w.contains("<mimic>"))
+        .collect();
+    assert_eq!(mimic.len(), 1, "{:?}", bare.warnings);
+    assert!(
+        mimic[0].contains("'panda_finger_joint2' mimics 'panda_finger_joint1'"),
+        "{}",
+        mimic[0]
+    );
+    let locked = load_robot(urdf.to_str().unwrap(), Some(&dir.join("panda.toml"))).unwrap();
+    assert!(!locked.warnings.iter().any(|w| w.contains("<mimic>")));
+}

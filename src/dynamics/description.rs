@@ -112,6 +112,7 @@ impl RobotDescription {
         };
         let (friction, mut warnings) = nominal_friction(&model, sidecar, urdf);
         warnings.extend(urdf.map(crate::urdf::geometry_warnings).unwrap_or_default());
+        warnings.extend(urdf.map(|r| mimic_warnings(&model, r)).unwrap_or_default());
         let bodies = body_entries(&model, &sidecar.bodies, &err)?;
         let prior = bodies
             .iter()
@@ -285,6 +286,22 @@ fn with_limits(
         model.joints[i].limits = l;
     }
     Ok(model)
+}
+
+/// A warning per moving joint of the model that the URDF couples to another
+/// (`<mimic>`): the model has no such coupling, so it moves, is simulated
+/// and is identified as a joint of its own.
+fn mimic_warnings(model: &Model, urdf: &crate::urdf::Robot) -> Vec<String> {
+    urdf.joints
+        .iter()
+        .filter_map(|j| Some((j.name.as_str(), j.mimic.as_ref()?.joint.as_str())))
+        .filter(|(name, _)| model.joints.iter().any(|m| m.name == *name))
+        .map(|(name, leader)| {
+            format!(
+                "joint '{name}' mimics '{leader}' in the URDF (<mimic>), but is simulated and identified as an independent joint: lock it in a sidecar (lock = [\"{name}\"], docs/robots.md) if it follows '{leader}'"
+            )
+        })
+        .collect()
 }
 
 /// Nominal friction per joint: the sidecar's, else the URDF's `<dynamics>`
