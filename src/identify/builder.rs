@@ -279,13 +279,7 @@ impl<'m> Identification<'m> {
     /// regulariser prefers; with `w_m` ≫ `weight` they stay at the prior
     /// and the first moments and inertias take the correction.
     pub fn prior_mass_weight(mut self, mass_weight: f64) -> Result<Self, IdentifyError> {
-        if !(mass_weight >= 0.0 && mass_weight.is_finite()) {
-            return Err(IdentifyError::Option {
-                option: "prior_mass_weight",
-                message: format!("must be ≥ 0 and finite, got {mass_weight}"),
-            });
-        }
-        self.mass_weight = mass_weight;
+        self.mass_weight = super::problem::nonnegative("prior_mass_weight", mass_weight)?;
         Ok(self)
     }
 

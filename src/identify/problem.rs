@@ -170,12 +170,7 @@ impl IdentifyOptions {
     /// rotors; R the [`Regularizer`], Euclidean by default); `w` ≥ 0 and
     /// finite (0: off), the prior finite.
     pub fn with_prior(mut self, weight: f64, prior: Vec<f64>) -> Result<Self, IdentifyError> {
-        if !(weight >= 0.0 && weight.is_finite()) {
-            return Err(IdentifyError::Option {
-                option: "weight",
-                message: format!("must be ≥ 0 and finite, got {weight}"),
-            });
-        }
+        nonnegative("weight", weight)?;
         if let Some(k) = prior.iter().position(|x| !x.is_finite()) {
             return Err(IdentifyError::Option {
                 option: "prior",
@@ -207,13 +202,7 @@ impl IdentifyOptions {
 
     /// Margin ε of the strict LMIs `⪰ εI` (≥ 0, finite).
     pub fn with_eps(mut self, eps: f64) -> Result<Self, IdentifyError> {
-        if !(eps >= 0.0 && eps.is_finite()) {
-            return Err(IdentifyError::Option {
-                option: "eps",
-                message: format!("must be ≥ 0 and finite, got {eps}"),
-            });
-        }
-        self.eps = eps;
+        self.eps = nonnegative("eps", eps)?;
         Ok(self)
     }
 
@@ -316,5 +305,17 @@ impl Solved {
         })?;
         let (nb, n) = (self.bodies.len(), self.joints.len());
         Ok((self.theta[10 * nb + i], self.theta[10 * nb + n + i]))
+    }
+}
+
+/// `value` if it is ≥ 0 and finite, else the option error naming `option`.
+pub(crate) fn nonnegative(option: &'static str, value: f64) -> Result<f64, IdentifyError> {
+    if value >= 0.0 && value.is_finite() {
+        Ok(value)
+    } else {
+        Err(IdentifyError::Option {
+            option,
+            message: format!("must be ≥ 0 and finite, got {value}"),
+        })
     }
 }
