@@ -9,6 +9,9 @@ use crate::dynamics::{Data, Effect, Model, regressor, sign};
 use crate::moments::InertialParams;
 use nalgebra::Matrix3;
 use serde::Serialize;
+use std::borrow::Cow;
+use std::ops::Range;
+use std::sync::OnceLock;
 
 /// A hypothesis the diagnoser tries: an effect of the shared vocabulary
 /// ([`Effect`]), or a refit of the link inertias.
@@ -90,6 +93,8 @@ pub struct Columns {
     /// Why the nonlinear parameters found are physically doubtful, if they
     /// are (set where they are fitted).
     pub doubt: Option<String>,
+    /// `XᵀX` of `cols` over the rows it was first asked for ([`Self::gram`]).
+    pub(super) gram: OnceLock<(Range<usize>, Vec<f64>)>,
 }
 
 impl Columns {
@@ -113,6 +118,7 @@ impl Columns {
             nonneg: false,
             nonlinear,
             doubt: None,
+            gram: OnceLock::new(),
         }
     }
 
@@ -120,6 +126,39 @@ impl Columns {
     pub fn name(&self) -> &'static str {
         self.candidate.name()
     }
+
+    /// `XᵀX` of the columns over `rows` (k × k, row-major): kept from the
+    /// first call (the selection fits every round on the training rows,
+    /// only the residual changes), computed afresh for other rows.
+    pub(super) fn gram(&self, rows: &Range<usize>) -> Cow<'_, [f64]> {
+        let (at, g) = self
+            .gram
+            .get_or_init(|| (rows.clone(), gram_of(&self.cols, rows)));
+        if at == rows {
+            Cow::Borrowed(g)
+        } else {
+            Cow::Owned(gram_of(&self.cols, rows))
+        }
+    }
+
+    /// Computes and keeps [`Self::gram`] over `rows`.
+    pub(super) fn warm_gram(&self, rows: &Range<usize>) {
+        self.gram(rows);
+    }
+}
+
+/// `XᵀX` of `cols` over `rows`, row-major.
+fn gram_of(cols: &[Vec<f64>], rows: &Range<usize>) -> Vec<f64> {
+    let k = cols.len();
+    let mut g = vec![0.0; k * k];
+    for a in 0..k {
+        for c in a..k {
+            let v: f64 = rows.clone().map(|i| cols[a][i] * cols[c][i]).sum();
+            g[a * k + c] = v;
+            g[c * k + a] = v;
+        }
+    }
+    g
 }
 
 fn zeros(rows: usize) -> Vec<f64> {
@@ -323,5 +362,6 @@ fn inertial(
         nonneg: payload,
         nonlinear: 0,
         doubt: None,
+        gram: OnceLock::new(),
     }])
 }

@@ -449,9 +449,10 @@ impl Linearisation {
         let (n, nn) = (d.n(), d.n() * d.n());
         let last = last.min(self.t.len().checked_sub(1)?);
         let len = node_len(n);
-        let (mut tau, mut nodes, mid) = self.take_buffers();
-        tau.resize((last + 1) * n, 0.0);
-        nodes.resize((last + 1) * len, 0.0);
+        let (mut tau, mut nodes, mut mid) = self.take_buffers();
+        set_len(&mut tau, (last + 1) * n);
+        set_len(&mut nodes, (last + 1) * len);
+        set_len(&mut mid, last * len);
         let ok = nodes
             .par_chunks_mut(len * CHUNK)
             .zip(tau.par_chunks_mut(n * CHUNK))
@@ -489,7 +490,6 @@ impl Linearisation {
             self.keep_spare(vec![Arc::new(at)]);
             return None;
         }
-        at.mid.resize(last * len, 0.0);
         let (nodes, mid) = (&at.nodes, &mut at.mid);
         mid.par_chunks_mut(len * CHUNK)
             .enumerate()
@@ -503,11 +503,16 @@ impl Linearisation {
     }
 
     /// The buffers (τ, nodes, middle nodes) of a spare node set, or new
-    /// empty ones.
+    /// empty ones with room for every sample (a set solved for a short
+    /// window is later reused for a longer one).
     fn take_buffers(&self) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
         match self.spare.lock().ok().and_then(|mut s| s.pop()) {
             Some(s) => (s.tau, s.nodes, s.mid),
-            None => (vec![], vec![], vec![]),
+            None => {
+                let (k, len) = (self.t.len(), node_len(self.n));
+                let room = |per: usize| Vec::with_capacity(k * per);
+                (room(self.n), room(len), room(len))
+            }
         }
     }
 
@@ -548,7 +553,10 @@ impl Linearisation {
                 at
             }
         };
-        Some(f(&at))
+        let out = f(&at);
+        // evicted by another simulation while this one read it
+        self.keep_spare(vec![at]);
+        Some(out)
     }
 
     /// The buffers of evicted node sets no simulation still reads, for
@@ -687,6 +695,16 @@ impl Scratch {
             m: vec![0.0; n * n],
             li: vec![0.0; n * n],
         }
+    }
+}
+
+/// `v` resized to `len`, its old values kept and new ones zero: the node
+/// buffers are overwritten whole, so a reused one is not cleared first.
+fn set_len(v: &mut Vec<f64>, len: usize) {
+    if v.len() < len {
+        v.resize(len, 0.0);
+    } else {
+        v.truncate(len);
     }
 }
 
@@ -1110,6 +1128,7 @@ pub fn columns(candidate: Candidate, lin: &Linearisation, fit: &ComplianceFit) -
         candidate,
         detail,
         doubt: doubtful(p),
+        gram: std::sync::OnceLock::new(),
         cols,
         bodies: vec![],
         nonneg: false,
@@ -1205,10 +1224,9 @@ mod tests {
             let to = if j % 2 == 0 { all } else { all / 3 };
             assert_eq!(lin.simulate(&p(j), to).unwrap(), fresh(j, to), "shift {j}");
         }
-        assert!(
-            !lin.spare.lock().unwrap().is_empty(),
-            "no buffer was reused"
-        );
+        // each set solved took the spare one evicted before it (without
+        // reuse they would pile up to SPARE_SETS)
+        assert_eq!(lin.spare.lock().unwrap().len(), 1, "no buffer was reused");
     }
 
     #[test]

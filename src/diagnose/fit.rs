@@ -9,24 +9,19 @@ use crate::moments::lmi::BodyVars;
 use faer::Mat;
 use faer::linalg::solvers::Solve;
 
-/// Least squares `min ‖X β − r‖` over `rows` (tiny ridge for rank deficiency).
+/// Least squares `min ‖X β − r‖` over `rows` (tiny ridge for rank
+/// deficiency), `XᵀX` from the columns' kept Gram matrix.
 pub fn least_squares(
-    cols: &[Vec<f64>],
+    c: &Columns,
     rows: std::ops::Range<usize>,
     r: &[f64],
 ) -> Result<Vec<f64>, FitError> {
-    let k = cols.len();
-    let mut g = Mat::<f64>::zeros(k, k);
-    let mut b = Mat::<f64>::zeros(k, 1);
-    for a in 0..k {
-        for c in a..k {
-            let v: f64 = rows.clone().map(|i| cols[a][i] * cols[c][i]).sum();
-            g[(a, c)] = v;
-            g[(c, a)] = v;
-        }
-        b[(a, 0)] = rows.clone().map(|i| cols[a][i] * r[i]).sum();
-    }
+    let k = c.cols.len();
+    let xtx = c.gram(&rows);
+    let g = Mat::<f64>::from_fn(k, k, |a, b| xtx[a * k + b]);
+    let b = Mat::<f64>::from_fn(k, 1, |a, _| xtr(c, a, &rows, r));
     let tr: f64 = (0..k).map(|a| g[(a, a)]).sum::<f64>().max(1e-300);
+    let mut g = g;
     for a in 0..k {
         g[(a, a)] += 1e-10 * tr / k as f64;
     }
@@ -42,18 +37,25 @@ pub fn least_squares(
     }
 }
 
+/// `X[:, a]ᵀ r` over `rows`.
+fn xtr(c: &Columns, a: usize, rows: &std::ops::Range<usize>, r: &[f64]) -> f64 {
+    rows.clone().map(|i| c.cols[a][i] * r[i]).sum()
+}
+
 /// The Gram form `[X r]ᵀ[X r]` of the candidate's rows.
 fn reduced(c: &Columns, rows: std::ops::Range<usize>, r: &[f64]) -> Result<Reduced, FitError> {
     let k = c.cols.len();
+    let xtx = c.gram(&rows);
     let mut gram = Mat::<f64>::zeros(k + 1, k + 1);
-    let col = |a: usize, i: usize| if a < k { c.cols[a][i] } else { r[i] };
-    for a in 0..=k {
-        for b in a..=k {
-            let v: f64 = rows.clone().map(|i| col(a, i) * col(b, i)).sum();
-            gram[(a, b)] = v;
-            gram[(b, a)] = v;
+    for a in 0..k {
+        for b in 0..k {
+            gram[(a, b)] = xtx[a * k + b];
         }
+        let v = xtr(c, a, &rows, r);
+        gram[(a, k)] = v;
+        gram[(k, a)] = v;
     }
+    gram[(k, k)] = rows.clone().map(|i| r[i] * r[i]).sum();
     Reduced::from_gram(gram, rows.len()).map_err(|_| FitError::Factorisation)
 }
 
@@ -86,7 +88,7 @@ fn fit_with(
     settings: &Settings,
 ) -> Result<Fit, FitError> {
     if c.bodies.is_empty() && !c.nonneg {
-        return least_squares(&c.cols, rows, r).map(|beta| Fit {
+        return least_squares(c, rows, r).map(|beta| Fit {
             beta,
             inaccurate: false,
         });
@@ -161,7 +163,34 @@ mod tests {
             nonneg,
             nonlinear: 0,
             doubt: None,
+            gram: std::sync::OnceLock::new(),
         }
+    }
+
+    /// The Gram matrix kept from the first fit serves later residuals on
+    /// the same rows and is not used for other rows.
+    #[test]
+    fn the_kept_gram_matrix_is_used_only_for_its_own_rows() {
+        let x0: Vec<f64> = (0..60).map(|k| (k as f64 * 0.3).sin()).collect();
+        let x1: Vec<f64> = (0..60).map(|k| ((k * k) as f64 * 0.01).cos()).collect();
+        let r: Vec<f64> = (0..60)
+            .map(|k| 2.0 * x0[k] - x1[k] + if k < 30 { 0.0 } else { 5.0 * x1[k] })
+            .collect();
+        let kept = columns(vec![x0.clone(), x1.clone()], false);
+        let fresh = || columns(vec![x0.clone(), x1.clone()], false);
+        let all = least_squares(&kept, 0..60, &r).unwrap();
+        assert_eq!(all, least_squares(&fresh(), 0..60, &r).unwrap());
+        // other rows, other coefficients: the first half sees 2, −1
+        let half = least_squares(&kept, 0..30, &r).unwrap();
+        assert!(
+            (half[0] - 2.0).abs() < 1e-6 && (half[1] + 1.0).abs() < 1e-6,
+            "{half:?}"
+        );
+        assert_eq!(half, least_squares(&fresh(), 0..30, &r).unwrap());
+        // another residual on the kept rows
+        let r2: Vec<f64> = x0.iter().map(|v| 3.0 * v).collect();
+        let b = least_squares(&kept, 0..60, &r2).unwrap();
+        assert!((b[0] - 3.0).abs() < 1e-6 && b[1].abs() < 1e-6, "{b:?}");
     }
 
     #[test]

@@ -334,43 +334,77 @@ fn library(
             None => true,
         })
         .collect();
-    // built in parallel; the warnings are kept in the library's order
-    type Built = (Result<Vec<Columns>, DiagnoseError>, Option<String>);
-    let built: Vec<Built> = proposed
-        .par_iter()
-        .map(|&c| {
-            let inertial = matches!(
-                c,
-                Candidate::LinkInertia | Candidate::Effect(Effect::RotorInertia)
-            );
-            if inertial && !with_inertial {
-                return (Ok(vec![]), None);
-            }
-            if !c.is_compliance() {
-                return (build(c, model, friction, data), None);
-            }
-            let Ok(lin) = &lin else {
-                return (Ok(vec![]), None);
-            };
-            let backlash = c == Candidate::Effect(Effect::Backlash);
-            let fitted = compliance::fit(lin, r, split.first_heldout, backlash)
-                .and_then(|f| compliance::columns(c, lin, &f));
-            let warning = fitted.is_none().then(|| {
-                format!(
-                    "{}: {}",
-                    c.name(),
-                    FitError::Compliance("no hypothesis of the search could be simulated")
-                )
-            });
-            (Ok(fitted.into_iter().collect()), warning)
-        })
-        .collect();
+    let one = |c: Candidate| -> Built {
+        let inertial = matches!(
+            c,
+            Candidate::LinkInertia | Candidate::Effect(Effect::RotorInertia)
+        );
+        if inertial && !with_inertial {
+            return (Ok(vec![]), None);
+        }
+        if !c.is_compliance() {
+            return (build(c, model, friction, data), None);
+        }
+        let Ok(lin) = &lin else {
+            return (Ok(vec![]), None);
+        };
+        let backlash = c == Candidate::Effect(Effect::Backlash);
+        let fitted = compliance::fit(lin, r, split.first_heldout, backlash)
+            .and_then(|f| compliance::columns(c, lin, &f));
+        let warning = fitted.is_none().then(|| {
+            format!(
+                "{}: {}",
+                c.name(),
+                FitError::Compliance("no hypothesis of the search could be simulated")
+            )
+        });
+        (Ok(fitted.into_iter().collect()), warning)
+    };
+    let built = build_all(&proposed, |c| {
+        let (columns, warning) = one(c);
+        // the Gram matrices the selection rounds reuse, while cores are free
+        let columns = columns.inspect(|vs| vs.iter().for_each(|v| v.warm_gram(&split.train)));
+        (columns, warning)
+    });
+    // the warnings are kept in the library's order
     built
         .into_iter()
         .map(|(columns, warning)| {
             warnings.extend(warning);
             columns
         })
+        .collect()
+}
+
+/// A candidate's columns, or why not, and a warning.
+type Built = (Result<Vec<Columns>, DiagnoseError>, Option<String>);
+
+/// `one` of every candidate, in parallel, returned in `proposed`'s order.
+/// The compliance searches, which take most of the time, start first (the
+/// backlash search, the longest, before elasticity); the other candidates
+/// are built on whichever core is free.
+fn build_all(proposed: &[Candidate], one: impl Fn(Candidate) -> Built + Sync) -> Vec<Built> {
+    let mut order: Vec<usize> = (0..proposed.len()).collect();
+    order.sort_by_key(|&j| {
+        let c = proposed[j];
+        (!c.is_compliance(), c != Candidate::Effect(Effect::Backlash))
+    });
+    let slots: Vec<std::sync::OnceLock<Built>> =
+        (0..proposed.len()).map(|_| Default::default()).collect();
+    rayon::scope_fifo(|s| {
+        for &j in &order {
+            let (one, slots) = (&one, &slots);
+            s.spawn_fifo(move |_| {
+                let _ = slots[j].set(one(proposed[j]));
+            });
+        }
+    });
+    // (the scope waits for every job, so each slot is set)
+    let unset = |c: Candidate| (Ok(vec![]), Some(format!("{}: not built", c.name())));
+    slots
+        .into_iter()
+        .zip(proposed)
+        .map(|(s, &c)| s.into_inner().unwrap_or_else(|| unset(c)))
         .collect()
 }
 

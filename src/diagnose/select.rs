@@ -250,6 +250,7 @@ mod tests {
             nonneg: false,
             nonlinear: 1,
             doubt: None,
+            gram: std::sync::OnceLock::new(),
         };
         let grid: Vec<Columns> = ["1 ms", "2 ms", "3 ms"]
             .iter()
@@ -289,6 +290,7 @@ mod tests {
             nonneg: false,
             nonlinear: 0,
             doubt: None,
+            gram: std::sync::OnceLock::new(),
         };
         let split = Split::new(400, n, 0.6);
         let names = vec!["j".to_string()];
