@@ -309,17 +309,17 @@ macro_rules! by_dim {
     };
 }
 
-/// Values per sample of one node set ([`Nodes`]) for `n` joints: the node,
-/// the step's middle node and the shifted τ_L.
+/// Values per sample of one node set ([`Nodes`]) for `n` joints: the node
+/// and the shifted τ_L.
 pub fn node_values(n: usize) -> u64 {
-    (2 * node_len(n) + n) as u64
+    (node_len(n) + n) as u64
 }
 
-/// The nodes of one axial shift at every sample `0..=last`; a step's
+/// The nodes of one axial shift at every sample `0..=last`. A step's
 /// middle node is the mean of its ends (the coefficients change by ~0.1 %
 /// per sample, so this differs from solving the interpolated M at the
-/// middle by far less than the data's noise), computed once here for every
-/// simulation on these nodes.
+/// middle by far less than the data's noise), computed by the integrator:
+/// storing it cost more in memory traffic than it saved.
 pub struct Nodes {
     shift: Vec<f64>,
     /// The last sample covered.
@@ -328,8 +328,6 @@ pub struct Nodes {
     tau: Vec<f64>,
     /// [`node_len`] values per node.
     nodes: Vec<f64>,
-    /// The middle node of each step `s → s + 1` (`last` of them).
-    mid: Vec<f64>,
 }
 
 impl Linearisation {
@@ -449,10 +447,9 @@ impl Linearisation {
         let (n, nn) = (d.n(), d.n() * d.n());
         let last = last.min(self.t.len().checked_sub(1)?);
         let len = node_len(n);
-        let (mut tau, mut nodes, mut mid) = self.take_buffers();
+        let (mut tau, mut nodes) = self.take_buffers();
         set_len(&mut tau, (last + 1) * n);
         set_len(&mut nodes, (last + 1) * len);
-        set_len(&mut mid, last * len);
         let ok = nodes
             .par_chunks_mut(len * CHUNK)
             .zip(tau.par_chunks_mut(n * CHUNK))
@@ -479,39 +476,29 @@ impl Linearisation {
                         solve_node(d, &mut s, &self.g[kn.clone()], &self.c[kn], t, node)
                     })
             });
-        let mut at = Nodes {
+        let at = Nodes {
             shift: shift.to_vec(),
             last,
             tau,
             nodes,
-            mid,
         };
         if !ok {
             self.keep_spare(vec![Arc::new(at)]);
             return None;
         }
-        let (nodes, mid) = (&at.nodes, &mut at.mid);
-        mid.par_chunks_mut(len * CHUNK)
-            .enumerate()
-            .for_each(|(c, chunk)| {
-                let ends = &nodes[c * CHUNK * len..];
-                for (j, m) in chunk.iter_mut().enumerate() {
-                    *m = 0.5 * (ends[j] + ends[j + len]);
-                }
-            });
         Some(at)
     }
 
-    /// The buffers (τ, nodes, middle nodes) of a spare node set, or new
-    /// empty ones with room for every sample (a set solved for a short
-    /// window is later reused for a longer one).
-    fn take_buffers(&self) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    /// The buffers (τ, nodes) of a spare node set, or new empty ones with
+    /// room for every sample (a set solved for a short window is later
+    /// reused for a longer one).
+    fn take_buffers(&self) -> (Vec<f64>, Vec<f64>) {
         match self.spare.lock().ok().and_then(|mut s| s.pop()) {
-            Some(s) => (s.tau, s.nodes, s.mid),
+            Some(s) => (s.tau, s.nodes),
             None => {
                 let (k, len) = (self.t.len(), node_len(self.n));
                 let room = |per: usize| Vec::with_capacity(k * per);
-                (room(self.n), room(len), room(len))
+                (room(self.n), room(len))
             }
         }
     }
