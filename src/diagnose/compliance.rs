@@ -974,12 +974,12 @@ impl Search<'_> {
         let mut jtj = DMatrix::<f64>::zeros(np, np);
         let mut jte = nalgebra::DVector::<f64>::zeros(np);
         for a in 0..np {
-            for b in a..np {
-                let s: f64 = jac[a].iter().zip(&jac[b]).map(|(x, y)| x * y).sum();
+            let sums = dots(&jac[a], jac[a..].iter().map(Vec::as_slice).chain([e]));
+            for (b, &s) in (a..np).zip(&sums) {
                 jtj[(a, b)] = s;
                 jtj[(b, a)] = s;
             }
-            jte[a] = jac[a].iter().zip(e).map(|(x, y)| x * y).sum();
+            jte[a] = sums[np - a];
         }
         Some((jtj, jte))
     }
@@ -1024,6 +1024,22 @@ impl Search<'_> {
         }
         Some((self.unpack(&v), best))
     }
+}
+
+/// `x · y` for every `y` of `ys` (over their common length), each summed
+/// in index order as `Iterator::sum` would (from −0), all in one pass over
+/// the rows: the independent sums hide each other's addition latency.
+fn dots<'a>(x: &[f64], ys: impl Iterator<Item = &'a [f64]>) -> Vec<f64> {
+    let ys: Vec<&[f64]> = ys.collect();
+    let len = ys.iter().map(|y| y.len()).fold(x.len(), usize::min);
+    let ys: Vec<&[f64]> = ys.into_iter().map(|y| &y[..len]).collect();
+    let mut acc = vec![-0.0; ys.len()];
+    for (k, &xk) in x[..len].iter().enumerate() {
+        for (s, y) in acc.iter_mut().zip(&ys) {
+            *s += xk * y[k];
+        }
+    }
+    acc
 }
 
 /// `p` with joint i's stiffness, damping and dead band replaced.
@@ -1214,6 +1230,29 @@ mod tests {
         // each set solved took the spare one evicted before it (without
         // reuse they would pile up to SPARE_SETS)
         assert_eq!(lin.spare.lock().unwrap().len(), 1, "no buffer was reused");
+    }
+
+    /// The one-pass dot products equal `Iterator::sum`'s to the last bit,
+    /// over the common length when the lengths differ.
+    #[test]
+    fn one_pass_dots_equal_the_iterator_sums() {
+        let v = |m: f64, len: usize| -> Vec<f64> {
+            (0..len)
+                .map(|k| (k as f64 * m).sin() * 1e3f64.powf((k % 7) as f64 - 3.0))
+                .collect()
+        };
+        let (x, y0, y1, short) = (v(0.37, 500), v(1.3, 500), v(2.9, 500), v(0.5, 300));
+        let got = super::dots(&x, [&y0[..], &y1, &x].into_iter());
+        let want: Vec<f64> = [&y0, &y1, &x]
+            .iter()
+            .map(|y| x.iter().zip(y.iter()).map(|(a, b)| a * b).sum())
+            .collect();
+        assert_eq!(got, want);
+        let got = super::dots(&x, [&y0[..], &short].into_iter());
+        let s: f64 = x.iter().zip(&short).map(|(a, b)| a * b).sum();
+        let s0: f64 = x[..300].iter().zip(&y0).map(|(a, b)| a * b).sum();
+        assert_eq!(got, vec![s0, s]);
+        assert_eq!(super::dots(&[], [&y0[..]].into_iter()), vec![-0.0]);
     }
 
     #[test]
