@@ -353,7 +353,7 @@ fn a_robot_beyond_the_memory_limit_is_refused_before_it_starts() {
         "diagnose --max-memory-gib",
     );
     // 2,000 samples of the leg: the base library needs ~4.4 MB, the
-    // inertial candidates ~5.8 MB and the compliance searches ~12.3 MB
+    // inertial candidates ~5.8 MB and the compliance searches ~7.0 MB
     // (`diagnose::memory_estimate`). A limit above the base only: the
     // diagnosis runs without the other two and says so
     let o = leg("diagnose", "0.006");

@@ -134,7 +134,7 @@ pub struct Linearisation {
     /// than the shift.
     cache: Mutex<Vec<Arc<Nodes>>>,
     /// Node sets evicted from the cache, their buffers reused by the next
-    /// ones solved (at most [`SPARE_SETS`]): fresh buffers (~4 MB a set on
+    /// ones solved (at most [`SPARE_SETS`]): fresh buffers (~2.4 MB a set on
     /// the leg) cost as much in page faults as solving the set.
     spare: Mutex<Vec<Nodes>>,
 }
