@@ -165,12 +165,13 @@ enum Command {
         /// frame invariant; needs a strictly consistent prior and --weight > 0, typically 1e-3 to 1e-1).
         #[arg(long, value_enum, default_value_t = Regularizer::Euclidean)]
         regularizer: Regularizer,
-        /// Extra weight w_m Σ (m − m̂)² keeping the bodies' masses at the prior's (0: off).
-        /// For masses known better than the rest (weighed links): a fixed-base arm's
-        /// torques see no link mass alone, so the data's corrections go to the first
+        /// Extra weight w_m Σ (m − m̂)² keeping the bodies' masses at the prior's
+        /// [default: the sidecar's [identify] prior_mass_weight when --weight > 0, else 0;
+        /// 0: off]. For masses known better than the rest (weighed links): a fixed-base
+        /// arm's torques see no link mass alone, so the data's corrections go to the first
         /// moments and inertias instead (e.g. 1e-2 with --weight 1e-6).
-        #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
-        prior_mass_weight: f64,
+        #[arg(long, allow_negative_numbers = true)]
+        prior_mass_weight: Option<f64>,
         /// Held-out validation data CSV.
         #[arg(long)]
         validate: Option<PathBuf>,

@@ -440,7 +440,7 @@ fn identify_with_a_known_mass_and_equal_bodies_from_the_command_line() {
     let sidecar = dir.join("two.toml");
     std::fs::write(
         &sidecar,
-        "[identify]\ntotal_mass = 2.0\nequal = [[\"l1\", \"l2\"]]\n\n[[body]]\nname = \"l2\"\nlevel = \"semi\"\n",
+        "[identify]\ntotal_mass = 2.0\nequal = [[\"l1\", \"l2\"]]\nprior_mass_weight = 0.5\n\n[[body]]\nname = \"l2\"\nlevel = \"semi\"\n",
     )
     .unwrap();
     let d2 = dir.join("two.csv");
@@ -477,6 +477,39 @@ fn identify_with_a_known_mass_and_equal_bodies_from_the_command_line() {
         "{m:?}"
     );
     assert_eq!(bodies[1]["level"], "semi");
+    // the sidecar's masses' weight: taken with the prior on, overridden by
+    // the flag, not taken with --weight 0; a bad one named with its file
+    assert_eq!(v["prior_mass_weight"], serde_json::json!(0.5));
+    let mass_weight = |extra: &[&str]| -> serde_json::Value {
+        let o = bin()
+            .args(["identify", "--robot", urdf.to_str().unwrap()])
+            .args(["--sidecar", sidecar.to_str().unwrap(), "--json"])
+            .args(["--data", d2.to_str().unwrap()])
+            .args(extra)
+            .output()
+            .unwrap();
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        v["prior_mass_weight"].clone()
+    };
+    assert_eq!(
+        mass_weight(&["--prior-mass-weight", "0"]),
+        serde_json::json!(0.0)
+    );
+    assert_eq!(mass_weight(&["--weight", "0"]), serde_json::json!(0.0));
+    let bad = dir.join("bad.toml");
+    std::fs::write(&bad, "[identify]\nprior_mass_weight = -1.0\n").unwrap();
+    let o = bin()
+        .args(["identify", "--robot", urdf.to_str().unwrap()])
+        .args(["--sidecar", bad.to_str().unwrap()])
+        .args(["--data", d2.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("bad.toml") && err.contains("[identify] prior_mass_weight = -1"),
+        "{err}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 

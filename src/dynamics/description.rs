@@ -59,6 +59,10 @@ pub struct IdentificationFacts {
     pub total_mass: Option<f64>,
     /// Pairs of bodies with the same parameters.
     pub equal: Vec<(String, String)>,
+    /// The extra weight `w_m Σ (m − m̂)²` keeping the bodies' masses at the
+    /// prior's when the prior is on (≥ 0; `None`: 0), for masses known better
+    /// than the rest of the prior.
+    pub prior_mass_weight: Option<f64>,
 }
 
 /// Which parameters a model gets (`--params`, `--prior`, `--nominal`).
@@ -444,6 +448,13 @@ fn identification_facts(
             "[identify] total_mass = {m}: must be positive"
         )));
     }
+    if let Some(w) = spec.prior_mass_weight
+        && !(w >= 0.0 && w.is_finite())
+    {
+        return Err(err(format!(
+            "[identify] prior_mass_weight = {w}: must be ≥ 0 and finite"
+        )));
+    }
     for [a, b] in &spec.equal {
         if a == b {
             return Err(err(format!(
@@ -465,6 +476,7 @@ fn identification_facts(
             .map(|b| b.and_then(|b| b.level.clone()))
             .collect(),
         total_mass: spec.total_mass,
+        prior_mass_weight: spec.prior_mass_weight,
         equal: spec
             .equal
             .iter()

@@ -72,6 +72,20 @@ pub fn load_robot_with(
     let sc = sidecar.map(Sidecar::read).transpose()?.unwrap_or_default();
     let model = model_from_robot(&robot, spec, Some(&sc))?;
     let mut meshes = Meshes::new(MeshPaths::for_urdf(p, package_paths));
-    Ok(RobotDescription::new(spec, model, &sc, Some(&robot))?
+    let described = RobotDescription::new(spec, model, &sc, Some(&robot));
+    Ok(described
+        .map_err(|e| name_the_sidecar(e, spec, sidecar))?
         .with_urdf_geometry(&robot, &mut meshes))
+}
+
+/// A description error of a URDF robot with a sidecar names both files (the
+/// entry at fault is the sidecar's, or the URDF's that it describes).
+fn name_the_sidecar(e: DynamicsError, spec: &str, sidecar: Option<&Path>) -> DynamicsError {
+    match (e, sidecar) {
+        (DynamicsError::Description { message, .. }, Some(path)) => DynamicsError::Description {
+            source_name: format!("{spec} (sidecar {})", path.display()),
+            message,
+        },
+        (e, _) => e,
+    }
 }

@@ -57,6 +57,10 @@ pub struct SidecarIdentify {
     /// Pairs of bodies with the same parameters (each in its own frame).
     #[serde(default, deserialize_with = "exact::vec")]
     pub equal: Vec<[String; 2]>,
+    /// The extra weight keeping every body's mass at the prior's (the
+    /// identification's `prior_mass_weight`): for CAD masses trusted more
+    /// than the rest of the prior (weighed parts).
+    pub prior_mass_weight: Option<f64>,
 }
 
 /// One rotor.

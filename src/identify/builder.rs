@@ -171,6 +171,7 @@ impl<'m> Identification<'m> {
             }
         }
         s.weight = opts.weight;
+        s.mass_weight = opts.mass_weight;
         s.prior = opts.prior.clone();
         s.regularizer = opts.regularizer;
         s.com_lmi = opts.com_lmi;
@@ -181,7 +182,8 @@ impl<'m> Identification<'m> {
 
     /// A robot's set-up: `level` for every body, its CAD prior with weight
     /// `weight`, its bounding ellipsoids where it has exactly one per body,
-    /// and the per-body levels and constraints of its sidecar.
+    /// and the per-body levels, constraints and (when `weight` > 0) masses'
+    /// extra weight of its sidecar.
     pub fn for_robot(
         robot: &'m RobotDescription,
         level: Level,
@@ -270,8 +272,9 @@ impl<'m> Identification<'m> {
 
     /// An extra `w_m Σ_b (m_b − m̂_b)²` toward the prior's masses, every
     /// body's (links and rotors), added to the regulariser of either kind;
-    /// `w_m` in the units of `weight`, ≥ 0 and finite (0, the default: off);
-    /// needs the prior. For masses known
+    /// `w_m` in the units of `weight`, ≥ 0 and finite (0, the default: off;
+    /// [`Self::for_robot`] takes the sidecar's `[identify]
+    /// prior_mass_weight`); needs the prior. For masses known
     /// better than the rest of π (weighed links, CAD mass properties): no
     /// joint torque of a fixed-base chain sees a link mass alone (each
     /// regroups into its parent's first moment and inertia), so without it

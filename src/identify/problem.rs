@@ -103,6 +103,7 @@ impl Regularizer {
 pub struct IdentifyOptions {
     pub(crate) level: Level,
     pub(crate) weight: f64,
+    pub(crate) mass_weight: f64,
     pub(crate) prior: Vec<f64>,
     pub(crate) regularizer: Regularizer,
     pub(crate) ellipsoids: Option<Vec<Ellipsoid>>,
@@ -128,6 +129,7 @@ impl IdentifyOptions {
         Self {
             level,
             weight: 0.0,
+            mass_weight: 0.0,
             prior: vec![],
             regularizer: Regularizer::Euclidean,
             ellipsoids: None,
@@ -137,7 +139,8 @@ impl IdentifyOptions {
         }
     }
 
-    /// A robot's set-up: its CAD prior with weight `weight`, and its bounding
+    /// A robot's set-up: its CAD prior with weight `weight` (and, when
+    /// `weight` > 0, the masses' extra weight its sidecar sets), and its bounding
     /// ellipsoids when every body has exactly one (required, and an error
     /// naming the body otherwise, for [`Level::Ellipsoid`]). A robot whose
     /// sidecar sets identification facts (per-body levels, a total mass,
@@ -158,7 +161,10 @@ impl IdentifyOptions {
                 ),
             });
         }
-        let opts = Self::new(level).with_prior(weight, robot.prior_vector())?;
+        let mass_weight = f.prior_mass_weight.filter(|_| weight > 0.0);
+        let opts = Self::new(level)
+            .with_prior(weight, robot.prior_vector())?
+            .with_prior_mass_weight(mass_weight.unwrap_or(0.0))?;
         match robot.single_ellipsoids() {
             Ok(e) => Ok(opts.with_ellipsoids(e)),
             Err(e) if level == Level::Ellipsoid => Err(e.into()),
@@ -179,6 +185,14 @@ impl IdentifyOptions {
         }
         self.weight = weight;
         self.prior = prior;
+        Ok(self)
+    }
+
+    /// The extra weight `w_m Σ_b (m_b − m̂_b)²` toward the prior's masses
+    /// ([`super::Identification::prior_mass_weight`]); ≥ 0 and finite
+    /// (0, the default: off).
+    pub fn with_prior_mass_weight(mut self, mass_weight: f64) -> Result<Self, IdentifyError> {
+        self.mass_weight = nonnegative("prior_mass_weight", mass_weight)?;
         Ok(self)
     }
 
@@ -227,6 +241,11 @@ impl IdentifyOptions {
     /// The prior (10 per body).
     pub fn prior(&self) -> &[f64] {
         &self.prior
+    }
+
+    /// The masses' extra weight.
+    pub fn prior_mass_weight(&self) -> f64 {
+        self.mass_weight
     }
 
     /// The regulariser.

@@ -1,5 +1,5 @@
 //! A robot description's identification facts (the sidecar's per-body
-//! levels, `[identify] total_mass` and `equal`) applied to an
+//! levels, `[identify] total_mass`, `equal` and `prior_mass_weight`) applied to an
 //! [`Identification`].
 
 use super::builder::Identification;
@@ -8,7 +8,8 @@ use super::problem::Level;
 use crate::dynamics::RobotDescription;
 
 /// Applies `robot`'s facts: levels replace the common one; a total mass and
-/// pairs of equal bodies become constraints.
+/// pairs of equal bodies become constraints; the masses' extra weight is
+/// taken when the prior is on.
 pub(crate) fn apply<'m>(
     mut s: Identification<'m>,
     robot: &'m RobotDescription,
@@ -24,6 +25,11 @@ pub(crate) fn apply<'m>(
             })?;
             s = s.level(name, level)?;
         }
+    }
+    if let Some(w) = facts.prior_mass_weight
+        && s.weight() > 0.0
+    {
+        s = s.prior_mass_weight(w)?;
     }
     if let Some(m) = facts.total_mass {
         s = s.constrain(move |p, v| {

@@ -27,8 +27,9 @@ pub struct IdentifyArgs<'a> {
     pub weight: f64,
     /// How the prior enters the objective.
     pub regularizer: Regularizer,
-    /// Extra weight on the masses' distance from the prior's.
-    pub prior_mass_weight: f64,
+    /// Extra weight on the masses' distance from the prior's (None: the
+    /// robot's, `Identification::for_robot`).
+    pub prior_mass_weight: Option<f64>,
     /// Validation data.
     pub validate: Option<&'a Path>,
     /// JSON output.
@@ -130,10 +131,13 @@ fn identification<'r>(
     }
     let mut id = Identification::for_robot(robot, level, a.weight)
         .and_then(|id| id.prior(a.weight, prior.params()))
-        .map_err(|e| format!("--weight / --prior: {e}"))?
-        .prior_mass_weight(a.prior_mass_weight)
-        .map_err(|e| format!("--prior-mass-weight: {e}"))?
-        .regularizer(regularizer);
+        .map_err(|e| format!("--weight / --prior: {e}"))?;
+    if let Some(w) = a.prior_mass_weight {
+        id = id
+            .prior_mass_weight(w)
+            .map_err(|e| format!("--prior-mass-weight: {e}"))?;
+    }
+    let mut id = id.regularizer(regularizer);
     for l in a.levels {
         let (body, lv) = l
             .split_once('=')
