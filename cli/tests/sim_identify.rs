@@ -638,3 +638,52 @@ fn the_entropic_prior_from_the_command_line() {
         "{err}"
     );
 }
+
+/// Data of the Panda simulated with its sidecar (fingers locked), read
+/// without it: the missing finger column is named, with a hint at
+/// `--sidecar`; exit 2. A built-in robot's missing column gets no hint.
+#[test]
+fn data_made_with_a_sidecar_read_without_it_hints_at_the_sidecar() {
+    let dir = common::TempDir::new("hint-sidecar");
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../robots/panda");
+    let (urdf, sidecar) = (root.join("panda.urdf"), root.join("panda.toml"));
+    let (u, data) = (urdf.to_str().unwrap(), dir.0.join("arm.csv"));
+    let d = data.to_str().unwrap();
+    let sc = sidecar.to_str().unwrap();
+    common::ok(&[
+        "simulate",
+        "--robot",
+        u,
+        "--sidecar",
+        sc,
+        "--seconds",
+        "1",
+        "--out",
+        d,
+    ]);
+    let out = dir.0.join("pred.csv");
+    for cmd in ["identify", "diagnose", "predict"] {
+        let mut c = bin();
+        c.args([cmd, "--robot", u, "--data", d]);
+        if cmd == "predict" {
+            c.args(["--out", out.to_str().unwrap()]);
+        }
+        let o = c.output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{cmd}: {err}");
+        assert!(
+            err.contains("missing column 'q_panda_finger_joint") && err.contains("--sidecar FILE"),
+            "{cmd}: {err}"
+        );
+    }
+    let o = bin()
+        .args(["identify", "--robot", "cheetah3-leg", "--data", d])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("missing column") && !err.contains("--sidecar"),
+        "{err}"
+    );
+}

@@ -1,7 +1,7 @@
 //! `momentlmi diagnose --robot MODEL --data FILE.csv [--nominal cad|true|FILE] [--json] [--out DIR]`.
 
+use momentlmi::data::ReadOptions;
 use momentlmi::data::Staged;
-use momentlmi::data::{Dataset, ReadOptions};
 use momentlmi::diagnose::{DiagnoseOptions, Diagnosis, diagnose};
 use momentlmi::dynamics::ParamChoice;
 use momentlmi::dynamics::robots::load_robot_with;
@@ -35,8 +35,8 @@ fn diagnosis(a: &DiagnoseArgs) -> Result<Diagnosis, String> {
     }
     let (model, friction) =
         super::parameters_for(&robot, "--nominal", a.nominal, ParamChoice::Own)?;
-    let d = Dataset::read_csv(a.data, &model.joint_names(), ReadOptions::default())
-        .map_err(|e| e.to_string())?;
+    let names = model.joint_names();
+    let d = super::read_data(a.data, &names, ReadOptions::default(), a.robot, a.sidecar)?;
     diagnose(&model, &friction, &d, &opts).map_err(|e| e.to_string())
 }
 

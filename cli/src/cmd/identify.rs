@@ -2,7 +2,7 @@
 //! [--prior cad|true|FILE] [--weight W] [--regularizer euclidean|entropic]
 //! [--prior-mass-weight W] [--validate FILE.csv] [--json]`.
 
-use momentlmi::data::{Dataset, ReadOptions};
+use momentlmi::data::ReadOptions;
 use momentlmi::dynamics::ParamChoice;
 use momentlmi::dynamics::RobotDescription;
 use momentlmi::dynamics::robots::load_robot_with;
@@ -191,13 +191,9 @@ fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
         super::warn_robot(&robot);
     }
     let names = robot.model.joint_names();
-    let train =
-        Dataset::read_csv(a.data, &names, ReadOptions::default()).map_err(|e| e.to_string())?;
-    let val = a
-        .validate
-        .map(|p| Dataset::read_csv(p, &names, ReadOptions::default()))
-        .transpose()
-        .map_err(|e| e.to_string())?;
+    let read = |p| super::read_data(p, &names, ReadOptions::default(), a.robot, a.sidecar);
+    let train = read(a.data)?;
+    let val = a.validate.map(read).transpose()?;
     let id = identification(a, &robot)?.max_memory(super::gib(a.max_memory_gib)?);
     super::warn_cost(momentlmi::identify::cost(&robot.model, train.len()).flops);
     id.identify(&train, val.as_ref()).map_err(|e| match e {

@@ -19,6 +19,28 @@ pub(crate) fn warn_robot(robot: &momentlmi::dynamics::RobotDescription) {
     }
 }
 
+/// Reads a data file for the joints `names` of the robot `spec`; a missing
+/// column of a URDF robot given without `--sidecar` says that a sidecar may
+/// be what locks the joint the data lack.
+pub(crate) fn read_data(
+    path: &Path,
+    names: &[&str],
+    opts: momentlmi::data::ReadOptions,
+    spec: &str,
+    sidecar: Option<&Path>,
+) -> Result<momentlmi::data::Dataset, String> {
+    use momentlmi::data::{DataError, Dataset};
+    Dataset::read_csv(path, names, opts).map_err(|e| match e {
+        DataError::MissingColumn { .. } if sidecar.is_none() && Path::new(spec).is_file() => {
+            format!(
+                "{e}\nhint: {spec} has joints the data do not; if the data were made with a \
+                 sidecar that locks them (a gripper's fingers, say), pass it with --sidecar FILE"
+            )
+        }
+        e => e.to_string(),
+    })
+}
+
 /// The model and friction of a parameter choice given with `flag`; an error
 /// names the flag and, unless it is a file (whose errors name it), the
 /// value typed.

@@ -1,6 +1,5 @@
 //! `momentlmi predict --robot MODEL [--params true|cad|FILE] --data FILE.csv --out PRED.csv [--json]`.
 
-use momentlmi::data::Dataset;
 use momentlmi::data::{ReadOptions, Staged};
 use momentlmi::dynamics::ParamChoice;
 use momentlmi::dynamics::predict::predict_torques;
@@ -56,15 +55,11 @@ fn run_inner(a: &PredictArgs) -> Result<(), String> {
     }
     let (model, friction) = super::parameters_for(&robot, "--params", a.params, ParamChoice::Own)?;
     let names = model.joint_names();
-    let d = Dataset::read_csv(
-        a.data,
-        &names,
-        ReadOptions {
-            require_tau: false,
-            ..Default::default()
-        },
-    )
-    .map_err(|e| e.to_string())?;
+    let opts = ReadOptions {
+        require_tau: false,
+        ..Default::default()
+    };
+    let d = super::read_data(a.data, &names, opts, a.robot, a.sidecar)?;
     let tau = predict_torques(&model, &friction, &d.q, &d.qd, &d.qdd).map_err(|e| e.to_string())?;
     let mut s = String::from("t");
     for j in &names {
