@@ -5,7 +5,7 @@
 use momentlmi::diagnose::{DiagnoseOptions, diagnose};
 use momentlmi::dynamics::robots::load_robot;
 use momentlmi::dynamics::{Effect, RobotDescription};
-use momentlmi::identify::{Identification, IdentifyOptions, IdentifyResult, Level};
+use momentlmi::identify::{Identification, IdentifyOptions, IdentifyResult, Level, Regularizer};
 use momentlmi::sim::{Effects, SimConfig, simulate};
 use std::path::Path;
 
@@ -135,12 +135,52 @@ fn without_the_masses_weight_the_euclidean_prior_moves_masses_that_were_right() 
         .into_iter()
         .fold(f64::MIN, f64::max);
     assert!(worst > 0.05, "without the mass weight: {worst}");
-    let off = Identification::for_robot(&r, Level::Consistent, 0.0).unwrap();
-    assert_eq!(off.mass_weight(), 0.0);
-    let opts = IdentifyOptions::for_robot(&r, Level::Consistent, 1e-6).unwrap();
-    assert_eq!(opts.prior_mass_weight(), 1e-2);
-    let opts = IdentifyOptions::for_robot(&r, Level::Consistent, 0.0).unwrap();
-    assert_eq!(opts.prior_mass_weight(), 0.0);
+}
+
+/// The sidecar's masses' weight is settled from the prior in effect when
+/// solving: on with the Euclidean prior on, off with the prior off (weight
+/// 0, however it was set) or the entropic prior, and the caller's own
+/// weight wins; a weight not ≫ the prior's is a warning in the result.
+#[test]
+fn the_sidecar_mass_weight_follows_the_prior_in_effect() {
+    let r = panda();
+    let id = |w: f64| Identification::for_robot(&r, Level::Consistent, w).unwrap();
+    let prior = r.prior_vector();
+    assert_eq!(id(1e-6).mass_weight(), 1e-2);
+    assert_eq!(id(0.0).mass_weight(), 0.0);
+    assert_eq!(
+        id(1e-6).prior(0.0, prior.clone()).unwrap().mass_weight(),
+        0.0
+    );
+    assert_eq!(
+        id(0.0).prior(1e-6, prior.clone()).unwrap().mass_weight(),
+        1e-2
+    );
+    let entropic = id(1e-2).regularizer(Regularizer::Entropic);
+    assert_eq!(entropic.mass_weight(), 0.0);
+    let own = entropic.prior_mass_weight(1.0).unwrap();
+    assert_eq!(own.mass_weight(), 1.0);
+    assert_eq!(id(0.0).prior_mass_weight(2.0).unwrap().mass_weight(), 2.0);
+    let opts = |w: f64| IdentifyOptions::for_robot(&r, Level::Consistent, w).unwrap();
+    assert_eq!(opts(1e-6).prior_mass_weight(), 1e-2);
+    assert_eq!(opts(0.0).prior_mass_weight(), 0.0);
+    let ent = opts(1e-2).with_regularizer(Regularizer::Entropic);
+    assert_eq!(ent.prior_mass_weight(), 0.0);
+    // a prior weight of 1e-3 against the masses' 1e-2: not held, and said
+    let data = friction_data(&r, 1);
+    let weak = |w: f64| {
+        Identification::for_robot(&r, Level::None, w)
+            .unwrap()
+            .identify(&data, None)
+            .unwrap()
+            .warnings
+    };
+    assert!(
+        weak(1e-3)
+            .iter()
+            .any(|w| w.contains("not ≫ the prior's weight"))
+    );
+    assert!(weak(1e-6).iter().all(|w| !w.contains("not ≫")));
 }
 
 /// The withheld-effect benchmark's rules on the arm: the nominal model
@@ -154,11 +194,12 @@ fn the_arm_diagnosis_names_a_withheld_effect_and_invents_none() {
         simulate(&r, &SimConfig::for_robot(&r, seconds, fx, seed), |_, _| {}).unwrap()
     };
     let base = "coulomb,viscous";
-    let opts = momentlmi::identify::IdentifyOptions::for_robot(&r, Level::Ellipsoid, 1e-6).unwrap();
-    let (m, f) = momentlmi::identify::identify(&r.model, &sim(base, 20.0, 101), None, &opts)
-        .unwrap()
-        .applied_to(&r.model)
-        .unwrap();
+    let opts = IdentifyOptions::for_robot(&r, Level::Ellipsoid, 1e-6).unwrap();
+    let nominal =
+        momentlmi::identify::identify(&r.model, &sim(base, 20.0, 101), None, &opts).unwrap();
+    // the sidecar's masses' weight reaches the options' path too
+    assert_eq!(nominal.prior_mass_weight, 1e-2);
+    let (m, f) = nominal.applied_to(&r.model).unwrap();
     for (withheld, expect) in [
         ("", None),
         ("joint_offset", Some("joint_offset")),
@@ -207,7 +248,6 @@ fn the_arm_diagnosis_names_a_withheld_effect_and_invents_none() {
 /// heavier links held harder by Σ (m − m̂)² than by the divergence.)
 #[test]
 fn the_arm_with_the_entropic_prior_keeps_masses_near_the_prior() {
-    use momentlmi::identify::Regularizer;
     let r = panda();
     let (train, val) = (friction_data(&r, 1), friction_data(&r, 2));
     let prior = perturbed_prior(&r);

@@ -166,10 +166,11 @@ enum Command {
         #[arg(long, value_enum, default_value_t = Regularizer::Euclidean)]
         regularizer: Regularizer,
         /// Extra weight w_m Σ (m − m̂)² keeping the bodies' masses at the prior's
-        /// [default: the sidecar's [identify] prior_mass_weight when --weight > 0, else 0;
-        /// 0: off]. For masses known better than the rest (weighed links): a fixed-base
-        /// arm's torques see no link mass alone, so the data's corrections go to the first
-        /// moments and inertias instead (e.g. 1e-2 with --weight 1e-6).
+        /// [default: the sidecar's [identify] prior_mass_weight with the Euclidean prior on
+        /// (--weight > 0), else 0; 0: off]. For masses known better than the rest (weighed
+        /// links): a fixed-base arm's torques see no link mass alone, so the data's
+        /// corrections go to the first moments and inertias instead (e.g. 1e-2 with --weight
+        /// 1e-6; a weight under 100 × --weight holds nothing and is warned about).
         #[arg(long, allow_negative_numbers = true)]
         prior_mass_weight: Option<f64>,
         /// Held-out validation data CSV.

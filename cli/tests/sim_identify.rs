@@ -496,6 +496,10 @@ fn identify_with_a_known_mass_and_equal_bodies_from_the_command_line() {
         serde_json::json!(0.0)
     );
     assert_eq!(mass_weight(&["--weight", "0"]), serde_json::json!(0.0));
+    let over = ["--prior-mass-weight", "2"];
+    assert_eq!(mass_weight(&over), serde_json::json!(2.0));
+    let own = ["--weight", "0", "--prior-mass-weight", "2"];
+    assert_eq!(mass_weight(&own), serde_json::json!(2.0));
     let bad = dir.join("bad.toml");
     std::fs::write(&bad, "[identify]\nprior_mass_weight = -1.0\n").unwrap();
     let o = bin()
@@ -684,6 +688,54 @@ fn data_made_with_a_sidecar_read_without_it_hints_at_the_sidecar() {
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(
         err.contains("missing column") && !err.contains("--sidecar"),
+        "{err}"
+    );
+}
+
+/// A recording without torques, read by `identify` for a URDF robot without
+/// `--sidecar`: the missing torque column is named, and no hint at a
+/// sidecar (the joints are all there).
+#[test]
+fn a_missing_torque_column_gets_no_sidecar_hint() {
+    let dir = common::TempDir::new("no-tau-hint");
+    let urdf = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../robots/panda/panda.urdf");
+    let (u, data) = (urdf.to_str().unwrap(), dir.0.join("arm.csv"));
+    common::ok(&[
+        "simulate",
+        "--robot",
+        u,
+        "--seconds",
+        "1",
+        "--out",
+        data.to_str().unwrap(),
+    ]);
+    let text = std::fs::read_to_string(&data).unwrap();
+    let keep: Vec<usize> = text
+        .lines()
+        .next()
+        .unwrap()
+        .split(',')
+        .enumerate()
+        .filter(|(_, c)| !c.starts_with("tau_"))
+        .map(|(i, _)| i)
+        .collect();
+    let stripped: String = text
+        .lines()
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            keep.iter().map(|&i| f[i]).collect::<Vec<_>>().join(",") + "\n"
+        })
+        .collect();
+    let no_tau = dir.0.join("no_tau.csv");
+    std::fs::write(&no_tau, stripped).unwrap();
+    let o = bin()
+        .args(["identify", "--robot", u, "--data", no_tau.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("missing column 'tau_") && !err.contains("--sidecar"),
         "{err}"
     );
 }

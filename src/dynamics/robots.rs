@@ -70,7 +70,8 @@ pub fn load_robot_with(
     }
     let (_, robot) = crate::urdf::read_file(p)?;
     let sc = sidecar.map(Sidecar::read).transpose()?.unwrap_or_default();
-    let model = model_from_robot(&robot, spec, Some(&sc))?;
+    let model = model_from_robot(&robot, spec, Some(&sc))
+        .map_err(|e| name_the_sidecar(e, spec, sidecar))?;
     let mut meshes = Meshes::new(MeshPaths::for_urdf(p, package_paths));
     let described = RobotDescription::new(spec, model, &sc, Some(&robot));
     Ok(described
@@ -78,14 +79,21 @@ pub fn load_robot_with(
         .with_urdf_geometry(&robot, &mut meshes))
 }
 
-/// A description error of a URDF robot with a sidecar names both files (the
-/// entry at fault is the sidecar's, or the URDF's that it describes).
+/// An error building or describing a URDF robot with a sidecar names both
+/// files (the entry at fault is the sidecar's, or the URDF's that it
+/// describes: a lock, a rotor, a limit, a body).
 fn name_the_sidecar(e: DynamicsError, spec: &str, sidecar: Option<&Path>) -> DynamicsError {
-    match (e, sidecar) {
-        (DynamicsError::Description { message, .. }, Some(path)) => DynamicsError::Description {
-            source_name: format!("{spec} (sidecar {})", path.display()),
+    let Some(sc) = sidecar else { return e };
+    let both = format!("{spec} (sidecar {})", sc.display());
+    match e {
+        DynamicsError::Description { message, .. } => DynamicsError::Description {
+            source_name: both,
             message,
         },
-        (e, _) => e,
+        DynamicsError::File { path, message } if path == spec => DynamicsError::File {
+            path: both,
+            message,
+        },
+        e => e,
     }
 }

@@ -9,7 +9,8 @@
 //!   `src/dynamics/cheetah3-leg.toml`): `[tool]`, `[[joint]]` (nominal
 //!   friction, limits), `[[body]]` (CAD prior, bounding ellipsoids, an
 //!   identification level), `[excitation]`, `[effects]` (default effect
-//!   magnitudes), `[identify]` (known total mass, bodies forced equal).
+//!   magnitudes), `[identify]` (known total mass, bodies forced equal, the
+//!   masses' extra weight toward the prior).
 
 use super::cheetah3::Shell;
 use super::effect::EffectParams;
@@ -48,7 +49,8 @@ pub struct Sidecar {
     pub identify: Option<SidecarIdentify>,
 }
 
-/// `[identify]`: constraints the identification adds for this robot.
+/// `[identify]`: constraints the identification adds for this robot, and
+/// how firmly it holds the prior's masses.
 #[derive(Clone, Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SidecarIdentify {
@@ -58,8 +60,9 @@ pub struct SidecarIdentify {
     #[serde(default, deserialize_with = "exact::vec")]
     pub equal: Vec<[String; 2]>,
     /// The extra weight keeping every body's mass at the prior's (the
-    /// identification's `prior_mass_weight`): for CAD masses trusted more
-    /// than the rest of the prior (weighed parts).
+    /// identification's `prior_mass_weight`, used with the Euclidean prior
+    /// on unless the caller sets one): for CAD masses trusted more than the
+    /// rest of the prior (weighed parts).
     pub prior_mass_weight: Option<f64>,
 }
 

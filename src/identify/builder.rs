@@ -29,7 +29,7 @@
 
 use super::error::IdentifyError;
 use super::problem::{
-    IdentifyOptions, Level, Regularizer, Solved, default_settings, parameter_names,
+    IdentifyOptions, Level, MassWeight, Regularizer, Solved, default_settings, parameter_names,
 };
 use super::reduce::Reduced;
 use crate::conic::{AffExpr, Problem, Settings, Status};
@@ -117,7 +117,7 @@ pub struct Identification<'m> {
     common: Level,
     bodies: Vec<BodySpec>,
     weight: f64,
-    mass_weight: f64,
+    mass_weight: MassWeight,
     prior: Vec<f64>,
     regularizer: Regularizer,
     com_lmi: bool,
@@ -141,7 +141,7 @@ impl<'m> Identification<'m> {
                 model.num_bodies()
             ],
             weight: 0.0,
-            mass_weight: 0.0,
+            mass_weight: MassWeight::default(),
             prior: vec![],
             regularizer: Regularizer::Euclidean,
             com_lmi: false,
@@ -282,13 +282,38 @@ impl<'m> Identification<'m> {
     /// regulariser prefers; with `w_m` ≫ `weight` they stay at the prior
     /// and the first moments and inertias take the correction.
     pub fn prior_mass_weight(mut self, mass_weight: f64) -> Result<Self, IdentifyError> {
-        self.mass_weight = super::problem::nonnegative("prior_mass_weight", mass_weight)?;
+        self.mass_weight.explicit = Some(super::problem::nonnegative(
+            "prior_mass_weight",
+            mass_weight,
+        )?);
         Ok(self)
     }
 
-    /// The extra weight on the prior's masses ([`Self::prior_mass_weight`]).
+    /// The extra weight on the prior's masses in effect: the caller's
+    /// ([`Self::prior_mass_weight`]), else the robot's with the Euclidean
+    /// prior on, else 0.
     pub fn mass_weight(&self) -> f64 {
-        self.mass_weight
+        self.mass_weight.resolve(self.weight, self.regularizer)
+    }
+
+    /// Sets the robot's own masses' weight (its sidecar's), used unless the
+    /// caller sets one.
+    pub(crate) fn robot_mass_weight(mut self, w: Option<f64>) -> Self {
+        self.mass_weight.robot = w;
+        self
+    }
+
+    /// A warning when the masses' weight is on but not ≫ the Euclidean
+    /// prior's weight, so it does not hold the masses it is meant to.
+    pub(crate) fn mass_weight_warning(&self) -> Option<String> {
+        let (w_m, w) = (self.mass_weight(), self.weight);
+        (w_m > 0.0 && self.regularizer == Regularizer::Euclidean && w_m < 100.0 * w).then(|| {
+            format!(
+                "the masses' extra weight {w_m:e} is not ≫ the prior's weight {w:e} (ratio {}, \
+                 under 100): the masses are not held at the prior's",
+                (w_m / w * 1e3).round() / 1e3
+            )
+        })
     }
 
     /// How the prior enters the objective (default [`Regularizer::Euclidean`];
@@ -360,15 +385,16 @@ impl<'m> Identification<'m> {
     fn check(&self) -> Result<(), IdentifyError> {
         let names = self.model.body_names();
         let nb = names.len();
-        if (self.weight > 0.0 || self.mass_weight > 0.0) && self.prior.len() != 10 * nb {
+        let w_m = self.mass_weight();
+        if (self.weight > 0.0 || w_m > 0.0) && self.prior.len() != 10 * nb {
             return Err(IdentifyError::Option {
                 option: "prior",
                 message: format!(
                     "{} numbers for {nb} bodies (10 per body) with weight {}{}",
                     self.prior.len(),
                     self.weight,
-                    if self.mass_weight > 0.0 {
-                        format!(" and prior mass weight {}", self.mass_weight)
+                    if w_m > 0.0 {
+                        format!(" and prior mass weight {w_m}")
                     } else {
                         String::new()
                     }
@@ -414,7 +440,7 @@ impl<'m> Identification<'m> {
         let t0 = std::time::Instant::now();
         let reg = Prior {
             weight: self.weight,
-            mass_weight: self.mass_weight,
+            mass_weight: self.mass_weight(),
             values: self.prior.as_slice(),
         };
         let direct = self.hooks.is_empty() && !self.entropic();
@@ -557,7 +583,7 @@ impl<'m> Identification<'m> {
                 common: self.common,
                 bodies: vec![self.bodies[b]],
                 weight: 0.0,
-                mass_weight: 0.0,
+                mass_weight: MassWeight::default(),
                 prior: vec![],
                 regularizer: Regularizer::Euclidean,
                 com_lmi: self.com_lmi,

@@ -103,13 +103,36 @@ impl Regularizer {
 pub struct IdentifyOptions {
     pub(crate) level: Level,
     pub(crate) weight: f64,
-    pub(crate) mass_weight: f64,
+    pub(crate) mass_weight: MassWeight,
     pub(crate) prior: Vec<f64>,
     pub(crate) regularizer: Regularizer,
     pub(crate) ellipsoids: Option<Vec<Ellipsoid>>,
     pub(crate) com_lmi: bool,
     pub(crate) eps: f64,
     pub(crate) settings: Settings,
+}
+
+/// The extra weight `w_m Σ_b (m_b − m̂_b)²` toward the prior's masses: the
+/// caller's, else the robot's (its sidecar's `[identify] prior_mass_weight`),
+/// settled when the problem is solved from the prior then set.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct MassWeight {
+    /// Set by the caller (`prior_mass_weight`): used as it is.
+    pub(crate) explicit: Option<f64>,
+    /// The robot's: used with the Euclidean prior on only (with the entropic
+    /// one it moved the Panda's lightest link further from the truth, see
+    /// docs/identification.md).
+    pub(crate) robot: Option<f64>,
+}
+
+impl MassWeight {
+    /// The weight in effect with prior weight `weight` and `regularizer`.
+    pub(crate) fn resolve(&self, weight: f64, regularizer: Regularizer) -> f64 {
+        self.explicit.unwrap_or_else(|| match self.robot {
+            Some(w) if weight > 0.0 && regularizer == Regularizer::Euclidean => w,
+            _ => 0.0,
+        })
+    }
 }
 
 /// The solver settings of the constrained levels: tolerances 1e-9, at most
@@ -129,7 +152,7 @@ impl IdentifyOptions {
         Self {
             level,
             weight: 0.0,
-            mass_weight: 0.0,
+            mass_weight: MassWeight::default(),
             prior: vec![],
             regularizer: Regularizer::Euclidean,
             ellipsoids: None,
@@ -139,8 +162,8 @@ impl IdentifyOptions {
         }
     }
 
-    /// A robot's set-up: its CAD prior with weight `weight` (and, when
-    /// `weight` > 0, the masses' extra weight its sidecar sets), and its bounding
+    /// A robot's set-up: its CAD prior with weight `weight` (and the masses'
+    /// extra weight its sidecar sets, see [`MassWeight`]), and its bounding
     /// ellipsoids when every body has exactly one (required, and an error
     /// naming the body otherwise, for [`Level::Ellipsoid`]). A robot whose
     /// sidecar sets identification facts (per-body levels, a total mass,
@@ -152,19 +175,26 @@ impl IdentifyOptions {
         weight: f64,
     ) -> Result<Self, IdentifyError> {
         let f = &robot.identification;
-        if f.total_mass.is_some() || !f.equal.is_empty() || f.levels.iter().any(Option::is_some) {
+        let set: Vec<&str> = [
+            ("per-body levels", f.levels.iter().any(Option::is_some)),
+            ("total_mass", f.total_mass.is_some()),
+            ("equal", !f.equal.is_empty()),
+        ]
+        .into_iter()
+        .filter_map(|(name, on)| on.then_some(name))
+        .collect();
+        if !set.is_empty() {
             return Err(IdentifyError::Option {
                 option: "robot",
                 message: format!(
-                    "{} sets identification facts in its sidecar (levels, total_mass, equal); use Identification::for_robot",
-                    robot.source
+                    "{}'s sidecar sets identification constraints ({}) that IdentifyOptions cannot hold; use Identification::for_robot",
+                    robot.source,
+                    set.join(", ")
                 ),
             });
         }
-        let mass_weight = f.prior_mass_weight.filter(|_| weight > 0.0);
-        let opts = Self::new(level)
-            .with_prior(weight, robot.prior_vector())?
-            .with_prior_mass_weight(mass_weight.unwrap_or(0.0))?;
+        let mut opts = Self::new(level).with_prior(weight, robot.prior_vector())?;
+        opts.mass_weight.robot = f.prior_mass_weight;
         match robot.single_ellipsoids() {
             Ok(e) => Ok(opts.with_ellipsoids(e)),
             Err(e) if level == Level::Ellipsoid => Err(e.into()),
@@ -192,7 +222,7 @@ impl IdentifyOptions {
     /// ([`super::Identification::prior_mass_weight`]); ≥ 0 and finite
     /// (0, the default: off).
     pub fn with_prior_mass_weight(mut self, mass_weight: f64) -> Result<Self, IdentifyError> {
-        self.mass_weight = nonnegative("prior_mass_weight", mass_weight)?;
+        self.mass_weight.explicit = Some(nonnegative("prior_mass_weight", mass_weight)?);
         Ok(self)
     }
 
@@ -243,9 +273,9 @@ impl IdentifyOptions {
         &self.prior
     }
 
-    /// The masses' extra weight.
+    /// The masses' extra weight in effect ([`MassWeight::resolve`]).
     pub fn prior_mass_weight(&self) -> f64 {
-        self.mass_weight
+        self.mass_weight.resolve(self.weight, self.regularizer)
     }
 
     /// The regulariser.

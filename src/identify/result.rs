@@ -357,14 +357,16 @@ impl Identification<'_> {
             friction,
             constraints_satisfied: ok,
             status: status.as_str().into(),
-            warnings: if status == crate::conic::Status::SolvedInaccurately {
-                vec![format!(
-                    "the SDP was solved only to Clarabel's reduced tolerances ({} iterations)",
-                    solved.iterations
-                )]
-            } else {
-                vec![]
-            },
+            warnings: (status == crate::conic::Status::SolvedInaccurately)
+                .then(|| {
+                    format!(
+                        "the SDP was solved only to Clarabel's reduced tolerances ({} iterations)",
+                        solved.iterations
+                    )
+                })
+                .into_iter()
+                .chain(self.mass_weight_warning())
+                .collect(),
             iterations: solved.iterations,
             rank: solved.rank,
             num_parameters: theta.len(),

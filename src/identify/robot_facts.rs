@@ -9,7 +9,7 @@ use crate::dynamics::RobotDescription;
 
 /// Applies `robot`'s facts: levels replace the common one; a total mass and
 /// pairs of equal bodies become constraints; the masses' extra weight is
-/// taken when the prior is on.
+/// the robot's (used with the Euclidean prior on, unless the caller sets one).
 pub(crate) fn apply<'m>(
     mut s: Identification<'m>,
     robot: &'m RobotDescription,
@@ -26,11 +26,7 @@ pub(crate) fn apply<'m>(
             s = s.level(name, level)?;
         }
     }
-    if let Some(w) = facts.prior_mass_weight
-        && s.weight() > 0.0
-    {
-        s = s.prior_mass_weight(w)?;
-    }
+    s = s.robot_mass_weight(facts.prior_mass_weight);
     if let Some(m) = facts.total_mass {
         s = s.constrain(move |p, v| {
             p.add_eq(v.total_mass(), m)?;

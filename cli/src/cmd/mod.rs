@@ -20,8 +20,8 @@ pub(crate) fn warn_robot(robot: &momentlmi::dynamics::RobotDescription) {
 }
 
 /// Reads a data file for the joints `names` of the robot `spec`; a missing
-/// column of a URDF robot given without `--sidecar` says that a sidecar may
-/// be what locks the joint the data lack.
+/// joint (its `q_` column) of a URDF robot given without `--sidecar` says
+/// that a sidecar may be what locks the joint the data lack.
 pub(crate) fn read_data(
     path: &Path,
     names: &[&str],
@@ -31,7 +31,9 @@ pub(crate) fn read_data(
 ) -> Result<momentlmi::data::Dataset, String> {
     use momentlmi::data::{DataError, Dataset};
     Dataset::read_csv(path, names, opts).map_err(|e| match e {
-        DataError::MissingColumn { .. } if sidecar.is_none() && Path::new(spec).is_file() => {
+        DataError::MissingColumn { ref column, .. }
+            if column.starts_with("q_") && sidecar.is_none() && Path::new(spec).is_file() =>
+        {
             format!(
                 "{e}\nhint: {spec} has joints the data do not; if the data were made with a \
                  sidecar that locks them (a gripper's fingers, say), pass it with --sidecar FILE"
