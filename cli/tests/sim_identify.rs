@@ -644,8 +644,9 @@ fn the_entropic_prior_from_the_command_line() {
 }
 
 /// Data of the Panda simulated with its sidecar (fingers locked), read
-/// without it: the missing finger column is named, with a hint at
-/// `--sidecar`; exit 2. A built-in robot's missing column gets no hint.
+/// without it: the missing finger column is named, with a hint naming the
+/// sidecar the data's JSON records (a general one without that JSON); exit
+/// 2. A built-in robot's missing column gets no hint.
 #[test]
 fn data_made_with_a_sidecar_read_without_it_hints_at_the_sidecar() {
     let dir = common::TempDir::new("hint-sidecar");
@@ -675,11 +676,21 @@ fn data_made_with_a_sidecar_read_without_it_hints_at_the_sidecar() {
         let o = c.output().unwrap();
         let err = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(2), "{cmd}: {err}");
+        // the data's JSON says which sidecar made them
+        let named = format!("simulated with --sidecar {sc}");
         assert!(
-            err.contains("missing column 'q_panda_finger_joint") && err.contains("--sidecar FILE"),
+            err.contains("missing column 'q_panda_finger_joint") && err.contains(&named),
             "{cmd}: {err}"
         );
     }
+    // without that JSON, the hint is general
+    std::fs::remove_file(data.with_extension("json")).unwrap();
+    let o = bin()
+        .args(["identify", "--robot", u, "--data", d])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("pass it with --sidecar FILE"), "{err}");
     let o = bin()
         .args(["identify", "--robot", "cheetah3-leg", "--data", d])
         .output()

@@ -44,6 +44,9 @@ pub const MAX_NOISE_SIGMA: f64 = 1e4;
 pub struct SimConfig {
     /// Robot (built-in name or URDF path).
     pub robot: String,
+    /// The sidecar the robot was described with (a URDF robot's), if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sidecar: Option<String>,
     /// Duration (s).
     pub seconds: f64,
     /// Sampling rate (Hz).
@@ -97,6 +100,7 @@ impl SimConfig {
             .map_or(30.0, |f| (10.0 * f).clamp(5.0, 30.0));
         Self {
             robot: robot.source.clone(),
+            sidecar: None,
             seconds,
             rate_hz: 1000.0,
             trajectory,

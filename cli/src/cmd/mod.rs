@@ -34,13 +34,29 @@ pub(crate) fn read_data(
         DataError::MissingColumn { ref column, .. }
             if column.starts_with("q_") && sidecar.is_none() && Path::new(spec).is_file() =>
         {
-            format!(
-                "{e}\nhint: {spec} has joints the data do not; if the data were made with a \
-                 sidecar that locks them (a gripper's fingers, say), pass it with --sidecar FILE"
-            )
+            match simulated_with_sidecar(path) {
+                Some(sc) => format!(
+                    "{e}\nhint: the data were simulated with --sidecar {sc}; pass it here too"
+                ),
+                None => format!(
+                    "{e}\nhint: {spec} has joints the data do not; if the data were made with a \
+                     sidecar that locks them (a gripper's fingers, say), pass it with --sidecar FILE"
+                ),
+            }
         }
         e => e.to_string(),
     })
+}
+
+/// The sidecar a data file was simulated with, from the JSON `simulate`
+/// writes beside it (`config.sidecar`), if that file is there, small and says so.
+fn simulated_with_sidecar(data: &Path) -> Option<String> {
+    let json = data.with_extension("json");
+    if std::fs::metadata(&json).ok()?.len() > 64 << 20 {
+        return None;
+    }
+    let v: serde_json::Value = serde_json::from_slice(&std::fs::read(json).ok()?).ok()?;
+    v["config"]["sidecar"].as_str().map(str::to_string)
 }
 
 /// The model and friction of a parameter choice given with `flag`; an error

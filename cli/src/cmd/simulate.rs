@@ -64,6 +64,7 @@ fn run_inner(a: &SimulateArgs) -> Result<(), String> {
         effects = effects.with(p, v).map_err(|e| e.to_string())?;
     }
     let mut cfg = SimConfig::for_robot(&robot, a.seconds, effects, a.seed);
+    cfg.sidecar = a.sidecar.map(|p| p.display().to_string());
     if let Some(s) = a.noise {
         cfg.noise_sigma = s;
         if s == 0.0 {
