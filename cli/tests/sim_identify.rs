@@ -685,22 +685,24 @@ fn data_made_with_a_sidecar_read_without_it_hints_at_the_sidecar() {
     }
     // without that JSON, the hint is general
     std::fs::remove_file(data.with_extension("json")).unwrap();
-    let o = bin()
-        .args(["identify", "--robot", u, "--data", d])
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&o.stderr);
+    let err = identify_fails(u, d);
     assert!(err.contains("pass it with --sidecar FILE"), "{err}");
-    let o = bin()
-        .args(["identify", "--robot", "cheetah3-leg", "--data", d])
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(2), "{err}");
+    let err = identify_fails("cheetah3-leg", d);
     assert!(
         err.contains("missing column") && !err.contains("--sidecar"),
         "{err}"
     );
+}
+
+/// `identify --robot ROBOT --data DATA`'s standard error, asserting exit 2.
+fn identify_fails(robot: &str, data: &str) -> String {
+    let o = bin()
+        .args(["identify", "--robot", robot, "--data", data])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    err
 }
 
 /// A recording without torques, read by `identify` for a URDF robot without
@@ -739,12 +741,7 @@ fn a_missing_torque_column_gets_no_sidecar_hint() {
         .collect();
     let no_tau = dir.0.join("no_tau.csv");
     std::fs::write(&no_tau, stripped).unwrap();
-    let o = bin()
-        .args(["identify", "--robot", u, "--data", no_tau.to_str().unwrap()])
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(2), "{err}");
+    let err = identify_fails(u, no_tau.to_str().unwrap());
     assert!(
         err.contains("missing column 'tau_") && !err.contains("--sidecar"),
         "{err}"
