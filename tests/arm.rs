@@ -76,6 +76,21 @@ fn the_arm_identifies_to_the_noise_floor_from_a_wrong_prior() {
             );
         }
         assert!(res.bodies.iter().all(|b| b.consistent), "{level:?}");
+        // the URDF prior outside the meshes' ellipsoids is said, by body
+        let outside = res
+            .warnings
+            .iter()
+            .find(|w| w.contains("not density realizable"));
+        match level {
+            Level::Ellipsoid => {
+                let w = outside.expect("a warning at the ellipsoid level");
+                assert!(
+                    w.contains("panda_link1,") && !w.contains("panda_link6"),
+                    "{w}"
+                );
+            }
+            _ => assert!(outside.is_none(), "{outside:?}"),
+        }
         if level == Level::Ellipsoid {
             // the URDF's own inertias (the truth here) are not density
             // realizable in the collision meshes' ellipsoids for six of the

@@ -316,6 +316,39 @@ impl<'m> Identification<'m> {
         })
     }
 
+    /// A warning naming the bodies at the ellipsoid level whose prior is
+    /// consistent but not density realizable in their bounding ellipsoid
+    /// (`tr(J(π̂) Q) < 0`): the fit cannot stay at the prior there.
+    pub(crate) fn prior_outside_warning(&self) -> Option<String> {
+        if !(self.weight > 0.0 || self.mass_weight() > 0.0)
+            || self.prior.len() != 10 * self.bodies.len()
+        {
+            return None;
+        }
+        let names = self.model.body_names();
+        let outside: Vec<&str> = (self.bodies.iter().zip(self.prior.chunks_exact(10)))
+            .zip(&names)
+            .filter_map(|((b, p), name)| {
+                let e = b.ellipsoid.filter(|_| b.level == Level::Ellipsoid)?;
+                let pi = InertialParams(std::array::from_fn(|k| p[k]));
+                let r = crate::moments::check_realizable(&pi, &e, super::result::CHECK_TOL);
+                (r.consistent && !r.realizable).then_some(name.as_str())
+            })
+            .collect();
+        (!outside.is_empty()).then(|| {
+            let (one, many) = (outside.len() == 1, outside.join(", "));
+            format!(
+                "the prior{} of {many} {} not density realizable in {} bounding ellipsoid{} \
+                 (tr(J(π̂) Q) < 0): the identified bodies cannot stay at the prior there \
+                 (`momentlmi check` shows the CAD inertias against the geometry)",
+                if one { "" } else { "s" },
+                if one { "is" } else { "are" },
+                if one { "its" } else { "their" },
+                if one { "" } else { "s" },
+            )
+        })
+    }
+
     /// How the prior enters the objective (default [`Regularizer::Euclidean`];
     /// [`Regularizer::Entropic`] needs every prior body strictly consistent).
     pub fn regularizer(mut self, r: Regularizer) -> Self {

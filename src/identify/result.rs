@@ -366,6 +366,7 @@ impl Identification<'_> {
                 })
                 .into_iter()
                 .chain(self.mass_weight_warning())
+                .chain(self.prior_outside_warning())
                 .collect(),
             iterations: solved.iterations,
             rank: solved.rank,
