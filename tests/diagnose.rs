@@ -96,6 +96,15 @@ fn single_effects_are_found_and_close_the_gap() {
         );
         closes_most_of_the_gap(&d);
         assert!(!d.unexplained, "{effect}");
+        if effect == "joint_offset" {
+            // the offsets fitted are reported: 0.05 rad simulated on every joint
+            let e = d.effect(effect).unwrap();
+            let offsets = e.joint_offsets.as_ref().unwrap();
+            assert!(e.detail.starts_with("δ = (0.0"), "{}", e.detail);
+            for (j, x) in offsets.iter().enumerate() {
+                assert!((x - 0.05).abs() < 0.01, "joint {j}: δ = {x} ({})", e.detail);
+            }
+        }
     }
 }
 

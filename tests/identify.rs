@@ -84,7 +84,9 @@ fn noisy_identification_satisfies_its_constraints_checked_by_moments() {
         assert!(r.constraints_satisfied, "{level:?}");
         // the leg's CAD prior is inside its ellipsoids: nothing to warn about
         assert!(
-            r.warnings.iter().all(|w| !w.contains("not density realizable")),
+            r.warnings
+                .iter()
+                .all(|w| !w.contains("not density realizable")),
             "{:?}",
             r.warnings
         );

@@ -205,8 +205,13 @@ impl DiagnoseOptions {
 pub struct EffectReport {
     /// Effect name.
     pub effect: String,
-    /// The chosen nonlinear parameter, if any.
+    /// The chosen nonlinear parameter, if any (for `joint_offset`, the
+    /// offsets fitted).
     pub detail: String,
+    /// `joint_offset` only: the encoder zero offset δ_j fitted per joint
+    /// (rad, or m for a prismatic joint; true q = measured q + δ).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub joint_offsets: Option<Vec<f64>>,
     /// Selection round (1-based).
     pub round: usize,
     /// Joints whose held-out RMS it reduces by more than 1 %.
@@ -263,6 +268,14 @@ pub struct Diagnosis {
     /// Held-out signals and residuals for plots (not serialised).
     #[serde(skip)]
     pub heldout: HeldOut,
+}
+
+impl Diagnosis {
+    /// The first report of `effect` in [`Self::ranked_effects`] (listed by
+    /// round: its report of round 1), if it was evaluated.
+    pub fn effect(&self, effect: &str) -> Option<&EffectReport> {
+        self.ranked_effects.iter().find(|e| e.effect == effect)
+    }
 }
 
 /// The held-out part's signals and residuals, per joint (for plots).

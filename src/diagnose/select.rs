@@ -133,7 +133,8 @@ pub fn evaluate(
     Some(Evaluation {
         report: EffectReport {
             effect: v.name().to_string(),
-            detail: v.detail.clone(),
+            detail: fitted_detail(v, &beta),
+            joint_offsets: is_joint_offset(v).then(|| beta.clone()),
             round,
             joints,
             params,
@@ -149,6 +150,20 @@ pub fn evaluate(
         gain: m,
         gain_se: sd / (diffs.len() as f64).sqrt(),
     })
+}
+
+/// The report's detail: the variant's nonlinear parameter, or for an
+/// encoder zero offset the offsets fitted (the coefficients of ∂τ̂/∂q_j).
+fn fitted_detail(chosen: &Columns, beta: &[f64]) -> String {
+    if !is_joint_offset(chosen) {
+        return chosen.detail.clone();
+    }
+    let d: Vec<String> = beta.iter().map(|b| format!("{b:.3}")).collect();
+    format!("δ = ({}) rad or m, true q = measured q + δ", d.join(", "))
+}
+
+fn is_joint_offset(c: &Columns) -> bool {
+    c.candidate == super::candidates::Candidate::Effect(crate::dynamics::Effect::JointOffset)
 }
 
 /// The largest encoder zero offset (rad or m) a calibration error is taken
@@ -179,7 +194,7 @@ fn implausible(
             chosen.detail
         ));
     }
-    if chosen.candidate == super::candidates::Candidate::Effect(Effect::JointOffset)
+    if is_joint_offset(chosen)
         && let Some((j, b)) = beta
             .iter()
             .enumerate()

@@ -210,8 +210,13 @@ fn print_diagnosis(d: &Diagnosis, level: &str) {
         } else {
             format!(" (tied with {})", e.tied_with.join(", "))
         };
+        let detail = if e.detail.is_empty() {
+            String::new()
+        } else {
+            format!(", {}", e.detail)
+        };
         println!(
-            "   which: {}{tied} — held-out RMS {} → {} N·m",
+            "   which: {}{detail}{tied} — held-out RMS {} → {} N·m",
             e.effect,
             fmt(&e.heldout_rms_before),
             fmt(&e.heldout_rms_after)
