@@ -163,7 +163,8 @@ impl IdentifyOptions {
     }
 
     /// A robot's set-up: its CAD prior with weight `weight` (and the masses'
-    /// extra weight its sidecar sets, see [`MassWeight`]), and its bounding
+    /// extra weight its sidecar sets, used with the Euclidean prior on unless
+    /// [`Self::with_prior_mass_weight`] sets one), and its bounding
     /// ellipsoids when every body has exactly one (required, and an error
     /// naming the body otherwise, for [`Level::Ellipsoid`]). A robot whose
     /// sidecar sets identification facts (per-body levels, a total mass,
@@ -273,7 +274,8 @@ impl IdentifyOptions {
         &self.prior
     }
 
-    /// The masses' extra weight in effect ([`MassWeight::resolve`]).
+    /// The masses' extra weight in effect: the one set, else the robot's with
+    /// the Euclidean prior on, else 0.
     pub fn prior_mass_weight(&self) -> f64 {
         self.mass_weight.resolve(self.weight, self.regularizer)
     }
