@@ -15,10 +15,6 @@ use std::path::Path;
 /// The effects the "real" leg has that the identified model lacks.
 const WITHHELD: [Effect; 2] = [Effect::Offset, Effect::Cogging];
 
-fn fmt_list(v: &[f64], digits: usize) -> Vec<String> {
-    v.iter().map(|x| format!("{x:.digits$}")).collect()
-}
-
 /// 1. The leg's identified inertias, checked.
 fn check_leg(robot: &RobotDescription) {
     println!(
@@ -189,7 +185,7 @@ fn print_diagnosis(d: &Diagnosis, out: &Path) {
     }
     for e in d.ranked_effects.iter().filter(|e| e.accepted) {
         println!(
-            "   which: {} {}{} — held-out RMS {:?} → {:?} N·m",
+            "   which: {} {}{} — held-out RMS {} → {} N·m",
             e.effect,
             e.detail,
             if e.tied_with.is_empty() {
@@ -197,16 +193,16 @@ fn print_diagnosis(d: &Diagnosis, out: &Path) {
             } else {
                 format!(" (tied with {})", e.tied_with.join(", "))
             },
-            fmt_list(&e.heldout_rms_before, 2),
-            fmt_list(&e.heldout_rms_after, 2),
+            super::per_joint(&e.heldout_rms_before, 2),
+            super::per_joint(&e.heldout_rms_after, 2),
         );
     }
     println!(
-        "   how far: gap above the noise floor closed {:?}; {}",
-        d.gap_closed
-            .iter()
-            .map(|x| format!("{:.0} %", 100.0 * x))
-            .collect::<Vec<_>>(),
+        "   how far: gap above the noise floor closed {} %; {}",
+        super::per_joint(
+            &d.gap_closed.iter().map(|x| 100.0 * x).collect::<Vec<_>>(),
+            0
+        ),
         if d.unexplained {
             "a remainder is unexplained (see diagnosis.json)"
         } else {

@@ -218,8 +218,8 @@ fn print_diagnosis(d: &Diagnosis, level: &str) {
         println!(
             "   which: {}{detail}{tied} — held-out RMS {} → {} N·m",
             e.effect,
-            fmt(&e.heldout_rms_before),
-            fmt(&e.heldout_rms_after)
+            super::per_joint(&e.heldout_rms_before, 2),
+            super::per_joint(&e.heldout_rms_after, 2)
         );
     }
     println!(
@@ -233,11 +233,4 @@ fn print_diagnosis(d: &Diagnosis, level: &str) {
     println!(
         "   (files: arm_validation.svg, arm_diagnosis.json, arm_residual_<joint>.svg, arm_effects.svg)"
     );
-}
-
-fn fmt(v: &[f64]) -> String {
-    v.iter()
-        .map(|x| format!("{x:.2}"))
-        .collect::<Vec<_>>()
-        .join("/")
 }

@@ -111,8 +111,8 @@ fn print_report(dg: &Diagnosis) {
         "\nWhich effects explain it (forward selection, fitted on the first part, scored on the held-out part):"
     );
     println!(
-        "  {:<20} {:<26} {:>6} {:>9} {:>7}  held-out RMS before → after",
-        "effect", "detail", "params", "ΔBIC", "z"
+        "  {:<20} {:>6} {:>9} {:>7}  held-out RMS before → after (N·m); fitted parameters below",
+        "effect", "params", "ΔBIC", "z"
     );
     let mut round = 0;
     for e in &dg.ranked_effects {
@@ -124,20 +124,13 @@ fn print_report(dg: &Diagnosis) {
             continue;
         }
         println!(
-            "  {:<20} {:<26} {:>6} {:>9.1} {:>7.1}  {:?} → {:?}{}{}",
+            "  {:<20} {:>6} {:>9.1} {:>7.1}  {} → {}{}{}",
             e.effect,
-            e.detail,
             e.params,
             e.delta_bic,
             e.z,
-            e.heldout_rms_before
-                .iter()
-                .map(|x| format!("{x:.3}"))
-                .collect::<Vec<_>>(),
-            e.heldout_rms_after
-                .iter()
-                .map(|x| format!("{x:.3}"))
-                .collect::<Vec<_>>(),
+            super::per_joint(&e.heldout_rms_before, 3),
+            super::per_joint(&e.heldout_rms_after, 3),
             if e.accepted { "  ACCEPTED" } else { "" },
             if e.tied_with.is_empty() {
                 String::new()
@@ -145,6 +138,9 @@ fn print_report(dg: &Diagnosis) {
                 format!(" (tied with {})", e.tied_with.join(", "))
             }
         );
+        if !e.detail.is_empty() {
+            println!("  {:<20} {}", "", e.detail);
+        }
     }
     println!("\nHow far:");
     for (i, j) in dg.joints.iter().enumerate() {

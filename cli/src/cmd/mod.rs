@@ -12,6 +12,14 @@ pub mod simulate;
 
 use std::path::Path;
 
+/// Numbers for a text report, `a/b/c` (one per joint), `digits` decimals.
+pub(crate) fn per_joint(v: &[f64], digits: usize) -> String {
+    v.iter()
+        .map(|x| format!("{x:.digits$}"))
+        .collect::<Vec<_>>()
+        .join("/")
+}
+
 /// Prints what the robot description filled in (placeholder friction, …).
 pub(crate) fn warn_robot(robot: &momentlmi::dynamics::RobotDescription) {
     for w in &robot.warnings {
