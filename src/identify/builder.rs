@@ -182,8 +182,8 @@ impl<'m> Identification<'m> {
 
     /// A robot's set-up: `level` for every body, its CAD prior with weight
     /// `weight`, its bounding ellipsoids where it has exactly one per body,
-    /// and the per-body levels, constraints and (when `weight` > 0) masses'
-    /// extra weight of its sidecar.
+    /// and the per-body levels, constraints and masses' extra weight of its
+    /// sidecar (the last used with the Euclidean prior on, [`Self::mass_weight`]).
     pub fn for_robot(
         robot: &'m RobotDescription,
         level: Level,
@@ -336,15 +336,11 @@ impl<'m> Identification<'m> {
             })
             .collect();
         (!outside.is_empty()).then(|| {
-            let (one, many) = (outside.len() == 1, outside.join(", "));
             format!(
-                "the prior{} of {many} {} not density realizable in {} bounding ellipsoid{} \
+                "the prior is not density realizable in the bounding ellipsoid of {} \
                  (tr(J(π̂) Q) < 0): the identified bodies cannot stay at the prior there \
                  (`momentlmi check` shows the CAD inertias against the geometry)",
-                if one { "" } else { "s" },
-                if one { "is" } else { "are" },
-                if one { "its" } else { "their" },
-                if one { "" } else { "s" },
+                outside.join(", ")
             )
         })
     }

@@ -129,15 +129,16 @@ fn identification<'r>(
             a.weight
         ));
     }
-    let mut id = Identification::for_robot(robot, level, a.weight)
+    let id = Identification::for_robot(robot, level, a.weight)
         .and_then(|id| id.prior(a.weight, prior.params()))
         .map_err(|e| format!("--weight / --prior: {e}"))?;
-    if let Some(w) = a.prior_mass_weight {
-        id = id
+    let mut id = match a.prior_mass_weight {
+        Some(w) => id
             .prior_mass_weight(w)
-            .map_err(|e| format!("--prior-mass-weight: {e}"))?;
+            .map_err(|e| format!("--prior-mass-weight: {e}"))?,
+        None => id,
     }
-    let mut id = id.regularizer(regularizer);
+    .regularizer(regularizer);
     for l in a.levels {
         let (body, lv) = l
             .split_once('=')
