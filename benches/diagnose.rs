@@ -8,11 +8,12 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 use momentlmi::data::Dataset;
 use momentlmi::diagnose::{DiagnoseOptions, diagnose};
-use momentlmi::dynamics::params_file::Friction;
+use momentlmi::dynamics::Friction;
 use momentlmi::dynamics::robots::load_robot;
 use momentlmi::dynamics::{Model, RobotDescription, cheetah3};
+use momentlmi::effects::simulate;
 use momentlmi::identify::{IdentifyOptions, Level, identify};
-use momentlmi::sim::{Effects, SimConfig, simulate};
+use momentlmi::sim::{Effects, SimConfig};
 use std::hint::black_box;
 use std::time::Duration;
 

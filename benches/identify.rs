@@ -6,11 +6,12 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 use momentlmi::conic::Decomposition;
 use momentlmi::dynamics::cheetah3;
+use momentlmi::effects::simulate;
 use momentlmi::identify::{
     IdentifyOptions, Level, Regularizer, StreamReducer, default_settings, reduce_samples,
     solve_identification,
 };
-use momentlmi::sim::{Effects, SimConfig, simulate};
+use momentlmi::sim::{Effects, SimConfig};
 use std::hint::black_box;
 
 fn bench(c: &mut Criterion) {

@@ -8,8 +8,9 @@
 use momentlmi::diagnose::{DiagnoseOptions, Diagnosis, diagnose};
 use momentlmi::dynamics::robots::load_robot;
 use momentlmi::dynamics::{RobotDescription, cheetah3};
+use momentlmi::effects::simulate;
 use momentlmi::identify::{IdentifyOptions, Level, identify};
-use momentlmi::sim::{Effects, SimConfig, simulate};
+use momentlmi::sim::{Effects, SimConfig};
 use std::time::Instant;
 
 /// (base effects, withheld effects, effect-parameter overrides).

@@ -6,15 +6,16 @@
 //! (from the command line: `momentlmi identify --robot cheetah3-leg --data leg.csv
 //! --level knee=ellipsoid --total-mass 5.25 --equal hip_rotor,knee_rotor`)
 
-use momentlmi::dynamics::{Effect, cheetah3};
+use momentlmi::dynamics::cheetah3;
+use momentlmi::effects::simulate;
 use momentlmi::identify::{Identification, IdentifyResult, Level};
-use momentlmi::sim::{Effects, SimConfig, simulate};
+use momentlmi::sim::{Effects, SimConfig};
 
 /// The identification of 10 s of simulated leg data (5 s to fit, 5 s to
 /// validate) with the total mass `total` (kg).
 pub fn run(total: f64) -> Result<IdentifyResult, Box<dyn std::error::Error>> {
     let leg = cheetah3::description();
-    let effects = Effects::new([Effect::RotorInertia, Effect::Coulomb, Effect::Viscous]);
+    let effects = Effects::new(["rotor_inertia", "coulomb", "viscous"]);
     let data = simulate(
         &leg,
         &SimConfig::for_robot(&leg, 10.0, effects, 3),

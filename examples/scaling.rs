@@ -5,8 +5,9 @@
 //! Run: `cargo run --release --example scaling`
 
 use momentlmi::dynamics::cheetah3;
+use momentlmi::effects::Library;
 use momentlmi::identify::{IdentifyOptions, Level, StreamReducer, solve_identification};
-use momentlmi::sim::robot::{Effects, TrueRobot};
+use momentlmi::sim::Effects;
 use momentlmi::sim::trajectory::{Shell, Trajectory};
 
 fn peak_rss_mib() -> f64 {
@@ -23,11 +24,12 @@ fn peak_rss_mib() -> f64 {
 fn main() {
     let leg = cheetah3::description();
     let model = &leg.model;
-    let robot = TrueRobot::new(
-        &leg,
-        &Effects::parse("rotor_inertia,coulomb,viscous", &[]).unwrap(),
-    )
-    .unwrap();
+    let robot = Library::builtin()
+        .true_robot(
+            &leg,
+            &Effects::parse("rotor_inertia,coulomb,viscous", &[]).unwrap(),
+        )
+        .unwrap();
     let tr = Trajectory::Shell(Shell::default());
     let opts = IdentifyOptions::for_robot(&leg, Level::Ellipsoid, 1e-6).unwrap();
     // one period of states, reused (the trajectory itself is not what is measured)

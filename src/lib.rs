@@ -24,6 +24,7 @@ pub mod conic;
 pub mod data;
 pub mod diagnose;
 pub mod dynamics;
+pub mod effects;
 pub mod identify;
 mod io;
 pub mod moments;
@@ -31,6 +32,7 @@ mod numfmt;
 pub mod sdpa;
 pub mod sim;
 pub mod urdf;
+mod warning;
 
 /// The guides' Rust examples, compiled and run as doctests.
 #[cfg(doctest)]

@@ -3,10 +3,12 @@
 //! same function as the built-in leg, and every later layer uses them.
 
 use momentlmi::dynamics::robots::load_robot;
-use momentlmi::dynamics::{Data, Effect, ParamChoice, RobotDescription, cheetah3, rnea};
+use momentlmi::dynamics::{Data, ParamChoice, RobotDescription, cheetah3, rnea};
+use momentlmi::effects::Library;
+use momentlmi::effects::simulate;
 use momentlmi::identify::{IdentifyOptions, Level, identify};
 use momentlmi::moments::{Ellipsoid, InertialParams, check_realizable};
-use momentlmi::sim::{Effects, SimConfig, TrueRobot, simulate};
+use momentlmi::sim::{Effects, SimConfig};
 use nalgebra::{Matrix3, Vector3};
 use std::path::PathBuf;
 
@@ -147,7 +149,7 @@ fn a_urdf_robot_gets_its_prior_ellipsoids_friction_and_tool_from_the_sidecar() {
     let tool = r.model.tool.unwrap();
     assert_eq!(tool.body, 2);
     assert!((tool.point - Vector3::new(0.06, 0.04, 0.0)).norm() < 1e-12);
-    assert_eq!(r.effects.payload_mass, 0.25);
+    assert_eq!(r.effects["payload_mass"], 0.25);
     // parameter choices: cad = the prior without friction, true = own + nominal friction
     let (cad, f) = r.parameters(&ParamChoice::Cad).unwrap();
     assert_eq!(cad.params()[..10], r.prior[0].0);
@@ -214,15 +216,16 @@ fn simulation_and_identification_use_the_description() {
                 acc.2.push(c);
                 acc
             });
-    let torques = |e: &[Effect]| {
-        TrueRobot::new(&r, &Effects::new(e.iter().copied()))
+    let torques = |e: &[&str]| {
+        Library::builtin()
+            .true_robot(&r, &Effects::new(e.iter().copied()))
             .unwrap()
             .torques(&q, &qd, &qdd)
             .unwrap()
     };
     let none = torques(&[]);
-    let coulomb = torques(&[Effect::Coulomb]);
-    let payload = torques(&[Effect::Payload]);
+    let coulomb = torques(&["coulomb"]);
+    let payload = torques(&["payload"]);
     // the payload: the sidecar's 0.25 kg at the tool point, in the dynamics
     let mut heavy = r.model.clone();
     heavy.joints[2].inertia = heavy.joints[2]
@@ -247,7 +250,7 @@ fn simulation_and_identification_use_the_description() {
         }
     }
     // the sidecar's excitation (4 harmonics at 0.3 Hz) inside the sidecar's limits
-    let fx = Effects::new([Effect::Coulomb, Effect::Viscous]);
+    let fx = Effects::new(["coulomb", "viscous"]);
     let mut cfg = SimConfig::for_robot(&r, 12.0, fx, 4);
     cfg.noise_sigma = 0.02;
     let d = simulate(&r, &cfg, |_, _| {}).unwrap();
@@ -311,13 +314,26 @@ fn description_errors_name_the_entry() {
     assert!(e.contains("'upper'") && e.contains("exactly one of"), "{e}");
     let e = try_sidecar("[tool]\nframe = \"gripper\"\n");
     assert!(e.contains("'gripper'") && e.contains("hand"), "{e}");
-    let e = try_sidecar("[effects]\nstribek_force = 2.0\n");
+    // [effects] names are checked against an effect library (the built-in
+    // one here, as the command line does), naming both files
+    let effects = |text: &str| {
+        let s = dir.join("bad.toml");
+        std::fs::write(&s, text).unwrap();
+        let robot = load_robot(u.to_str().unwrap(), Some(&s)).unwrap();
+        Library::builtin()
+            .check_defaults(&robot)
+            .unwrap_err()
+            .to_string()
+    };
+    let e = effects("[effects]\nstribek_force = 2.0\n");
     assert!(
-        e.contains("stribek_force") && e.contains("stribeck_force"),
+        e.contains("stribek_force") && e.contains("stribeck_force") && e.contains("bad.toml"),
         "{e}"
     );
-    let e = try_sidecar("[effects]\nstiffness = -5.0\n");
-    assert!(e.contains("stiffness"), "{e}");
+    let e = effects("[effects]\nstiffness = -5.0\n");
+    assert!(e.contains("stiffness") && e.contains("> 0"), "{e}");
+    let e = try_sidecar("[effects]\nstiffness = nan\n");
+    assert!(e.contains("stiffness") && e.contains("not finite"), "{e}");
     let e = try_sidecar("[excitation]\nkind = \"leg_shell\"\n");
     assert!(e.contains("leg_shell"), "{e}");
     // without bounding ellipsoids, the ellipsoid level names the body that lacks one
@@ -350,10 +366,19 @@ fn the_documented_sidecar_parses() {
     assert_eq!(sc.rotors.len(), 1);
     assert_eq!(sc.joints[0].limits, Some([-2.8, 2.8]));
     assert_eq!(sc.bodies[0].bounding.len(), 1);
-    assert_eq!(
-        sc.effects.unwrap(),
-        momentlmi::dynamics::EffectParams::default()
-    );
+    // its [effects] table names parameters of the built-in effects, at
+    // their nominal values
+    let lib = Library::builtin();
+    let effects = sc.effects.unwrap();
+    assert!(!effects.is_empty());
+    for (name, value) in effects {
+        let (spec, _) = lib
+            .params()
+            .into_iter()
+            .find(|(s, _)| s.name == name)
+            .unwrap();
+        assert_eq!(spec.nominal, value, "{name}");
+    }
 }
 
 /// A URDF `<mimic>` joint the sidecar does not lock is named in a warning

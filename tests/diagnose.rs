@@ -5,8 +5,9 @@
 use momentlmi::data::Dataset;
 use momentlmi::diagnose::{DiagnoseOptions, Diagnosis, diagnose};
 use momentlmi::dynamics::cheetah3;
+use momentlmi::effects::simulate;
 use momentlmi::identify::{IdentifyOptions, Level, identify};
-use momentlmi::sim::{Effects, SimConfig, simulate};
+use momentlmi::sim::{Effects, SimConfig};
 
 fn data(effects: &str, params: &[&str], seconds: f64, seed: u64) -> Dataset {
     let leg = cheetah3::description();
@@ -16,12 +17,7 @@ fn data(effects: &str, params: &[&str], seconds: f64, seed: u64) -> Dataset {
 }
 
 /// Nominal model identified on 20 s of other data with the base effects.
-fn nominal(
-    base: &str,
-) -> (
-    momentlmi::dynamics::Model,
-    momentlmi::dynamics::params_file::Friction,
-) {
+fn nominal(base: &str) -> (momentlmi::dynamics::Model, momentlmi::dynamics::Friction) {
     let model = cheetah3::model();
     let d = data(base, &[], 20.0, 101);
     let opts =
@@ -99,7 +95,7 @@ fn single_effects_are_found_and_close_the_gap() {
         if effect == "joint_offset" {
             // the offsets fitted are reported: 0.05 rad simulated on every joint
             let e = d.effect(effect).unwrap();
-            let offsets = e.joint_offsets.as_ref().unwrap();
+            let offsets = e.fitted("joint_offsets").unwrap();
             assert!(e.detail.starts_with("δ = (0.0"), "{}", e.detail);
             for (j, x) in offsets.iter().enumerate() {
                 assert!((x - 0.05).abs() < 0.01, "joint {j}: δ = {x} ({})", e.detail);
@@ -212,9 +208,9 @@ fn an_effect_outside_the_library_is_reported_unexplained() {
 /// true transmission): the mismatch is a small fraction of the effect.
 #[test]
 fn linearised_compliance_matches_the_full_simulation() {
-    use momentlmi::diagnose::compliance::{Linearisation, Transmission};
-    use momentlmi::dynamics::params_file::Friction;
+    use momentlmi::dynamics::Friction;
     use momentlmi::dynamics::predict::predict_torques;
+    use momentlmi::effects::compliance::{Linearisation, Transmission};
     let leg = cheetah3::description();
     let model = leg.model.clone();
     for (effects, b) in [("elasticity", 0.0), ("backlash", 0.005)] {

@@ -10,12 +10,13 @@ mod tight;
 use momentlmi::conic::Problem;
 use momentlmi::data::Dataset;
 use momentlmi::dynamics::cheetah3;
+use momentlmi::effects::simulate;
 use momentlmi::identify::{IdentifyError, IdentifyOptions, Level, Regularizer, identify};
 use momentlmi::moments::{
     InertialParams, MomentsError, add_entropic_divergence, entropic_divergence, entropic_gradient,
     lmi::BodyVars, rpy_rotation,
 };
-use momentlmi::sim::{Effects, SimConfig, simulate};
+use momentlmi::sim::{Effects, SimConfig};
 use nalgebra::{Matrix3, Vector3};
 use rng::Rng;
 use tight::tight;

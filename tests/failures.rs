@@ -3,17 +3,18 @@
 
 use momentlmi::data::Dataset;
 use momentlmi::diagnose::{DiagnoseError, DiagnoseOptions, diagnose};
-use momentlmi::dynamics::params_file::Friction;
-use momentlmi::dynamics::{Effect, cheetah3};
+use momentlmi::dynamics::Friction;
+use momentlmi::dynamics::cheetah3;
+use momentlmi::effects::{EffectError, Library, simulate};
 use momentlmi::identify::{
     IdentifyError, IdentifyOptions, Level, StreamReducer, identify, reduce_samples,
     solve_identification,
 };
-use momentlmi::sim::{Effects, SimConfig, SimError, simulate};
+use momentlmi::sim::{Effects, SimConfig, SimError};
 
 fn leg_data(seconds: f64) -> Dataset {
     let leg = cheetah3::description();
-    let fx = Effects::new([Effect::RotorInertia, Effect::Coulomb, Effect::Viscous]);
+    let fx = Effects::new(["rotor_inertia", "coulomb", "viscous"]);
     simulate(&leg, &SimConfig::for_robot(&leg, seconds, fx, 3), |_, _| {}).unwrap()
 }
 
@@ -137,7 +138,7 @@ fn options_out_of_range_are_refused_at_construction() {
     for (seconds, what) in [(-1.0, "seconds"), (1e9, "seconds"), (f64::NAN, "seconds")] {
         let cfg = SimConfig::for_robot(&leg, seconds, Effects::default(), 1);
         match simulate(&leg, &cfg, |_, _| {}) {
-            Err(SimError::Setting { setting, .. }) => assert_eq!(setting, what),
+            Err(EffectError::Sim(SimError::Setting { setting, .. })) => assert_eq!(setting, what),
             other => panic!("{seconds}: {other:?}"),
         }
     }
@@ -145,23 +146,27 @@ fn options_out_of_range_are_refused_at_construction() {
     cfg.cutoff_hz = 600.0;
     assert!(matches!(
         simulate(&leg, &cfg, |_, _| {}),
-        Err(SimError::Setting {
+        Err(EffectError::Sim(SimError::Setting {
             setting: "cutoff_hz",
             ..
-        })
+        }))
     ));
 }
 
 #[test]
 fn unknown_effects_and_parameters_list_the_valid_names() {
-    let e = Effects::parse("coulomb,warp_drive", &[])
-        .unwrap_err()
-        .to_string();
+    let lib = Library::builtin();
+    let check = |list: &str, overrides: &[String]| {
+        Effects::parse(list, overrides)
+            .map_err(EffectError::from)
+            .and_then(|fx| lib.check(&fx).map(|()| fx))
+    };
+    let e = check("coulomb,warp_drive", &[]).unwrap_err().to_string();
     assert!(
         e.contains("warp_drive") && e.contains("rotor_inertia") && e.contains("backlash"),
         "{e}"
     );
-    let e = Effects::parse("stribeck", &["stribek_force=2".into()])
+    let e = check("stribeck", &["stribek_force=2".into()])
         .unwrap_err()
         .to_string();
     assert!(
@@ -169,7 +174,7 @@ fn unknown_effects_and_parameters_list_the_valid_names() {
         "{e}"
     );
     // a parameter of an effect that is not on is not silently ignored
-    let e = Effects::parse("offset", &["stiffness=300".into()])
+    let e = check("offset", &["stiffness=300".into()])
         .unwrap_err()
         .to_string();
     assert!(
@@ -177,14 +182,15 @@ fn unknown_effects_and_parameters_list_the_valid_names() {
         "{e}"
     );
     // out of its range
-    let e = Effects::parse("elasticity", &["stiffness=-3".into()])
+    let e = check("elasticity", &["stiffness=-3".into()])
         .unwrap_err()
         .to_string();
     assert!(e.contains("stiffness"), "{e}");
-    assert!(Effects::parse("offset", &["offset".into()]).is_err());
-    let ok = Effects::parse("elasticity, backlash", &["stiffness=300".into()]).unwrap();
-    assert_eq!(ok.on, vec![Effect::Elasticity, Effect::Backlash]);
-    assert_eq!(ok.params(&Default::default()).unwrap().stiffness, 300.0);
+    assert!(check("offset", &["offset".into()]).is_err());
+    let ok = check("elasticity, backlash", &["stiffness=300".into()]).unwrap();
+    assert_eq!(ok.on, vec!["elasticity", "backlash"]);
+    let leg = momentlmi::dynamics::cheetah3::description();
+    assert_eq!(lib.magnitudes(&leg, &ok).unwrap()["stiffness"], 300.0);
 }
 
 #[test]
@@ -240,7 +246,10 @@ fn inputs_that_would_index_out_of_range_or_go_unnoticed_are_errors() {
         a[0][2] = f64::NAN;
     }
     let res = simulate(&r, &cfg, |_, _| {});
-    assert!(matches!(res, Err(SimError::NonFinite { .. })), "{res:?}");
+    assert!(
+        matches!(res, Err(EffectError::Sim(SimError::NonFinite { .. }))),
+        "{res:?}"
+    );
     // the leg's shell on another 3-joint robot is refused
     let mut cfg = SimConfig::for_robot(&cheetah3::description(), 1.0, Effects::default(), 1);
     cfg.robot = "r.urdf".into();
@@ -252,10 +261,10 @@ fn inputs_that_would_index_out_of_range_or_go_unnoticed_are_errors() {
     let r3 = RobotDescription::new("r3.urdf", m3, &Sidecar::default(), None).unwrap();
     assert!(matches!(
         simulate(&r3, &cfg, |_, _| {}),
-        Err(SimError::Setting {
+        Err(EffectError::Sim(SimError::Setting {
             setting: "trajectory",
             ..
-        })
+        }))
     ));
 }
 

@@ -2,8 +2,9 @@
 
 use momentlmi::data::Dataset;
 use momentlmi::dynamics::{Data, cheetah3, regressor};
+use momentlmi::effects::simulate;
 use momentlmi::identify::{IdentifyOptions, Level, identify, predict_split};
-use momentlmi::sim::{Effects, SimConfig, simulate};
+use momentlmi::sim::{Effects, SimConfig};
 
 fn data(seconds: f64, noise: f64, effects: &str, seed: u64) -> Dataset {
     let leg = cheetah3::description();

@@ -3,14 +3,15 @@
 //! the result — and results read by body and joint name.
 
 use momentlmi::data::Dataset;
-use momentlmi::dynamics::{Effect, cheetah3};
+use momentlmi::dynamics::cheetah3;
+use momentlmi::effects::simulate;
 use momentlmi::identify::{Identification, IdentifyError, Level, Reduced, reduce_samples};
 use momentlmi::moments::check_realizable;
-use momentlmi::sim::{Effects, SimConfig, simulate};
+use momentlmi::sim::{Effects, SimConfig};
 
 fn leg_data() -> Dataset {
     let leg = cheetah3::description();
-    let fx = Effects::new([Effect::RotorInertia, Effect::Coulomb, Effect::Viscous]);
+    let fx = Effects::new(["rotor_inertia", "coulomb", "viscous"]);
     simulate(&leg, &SimConfig::for_robot(&leg, 8.0, fx, 5), |_, _| {}).unwrap()
 }
 

@@ -366,8 +366,9 @@ fn the_enclosing_ellipsoid_contains_every_part() {
 #[test]
 fn a_urdf_robot_identifies_at_the_ellipsoid_level_from_its_geometry() {
     use momentlmi::dynamics::robots::load_robot;
+    use momentlmi::effects::simulate;
     use momentlmi::identify::{Identification, Level};
-    use momentlmi::sim::{Effects, SimConfig, simulate};
+    use momentlmi::sim::{Effects, SimConfig};
     let d = dir("identify");
     let u = d.join("arm.urdf");
     std::fs::write(
@@ -392,7 +393,7 @@ fn a_urdf_robot_identifies_at_the_ellipsoid_level_from_its_geometry() {
         "{:?}",
         robot.warnings
     );
-    let cfg = SimConfig::for_robot(&robot, 4.0, Effects::new([]), 3);
+    let cfg = SimConfig::for_robot(&robot, 4.0, Effects::default(), 3);
     let data = simulate(&robot, &cfg, |_, _| {}).unwrap();
     let r = Identification::for_robot(&robot, Level::Ellipsoid, 1e-6)
         .unwrap()

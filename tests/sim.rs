@@ -1,11 +1,12 @@
 //! The simulator: inverse kinematics, the shell excitation, each effect
 //! against its formula, and the processed data.
 
-use momentlmi::dynamics::Effect;
 use momentlmi::dynamics::{Data, cheetah3, rnea};
-use momentlmi::sim::robot::{Effects, TrueRobot};
+use momentlmi::effects::Library;
+use momentlmi::effects::simulate;
+use momentlmi::sim::Effects;
+use momentlmi::sim::SimConfig;
 use momentlmi::sim::trajectory::{Shell, Trajectory, cheetah_ik};
-use momentlmi::sim::{SimConfig, simulate};
 
 #[test]
 fn inverse_kinematics_round_trips() {
@@ -76,7 +77,8 @@ fn each_effect_alone_adds_its_formula_and_off_is_absent() {
     let model = cheetah3::model();
     let leg = cheetah3::description();
     let (q, qd, qdd) = states();
-    let none = TrueRobot::new(&leg, &Effects::default())
+    let none = Library::builtin()
+        .true_robot(&leg, &Effects::default())
         .unwrap()
         .torques(&q, &qd, &qdd)
         .unwrap();
@@ -102,15 +104,22 @@ fn each_effect_alone_adds_its_formula_and_off_is_absent() {
             0.0
         }
     };
-    for e in Effect::ALL.map(Effect::name) {
+    for e in Library::builtin().names() {
         if matches!(
             e,
-            "time_delay" | "payload" | "rotor_inertia" | "elasticity" | "backlash" | "joint_offset"
+            "time_delay"
+                | "payload"
+                | "rotor_inertia"
+                | "link_inertia"
+                | "elasticity"
+                | "backlash"
+                | "joint_offset"
         ) {
             continue; // checked below through the dynamics
         }
         let fx = Effects::parse(e, &[]).unwrap();
-        let got = TrueRobot::new(&leg, &fx)
+        let got = Library::builtin()
+            .true_robot(&leg, &fx)
             .unwrap()
             .torques(&q, &qd, &qdd)
             .unwrap();
@@ -136,7 +145,8 @@ fn each_effect_alone_adds_its_formula_and_off_is_absent() {
         }
     }
     // rotor inertia: the full model with rotors
-    let with = TrueRobot::new(&leg, &Effects::parse("rotor_inertia", &[]).unwrap())
+    let with = Library::builtin()
+        .true_robot(&leg, &Effects::parse("rotor_inertia", &[]).unwrap())
         .unwrap()
         .torques(&q, &qd, &qdd)
         .unwrap();
@@ -146,13 +156,14 @@ fn each_effect_alone_adds_its_formula_and_off_is_absent() {
         assert!((0..3).all(|i| (t[i] - with[k][i]).abs() < 1e-12));
     }
     // payload: 1 kg at the foot = knee link with a point mass added
-    let pay = TrueRobot::new(
-        &leg,
-        &Effects::parse("payload", &["payload_mass=1.0".into()]).unwrap(),
-    )
-    .unwrap()
-    .torques(&q, &qd, &qdd)
-    .unwrap();
+    let pay = Library::builtin()
+        .true_robot(
+            &leg,
+            &Effects::parse("payload", &["payload_mass=1.0".into()]).unwrap(),
+        )
+        .unwrap()
+        .torques(&q, &qd, &qdd)
+        .unwrap();
     let mut joints = links.joints.clone();
     let pm = momentlmi::moments::InertialParams::from_mass_com_inertia(
         1.0,
@@ -168,13 +179,14 @@ fn each_effect_alone_adds_its_formula_and_off_is_absent() {
     }
     // joint offset: the encoders read q − δ, so the torques are the rigid
     // ones at q + δ (δ = 0.02 here)
-    let off = TrueRobot::new(
-        &leg,
-        &Effects::parse("joint_offset", &["joint_offset=0.02".into()]).unwrap(),
-    )
-    .unwrap()
-    .torques(&q, &qd, &qdd)
-    .unwrap();
+    let off = Library::builtin()
+        .true_robot(
+            &leg,
+            &Effects::parse("joint_offset", &["joint_offset=0.02".into()]).unwrap(),
+        )
+        .unwrap()
+        .torques(&q, &qd, &qdd)
+        .unwrap();
     let mut d = Data::new(&links);
     for k in 0..q.len() {
         let qs: Vec<f64> = q[k].iter().map(|x| x + 0.02).collect();
@@ -182,8 +194,25 @@ fn each_effect_alone_adds_its_formula_and_off_is_absent() {
         assert!((0..3).all(|i| (t[i] - off[k][i]).abs() < 1e-12));
         assert!((0..3).any(|i| (t[i] - none[k][i]).abs() > 1e-6));
     }
-    assert!(Effects::parse("joint_offset", &["joint_offset=0.6".into()]).is_err());
-    assert!(Effects::parse("coulomb,warp_drive", &[]).is_err());
+    // link inertia: every link's parameters scaled by 1 + s (s = 0.2 here)
+    let heavier = Library::builtin()
+        .true_robot(
+            &leg,
+            &Effects::parse("link_inertia", &["link_inertia_error=0.2".into()]).unwrap(),
+        )
+        .unwrap()
+        .torques(&q, &qd, &qdd)
+        .unwrap();
+    for k in 0..q.len() {
+        assert!((0..3).all(|i| (heavier[k][i] - 1.2 * none[k][i]).abs() < 1e-9));
+    }
+    let lib = Library::builtin();
+    let checked = |list: &str, o: &[&str]| {
+        let o: Vec<String> = o.iter().map(|s| s.to_string()).collect();
+        lib.check(&Effects::parse(list, &o).unwrap())
+    };
+    assert!(checked("joint_offset", &["joint_offset=0.6"]).is_err());
+    assert!(checked("coulomb,warp_drive", &[]).is_err());
 
     assert!(Effects::parse("offset", &["offset=abc".into()]).is_err());
 }
@@ -198,7 +227,9 @@ fn time_delay_uses_the_earlier_state() {
     cfg.processed = false;
     let d = simulate(&leg, &cfg, |_, _| {}).unwrap();
     let tr = Trajectory::Shell(Shell::default());
-    let robot = TrueRobot::new(&leg, &Effects::default()).unwrap();
+    let robot = Library::builtin()
+        .true_robot(&leg, &Effects::default())
+        .unwrap();
     for k in [100usize, 250, 400] {
         let (q, qd, qdd) = tr.state(d.t[k] - 0.01).unwrap();
         let want = robot.torques(&[q], &[qd], &[qdd]).unwrap();

@@ -4,7 +4,7 @@
 
 use crate::cmd::{check, demo, diagnose, identify, predict, sdpa, simulate};
 use clap::{Args, Parser, Subcommand};
-use momentlmi::dynamics::Effect;
+use momentlmi::effects::Library;
 use momentlmi::identify::Regularizer;
 use momentlmi::moments::urdf_check::{RepairOptions, RepairTarget};
 use std::path::PathBuf;
@@ -29,7 +29,17 @@ struct RobotArgs {
 fn effect_param_help() -> String {
     format!(
         "Effect parameter override NAME=VALUE (repeatable), e.g. `stiffness=300`; a parameter of an effect that is not switched on is an error. The robot's sidecar [effects] table replaces the built-in defaults below.\n{}",
-        momentlmi::dynamics::effect::Param::help_table()
+        Library::builtin().param_help()
+    )
+}
+
+/// The built-in effects' names, each with its summary, for `--effects`.
+fn effect_names() -> clap::builder::PossibleValuesParser {
+    let lib = Library::builtin();
+    clap::builder::PossibleValuesParser::new(
+        lib.effects()
+            .iter()
+            .map(|e| clap::builder::PossibleValue::new(e.name()).help(e.summary())),
     )
 }
 
@@ -118,9 +128,9 @@ enum Command {
         /// Duration in seconds (1 kHz sampling).
         #[arg(long, default_value_t = 20.0)]
         seconds: f64,
-        /// Comma-separated effects the true robot has (see `dynamics::effect`).
-        #[arg(long, value_enum, value_delimiter = ',')]
-        effects: Vec<Effect>,
+        /// Comma-separated effects the true robot has (`momentlmi::effects`).
+        #[arg(long, value_parser = effect_names(), value_delimiter = ',')]
+        effects: Vec<String>,
         /// Output CSV (a JSON record of how it was made is written beside it).
         #[arg(long)]
         out: PathBuf,

@@ -7,9 +7,10 @@
 use crate::plots::figures::{Series, line_panels};
 use crate::regularizer_study::{RegularizerRow, regularizer_figure, regularizer_study};
 use momentlmi::data::{Dataset, Staged, stage_with_record};
-use momentlmi::dynamics::{Effect, RobotDescription, cheetah3};
+use momentlmi::dynamics::{RobotDescription, cheetah3};
+use momentlmi::effects::simulate;
 use momentlmi::identify::{IdentifyOptions, IdentifyResult, Level, identify};
-use momentlmi::sim::{Effects, SimConfig, simulate};
+use momentlmi::sim::{Effects, SimConfig};
 use serde::Serialize;
 use std::path::Path;
 
@@ -101,7 +102,7 @@ fn simulate_leg(
     cfg: &ExperimentConfig,
 ) -> Result<(Dataset, String), String> {
     let seconds = (cfg.train + cfg.validate) as f64 / 1000.0;
-    let effects = Effects::new([Effect::RotorInertia, Effect::Coulomb, Effect::Viscous]);
+    let effects = Effects::new(["rotor_inertia", "coulomb", "viscous"]);
     let mut sim = SimConfig::for_robot(robot, seconds, effects, cfg.seed);
     sim.noise_sigma = cfg.noise;
     let all = simulate(robot, &sim, |_, _| {}).map_err(text)?;

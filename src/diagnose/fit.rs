@@ -1,7 +1,7 @@
 //! Fitting one candidate's columns to the residual: plain least squares, or
 //! least squares with the pseudo-inertia LMIs for inertial corrections.
 
-use super::candidates::Columns;
+use super::candidate::Variant;
 use super::error::FitError;
 use crate::conic::{AffExpr, Problem, Settings, Status};
 use crate::identify::Reduced;
@@ -12,11 +12,11 @@ use faer::linalg::solvers::Solve;
 /// Least squares `min ‖X β − r‖` over `rows` (tiny ridge for rank
 /// deficiency), `XᵀX` from the columns' kept Gram matrix.
 pub fn least_squares(
-    c: &Columns,
+    c: &Variant,
     rows: std::ops::Range<usize>,
     r: &[f64],
 ) -> Result<Vec<f64>, FitError> {
-    let k = c.cols.len();
+    let k = c.columns.cols.len();
     let xtx = c.gram(&rows);
     let g = Mat::<f64>::from_fn(k, k, |a, b| xtx[a * k + b]);
     let b = Mat::<f64>::from_fn(k, 1, |a, _| xtr(c, a, &rows, r));
@@ -38,13 +38,13 @@ pub fn least_squares(
 }
 
 /// `X[:, a]ᵀ r` over `rows`.
-fn xtr(c: &Columns, a: usize, rows: &std::ops::Range<usize>, r: &[f64]) -> f64 {
-    rows.clone().map(|i| c.cols[a][i] * r[i]).sum()
+fn xtr(c: &Variant, a: usize, rows: &std::ops::Range<usize>, r: &[f64]) -> f64 {
+    rows.clone().map(|i| c.columns.cols[a][i] * r[i]).sum()
 }
 
 /// The Gram form `[X r]ᵀ[X r]` of the candidate's rows.
-fn reduced(c: &Columns, rows: std::ops::Range<usize>, r: &[f64]) -> Result<Reduced, FitError> {
-    let k = c.cols.len();
+fn reduced(c: &Variant, rows: std::ops::Range<usize>, r: &[f64]) -> Result<Reduced, FitError> {
+    let k = c.columns.cols.len();
     let xtx = c.gram(&rows);
     let mut gram = Mat::<f64>::zeros(k + 1, k + 1);
     for a in 0..k {
@@ -65,7 +65,7 @@ fn reduced(c: &Columns, rows: std::ops::Range<usize>, r: &[f64]) -> Result<Reduc
 /// LMIs of `moments`, on the reduced (Gram) form of the rows. A status that
 /// is not solved is an error; an inaccurate solve is flagged.
 pub fn fit_candidate(
-    c: &Columns,
+    c: &Variant,
     rows: std::ops::Range<usize>,
     r: &[f64],
 ) -> Result<Fit, FitError> {
@@ -82,19 +82,20 @@ pub struct Fit {
 }
 
 fn fit_with(
-    c: &Columns,
+    v: &Variant,
     rows: std::ops::Range<usize>,
     r: &[f64],
     settings: &Settings,
 ) -> Result<Fit, FitError> {
+    let c = &v.columns;
     if c.bodies.is_empty() && !c.nonneg {
-        return least_squares(c, rows, r).map(|beta| Fit {
+        return least_squares(v, rows, r).map(|beta| Fit {
             beta,
             inaccurate: false,
         });
     }
     let k = c.cols.len();
-    let red = reduced(c, rows, r)?;
+    let red = reduced(v, rows, r)?;
     let (f, d) = red.r_d().map_err(|_| FitError::Factorisation)?;
     let scale: Vec<f64> = (0..k)
         .map(|j| {
@@ -151,20 +152,14 @@ pub fn apply(cols: &[Vec<f64>], beta: &[f64], r: &[f64]) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::diagnose::candidates::Candidate;
-    use crate::dynamics::Effect;
+    use crate::effects::Columns;
 
-    fn columns(cols: Vec<Vec<f64>>, nonneg: bool) -> Columns {
-        Columns {
-            candidate: Candidate::Effect(Effect::Payload),
-            detail: String::new(),
+    fn columns(cols: Vec<Vec<f64>>, nonneg: bool) -> Variant {
+        Variant::new(Columns {
             cols,
-            bodies: vec![],
             nonneg,
-            nonlinear: 0,
-            doubt: None,
-            gram: std::sync::OnceLock::new(),
-        }
+            ..Columns::default()
+        })
     }
 
     /// The Gram matrix kept from the first fit serves later residuals on

@@ -2,10 +2,11 @@
 //! the training part, its held-out RMS, the held-out block test and ΔBIC;
 //! then the best significant one among those within noise of it.
 
-use super::EffectReport;
-use super::candidates::Columns;
+use super::candidate::{Candidate, Variant};
 use super::fit::{apply, fit_candidate};
+use super::report::EffectReport;
 use super::split::{Split, rms_per_joint};
+use super::warning::DiagnoseWarning;
 
 /// Resamples of the block bootstrap.
 const BOOTSTRAP: usize = 20_000;
@@ -46,41 +47,44 @@ pub struct Evaluation {
     pub gain_se: f64,
 }
 
-/// The variant (nonlinear parameter) that fits the training part best, and
-/// its coefficients; failed fits are reported in `warnings`.
-fn best_variant<'c>(
-    variants: &'c [Columns],
+/// The variant (nonlinear parameter) that fits the training part best: its
+/// index, training RSS and coefficients; failed fits are reported in
+/// `warnings`.
+fn best_variant(
+    c: &Candidate,
     split: &Split,
     r: &[f64],
     round: usize,
-    warnings: &mut Vec<String>,
-) -> Option<(f64, &'c Columns, Vec<f64>)> {
-    let mut best: Option<(f64, &Columns, Vec<f64>)> = None;
-    for v in variants {
+    warnings: &mut Vec<DiagnoseWarning>,
+) -> Option<(usize, f64, Vec<f64>)> {
+    let mut best: Option<(usize, f64, Vec<f64>)> = None;
+    for (j, v) in c.variants.iter().enumerate() {
+        let (effect, variant) = (c.name().to_string(), v.columns.detail.clone());
         let beta = match fit_candidate(v, split.train.clone(), r) {
             Ok(f) => {
                 if f.inaccurate {
-                    warnings.push(format!(
-                        "round {round}: candidate '{}' {}: the constrained fit was solved only to reduced tolerances",
-                        v.name(),
-                        v.detail
-                    ));
+                    warnings.push(DiagnoseWarning::Inaccurate {
+                        round,
+                        effect,
+                        variant,
+                    });
                 }
                 f.beta
             }
             Err(e) => {
-                warnings.push(format!(
-                    "round {round}: candidate '{}' {} skipped: {e}",
-                    v.name(),
-                    v.detail
-                ));
+                warnings.push(DiagnoseWarning::FitFailed {
+                    round,
+                    effect,
+                    variant,
+                    reason: e.to_string(),
+                });
                 continue;
             }
         };
-        let after = apply(&v.cols, &beta, r);
+        let after = apply(&v.columns.cols, &beta, r);
         let rss: f64 = after[split.train.clone()].iter().map(|x| x * x).sum();
-        if best.as_ref().is_none_or(|b| rss < b.0) {
-            best = Some((rss, v, beta));
+        if best.as_ref().is_none_or(|b| rss < b.1) {
+            best = Some((j, rss, beta));
         }
     }
     best
@@ -105,16 +109,16 @@ fn block_gains(split: &Split, r: &[f64], after: &[f64], blocks: usize) -> Vec<f6
 
 /// Scores one candidate (its best variant) against the current residual.
 pub fn evaluate(
-    variants: &[Columns],
+    c: &Candidate,
     split: &Split,
     r: &[f64],
-    round: usize,
-    blocks: usize,
+    (round, blocks): (usize, usize),
     names: &[String],
-    warnings: &mut Vec<String>,
+    warnings: &mut Vec<DiagnoseWarning>,
 ) -> Option<Evaluation> {
     let n = split.joints;
-    let (rss_after_tr, v, beta) = best_variant(variants, split, r, round, warnings)?;
+    let (at, rss_after_tr, beta) = best_variant(c, split, r, round, warnings)?;
+    let v = &c.variants[at].columns;
     let before = rms_per_joint(&r[split.heldout.clone()], n);
     let after = apply(&v.cols, &beta, r);
     let after_rms = rms_per_joint(&after[split.heldout.clone()], n);
@@ -132,9 +136,14 @@ pub fn evaluate(
         .collect();
     Some(Evaluation {
         report: EffectReport {
-            effect: v.name().to_string(),
-            detail: fitted_detail(v, &beta),
-            joint_offsets: is_joint_offset(v).then(|| beta.clone()),
+            effect: c.name().to_string(),
+            detail: c.effect.detail(v, &beta),
+            fitted: c
+                .effect
+                .fitted(v, &beta)
+                .into_iter()
+                .map(|(k, v)| (k.to_string(), v))
+                .collect(),
             round,
             joints,
             params,
@@ -144,7 +153,7 @@ pub fn evaluate(
             z: block_bootstrap_z(&diffs),
             accepted: false,
             tied_with: vec![],
-            implausible: implausible(variants, v, &beta, names),
+            implausible: implausible(c, at, &beta, names),
         },
         after,
         gain: m,
@@ -152,60 +161,23 @@ pub fn evaluate(
     })
 }
 
-/// The report's detail: the variant's nonlinear parameter, or for an
-/// encoder zero offset the offsets fitted (the coefficients of ∂τ̂/∂q_j).
-fn fitted_detail(chosen: &Columns, beta: &[f64]) -> String {
-    if !is_joint_offset(chosen) {
-        return chosen.detail.clone();
-    }
-    let d: Vec<String> = beta.iter().map(|b| format!("{b:.3}")).collect();
-    format!("δ = ({}) rad or m, true q = measured q + δ", d.join(", "))
-}
-
-fn is_joint_offset(c: &Columns) -> bool {
-    c.candidate == super::candidates::Candidate::Effect(crate::dynamics::Effect::JointOffset)
-}
-
-/// The largest encoder zero offset (rad or m) a calibration error is taken
-/// to have.
-const MAX_JOINT_OFFSET: f64 = 0.2;
-
-/// Why the fit of `chosen` (one of `variants`, coefficients `beta`) is
-/// physically doubtful, if it is.
-fn implausible(
-    variants: &[Columns],
-    chosen: &Columns,
-    beta: &[f64],
-    names: &[String],
-) -> Option<String> {
-    use crate::dynamics::Effect;
-    if let Some(why) = &chosen.doubt {
+/// Why the fit of `c`'s variant `at` (coefficients `beta`) is physically
+/// doubtful, if it is: the doubt its search found, a grid point at an open
+/// edge of the grid, or the effect's own rule.
+fn implausible(c: &Candidate, at: usize, beta: &[f64], names: &[String]) -> Option<String> {
+    let chosen: &Variant = &c.variants[at];
+    if let Some(why) = &chosen.columns.doubt {
         return Some(why.clone());
     }
-    let at = variants.iter().position(|v| std::ptr::eq(v, chosen))?;
-    // the top of a grid (the longest delay, the finest cogging, the widest
-    // Stribeck velocity) can hide a larger value; its bottom only can where
-    // smaller values exist (a Stribeck velocity; not a one-sample delay or
-    // one period per turn)
-    let bottom_open = chosen.candidate == super::candidates::Candidate::Effect(Effect::Stribeck);
-    if variants.len() > 2 && (at + 1 == variants.len() || (at == 0 && bottom_open)) {
+    let last = c.variants.len() - 1;
+    let edge = (at == last && c.open_high) || (at == 0 && c.open_low);
+    if c.variants.len() > 2 && edge {
         return Some(format!(
             "its nonlinear parameter ({}) is at the edge of the grid searched; the true value may lie beyond it",
-            chosen.detail
+            chosen.columns.detail
         ));
     }
-    if is_joint_offset(chosen)
-        && let Some((j, b)) = beta
-            .iter()
-            .enumerate()
-            .find(|(_, b)| b.abs() > MAX_JOINT_OFFSET)
-    {
-        return Some(format!(
-            "the offset of joint '{}' is {b:.3} rad (or m), beyond {MAX_JOINT_OFFSET}: more than a calibration error",
-            names.get(j).map_or("?", String::as_str)
-        ));
-    }
-    None
+    c.effect.doubt(&chosen.columns, beta, names)
 }
 
 /// Whether a candidate is accepted on its own merits: the block test
@@ -250,41 +222,42 @@ pub fn choose(evals: &mut [Evaluation], before: &[f64]) -> Option<(usize, Vec<us
 #[cfg(test)]
 mod tests {
     use super::{Split, block_bootstrap_z, evaluate, implausible};
-    use crate::diagnose::candidates::{Candidate, Columns};
-    use crate::dynamics::Effect;
+    use crate::diagnose::candidate::Candidate;
+    use crate::effects::{Columns, Hypothesis, Library};
 
-    /// A fit at the edge of its grid, or an encoder offset beyond a
+    fn candidate(name: &str, h: Hypothesis) -> Candidate {
+        let lib = Library::builtin();
+        Candidate::new(lib.get(name).unwrap().clone(), h).unwrap()
+    }
+
+    /// A fit at an open edge of its grid, or an encoder offset beyond a
     /// calibration error, is flagged; one inside its grid is not.
     #[test]
     fn implausible_fits_are_flagged() {
-        let col = |c, detail: &str| Columns {
-            candidate: Candidate::Effect(c),
-            detail: detail.into(),
-            cols: vec![vec![1.0; 4]],
-            bodies: vec![],
-            nonneg: false,
-            nonlinear: 1,
-            doubt: None,
-            gram: std::sync::OnceLock::new(),
-        };
-        let grid: Vec<Columns> = ["1 ms", "2 ms", "3 ms"]
-            .iter()
-            .map(|d| col(Effect::TimeDelay, d))
-            .collect();
+        let col = |detail: &str| Columns::variant(detail, vec![vec![1.0; 4]], 1);
+        let grid = |name| candidate(name, Hypothesis::grid(["1", "2", "3"].map(col).to_vec()));
         let names = vec!["knee".to_string()];
-        assert!(implausible(&grid, &grid[1], &[1.0], &names).is_none());
+        let delay = grid("time_delay");
+        assert!(implausible(&delay, 1, &[1.0], &names).is_none());
         // a one-sample delay is the bottom of what can be resolved, not a doubt
-        assert!(implausible(&grid, &grid[0], &[1.0], &names).is_none());
-        let edge = implausible(&grid, &grid[2], &[1.0], &names).unwrap();
-        assert!(edge.contains("3 ms") && edge.contains("edge"), "{edge}");
-        let off = [col(Effect::JointOffset, "")];
-        assert!(implausible(&off, &off[0], &[0.05], &names).is_none());
-        let far = implausible(&off, &off[0], &[-0.4], &names).unwrap();
+        assert!(implausible(&delay, 0, &[1.0], &names).is_none());
+        let edge = implausible(&delay, 2, &[1.0], &names).unwrap();
+        assert!(edge.contains("(3)") && edge.contains("edge"), "{edge}");
+        // a grid open below (Stribeck velocities) is doubtful at its bottom too
+        let low = candidate(
+            "stribeck",
+            Hypothesis::grid(["1", "2", "3"].map(col).to_vec()).open_below(),
+        );
+        assert!(implausible(&low, 0, &[1.0], &names).is_some());
+        let off = candidate("joint_offset", Hypothesis::linear(vec![vec![1.0; 4]]));
+        assert!(implausible(&off, 0, &[0.05], &names).is_none());
+        let far = implausible(&off, 0, &[-0.4], &names).unwrap();
         assert!(far.contains("'knee'") && far.contains("-0.400"), "{far}");
         // a doubt found where the parameters were fitted (a compliance fit) is kept
-        let mut soft = col(Effect::Elasticity, "K = (3)");
+        let mut soft = col("K = (3)");
         soft.doubt = Some("stiffness 3 N·m/rad".into());
-        let why = implausible(std::slice::from_ref(&soft), &soft, &[1.0], &names).unwrap();
+        let soft = candidate("elasticity", Hypothesis::single(soft));
+        let why = implausible(&soft, 0, &[1.0], &names).unwrap();
         assert!(why.contains("stiffness 3"), "{why}");
     }
 
@@ -297,50 +270,34 @@ mod tests {
         let r: Vec<f64> = x.iter().map(|v| 0.5 * v).collect();
         let mut bad = x.clone();
         bad[3] = f64::NAN;
-        let variant = |cols, detail: &str| Columns {
-            candidate: Candidate::Effect(Effect::Offset),
-            detail: detail.into(),
-            cols,
-            bodies: vec![],
-            nonneg: false,
-            nonlinear: 0,
-            doubt: None,
-            gram: std::sync::OnceLock::new(),
+        let variant = |cols, detail: &str| Columns::variant(detail, cols, 0);
+        let offset = |vs| {
+            candidate(
+                "offset",
+                Hypothesis {
+                    variants: vs,
+                    ..Hypothesis::default()
+                },
+            )
         };
         let split = Split::new(400, n, 0.6);
         let names = vec!["j".to_string()];
         let mut warnings = vec![];
-        let e = evaluate(
-            &[
-                variant(vec![bad.clone()], "broken"),
-                variant(vec![x], "good"),
-            ],
-            &split,
-            &r,
-            1,
-            20,
-            &names,
-            &mut warnings,
-        )
-        .expect("the good variant is scored");
+        let both = offset(vec![
+            variant(vec![bad.clone()], "broken"),
+            variant(vec![x], "good"),
+        ]);
+        let e = evaluate(&both, &split, &r, (1, 20), &names, &mut warnings)
+            .expect("the good variant is scored");
         assert_eq!(e.report.detail, "good");
         assert!(e.report.heldout_rms_after[0] < 1e-6, "{:?}", e.report);
         assert_eq!(warnings.len(), 1);
-        assert!(
-            warnings[0].contains("'offset' broken skipped"),
-            "{warnings:?}"
-        );
+        let w = warnings[0].to_string();
+        assert!(w.contains("'offset' broken skipped"), "{w}");
         // nothing fits: no evaluation, and the warning says so
         let mut warnings = vec![];
-        let none = evaluate(
-            &[variant(vec![bad], "broken")],
-            &split,
-            &r,
-            2,
-            20,
-            &names,
-            &mut warnings,
-        );
+        let broken = offset(vec![variant(vec![bad], "broken")]);
+        let none = evaluate(&broken, &split, &r, (2, 20), &names, &mut warnings);
         assert!(none.is_none() && warnings.len() == 1);
     }
 

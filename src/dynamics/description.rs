@@ -3,14 +3,14 @@
 //! ([`RobotDescription::new`]) from a model and a sidecar — for a URDF robot
 //! and for the built-in leg alike.
 
-use super::effect::EffectParams;
 use super::error::DynamicsError;
+use super::friction::Friction;
 use super::model::Model;
-use super::params_file::{Friction, ParamsFile};
+use super::params_file::ParamsFile;
 use super::sidecar::{Excitation, PriorSpec, Sidecar, SidecarBody};
 use crate::moments::{Ellipsoid, InertialParams};
 use nalgebra::{Matrix3, Vector3};
-use std::collections::{HashMap, HashSet};
+use std::collections::{BTreeMap, HashMap, HashSet};
 use std::path::PathBuf;
 use std::str::FromStr;
 
@@ -26,6 +26,8 @@ pub const PLACEHOLDER_VISCOUS: f64 = 0.1;
 pub struct RobotDescription {
     /// Where it came from (a built-in name or the URDF path).
     pub source: String,
+    /// The sidecar file it was described with, if any (a URDF robot's).
+    pub sidecar: Option<String>,
     /// The model with its own parameters (the built-in's identified values,
     /// a URDF's inertias).
     pub model: Model,
@@ -40,8 +42,10 @@ pub struct RobotDescription {
     pub friction: Friction,
     /// The default excitation of the simulator.
     pub excitation: Excitation,
-    /// Default effect magnitudes.
-    pub effects: EffectParams,
+    /// Default effect magnitudes by parameter name (the sidecar's
+    /// `[effects]`; an effect library checks the names,
+    /// [`crate::effects::Library::check_defaults`]).
+    pub effects: BTreeMap<String, f64>,
     /// What the identification must respect (the sidecar's `[identify]` and
     /// per-body levels).
     pub identification: IdentificationFacts,
@@ -93,6 +97,15 @@ impl FromStr for ParamChoice {
 }
 
 impl RobotDescription {
+    /// The files it was read from, for messages: `source`, or `source
+    /// (sidecar PATH)`.
+    pub fn origin(&self) -> String {
+        match &self.sidecar {
+            Some(s) => format!("{} (sidecar {s})", self.source),
+            None => self.source.clone(),
+        }
+    }
+
     /// Applies a sidecar's description entries to `model` (whose kinematic
     /// entries — gravity, locks, rotors — were applied when it was built);
     /// `urdf` gives `<dynamics>` friction where the sidecar gives none.
@@ -130,12 +143,13 @@ impl RobotDescription {
         let excitation = sidecar.excitation.clone().unwrap_or_default();
         check_excitation(&model, &excitation, &err)?;
         let effects = sidecar.effects.clone().unwrap_or_default();
-        effects
-            .validate()
-            .map_err(|e| err(format!("[effects]: {e}")))?;
+        if let Some((k, v)) = effects.iter().find(|(_, v)| !v.is_finite()) {
+            return Err(err(format!("[effects]: '{k}' = {v} is not finite")));
+        }
         let identification = identification_facts(&model, sidecar, &bodies, &err)?;
         Ok(Self {
             source: source.to_string(),
+            sidecar: None,
             model,
             prior,
             bounding,

@@ -53,7 +53,7 @@ pub enum DynamicsError {
     /// A URDF that cannot be read.
     #[error(transparent)]
     Urdf(#[from] crate::urdf::UrdfError),
-    /// An unknown name (effect, effect parameter, built-in robot, …).
+    /// An unknown name (a built-in robot, a joint, …).
     #[error("unknown {what} '{name}' (known: {valid})")]
     UnknownName {
         /// What kind of name.
@@ -62,24 +62,6 @@ pub enum DynamicsError {
         name: String,
         /// The valid names.
         valid: String,
-    },
-    /// An effect parameter outside its range.
-    #[error(
-        "effect parameter '{name}' = {} is out of its range (docs/inputs.md, `dynamics::effect::EffectParams`)", crate::numfmt::short(*value)
-    )]
-    EffectParameter {
-        /// The parameter.
-        name: &'static str,
-        /// The value.
-        value: f64,
-    },
-    /// A malformed `NAME=VALUE` override.
-    #[error("effect parameter '{text}': {message}")]
-    Override {
-        /// The text given.
-        text: String,
-        /// What is wrong.
-        message: String,
     },
     /// A robot description (sidecar) entry that does not fit the model.
     #[error("{source_name}: {message}")]

@@ -7,13 +7,12 @@
 //!
 //! - [`rnea`]: inverse dynamics, links and rotors;
 //! - [`crba`]: the mass matrix; [`forward_dynamics`]; [`energy`];
-//! - [`regressor`]: `τ = Y π + B q̇ + B_c sign(q̇)` with columns for every link
-//!   and rotor and per-joint friction; [`regressor_batch`] over many samples;
+//! - [`regressor`]: `τ = Y π + Σ_t c_t φ_t(q̇)` with columns for every link
+//!   and rotor and per-joint friction ([`friction`]: the one friction law); [`regressor_batch`] over many samples;
 //! - [`RobotDescription`]: a model plus everything else known about the
-//!   robot (prior, bounding ellipsoids, nominal friction, excitation, effect
-//!   magnitudes), from [`robots::load_robot`] for the built-in leg
+//!   robot (prior, bounding ellipsoids, nominal friction, excitation, default
+//!   effect magnitudes by name), from [`robots::load_robot`] for the built-in leg
 //!   ([`cheetah3`]) and for a URDF ([`urdf`]) + [`sidecar`] alike;
-//! - [`effect`]: the vocabulary of effects a model may lack.
 //!
 //! Frames: body i's frame is its joint frame after the joint's motion;
 //! inertial parameters are in that frame (paper order, see
@@ -25,8 +24,8 @@ pub mod cheetah3;
 mod crba;
 mod data;
 mod description;
-pub mod effect;
 mod error;
+pub mod friction;
 mod model;
 pub mod params_file;
 pub mod predict;
@@ -40,8 +39,8 @@ pub mod urdf;
 pub use crba::{crba, energy, forward_dynamics, transform_matrix};
 pub use data::{BodyRegressor, Data};
 pub use description::{IdentificationFacts, ParamChoice, RobotDescription};
-pub use effect::{Effect, EffectParams, Param};
 pub use error::DynamicsError;
+pub use friction::{Friction, FrictionTerm, sign};
 pub use model::{Frame, Joint, JointKind, Model, Rotor, ToolPoint};
-pub use regressor::{body_regressor, regressor, regressor_batch, sign};
+pub use regressor::{body_regressor, regressor, regressor_batch, regressor_columns};
 pub use rnea::rnea;

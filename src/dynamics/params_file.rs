@@ -11,6 +11,7 @@
 //! ```
 
 use super::error::{DynamicsError, read_text};
+use super::friction::{Friction, FrictionTerm};
 use super::model::Model;
 use crate::moments::{InertialParams, MAX_ABS_PARAM};
 use serde::{Deserialize, Serialize};
@@ -23,15 +24,6 @@ pub struct BodyParams {
     pub name: String,
     /// π in the paper's order.
     pub params: [f64; 10],
-}
-
-/// Per-joint friction `B q̇ + B_c sign(q̇)`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Default)]
-pub struct Friction {
-    /// Viscous coefficients (N·m·s/rad).
-    pub viscous: Vec<f64>,
-    /// Coulomb coefficients (N·m).
-    pub coulomb: Vec<f64>,
 }
 
 /// The file's content (unknown extra fields are ignored).
@@ -49,16 +41,6 @@ pub struct ParamsFile {
     /// Friction (absent: zero).
     #[serde(default)]
     pub friction: Friction,
-}
-
-impl Friction {
-    /// No friction on `n` joints.
-    pub fn zeros(n: usize) -> Self {
-        Self {
-            viscous: vec![0.0; n],
-            coulomb: vec![0.0; n],
-        }
-    }
 }
 
 fn order() -> String {
@@ -121,14 +103,13 @@ impl ParamsFile {
         let p = self.body_params(&model.body_names()).map_err(err)?;
         model.set_params(&p)?;
         let joints = model.joint_names();
-        Ok(Friction {
-            viscous: self
-                .joint_values(&self.friction.viscous, "viscous", &joints)
-                .map_err(err)?,
-            coulomb: self
-                .joint_values(&self.friction.coulomb, "coulomb", &joints)
-                .map_err(err)?,
-        })
+        let mut f = Friction::zeros(joints.len());
+        for t in FrictionTerm::ALL {
+            *f.coefficients_mut(t) = self
+                .joint_values(self.friction.coefficients(t), t.name(), &joints)
+                .map_err(err)?;
+        }
+        Ok(f)
     }
 
     /// The parameters of `names` in that order, each body exactly once.

@@ -1,12 +1,15 @@
-//! The joint-torque regressor `τ = Y(q, q̇, q̈) π + B q̇ + B_c sign(q̇)`.
+//! The joint-torque regressor `τ = Y(q, q̇, q̈) π + Σ_t c_t φ_t(q̇)`.
 //!
 //! Column layout of `data.regressor` (n rows):
-//! `[π of link 1 … link n | π of rotor 1 … | viscous 1..n | Coulomb 1..n]`,
-//! 10 columns per body in the paper's order; the viscous column of joint i
-//! holds q̇ᵢ in row i, the Coulomb column sign(q̇ᵢ).
+//! `[π of link 1 … link n | π of rotor 1 … | term 1, joints 1..n | term 2, …]`,
+//! 10 columns per body in the paper's order, then one column per joint for
+//! each term of the friction law ([`super::friction`], in
+//! [`FrictionTerm::ALL`]'s order: viscous, then Coulomb); term t's column
+//! of joint i holds φ_t(q̇ᵢ) in row i (q̇ᵢ, then sign(q̇ᵢ)).
 
 use super::data::{BodyRegressor, Data};
 use super::error::DynamicsError;
+use super::friction::FrictionTerm;
 use super::model::Model;
 use super::rnea::{check_len, forward_pass};
 use crate::moments::skew;
@@ -128,26 +131,21 @@ pub(crate) fn regressor_unchecked(
         }
     }
     let nb = model.num_bodies();
-    for i in 0..n {
-        data.regressor[(i, 10 * nb + i)] = qd[i];
-        data.regressor[(i, 10 * nb + n + i)] = sign(qd[i]);
+    for (t, term) in FrictionTerm::ALL.iter().enumerate() {
+        for i in 0..n {
+            data.regressor[(i, 10 * nb + t * n + i)] = term.basis(qd[i]);
+        }
     }
 }
 
-/// `sign(x)` with `sign(0) = 0`.
-#[inline]
-pub fn sign(x: f64) -> f64 {
-    if x > 0.0 {
-        1.0
-    } else if x < 0.0 {
-        -1.0
-    } else {
-        0.0
-    }
+/// The regressor's column count: 10 per body, then one per joint and
+/// friction term.
+pub fn regressor_columns(model: &Model) -> usize {
+    10 * model.num_bodies() + FrictionTerm::ALL.len() * model.dof()
 }
 
 /// Regressor rows for many samples, stacked sample by sample into a
-/// `(samples · n) × (10·bodies + 2n)` row-major buffer, in parallel over
+/// `(samples · n) × `[`regressor_columns`] row-major buffer, in parallel over
 /// chunks of samples (rayon). Each state slice holds `samples · n` numbers,
 /// sample-major.
 pub fn regressor_batch(
@@ -165,7 +163,7 @@ pub fn regressor_batch(
             found: qd.len().min(qdd.len()),
         });
     }
-    let cols = 10 * model.num_bodies() + 2 * n;
+    let cols = regressor_columns(model);
     let samples = q.len() / n;
     let mut out = vec![0.0; samples * n * cols];
     const CHUNK: usize = 256;

@@ -74,9 +74,11 @@ pub fn load_robot_with(
         .map_err(|e| name_the_sidecar(e, spec, sidecar))?;
     let mut meshes = Meshes::new(MeshPaths::for_urdf(p, package_paths));
     let described = RobotDescription::new(spec, model, &sc, Some(&robot));
-    Ok(described
+    let mut described = described
         .map_err(|e| name_the_sidecar(e, spec, sidecar))?
-        .with_urdf_geometry(&robot, &mut meshes))
+        .with_urdf_geometry(&robot, &mut meshes);
+    described.sidecar = sidecar.map(|s| s.display().to_string());
+    Ok(described)
 }
 
 /// An error building or describing a URDF robot with a sidecar names both

@@ -13,11 +13,11 @@
 //!   masses' extra weight toward the prior).
 
 use super::cheetah3::Shell;
-use super::effect::EffectParams;
 use super::error::{DynamicsError, read_text};
 use crate::moments::{Ellipsoid, rpy_rotation};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 use std::path::Path;
 
 /// The sidecar file.
@@ -43,8 +43,10 @@ pub struct Sidecar {
     pub bodies: Vec<SidecarBody>,
     /// The default excitation of `simulate`.
     pub excitation: Option<Excitation>,
-    /// Default effect magnitudes of `simulate` (over the built-in defaults).
-    pub effects: Option<EffectParams>,
+    /// Default effect magnitudes of `simulate`, by parameter name (over the
+    /// effects' nominal values; the names are checked against an effect
+    /// library, [`crate::effects::Library::check_defaults`]).
+    pub effects: Option<BTreeMap<String, f64>>,
     /// Known facts the identification must respect.
     pub identify: Option<SidecarIdentify>,
 }

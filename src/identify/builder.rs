@@ -6,7 +6,8 @@
 //! ```
 //! use momentlmi::dynamics::cheetah3;
 //! use momentlmi::identify::{Identification, Level, reduce_samples};
-//! use momentlmi::sim::{Effects, SimConfig, simulate};
+//! use momentlmi::sim::{Effects, SimConfig};
+//! use momentlmi::effects::simulate;
 //! let leg = cheetah3::description();
 //! let fx = Effects::parse("rotor_inertia,coulomb,viscous", &[])?;
 //! let d = simulate(&leg, &SimConfig::for_robot(&leg, 3.0, fx, 1), |_, _| {})?;
@@ -33,7 +34,7 @@ use super::problem::{
 };
 use super::reduce::Reduced;
 use crate::conic::{AffExpr, Problem, Settings, Status};
-use crate::dynamics::{Model, RobotDescription};
+use crate::dynamics::{FrictionTerm, Model, RobotDescription};
 use crate::moments::{
     Ellipsoid, InertialParams, MomentsError, add_entropic_divergence, lmi::BodyVars,
 };
@@ -48,8 +49,9 @@ type Hook<'h> = Box<dyn Fn(&mut Problem, &Vars) -> Result<(), IdentifyError> + '
 /// expressions are in the user's units.
 pub struct Vars {
     bodies: Vec<(String, BodyVars)>,
-    viscous: Vec<(String, AffExpr)>,
-    coulomb: Vec<(String, AffExpr)>,
+    joints: Vec<String>,
+    /// Friction coefficients, `friction[t·n + i]`: term t, joint i.
+    friction: Vec<AffExpr>,
 }
 
 impl Vars {
@@ -67,14 +69,25 @@ impl Vars {
         self.bodies.iter().map(|(n, b)| (n.as_str(), b))
     }
 
+    /// Joint `joint`'s coefficient of the friction term `term`
+    /// ([`FrictionTerm::unit`]).
+    pub fn friction(&self, term: FrictionTerm, joint: &str) -> Result<AffExpr, IdentifyError> {
+        let i = self
+            .joints
+            .iter()
+            .position(|n| n == joint)
+            .ok_or_else(|| unknown("joint", joint, self.joints.iter().map(String::as_str)))?;
+        Ok(self.friction[term.index() * self.joints.len() + i].clone())
+    }
+
     /// Joint `joint`'s viscous coefficient B (N·m·s/rad).
     pub fn viscous(&self, joint: &str) -> Result<AffExpr, IdentifyError> {
-        find_joint(&self.viscous, joint)
+        self.friction(FrictionTerm::Viscous, joint)
     }
 
     /// Joint `joint`'s Coulomb coefficient B_c (N·m).
     pub fn coulomb(&self, joint: &str) -> Result<AffExpr, IdentifyError> {
-        find_joint(&self.coulomb, joint)
+        self.friction(FrictionTerm::Coulomb, joint)
     }
 
     /// The sum of every body's mass (links and rotors), kg.
@@ -93,13 +106,6 @@ pub(super) fn unknown<'a>(
         name: name.to_string(),
         valid: valid.collect::<Vec<_>>().join(", "),
     }
-}
-
-fn find_joint(v: &[(String, AffExpr)], joint: &str) -> Result<AffExpr, IdentifyError> {
-    v.iter()
-        .find(|(n, _)| n == joint)
-        .map(|(_, e)| e.clone())
-        .ok_or_else(|| unknown("joint", joint, v.iter().map(|j| j.0.as_str())))
 }
 
 /// One body's constraint set.
@@ -449,7 +455,7 @@ impl<'m> Identification<'m> {
     pub fn solve(&self, red: &Reduced) -> Result<Solved, IdentifyError> {
         let model = self.model;
         let nb = model.num_bodies();
-        let p = 10 * nb + 2 * model.dof();
+        let p = crate::dynamics::regressor_columns(model);
         if red.p != p {
             return Err(IdentifyError::Columns {
                 expected: p,
@@ -492,7 +498,7 @@ impl<'m> Identification<'m> {
         if self.entropic() {
             self.add_entropic(&mut prob, &bodies, &model.body_names())?;
         }
-        prob.add_nonneg(theta[10 * nb..].to_vec())?; // B ⪰ 0, B_c ⪰ 0
+        prob.add_nonneg(theta[10 * nb..].to_vec())?; // every friction coefficient ≥ 0
         for h in &self.hooks {
             h(&mut prob, &vars)?;
         }
@@ -517,8 +523,6 @@ impl<'m> Identification<'m> {
     fn vars(&self, theta: &[AffExpr]) -> Vars {
         let model = self.model;
         let nb = model.num_bodies();
-        let n = model.dof();
-        let joints = model.joint_names();
         Vars {
             bodies: model
                 .body_names()
@@ -531,12 +535,8 @@ impl<'m> Identification<'m> {
                     )
                 })
                 .collect(),
-            viscous: (0..n)
-                .map(|i| (joints[i].to_string(), theta[10 * nb + i].clone()))
-                .collect(),
-            coulomb: (0..n)
-                .map(|i| (joints[i].to_string(), theta[10 * nb + n + i].clone()))
-                .collect(),
+            joints: model.joint_names().iter().map(|j| j.to_string()).collect(),
+            friction: theta[10 * nb..].to_vec(),
         }
     }
 

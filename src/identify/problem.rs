@@ -21,7 +21,7 @@ use super::builder::Identification;
 use super::error::IdentifyError;
 use super::reduce::Reduced;
 use crate::conic::{Settings, Status};
-use crate::dynamics::{Model, RobotDescription};
+use crate::dynamics::{Friction, FrictionTerm, Model, RobotDescription};
 use crate::moments::Ellipsoid;
 use serde::Serialize;
 
@@ -294,8 +294,9 @@ impl IdentifyOptions {
 /// The solver's answer.
 #[derive(Clone, Debug)]
 pub struct Solved {
-    /// θ = [π (links, rotors) | viscous | Coulomb]; read it by name with
-    /// [`Solved::body`] and [`Solved::friction`].
+    /// θ = [π (links, rotors) | one block of n per friction term, in
+    /// [`FrictionTerm::ALL`]'s order]; read it by name with
+    /// [`Solved::body`] and [`Solved::friction_coefficient`].
     pub theta: Vec<f64>,
     /// Body names, in parameter order.
     pub bodies: Vec<String>,
@@ -313,7 +314,8 @@ pub struct Solved {
     pub rank: usize,
 }
 
-/// Parameter names: `<body>.<m|hx|…>`, `viscous.<joint>`, `coulomb.<joint>`.
+/// Parameter names: `<body>.<m|hx|…>`, then `<term>.<joint>` for each
+/// friction term (`viscous.<joint>`, `coulomb.<joint>`).
 pub fn parameter_names(model: &Model) -> Vec<String> {
     const P: [&str; 10] = [
         "m", "hx", "hy", "hz", "Ixx", "Ixy", "Ixz", "Iyy", "Iyz", "Izz",
@@ -323,8 +325,14 @@ pub fn parameter_names(model: &Model) -> Vec<String> {
         .iter()
         .flat_map(|b| P.iter().map(move |p| format!("{b}.{p}")))
         .collect();
-    v.extend(model.joint_names().iter().map(|j| format!("viscous.{j}")));
-    v.extend(model.joint_names().iter().map(|j| format!("coulomb.{j}")));
+    for t in FrictionTerm::ALL {
+        v.extend(
+            model
+                .joint_names()
+                .iter()
+                .map(|j| format!("{}.{j}", t.name())),
+        );
+    }
     v
 }
 
@@ -349,13 +357,31 @@ impl Solved {
         })))
     }
 
-    /// Joint `joint`'s friction `(viscous B, Coulomb B_c)`.
-    pub fn friction(&self, joint: &str) -> Result<(f64, f64), IdentifyError> {
+    /// Joint `joint`'s coefficient of the friction term `term`.
+    pub fn friction_coefficient(
+        &self,
+        term: FrictionTerm,
+        joint: &str,
+    ) -> Result<f64, IdentifyError> {
         let i = self.joints.iter().position(|n| n == joint).ok_or_else(|| {
             super::builder::unknown("joint", joint, self.joints.iter().map(String::as_str))
         })?;
         let (nb, n) = (self.bodies.len(), self.joints.len());
-        Ok((self.theta[10 * nb + i], self.theta[10 * nb + n + i]))
+        Ok(self.theta[10 * nb + term.index() * n + i])
+    }
+
+    /// Joint `joint`'s friction `(viscous B, Coulomb B_c)`.
+    pub fn friction(&self, joint: &str) -> Result<(f64, f64), IdentifyError> {
+        Ok((
+            self.friction_coefficient(FrictionTerm::Viscous, joint)?,
+            self.friction_coefficient(FrictionTerm::Coulomb, joint)?,
+        ))
+    }
+
+    /// The identified friction of every joint.
+    pub fn friction_law(&self) -> Friction {
+        let (nb, n) = (self.bodies.len(), self.joints.len());
+        Friction::from_terms(n, |t, i| self.theta[10 * nb + t.index() * n + i])
     }
 }
 

@@ -11,7 +11,7 @@
 //! about `ε·κ` relative accuracy in the fitted torques, far below any noise.
 
 use super::error::IdentifyError;
-use crate::dynamics::Model;
+use crate::dynamics::{Model, regressor_columns};
 use faer::linalg::matmul::triangular::{self, BlockStructure};
 use faer::{Mat, MatRef};
 use rayon::prelude::*;
@@ -262,7 +262,7 @@ pub const DEFAULT_MAX_MEMORY_BYTES: u64 = 8 << 30;
 /// The [`Cost`] of identifying `samples` samples of `model`.
 pub fn cost(model: &Model, samples: usize) -> Cost {
     let n = model.dof() as u64;
-    let p1 = 10 * model.num_bodies() as u64 + 2 * n + 1;
+    let p1 = regressor_columns(model) as u64 + 1;
     let threads = rayon::current_num_threads() as u64;
     let gram = 8 * p1 * p1 * (threads + 2);
     let rows = ROWS_BUDGET_BYTES as u64 * threads;
@@ -295,7 +295,7 @@ fn chunk_gram(
 ) -> Result<(), IdentifyError> {
     let [q, qd, qdd, tau] = samples;
     let n = model.dof();
-    let p = 10 * model.num_bodies() + 2 * n;
+    let p = regressor_columns(model);
     let p1 = p + 1;
     let mut data = crate::dynamics::Data::new(model);
     let mut rows = Rows::new(n, p1, end - start);
@@ -323,7 +323,7 @@ pub fn reduce_samples(
 ) -> Result<Reduced, IdentifyError> {
     let n = model.dof();
     check_lengths(n, q, qd, qdd, tau)?;
-    let p = 10 * model.num_bodies() + 2 * n;
+    let p = regressor_columns(model);
     let chunk = chunk_for(chunk, n, p + 1);
     let starts: Vec<usize> = (0..q.len()).step_by(chunk).collect();
     // one Gram accumulator per thread, not one per chunk
@@ -364,7 +364,7 @@ impl<'m> StreamReducer<'m> {
     /// A reducer for `model`, multiplying out every `chunk` samples.
     pub fn new(model: &'m Model, chunk: usize) -> Self {
         let n = model.dof();
-        let p = 10 * model.num_bodies() + 2 * n;
+        let p = regressor_columns(model);
         let chunk = chunk_for(chunk, n, p + 1);
         Self {
             model,

@@ -5,7 +5,8 @@ use super::error::IdentifyError;
 use super::problem::{IdentifyOptions, Level, Regularizer};
 use super::reduce::reduce_samples;
 use crate::data::Dataset;
-use crate::dynamics::params_file::{BodyParams, Friction, ParamsFile};
+use crate::dynamics::Friction;
+use crate::dynamics::params_file::{BodyParams, ParamsFile};
 use crate::dynamics::{Data, Model, regressor};
 use crate::moments::{
     ConsistencyReport, InertialParams, RealizabilityReport, check_consistency, check_realizable,
@@ -208,7 +209,7 @@ pub fn predict_split(
         let (l, r, f) = (
             part(0, nl),
             part(nl, 10 * nb),
-            part(10 * nb, 10 * nb + 2 * n),
+            part(10 * nb, crate::dynamics::regressor_columns(model)),
         );
         total.push((0..n).map(|i| l[i] + r[i] + f[i]).collect());
         c.links.push(l);
@@ -321,13 +322,8 @@ impl Identification<'_> {
         let reduce_time = t0.elapsed().as_secs_f64();
         let solved = self.solve(&red)?;
         let theta = &solved.theta;
-        let n = model.dof();
-        let nb = model.num_bodies();
         let (bodies, ok) = body_results(self, theta);
-        let friction = Friction {
-            viscous: theta[10 * nb..10 * nb + n].to_vec(),
-            coulomb: theta[10 * nb + n..].to_vec(),
-        };
+        let friction = solved.friction_law();
         let (train_pred, _) = predict_split(model, theta, train)?;
         let training_rms = rms(&train_pred, &train.tau);
         let (validation_rms, validation_prediction, contributions, vs) = match validate {

@@ -61,6 +61,35 @@ pub enum SimError {
         /// Its position (rad or m).
         q: f64,
     },
+    /// A `NAME=VALUE` effect-parameter override that cannot be read.
+    #[error("effect parameter override '{text}': {problem}")]
+    Override {
+        /// The text given.
+        text: String,
+        /// What is wrong with it.
+        problem: super::effects::OverrideProblem,
+    },
+    /// An effect named a body the model does not have.
+    #[error("body {body} does not exist (the model has {bodies} links)")]
+    Body {
+        /// The body (a link's joint index).
+        body: usize,
+        /// The model's links.
+        bodies: usize,
+    },
+    /// The true robot was built with other effects than the configuration
+    /// records.
+    #[error(
+        "the true robot has effects [{}], the simulation's configuration records [{}]",
+        truth.on.join(", "),
+        config.on.join(", ")
+    )]
+    EffectsRecord {
+        /// The true robot's.
+        truth: Box<super::effects::Effects>,
+        /// The configuration's.
+        config: Box<super::effects::Effects>,
+    },
     /// The compliant link-side simulation diverged.
     #[error("the compliant link simulation diverged at t = {t} s")]
     Diverged {

@@ -2,19 +2,26 @@
 //!
 //! - [`trajectory`]: the paper's shell excitation (cheetah3-leg, through
 //!   inverse kinematics) and a multi-sine for any robot;
-//! - [`robot`]: the "true robot" with switchable effects ([`Effects`] of
-//!   [`crate::dynamics::Effect`]);
+//! - [`truth`]: the "true robot" — the description's model plus what
+//!   effects add to it (the mechanisms: rotors, inertia, friction, torque
+//!   terms, gain, delay, encoder offset, compliance; the effects themselves
+//!   and their names are [`crate::effects`]);
+//! - [`effects`](mod@effects): the record of which effects are on ([`Effects`]);
 //! - [`simulate`](mod@simulate): measurement noise, encoder quantisation and the
 //!   offline zero-phase filtering and differentiation, with a JSON record;
 //!
 //! The data format itself (CSV, filter, differentiator) is [`crate::data`].
 
 pub mod compliance;
+pub mod effects;
 mod error;
-pub mod robot;
 pub mod simulate;
 pub mod trajectory;
+pub mod truth;
+mod warning;
 
+pub use effects::Effects;
 pub use error::SimError;
-pub use robot::{Effects, TrueRobot};
-pub use simulate::{SimConfig, simulate};
+pub use simulate::{SimConfig, simulate_with};
+pub use truth::{JointState, TorqueTerm, TrueRobot, Truth};
+pub use warning::SimWarning;

@@ -2,12 +2,13 @@
 //! processing. The [`SimConfig`] (written beside the data as JSON) is what
 //! reproduces it together with the robot description.
 
+use super::effects::Effects;
 use super::error::SimError;
-use super::robot::{Effects, TrueRobot};
 use super::trajectory::Trajectory;
+use super::truth::TrueRobot;
 use crate::data::filter::{differentiate, filtfilt};
 use crate::data::{Dataset, estimate_qdd};
-use crate::dynamics::params_file::Friction;
+use crate::dynamics::Friction;
 use crate::dynamics::predict::predict_torques;
 use crate::dynamics::{Model, RobotDescription};
 use rand::SeedableRng;
@@ -362,23 +363,31 @@ fn process(model: &Model, cfg: &SimConfig, d: &mut Dataset) {
     d.qdd = estimate_qdd(&d.t, &d.qd, cfg.cutoff_hz);
 }
 
-/// Simulates `robot` (its model's own parameters are the truth);
-/// `progress(done, total)` is called every 1000 samples simulated (the
-/// total includes the dropped edges).
-pub fn simulate(
+/// Simulates `truth`, the true robot of `robot` built with the effects
+/// `cfg.effects` records (an effect library builds it:
+/// [`crate::effects::Library::simulate`] does both); `progress(done,
+/// total)` is called every 1000 samples simulated (the total includes the
+/// dropped edges).
+pub fn simulate_with(
     robot: &RobotDescription,
+    truth: &TrueRobot,
     cfg: &SimConfig,
     mut progress: impl FnMut(usize, usize),
 ) -> Result<Dataset, SimError> {
     let model = &robot.model;
     let samples = cfg.validate(model)?;
-    let truth = TrueRobot::new(robot, &cfg.effects)?;
+    if truth.effects() != &cfg.effects {
+        return Err(SimError::EffectsRecord {
+            truth: Box::new(truth.effects().clone()),
+            config: Box::new(cfg.effects.clone()),
+        });
+    }
     let edge = if cfg.processed { cfg.edge_samples() } else { 0 };
     let span = (-(edge as isize), samples + 2 * edge);
     let states = sample_states(model, cfg, span, truth.delay(), &mut progress)?;
     let [qs, qds, qdds] = &states.delayed;
     let mut tau = truth.torques(qs, qds, qdds)?;
-    add_compliance(&truth, cfg, &states, &mut tau)?;
+    add_compliance(truth, cfg, &states, &mut tau)?;
     add_noise(cfg, &mut tau);
     let [q, qd, qdd] = states.exact;
     let mut d = Dataset {

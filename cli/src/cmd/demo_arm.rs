@@ -9,9 +9,10 @@ use momentlmi::data::{Dataset, Staged};
 use momentlmi::diagnose::{DiagnoseOptions, Diagnosis, diagnose};
 use momentlmi::dynamics::RobotDescription;
 use momentlmi::dynamics::robots::load_robot;
+use momentlmi::effects::simulate;
 use momentlmi::identify::{Identification, IdentifyResult, Level};
 use momentlmi::moments::urdf_check::check_urdf_file;
-use momentlmi::sim::{Effects, SimConfig, simulate};
+use momentlmi::sim::{Effects, SimConfig};
 use std::path::{Path, PathBuf};
 
 /// Where the repository keeps the arm.

@@ -4,7 +4,6 @@ use momentlmi::data::ReadOptions;
 use momentlmi::data::Staged;
 use momentlmi::diagnose::{DiagnoseOptions, Diagnosis, diagnose};
 use momentlmi::dynamics::ParamChoice;
-use momentlmi::dynamics::robots::load_robot_with;
 use std::path::Path;
 
 /// Arguments of `diagnose`.
@@ -29,7 +28,7 @@ pub struct DiagnoseArgs<'a> {
 
 fn diagnosis(a: &DiagnoseArgs) -> Result<Diagnosis, String> {
     let opts = DiagnoseOptions::default().with_max_memory(super::gib(a.max_memory_gib)?);
-    let robot = load_robot_with(a.robot, a.sidecar, a.package_paths).map_err(|e| e.to_string())?;
+    let robot = super::load_robot(a.robot, a.sidecar, a.package_paths)?;
     if a.nominal == Some("true") {
         super::warn_robot(&robot);
     }

@@ -5,7 +5,6 @@
 use momentlmi::data::ReadOptions;
 use momentlmi::dynamics::ParamChoice;
 use momentlmi::dynamics::RobotDescription;
-use momentlmi::dynamics::robots::load_robot_with;
 use momentlmi::identify::{Identification, IdentifyError, IdentifyResult, Level, Regularizer};
 use std::path::Path;
 
@@ -185,7 +184,7 @@ fn identification<'r>(
 
 fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
     parse_level(a.constraints, "--constraints")?;
-    let robot = load_robot_with(a.robot, a.sidecar, a.package_paths).map_err(|e| e.to_string())?;
+    let robot = super::load_robot(a.robot, a.sidecar, a.package_paths)?;
     if a.constraints == "ellipsoid" || a.levels.iter().any(|l| l.trim_end().ends_with("ellipsoid"))
     {
         // the bounding volumes come from the geometry these warnings are about

@@ -20,6 +20,22 @@ pub(crate) fn per_joint(v: &[f64], digits: usize) -> String {
         .join("/")
 }
 
+/// The robot (a built-in name, or a URDF with its sidecar and mesh
+/// folders), with its sidecar's `[effects]` names checked against the
+/// built-in effects: a typo is an error here, whatever the command.
+pub(crate) fn load_robot(
+    spec: &str,
+    sidecar: Option<&Path>,
+    package_paths: &[std::path::PathBuf],
+) -> Result<momentlmi::dynamics::RobotDescription, String> {
+    let robot = momentlmi::dynamics::robots::load_robot_with(spec, sidecar, package_paths)
+        .map_err(|e| e.to_string())?;
+    momentlmi::effects::Library::builtin()
+        .check_defaults(&robot)
+        .map_err(|e| e.to_string())?;
+    Ok(robot)
+}
+
 /// Prints what the robot description filled in (placeholder friction, …).
 pub(crate) fn warn_robot(robot: &momentlmi::dynamics::RobotDescription) {
     for w in &robot.warnings {
@@ -75,13 +91,7 @@ pub(crate) fn parameters_for(
     flag: &str,
     value: Option<&str>,
     default: momentlmi::dynamics::ParamChoice,
-) -> Result<
-    (
-        momentlmi::dynamics::Model,
-        momentlmi::dynamics::params_file::Friction,
-    ),
-    String,
-> {
+) -> Result<(momentlmi::dynamics::Model, momentlmi::dynamics::Friction), String> {
     use momentlmi::dynamics::ParamChoice;
     let choice = value.map_or(default, |p| p.parse().expect("infallible"));
     robot

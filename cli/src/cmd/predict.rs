@@ -3,7 +3,6 @@
 use momentlmi::data::{ReadOptions, Staged};
 use momentlmi::dynamics::ParamChoice;
 use momentlmi::dynamics::predict::predict_torques;
-use momentlmi::dynamics::robots::load_robot_with;
 use serde_json::json;
 use std::path::Path;
 
@@ -49,7 +48,7 @@ fn staged_output(a: &PredictArgs) -> Result<Staged, String> {
 
 fn run_inner(a: &PredictArgs) -> Result<(), String> {
     let mut staged = staged_output(a)?;
-    let robot = load_robot_with(a.robot, a.sidecar, a.package_paths).map_err(|e| e.to_string())?;
+    let robot = super::load_robot(a.robot, a.sidecar, a.package_paths)?;
     if a.params.is_some_and(|p| p == "true") {
         super::warn_robot(&robot);
     }

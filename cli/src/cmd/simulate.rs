@@ -2,10 +2,8 @@
 //! [--seed N] [--noise SIGMA] [--effect-param NAME=VALUE …]`.
 
 use momentlmi::data::{Staged, record_path, stage_with_record};
-use momentlmi::dynamics::Effect;
-use momentlmi::dynamics::effect::parse_override;
-use momentlmi::dynamics::robots::load_robot_with;
-use momentlmi::sim::{Effects, SimConfig, TrueRobot, simulate};
+use momentlmi::effects::Library;
+use momentlmi::sim::{Effects, SimConfig, simulate_with};
 use std::path::Path;
 
 /// Arguments of `simulate`.
@@ -18,8 +16,8 @@ pub struct SimulateArgs<'a> {
     pub package_paths: &'a [std::path::PathBuf],
     /// Duration (s).
     pub seconds: f64,
-    /// Effects.
-    pub effects: &'a [Effect],
+    /// Effects, by name.
+    pub effects: &'a [String],
     /// NAME=VALUE overrides.
     pub effect_params: &'a [String],
     /// Output CSV (a JSON record is written beside it).
@@ -57,12 +55,11 @@ fn staged_outputs(a: &SimulateArgs) -> Result<Staged, String> {
 
 fn run_inner(a: &SimulateArgs) -> Result<(), String> {
     let mut staged = staged_outputs(a)?;
-    let robot = load_robot_with(a.robot, a.sidecar, a.package_paths).map_err(|e| e.to_string())?;
-    let mut effects = Effects::new(a.effects.iter().copied());
-    for o in a.effect_params {
-        let (p, v) = parse_override(o).map_err(|e| e.to_string())?;
-        effects = effects.with(p, v).map_err(|e| e.to_string())?;
-    }
+    let robot = super::load_robot(a.robot, a.sidecar, a.package_paths)?;
+    let library = Library::builtin();
+    let effects =
+        Effects::parse(&a.effects.join(","), a.effect_params).map_err(|e| e.to_string())?;
+    library.check(&effects).map_err(|e| e.to_string())?;
     let mut cfg = SimConfig::for_robot(&robot, a.seconds, effects, a.seed);
     cfg.sidecar = a.sidecar.map(|p| p.display().to_string());
     if let Some(s) = a.noise {
@@ -80,7 +77,9 @@ fn run_inner(a: &SimulateArgs) -> Result<(), String> {
     }
     let samples = cfg.validate(&robot.model).map_err(|e| e.to_string())?;
     super::warn_robot(&robot);
-    let truth = TrueRobot::new(&robot, &cfg.effects).map_err(|e| e.to_string())?;
+    let truth = library
+        .true_robot(&robot, &cfg.effects)
+        .map_err(|e| e.to_string())?;
     for w in truth.warnings() {
         eprintln!("warning: {w}");
     }
@@ -89,16 +88,15 @@ fn run_inner(a: &SimulateArgs) -> Result<(), String> {
         indicatif::ProgressStyle::with_template("simulating {bar:40} {pos}/{len} samples")
             .map_err(|e| e.to_string())?,
     );
-    let d = simulate(&robot, &cfg, |done, total| {
+    let d = simulate_with(&robot, &truth, &cfg, |done, total| {
         bar.set_length(total as u64);
         bar.set_position(done as u64)
     })
     .map_err(|e| e.to_string())?;
     bar.finish_and_clear();
     // the record states what the robot description filled in
-    let magnitudes = cfg
-        .effects
-        .params(&robot.effects)
+    let magnitudes = library
+        .magnitudes(&robot, &cfg.effects)
         .map_err(|e| e.to_string())?;
     let record = serde_json::json!({
         "generator": format!("momentlmi {}", env!("CARGO_PKG_VERSION")),
@@ -126,12 +124,7 @@ fn run_inner(a: &SimulateArgs) -> Result<(), String> {
         if cfg.effects.on.is_empty() {
             "none".to_string()
         } else {
-            cfg.effects
-                .on
-                .iter()
-                .map(|e| e.name())
-                .collect::<Vec<_>>()
-                .join(", ")
+            cfg.effects.on.join(", ")
         },
         rec.display()
     );

@@ -6,10 +6,11 @@
 //! Run: `cargo run --release -p momentlmi-downstream --example leg`
 
 use momentlmi::conic::{Problem, Settings};
-use momentlmi::dynamics::{Effect, robots::load_robot};
+use momentlmi::dynamics::robots::load_robot;
+use momentlmi::effects::simulate;
 use momentlmi::identify::{IdentifyOptions, Level, identify};
 use momentlmi::moments::{InertialParams, lmi::BodyVars};
-use momentlmi::sim::{Effects, SimConfig, simulate};
+use momentlmi::sim::{Effects, SimConfig};
 
 /// What the program found.
 #[derive(Debug)]
@@ -30,7 +31,7 @@ pub struct Report {
 /// Simulates `seconds` of the built-in leg and identifies it.
 pub fn run(seconds: f64) -> Result<Report, Box<dyn std::error::Error>> {
     let leg = load_robot("cheetah3-leg", None)?;
-    let effects = Effects::new([Effect::RotorInertia, Effect::Coulomb, Effect::Viscous]);
+    let effects = Effects::new(["rotor_inertia", "coulomb", "viscous"]);
     let data = simulate(
         &leg,
         &SimConfig::for_robot(&leg, seconds, effects, 11),

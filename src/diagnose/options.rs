@@ -1,0 +1,113 @@
+//! [`DiagnoseOptions`]: the split, how many effects, the block test, the
+//! memory limit and the effect library; validated at construction.
+
+use super::error::DiagnoseError;
+use crate::effects::Library;
+
+/// Options, validated at construction ([`DiagnoseOptions::new`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct DiagnoseOptions {
+    train_fraction: f64,
+    max_effects: usize,
+    blocks: usize,
+    max_memory_bytes: u64,
+    library: Library,
+}
+
+/// The memory a diagnosis may plan for by default (8 GiB).
+pub const DEFAULT_MAX_MEMORY_BYTES: u64 = 8 << 30;
+
+impl Default for DiagnoseOptions {
+    /// 60 % training, at most 4 effects, 20 held-out blocks, 8 GiB, the
+    /// built-in effect library.
+    fn default() -> Self {
+        Self {
+            train_fraction: 0.6,
+            max_effects: 4,
+            blocks: 20,
+            max_memory_bytes: DEFAULT_MAX_MEMORY_BYTES,
+            library: Library::builtin(),
+        }
+    }
+}
+
+impl DiagnoseOptions {
+    /// `train_fraction` of the samples (from the start) fit, in [0.1, 0.9];
+    /// at most `max_effects` (≥ 1) effects are accepted; the held-out block
+    /// test uses `blocks` (2 … 1000) blocks.
+    pub fn new(
+        train_fraction: f64,
+        max_effects: usize,
+        blocks: usize,
+    ) -> Result<Self, DiagnoseError> {
+        if !(train_fraction >= 0.1 && train_fraction <= 0.9) {
+            return Err(DiagnoseError::Option {
+                option: "train_fraction",
+                value: train_fraction,
+                message: "must be in [0.1, 0.9] (both parts need samples)",
+            });
+        }
+        if max_effects == 0 {
+            return Err(DiagnoseError::Option {
+                option: "max_effects",
+                value: 0.0,
+                message: "must be at least 1",
+            });
+        }
+        if !(2..=1000).contains(&blocks) {
+            return Err(DiagnoseError::Option {
+                option: "blocks",
+                value: blocks as f64,
+                message: "must be in 2 … 1000",
+            });
+        }
+        Ok(Self {
+            train_fraction,
+            max_effects,
+            blocks,
+            ..Self::default()
+        })
+    }
+
+    /// Fraction of the samples (from the start) used for fitting.
+    pub fn train_fraction(&self) -> f64 {
+        self.train_fraction
+    }
+
+    /// At most this many effects are accepted.
+    pub fn max_effects(&self) -> usize {
+        self.max_effects
+    }
+
+    /// Blocks of the held-out block test.
+    pub fn blocks(&self) -> usize {
+        self.blocks
+    }
+
+    /// The memory the diagnosis may plan for ([`super::memory_estimate`]): beyond
+    /// it the inertial candidates and the compliance searches are left out
+    /// (with a warning each) and, if the rest of the library does not fit,
+    /// the diagnosis is refused before it starts.
+    pub fn with_max_memory(mut self, bytes: u64) -> Self {
+        self.max_memory_bytes = bytes;
+        self
+    }
+
+    /// The memory limit (bytes).
+    pub fn max_memory(&self) -> u64 {
+        self.max_memory_bytes
+    }
+
+    /// The effects the diagnosis proposes, in the order it tries them (the
+    /// built-in library by default; a user's own effects added with
+    /// [`Library::add`]).
+    pub fn with_library(mut self, library: Library) -> Self {
+        self.library = library;
+        self
+    }
+
+    /// The candidate effects.
+    pub fn library(&self) -> &Library {
+        &self.library
+    }
+}

@@ -1,0 +1,52 @@
+//! `asymmetric_friction`: Coulomb friction that differs by direction,
+//! `a s_c B_c,i |sign(q̇ᵢ)|` added to the Coulomb term: (1 + a)·B_c forward,
+//! (1 − a)·B_c backward.
+
+use super::coulomb::{COULOMB_SCALE, scaled_coulomb};
+use crate::dynamics::sign;
+use crate::effects::{Context, Effect, EffectError, Hypothesis, ParamSpec, Range, Values};
+use crate::sim::{SimWarning, Truth};
+
+/// Direction-dependent Coulomb friction.
+pub struct AsymmetricFriction;
+
+const ASYMMETRY: ParamSpec = ParamSpec::new(
+    "asymmetry",
+    "1",
+    0.3,
+    Range::Within(-1.0, 1.0),
+    "Asymmetry a: Coulomb (1 + a)·B_c forward, (1 − a)·B_c backward.",
+);
+
+impl Effect for AsymmetricFriction {
+    fn name(&self) -> &'static str {
+        "asymmetric_friction"
+    }
+
+    fn summary(&self) -> &'static str {
+        "Coulomb friction that differs by direction"
+    }
+
+    fn params(&self) -> Vec<ParamSpec> {
+        vec![COULOMB_SCALE, ASYMMETRY]
+    }
+
+    fn apply(&self, p: &Values, truth: &mut Truth) -> Result<(), EffectError> {
+        let a = p.get(ASYMMETRY.name)?;
+        let c = scaled_coulomb(truth, p.get(COULOMB_SCALE.name)?);
+        if c.iter().all(|x| *x == 0.0) {
+            truth.warn(SimWarning::NominalFrictionZero {
+                effect: self.name().into(),
+            });
+        }
+        truth.add_torque(move |s| a * c[s.joint] * sign(s.qd).abs());
+        Ok(())
+    }
+
+    fn hypothesis(&self, cx: &Context) -> Result<Hypothesis, EffectError> {
+        let d = cx.data;
+        Ok(Hypothesis::linear(
+            cx.per_joint(|k, i| sign(d.qd[k][i]).abs()),
+        ))
+    }
+}

@@ -1,0 +1,55 @@
+//! `link_inertia`: the links' inertias are off. The true robot's links are
+//! the model's scaled by `1 + s` (every parameter, so they stay physically
+//! consistent); the diagnosis proposes a correction of every link's 10
+//! parameters (each kept consistent), in the optional `inertial` part of
+//! the memory plan.
+
+use super::rotor_inertia::nominal_bodies;
+use crate::effects::{
+    Columns, Context, Effect, EffectError, Hypothesis, Memory, ParamSpec, Range, Shape, Values,
+};
+use crate::sim::Truth;
+
+/// The links' inertias.
+pub struct LinkInertia;
+
+const ERROR: ParamSpec = ParamSpec::new(
+    "link_inertia_error",
+    "1",
+    0.1,
+    Range::Above(-1.0),
+    "Relative error s of the links' inertial parameters: the true links are (1 + s) × the model's.",
+);
+
+impl Effect for LinkInertia {
+    fn name(&self) -> &'static str {
+        "link_inertia"
+    }
+
+    fn summary(&self) -> &'static str {
+        "The links' inertial parameters differ from the model's"
+    }
+
+    fn params(&self) -> Vec<ParamSpec> {
+        vec![ERROR]
+    }
+
+    fn apply(&self, p: &Values, truth: &mut Truth) -> Result<(), EffectError> {
+        truth.scale_link_inertias(1.0 + p.get(ERROR.name)?);
+        Ok(())
+    }
+
+    fn memory(&self, shape: &Shape) -> Memory {
+        Memory::optional(shape, 10 * shape.joints, "inertial", 0)
+    }
+
+    fn hypothesis(&self, cx: &Context) -> Result<Hypothesis, EffectError> {
+        let links = cx.model.dof();
+        let cols = cx.regressor_columns(10 * links, |y, i, c| y[(i, c)])?;
+        Ok(Hypothesis::single(Columns {
+            cols,
+            bodies: nominal_bodies(cx, 0..links),
+            ..Columns::default()
+        }))
+    }
+}

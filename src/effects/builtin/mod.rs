@@ -1,0 +1,36 @@
+//! The built-in effects, one file each. The registry below is the one list:
+//! its order is the order the diagnosis tries them (and reports ties in)
+//! and the simulator applies them. A new built-in effect is a new file
+//! here implementing [`super::Effect`] and one line in `registry!`.
+
+use super::effect::Effect;
+use std::sync::Arc;
+
+/// Declares each effect's module and lists the effects in order.
+macro_rules! registry {
+    ($($module:ident :: $effect:ident),+ $(,)?) => {
+        $(pub mod $module;)+
+
+        /// Every built-in effect, in the registry's order.
+        pub fn all() -> Vec<Arc<dyn Effect>> {
+            vec![$(Arc::new($module::$effect)),+]
+        }
+    };
+}
+
+registry! {
+    coulomb::Coulomb,
+    viscous::Viscous,
+    stribeck::Stribeck,
+    asymmetric_friction::AsymmetricFriction,
+    offset::Offset,
+    rotor_inertia::RotorInertia,
+    link_inertia::LinkInertia,
+    payload::Payload,
+    time_delay::TimeDelay,
+    cogging::Cogging,
+    torque_gain::TorqueGain,
+    elasticity::Elasticity,
+    backlash::Backlash,
+    joint_offset::JointOffset,
+}

@@ -1,0 +1,54 @@
+//! `rotor_inertia`: the rotors' reflected inertia and gyroscopic terms. The
+//! true robot has the description's rotors; the diagnosis proposes a
+//! correction of every rotor's 10 parameters (each kept physically
+//! consistent), in the optional `inertial` part of the memory plan.
+
+use crate::effects::{
+    Columns, Context, Effect, EffectError, Hypothesis, Memory, Shape, Values,
+};
+use crate::sim::Truth;
+
+/// The rotors' inertia.
+pub struct RotorInertia;
+
+impl Effect for RotorInertia {
+    fn name(&self) -> &'static str {
+        "rotor_inertia"
+    }
+
+    fn summary(&self) -> &'static str {
+        "The rotors' reflected inertia and gyroscopic terms"
+    }
+
+    fn apply(&self, _: &Values, truth: &mut Truth) -> Result<(), EffectError> {
+        truth.include_rotors();
+        Ok(())
+    }
+
+    fn memory(&self, shape: &Shape) -> Memory {
+        let rotors = shape.bodies - shape.joints;
+        Memory::optional(shape, 10 * rotors, "inertial", 0)
+    }
+
+    fn hypothesis(&self, cx: &Context) -> Result<Hypothesis, EffectError> {
+        let (links, bodies) = (cx.model.dof(), cx.model.num_bodies());
+        if bodies == links {
+            return Ok(Hypothesis::none());
+        }
+        let nl = 10 * links;
+        let cols = cx.regressor_columns(10 * (bodies - links), |y, i, c| y[(i, nl + c)])?;
+        Ok(Hypothesis::single(Columns {
+            cols,
+            bodies: nominal_bodies(cx, links..bodies),
+            ..Columns::default()
+        }))
+    }
+}
+
+/// The nominal parameters of `bodies` (links then rotors), 10 each.
+pub fn nominal_bodies(cx: &Context, bodies: std::ops::Range<usize>) -> Vec<[f64; 10]> {
+    let p = cx.model.params();
+    bodies
+        .map(|b| std::array::from_fn(|k| p[10 * b + k]))
+        .collect()
+}

@@ -1,0 +1,69 @@
+//! `stribeck`: extra friction near zero velocity,
+//! `F_s e^{−(q̇ᵢ/v_s)²} sign(q̇ᵢ)` on every joint. Diagnosed on a grid of
+//! Stribeck velocities, open at both ends (a smaller or a larger v_s than
+//! the grid's can hide beyond it).
+
+use crate::dynamics::sign;
+use crate::effects::{
+    Columns, Context, Effect, EffectError, Hypothesis, Memory, ParamSpec, Range, Shape, Values,
+};
+use crate::sim::Truth;
+
+/// Stribeck friction.
+pub struct Stribeck;
+
+const FORCE: ParamSpec = ParamSpec::new(
+    "stribeck_force",
+    "N·m",
+    1.0,
+    Range::Any,
+    "Stribeck peak F_s.",
+);
+const VELOCITY: ParamSpec = ParamSpec::new(
+    "stribeck_velocity",
+    "rad/s",
+    0.2,
+    Range::Positive,
+    "Stribeck velocity v_s.",
+);
+/// The Stribeck velocities (rad/s) the diagnosis tries.
+const GRID: [f64; 4] = [0.05, 0.1, 0.2, 0.5];
+
+impl Effect for Stribeck {
+    fn name(&self) -> &'static str {
+        "stribeck"
+    }
+
+    fn summary(&self) -> &'static str {
+        "Stribeck friction (extra friction near zero velocity)"
+    }
+
+    fn params(&self) -> Vec<ParamSpec> {
+        vec![FORCE, VELOCITY]
+    }
+
+    fn apply(&self, p: &Values, truth: &mut Truth) -> Result<(), EffectError> {
+        let (f, vs) = (p.get(FORCE.name)?, p.get(VELOCITY.name)?);
+        truth.add_torque(move |s| f * (-(s.qd / vs).powi(2)).exp() * sign(s.qd));
+        Ok(())
+    }
+
+    fn memory(&self, shape: &Shape) -> Memory {
+        Memory::columns(shape, GRID.len() * shape.joints)
+    }
+
+    fn hypothesis(&self, cx: &Context) -> Result<Hypothesis, EffectError> {
+        let d = cx.data;
+        let variants = GRID
+            .iter()
+            .map(|&vs| {
+                Columns::variant(
+                    format!("Stribeck velocity {vs} rad/s"),
+                    cx.per_joint(|k, i| (-(d.qd[k][i] / vs).powi(2)).exp() * sign(d.qd[k][i])),
+                    1,
+                )
+            })
+            .collect();
+        Ok(Hypothesis::grid(variants).open_below())
+    }
+}

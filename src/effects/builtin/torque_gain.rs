@@ -1,0 +1,46 @@
+//! `torque_gain`: a torque-constant (gain) error, the measured torque
+//! `(1 + ε) τ`. Diagnosed as one column, the nominal model's torque τ̂.
+
+use crate::effects::{
+    Context, Effect, EffectError, Hypothesis, Memory, ParamSpec, Range, Shape, Values,
+};
+use crate::sim::Truth;
+
+/// A torque gain error.
+pub struct TorqueGain;
+
+const GAIN_ERROR: ParamSpec = ParamSpec::new(
+    "gain_error",
+    "1",
+    0.1,
+    Range::Above(-1.0),
+    "Torque gain error ε (measured (1 + ε) τ).",
+);
+
+impl Effect for TorqueGain {
+    fn name(&self) -> &'static str {
+        "torque_gain"
+    }
+
+    fn summary(&self) -> &'static str {
+        "A torque-constant (gain) error"
+    }
+
+    fn params(&self) -> Vec<ParamSpec> {
+        vec![GAIN_ERROR]
+    }
+
+    fn apply(&self, p: &Values, truth: &mut Truth) -> Result<(), EffectError> {
+        truth.set_gain(1.0 + p.get(GAIN_ERROR.name)?);
+        Ok(())
+    }
+
+    fn memory(&self, shape: &Shape) -> Memory {
+        Memory::columns(shape, 1)
+    }
+
+    fn hypothesis(&self, cx: &Context) -> Result<Hypothesis, EffectError> {
+        let th = cx.nominal_torques()?;
+        Ok(Hypothesis::linear(vec![th.iter().flatten().copied().collect()]))
+    }
+}

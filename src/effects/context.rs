@@ -1,0 +1,128 @@
+//! What an effect's hypothesis is built from: the nominal model, the data,
+//! the nominal residual, the training part, and what several hypotheses
+//! share (the nominal torques, the linearised link dynamics), computed
+//! once on first use.
+
+use super::compliance::Linearisation;
+use super::error::EffectError;
+use crate::data::Dataset;
+use crate::dynamics::predict::predict_torques;
+use crate::dynamics::{Data, Friction, Model, regressor};
+use nalgebra::DMatrix;
+use std::sync::{Arc, OnceLock};
+
+/// The data and nominal model a hypothesis is built for.
+pub struct Context<'a> {
+    /// The nominal model (its parameters are the current estimate).
+    pub model: &'a Model,
+    /// Its friction.
+    pub friction: &'a Friction,
+    /// The measured data (its joints are the model's).
+    pub data: &'a Dataset,
+    /// The nominal model's residual `τ − τ̂`, sample-major: `r[k·n + i]` for
+    /// sample k, joint i.
+    pub residual: &'a [f64],
+    /// Samples `0..train` are the training part: a search for nonlinear
+    /// parameters may fit them only.
+    pub train: usize,
+    nominal: OnceLock<Result<Vec<Vec<f64>>, Arc<EffectError>>>,
+    linearisation: OnceLock<Result<Linearisation, Arc<EffectError>>>,
+}
+
+impl<'a> Context<'a> {
+    /// The context of `data` against `model` + `friction`.
+    pub fn new(
+        model: &'a Model,
+        friction: &'a Friction,
+        data: &'a Dataset,
+        residual: &'a [f64],
+        train: usize,
+    ) -> Self {
+        Self {
+            model,
+            friction,
+            data,
+            residual,
+            train,
+            nominal: OnceLock::new(),
+            linearisation: OnceLock::new(),
+        }
+    }
+
+    /// Joints n.
+    pub fn joints(&self) -> usize {
+        self.data.joints.len()
+    }
+
+    /// Samples.
+    pub fn samples(&self) -> usize {
+        self.data.len()
+    }
+
+    /// Joint i's gear ratio (1 without a rotor).
+    pub fn gear(&self, i: usize) -> f64 {
+        self.model.rotor_of(i).map_or(1.0, |r| r.gear_ratio)
+    }
+
+    /// One column per joint: column i holds `f(k, i)` in joint i's row of
+    /// every sample k, zero in the other joints' rows.
+    pub fn per_joint(&self, f: impl Fn(usize, usize) -> f64) -> Vec<Vec<f64>> {
+        let n = self.joints();
+        (0..n)
+            .map(|i| {
+                let mut c = vec![0.0; self.samples() * n];
+                for k in 0..self.samples() {
+                    c[k * n + i] = f(k, i);
+                }
+                c
+            })
+            .collect()
+    }
+
+    /// `count` columns from the nominal model's regressor
+    /// ([`crate::dynamics::regressor`]): column c holds `f(Y, i, c)` in joint
+    /// i's row of every sample, Y that sample's regressor.
+    pub fn regressor_columns(
+        &self,
+        count: usize,
+        f: impl Fn(&DMatrix<f64>, usize, usize) -> f64,
+    ) -> Result<Vec<Vec<f64>>, EffectError> {
+        let (n, d) = (self.joints(), self.data);
+        let mut cols = vec![vec![0.0; d.len() * n]; count];
+        let mut data = Data::new(self.model);
+        for k in 0..d.len() {
+            let y = regressor(self.model, &mut data, &d.q[k], &d.qd[k], &d.qdd[k])
+                .map_err(|source| EffectError::Regressor { sample: k, source })?;
+            for i in 0..n {
+                for (c, col) in cols.iter_mut().enumerate() {
+                    col[k * n + i] = f(y, i, c);
+                }
+            }
+        }
+        Ok(cols)
+    }
+
+    /// The nominal model's torques τ̂ at every sample.
+    pub fn nominal_torques(&self) -> Result<&[Vec<f64>], EffectError> {
+        let d = self.data;
+        self.nominal
+            .get_or_init(|| {
+                predict_torques(self.model, self.friction, &d.q, &d.qd, &d.qdd)
+                    .map_err(|e| Arc::new(EffectError::Dynamics(e)))
+            })
+            .as_deref()
+            .map_err(|e| EffectError::Shared(e.clone()))
+    }
+
+    /// The link dynamics linearised along the data (for compliance
+    /// hypotheses searched by simulation).
+    pub fn linearisation(&self) -> Result<&Linearisation, EffectError> {
+        self.linearisation
+            .get_or_init(|| {
+                Linearisation::new(self.model, self.data)
+                    .map_err(|e| Arc::new(EffectError::Dynamics(e)))
+            })
+            .as_ref()
+            .map_err(|e| EffectError::Shared(e.clone()))
+    }
+}

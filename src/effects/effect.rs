@@ -1,0 +1,86 @@
+//! The [`Effect`] trait: everything about one effect a real robot may have
+//! and a nominal rigid-body model may lack, in one implementation.
+
+use super::context::Context;
+use super::error::EffectError;
+use super::hypothesis::{Columns, Hypothesis, Memory, Shape};
+use super::params::{ParamSpec, Values};
+use crate::dynamics::Model;
+use crate::sim::Truth;
+
+/// An effect: its name and parameters, how the simulator's true robot has
+/// it, and how a diagnosis looks for it in a residual.
+///
+/// A new effect is one type implementing this trait, added to a
+/// [`super::Library`] (the built-in ones: one file each under
+/// `src/effects/builtin/`, one line in its registry). Only [`Self::name`],
+/// [`Self::summary`], [`Self::apply`] and [`Self::hypothesis`] are
+/// required; `examples/custom_effect.rs` defines one outside the crate.
+///
+/// Units: torques in N·m (N for a prismatic joint), angles in rad,
+/// velocities in rad/s, time in s.
+pub trait Effect: Send + Sync {
+    /// The name on the command line, in files and reports (`snake_case`,
+    /// unique in a library).
+    fn name(&self) -> &'static str;
+
+    /// What it is, in one line.
+    fn summary(&self) -> &'static str;
+
+    /// Its parameters, with units, nominal values and ranges (none by
+    /// default). A robot's sidecar `[effects]` table and `NAME=VALUE`
+    /// overrides change the values [`Self::apply`] receives.
+    fn params(&self) -> Vec<ParamSpec> {
+        vec![]
+    }
+
+    /// Simulation: adds the effect to the true robot `truth` with the
+    /// values `p` of its parameters (every one [`Self::params`] declares).
+    /// Effects are applied in the library's order.
+    fn apply(&self, p: &Values, truth: &mut Truth) -> Result<(), EffectError>;
+
+    /// Diagnosis: why the effect cannot be proposed for `model`, if it
+    /// cannot (reported as a warning); `None` by default.
+    fn inapplicable(&self, _model: &Model) -> Option<&'static str> {
+        None
+    }
+
+    /// Diagnosis: what building [`Self::hypothesis`] holds in memory (by
+    /// default, one essential column per joint).
+    fn memory(&self, shape: &Shape) -> Memory {
+        Memory::columns(shape, shape.joints)
+    }
+
+    /// Diagnosis: a relative estimate of how long [`Self::hypothesis`]
+    /// takes; the most expensive hypotheses are started first (0 by
+    /// default; a search by simulation is more).
+    fn expense(&self) -> u32 {
+        0
+    }
+
+    /// Diagnosis: the hypothesis for the data in `cx` — regressor columns
+    /// where the effect is linear in its magnitudes, a grid of variants
+    /// over a nonlinear parameter, or the result of a search on the
+    /// training part (`cx.train`) for a nonlinear effect. An error skips
+    /// the effect with a warning.
+    fn hypothesis(&self, cx: &Context) -> Result<Hypothesis, EffectError>;
+
+    /// Diagnosis: why the fitted coefficients `beta` of `variant` are
+    /// physically doubtful, if they are (`joints`: the joint names). A fit
+    /// at an open edge of a grid is flagged by the diagnosis itself.
+    fn doubt(&self, _variant: &Columns, _beta: &[f64], _joints: &[String]) -> Option<String> {
+        None
+    }
+
+    /// Diagnosis: the report's detail line for a fitted variant (by
+    /// default the variant's own).
+    fn detail(&self, variant: &Columns, _beta: &[f64]) -> String {
+        variant.detail.clone()
+    }
+
+    /// Diagnosis: fitted values the report's JSON carries under their own
+    /// key (none by default; `joint_offset` gives `joint_offsets`).
+    fn fitted(&self, _variant: &Columns, _beta: &[f64]) -> Vec<(&'static str, Vec<f64>)> {
+        vec![]
+    }
+}
