@@ -3,6 +3,8 @@
 
 #[path = "../examples/custom_constraints.rs"]
 mod custom_constraints;
+#[path = "../examples/custom_effect.rs"]
+mod custom_effect;
 #[path = "../examples/lambda_max.rs"]
 mod lambda_max;
 #[path = "../examples/lovasz_theta.rs"]
@@ -117,4 +119,73 @@ fn the_constrained_identification_example_holds_its_constraints() {
     let (a, b) = (r.body("hip_rotor").unwrap(), r.body("knee_rotor").unwrap());
     assert!((0..10).all(|k| (a.params[k] - b.params[k]).abs() < 1e-7 * (1.0 + a.params[k].abs())));
     assert!(r.constraints_satisfied);
+}
+
+/// The user's own effect (`examples/custom_effect.rs`): simulated, the
+/// diagnosis accepts it first and fits its amplitude; absent, it is not
+/// accepted (nor anything else) — on the leg and on the Panda arm.
+#[test]
+fn a_users_own_effect_is_found_when_present_and_not_accepted_when_absent() {
+    use momentlmi::dynamics::robots::load_robot;
+    let leg = load_robot("cheetah3-leg", None).unwrap();
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/panda");
+    let urdf = dir.join("panda.urdf");
+    let arm = load_robot(urdf.to_str().unwrap(), Some(&dir.join("panda.toml"))).unwrap();
+    let cases = [
+        (&leg, "hip", "rotor_inertia,coulomb,viscous"),
+        (&arm, "panda_joint4", "coulomb,viscous"),
+    ];
+    for (robot, joint, base) in cases {
+        let d = custom_effect::run(robot, joint, base, true).unwrap();
+        assert_eq!(d.accepted, ["cable_spring"], "{}", custom_effect::verdict(&d));
+        let e = d.effect("cable_spring").unwrap();
+        assert!(e.accepted && e.round == 1);
+        // the fitted amplitude, from the report's detail: 0.6 N·m simulated
+        let k: f64 = e.detail["k = ".len()..].split(' ').next().unwrap().parse().unwrap();
+        assert!((k - 0.6).abs() < 0.03, "{}", e.detail);
+        assert!(e.joints == [joint], "{:?}", e.joints);
+        let none = custom_effect::run(robot, joint, base, false).unwrap();
+        assert!(none.accepted.is_empty(), "{}", custom_effect::verdict(&none));
+        let e = none.effect("cable_spring").expect("it was evaluated");
+        assert!(!e.accepted);
+    }
+}
+
+/// A user's effect that names a joint the robot lacks is an error naming
+/// the effect and the joint; a second effect of a built-in name is refused.
+#[test]
+fn a_users_effect_that_does_not_fit_is_a_named_error() {
+    use momentlmi::effects::{EffectError, Library};
+    use momentlmi::sim::{Effects, SimConfig};
+    let leg = momentlmi::dynamics::cheetah3::description();
+    let lib = Library::builtin()
+        .with(custom_effect::CableSpring { joint: "elbow" })
+        .unwrap();
+    let cfg = SimConfig::for_robot(&leg, 1.0, Effects::new(["cable_spring"]), 1);
+    let e = lib.simulate(&leg, &cfg, |_, _| {}).unwrap_err().to_string();
+    assert!(e.contains("cable_spring") && e.contains("'elbow'"), "{e}");
+    struct Impostor;
+    impl momentlmi::effects::Effect for Impostor {
+        fn name(&self) -> &'static str {
+            "coulomb"
+        }
+        fn summary(&self) -> &'static str {
+            "not the built-in one"
+        }
+        fn apply(
+            &self,
+            _: &momentlmi::effects::Values,
+            _: &mut momentlmi::sim::Truth,
+        ) -> Result<(), EffectError> {
+            Ok(())
+        }
+        fn hypothesis(
+            &self,
+            _: &momentlmi::effects::Context,
+        ) -> Result<momentlmi::effects::Hypothesis, EffectError> {
+            Ok(momentlmi::effects::Hypothesis::none())
+        }
+    }
+    let e = Library::builtin().with(Impostor).unwrap_err();
+    assert!(matches!(e, EffectError::Duplicate(ref n) if n == "coulomb"), "{e}");
 }

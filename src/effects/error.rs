@@ -102,6 +102,16 @@ pub enum EffectError {
     /// linearisation) failed; the first to ask got the error.
     #[error(transparent)]
     Shared(std::sync::Arc<EffectError>),
+    /// An effect's own error (a user's effect: a joint it names that the
+    /// robot lacks, …).
+    #[error("effect '{effect}': {source}")]
+    Own {
+        /// The effect.
+        effect: &'static str,
+        /// What went wrong.
+        #[source]
+        source: Box<dyn std::error::Error + Send + Sync>,
+    },
     /// A hypothesis searched by simulation found nothing that simulates.
     #[error("no hypothesis of the search could be simulated")]
     SearchFailed,

@@ -12,7 +12,7 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 
 /// An ordered list of effects with unique names; a parameter name shared by
-/// two effects has one spec.
+/// two effects has one unit, nominal value and range.
 #[derive(Clone)]
 pub struct Library {
     effects: Vec<Arc<dyn Effect>>,
@@ -55,13 +55,17 @@ impl Library {
     /// Adds `effect` at the end (an error if its name is taken, or if it
     /// declares a shared parameter unlike an effect already in).
     pub fn add(&mut self, effect: impl Effect + 'static) -> Result<&mut Self, EffectError> {
-        let effect: Arc<dyn Effect> = Arc::new(effect);
+        self.push(Arc::new(effect))
+    }
+
+    /// [`Self::add`] of an effect already shared.
+    pub fn push(&mut self, effect: Arc<dyn Effect>) -> Result<&mut Self, EffectError> {
         if self.find(effect.name()).is_some() {
             return Err(EffectError::Duplicate(effect.name().to_string()));
         }
         for p in effect.params() {
             if let Some((spec, owners)) = self.spec(p.name)
-                && spec != p
+                && (spec.unit, spec.nominal, spec.range) != (p.unit, p.nominal, p.range)
             {
                 return Err(EffectError::Conflict {
                     effect: effect.name().into(),
@@ -232,5 +236,83 @@ impl Library {
             })
             .collect::<Vec<_>>()
             .join("\n")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Library;
+    use crate::dynamics::cheetah3;
+    use crate::effects::{Context, Effect, EffectError, Hypothesis, ParamSpec, Range, Values};
+    use crate::sim::{Effects, Truth};
+
+    /// An effect that declares the built-in `stiffness` differently.
+    struct Stiff(f64);
+    impl Effect for Stiff {
+        fn name(&self) -> &'static str {
+            "stiff"
+        }
+        fn summary(&self) -> &'static str {
+            "a test effect"
+        }
+        fn params(&self) -> Vec<ParamSpec> {
+            vec![ParamSpec::new("stiffness", "N·m/rad", self.0, Range::Positive, "K")]
+        }
+        fn apply(&self, _: &Values, _: &mut Truth) -> Result<(), EffectError> {
+            Ok(())
+        }
+        fn hypothesis(&self, _: &Context) -> Result<Hypothesis, EffectError> {
+            Ok(Hypothesis::none())
+        }
+    }
+
+    /// The built-in names are unique and every built-in effect's shared
+    /// parameters agree (the library could be built one by one).
+    #[test]
+    fn the_builtin_library_is_consistent() {
+        let lib = Library::builtin();
+        // added one by one, as a user's effects are, every built-in fits
+        let mut again = Library::empty();
+        for e in super::super::builtin::all() {
+            let name = e.name();
+            assert!(lib.names().iter().filter(|n| **n == name).count() == 1);
+            again.push(e).unwrap();
+        }
+        assert_eq!(again, lib);
+        assert_eq!(lib.names().len(), 14);
+        assert_eq!(lib.names()[6], "link_inertia");
+        let shared: Vec<_> = lib.params().into_iter().filter(|(_, o)| o.len() > 1).collect();
+        let names: Vec<&str> = shared.iter().map(|(s, _)| s.name).collect();
+        assert_eq!(names, ["coulomb_scale", "stiffness", "damping"]);
+        // a foreign effect declaring `stiffness` unlike elasticity is refused
+        // (unit, nominal value and range must agree; the wording may not)
+        let e = lib.clone().with(Stiff(1.0)).unwrap_err().to_string();
+        assert!(e.contains("stiffness") && e.contains("elasticity"), "{e}");
+        assert!(lib.with(Stiff(2000.0)).is_ok());
+    }
+
+    /// A magnitude is its nominal value, under the robot's `[effects]`
+    /// default, under the record's override; unknown names and values out
+    /// of range are named errors.
+    #[test]
+    fn magnitudes_follow_nominal_then_robot_then_override() {
+        let lib = Library::builtin();
+        let mut leg = cheetah3::description();
+        leg.effects.insert("stiffness".into(), 800.0);
+        leg.effects.insert("offset".into(), 0.25);
+        let fx = Effects::parse("elasticity", &["stiffness=300".into()]).unwrap();
+        let m = lib.magnitudes(&leg, &fx).unwrap();
+        assert_eq!(m["stiffness"], 300.0);
+        assert_eq!(m["offset"], 0.25);
+        assert_eq!(m["damping"], 5.0);
+        leg.effects.insert("stifness".into(), 1.0);
+        let e = lib.magnitudes(&leg, &fx).unwrap_err().to_string();
+        assert!(e.contains("cheetah3-leg") && e.contains("stifness"), "{e}");
+        leg.effects.remove("stifness");
+        leg.effects.insert("delay".into(), 2.0);
+        let e = lib.check_defaults(&leg).unwrap_err().to_string();
+        assert!(e.contains("delay") && e.contains("[0, 1]"), "{e}");
+        let help = lib.param_help();
+        assert!(help.contains("stiffness (elasticity, backlash)") && help.contains("N·m/rad"));
     }
 }
