@@ -63,7 +63,13 @@ impl Effect for CableSpring {
     fn apply(&self, p: &Values, truth: &mut Truth) -> Result<(), EffectError> {
         let j = self.index(&truth.robot().model.joint_names())?;
         let k = p.get(K.name)?;
-        truth.add_torque(move |s| if s.joint == j { k * (2.0 * s.q).sin() } else { 0.0 });
+        truth.add_torque(move |s| {
+            if s.joint == j {
+                k * (2.0 * s.q).sin()
+            } else {
+                0.0
+            }
+        });
         Ok(())
     }
 
@@ -104,7 +110,8 @@ pub fn run(
     };
     let train = sim(base, 20.0, 101)?;
     let opts = IdentifyOptions::for_robot(robot, Level::Ellipsoid, 1e-6)?;
-    let (model, friction) = identify(&robot.model, &train, None, &opts)?.applied_to(&robot.model)?;
+    let (model, friction) =
+        identify(&robot.model, &train, None, &opts)?.applied_to(&robot.model)?;
     let effects = if present {
         format!("{base},cable_spring")
     } else {
@@ -144,7 +151,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let leg = load_robot("cheetah3-leg", None)?;
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/panda");
     let urdf = dir.join("panda.urdf");
-    let arm = load_robot(urdf.to_str().ok_or("a UTF-8 path")?, Some(&dir.join("panda.toml")))?;
+    let arm = load_robot(
+        urdf.to_str().ok_or("a UTF-8 path")?,
+        Some(&dir.join("panda.toml")),
+    )?;
     let cases = [
         (&leg, "hip", "rotor_inertia,coulomb,viscous"),
         (&arm, "panda_joint4", "coulomb,viscous"),

@@ -237,12 +237,6 @@ fn entropic_prior_must_be_strictly_consistent() {
         .unwrap()
         .with_regularizer(Regularizer::Entropic);
     let e = identify(&leg.model, &train, None, &opts).unwrap_err();
-    assert!(matches!(
-        e,
-        IdentifyError::Option {
-            option: "prior",
-            ..
-        }
-    ));
+    assert!(matches!(e, IdentifyError::PriorNotConsistent { .. }), "{e}");
     assert!(e.to_string().contains("'knee'"), "{e}");
 }

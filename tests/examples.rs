@@ -137,15 +137,29 @@ fn a_users_own_effect_is_found_when_present_and_not_accepted_when_absent() {
     ];
     for (robot, joint, base) in cases {
         let d = custom_effect::run(robot, joint, base, true).unwrap();
-        assert_eq!(d.accepted, ["cable_spring"], "{}", custom_effect::verdict(&d));
+        assert_eq!(
+            d.accepted,
+            ["cable_spring"],
+            "{}",
+            custom_effect::verdict(&d)
+        );
         let e = d.effect("cable_spring").unwrap();
         assert!(e.accepted && e.round == 1);
         // the fitted amplitude, from the report's detail: 0.6 N·m simulated
-        let k: f64 = e.detail["k = ".len()..].split(' ').next().unwrap().parse().unwrap();
+        let k: f64 = e.detail["k = ".len()..]
+            .split(' ')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap();
         assert!((k - 0.6).abs() < 0.03, "{}", e.detail);
         assert!(e.joints == [joint], "{:?}", e.joints);
         let none = custom_effect::run(robot, joint, base, false).unwrap();
-        assert!(none.accepted.is_empty(), "{}", custom_effect::verdict(&none));
+        assert!(
+            none.accepted.is_empty(),
+            "{}",
+            custom_effect::verdict(&none)
+        );
         let e = none.effect("cable_spring").expect("it was evaluated");
         assert!(!e.accepted);
     }
@@ -187,5 +201,8 @@ fn a_users_effect_that_does_not_fit_is_a_named_error() {
         }
     }
     let e = Library::builtin().with(Impostor).unwrap_err();
-    assert!(matches!(e, EffectError::Duplicate(ref n) if n == "coulomb"), "{e}");
+    assert!(
+        matches!(e, EffectError::Duplicate(ref n) if n == "coulomb"),
+        "{e}"
+    );
 }

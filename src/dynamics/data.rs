@@ -57,7 +57,7 @@ impl Data {
             tau: DVector::zeros(n),
             mass_matrix: DMatrix::zeros(n, n),
             ic: vec![Matrix6::zeros(); n],
-            regressor: DMatrix::zeros(n, super::regressor::regressor_columns(model)),
+            regressor: DMatrix::zeros(n, model.regressor_columns()),
             axes: (0..n).map(|_| Vec::with_capacity(n)).collect(),
         }
     }

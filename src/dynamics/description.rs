@@ -8,7 +8,7 @@ use super::friction::Friction;
 use super::model::Model;
 use super::params_file::ParamsFile;
 use super::sidecar::{Excitation, PriorSpec, Sidecar, SidecarBody};
-use crate::moments::{Ellipsoid, InertialParams};
+use crate::moments::{Ellipsoid, InertialParams, Level};
 use nalgebra::{Matrix3, Vector3};
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::path::PathBuf;
@@ -58,7 +58,7 @@ pub struct RobotDescription {
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct IdentificationFacts {
     /// Per body (links then rotors): its level's name, if the sidecar sets one.
-    pub levels: Vec<Option<String>>,
+    pub levels: Vec<Option<Level>>,
     /// The total mass of every body (kg).
     pub total_mass: Option<f64>,
     /// Pairs of bodies with the same parameters.
@@ -485,10 +485,7 @@ fn identification_facts(
         }
     }
     Ok(IdentificationFacts {
-        levels: bodies
-            .iter()
-            .map(|b| b.and_then(|b| b.level.clone()))
-            .collect(),
+        levels: bodies.iter().map(|b| b.and_then(|b| b.level)).collect(),
         total_mass: spec.total_mass,
         prior_mass_weight: spec.prior_mass_weight,
         equal: spec
@@ -519,10 +516,10 @@ fn check_excitation(
             }
         }
         Excitation::LegShell(_) => {
-            if !super::cheetah3::has_leg_kinematics(model) {
+            if !super::leg_kinematics::has_leg_kinematics(model) {
                 return Err(err(format!(
                     "[excitation] leg_shell moves the foot of the built-in {} through its inverse kinematics; this model does not have that leg's joints",
-                    super::cheetah3::NAME
+                    super::leg_kinematics::NAME
                 )));
             }
         }

@@ -20,12 +20,12 @@
 //! mounted on joint i's parent body and spins about its own axis at
 //! `N q̇ᵢ` (Cheetah 3: N = 10.6).
 
-pub mod cheetah3;
 mod crba;
 mod data;
 mod description;
 mod error;
 pub mod friction;
+pub mod leg_kinematics;
 mod model;
 pub mod params_file;
 pub mod predict;
@@ -42,5 +42,6 @@ pub use description::{IdentificationFacts, ParamChoice, RobotDescription};
 pub use error::DynamicsError;
 pub use friction::{Friction, FrictionTerm, sign};
 pub use model::{Frame, Joint, JointKind, Model, Rotor, ToolPoint};
-pub use regressor::{body_regressor, regressor, regressor_batch, regressor_columns};
+pub use regressor::{body_regressor, regressor, regressor_batch};
 pub use rnea::rnea;
+pub use robots::cheetah3;

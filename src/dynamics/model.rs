@@ -422,6 +422,12 @@ impl Model {
         self.joints.iter().position(|j| j.name == name)
     }
 
+    /// The regressor's column count ([`crate::dynamics::regressor`]): 10 per
+    /// body, then one per joint and friction term.
+    pub fn regressor_columns(&self) -> usize {
+        10 * self.num_bodies() + super::friction::FrictionTerm::ALL.len() * self.dof()
+    }
+
     /// The rotor driven by joint i, if any.
     pub fn rotor_of(&self, i: usize) -> Option<&Rotor> {
         self.rotor_of

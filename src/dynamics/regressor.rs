@@ -138,14 +138,8 @@ pub(crate) fn regressor_unchecked(
     }
 }
 
-/// The regressor's column count: 10 per body, then one per joint and
-/// friction term.
-pub fn regressor_columns(model: &Model) -> usize {
-    10 * model.num_bodies() + FrictionTerm::ALL.len() * model.dof()
-}
-
 /// Regressor rows for many samples, stacked sample by sample into a
-/// `(samples · n) × `[`regressor_columns`] row-major buffer, in parallel over
+/// `(samples · n) ×` [`Model::regressor_columns`] row-major buffer, in parallel over
 /// chunks of samples (rayon). Each state slice holds `samples · n` numbers,
 /// sample-major.
 pub fn regressor_batch(
@@ -163,7 +157,7 @@ pub fn regressor_batch(
             found: qd.len().min(qdd.len()),
         });
     }
-    let cols = regressor_columns(model);
+    let cols = model.regressor_columns();
     let samples = q.len() / n;
     let mut out = vec![0.0; samples * n * cols];
     const CHUNK: usize = 256;

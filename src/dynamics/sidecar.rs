@@ -12,9 +12,9 @@
 //!   magnitudes), `[identify]` (known total mass, bodies forced equal, the
 //!   masses' extra weight toward the prior).
 
-use super::cheetah3::Shell;
 use super::error::{DynamicsError, read_text};
-use crate::moments::{Ellipsoid, rpy_rotation};
+use super::leg_kinematics::Shell;
+use crate::moments::{Ellipsoid, Level, rpy_rotation};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -130,18 +130,51 @@ pub struct SidecarJoint {
 
 /// One body's facts (a link by its URDF link name, or a rotor by its name).
 #[derive(Clone, Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(try_from = "RawBody")]
 pub struct SidecarBody {
     /// The body.
     pub name: String,
     /// The CAD prior (default: the model's own parameters).
     pub prior: Option<PriorSpec>,
     /// Bounding ellipsoids in the body frame (several: their union).
-    #[serde(default)]
     pub bounding: Vec<EllipsoidSpec>,
-    /// This body's identification constraint level (`none`, `semi`,
-    /// `consistent`, `ellipsoid`), instead of the one asked for all bodies.
-    pub level: Option<String>,
+    /// This body's identification constraint level, instead of the one
+    /// asked for all bodies (read from `none`, `semi`, `consistent`,
+    /// `ellipsoid`: any other name is an error naming the body).
+    pub level: Option<Level>,
+}
+
+/// A `[[body]]` as written, its level a name.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawBody {
+    name: String,
+    prior: Option<PriorSpec>,
+    #[serde(default)]
+    bounding: Vec<EllipsoidSpec>,
+    level: Option<String>,
+}
+
+impl TryFrom<RawBody> for SidecarBody {
+    type Error = String;
+
+    /// The body with its level parsed (the error names the body and the
+    /// accepted levels; the sidecar reader adds the file and the line).
+    fn try_from(b: RawBody) -> Result<Self, String> {
+        let level = b
+            .level
+            .map(|l| {
+                l.parse::<Level>()
+                    .map_err(|e| format!("[[body]] '{}': level {e}", b.name))
+            })
+            .transpose()?;
+        Ok(Self {
+            name: b.name,
+            prior: b.prior,
+            bounding: b.bounding,
+            level,
+        })
+    }
 }
 
 /// A prior in one of three forms: `params` (the paper's order, body frame);

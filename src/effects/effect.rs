@@ -4,7 +4,8 @@
 use super::context::Context;
 use super::error::EffectError;
 use super::hypothesis::{Columns, Hypothesis, Memory, Shape};
-use super::params::{ParamSpec, Values};
+use super::params::ParamSpec;
+use super::values::Values;
 use crate::dynamics::Model;
 use crate::sim::Truth;
 

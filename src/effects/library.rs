@@ -4,7 +4,8 @@
 
 use super::effect::Effect;
 use super::error::EffectError;
-use super::params::{ParamSpec, Values};
+use super::params::ParamSpec;
+use super::values::{Values, checked};
 use crate::data::Dataset;
 use crate::dynamics::RobotDescription;
 use crate::sim::{Effects, SimConfig, TrueRobot, Truth, simulate_with};
@@ -146,7 +147,7 @@ impl Library {
                     effects: owners.iter().map(|s| s.to_string()).collect(),
                 });
             }
-            spec.check(value)?;
+            checked(&spec, value)?;
         }
         Ok(())
     }
@@ -160,7 +161,7 @@ impl Library {
         };
         for (name, &value) in &robot.effects {
             self.param(name)
-                .and_then(|(s, _)| s.check(value))
+                .and_then(|(s, _)| checked(&s, value))
                 .map_err(wrap)?;
         }
         Ok(())
@@ -256,7 +257,13 @@ mod tests {
             "a test effect"
         }
         fn params(&self) -> Vec<ParamSpec> {
-            vec![ParamSpec::new("stiffness", "N·m/rad", self.0, Range::Positive, "K")]
+            vec![ParamSpec::new(
+                "stiffness",
+                "N·m/rad",
+                self.0,
+                Range::Positive,
+                "K",
+            )]
         }
         fn apply(&self, _: &Values, _: &mut Truth) -> Result<(), EffectError> {
             Ok(())
@@ -281,7 +288,11 @@ mod tests {
         assert_eq!(again, lib);
         assert_eq!(lib.names().len(), 14);
         assert_eq!(lib.names()[6], "link_inertia");
-        let shared: Vec<_> = lib.params().into_iter().filter(|(_, o)| o.len() > 1).collect();
+        let shared: Vec<_> = lib
+            .params()
+            .into_iter()
+            .filter(|(_, o)| o.len() > 1)
+            .collect();
         let names: Vec<&str> = shared.iter().map(|(s, _)| s.name).collect();
         assert_eq!(names, ["coulomb_scale", "stiffness", "damping"]);
         // a foreign effect declaring `stiffness` unlike elasticity is refused

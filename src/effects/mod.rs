@@ -34,13 +34,15 @@ mod error;
 mod hypothesis;
 mod library;
 mod params;
+mod values;
 
 pub use context::Context;
 pub use effect::Effect;
 pub use error::EffectError;
 pub use hypothesis::{Columns, Hypothesis, Memory, Part, Shape};
 pub use library::Library;
-pub use params::{MAX_ABS_EFFECT, ParamSpec, Range, Values};
+pub use params::{MAX_ABS_EFFECT, ParamSpec, Range};
+pub use values::Values;
 
 use crate::data::Dataset;
 use crate::dynamics::RobotDescription;

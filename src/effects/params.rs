@@ -1,9 +1,6 @@
 //! Effect parameters: what an effect declares ([`ParamSpec`]: name, unit,
-//! meaning, nominal value, admissible range) and the values it is applied
-//! with ([`Values`]).
+//! meaning, nominal value, admissible range).
 
-use super::error::EffectError;
-use std::collections::BTreeMap;
 use std::fmt;
 
 /// The largest magnitude of any effect parameter: beyond it the simulated
@@ -87,48 +84,5 @@ impl ParamSpec {
             nominal,
             range,
         }
-    }
-
-    /// `value` if the range admits it, else the error naming the parameter.
-    pub fn check(&self, value: f64) -> Result<f64, EffectError> {
-        if self.range.admits(value) {
-            Ok(value)
-        } else {
-            Err(EffectError::OutOfRange {
-                param: self.name,
-                value,
-                range: self.range,
-            })
-        }
-    }
-}
-
-/// The values of the parameters one effect is applied with: every one it
-/// declares, after the robot's defaults and the user's overrides.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Values {
-    effect: String,
-    values: BTreeMap<&'static str, f64>,
-}
-
-impl Values {
-    /// The values of `effect`'s parameters.
-    pub fn new(effect: &str, values: impl IntoIterator<Item = (&'static str, f64)>) -> Self {
-        Self {
-            effect: effect.to_string(),
-            values: values.into_iter().collect(),
-        }
-    }
-
-    /// The value of the parameter `name` (an error if the effect does not
-    /// declare it).
-    pub fn get(&self, name: &str) -> Result<f64, EffectError> {
-        self.values
-            .get(name)
-            .copied()
-            .ok_or_else(|| EffectError::Undeclared {
-                effect: self.effect.clone(),
-                param: name.to_string(),
-            })
     }
 }

@@ -2,19 +2,102 @@
 
 use crate::conic::Status;
 use crate::dynamics::DynamicsError;
+use crate::moments::{Level, MomentsError};
 
 /// What can stop an identification.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum IdentifyError {
-    /// An option out of range.
-    #[error("identification option '{option}': {message}")]
-    Option {
+    /// An option that must be ≥ 0 and finite.
+    #[error("identification option '{option}' = {value}: must be ≥ 0 and finite")]
+    Negative {
         /// The option.
         option: &'static str,
-        /// What is wrong.
-        message: String,
+        /// Its value.
+        value: f64,
     },
+    /// A prior entry that is not finite.
+    #[error("identification option 'prior': entry {index} is not finite ({value})")]
+    PriorNotFinite {
+        /// The entry (10 per body, links then rotors).
+        index: usize,
+        /// Its value.
+        value: f64,
+    },
+    /// A prior whose length does not fit the model.
+    #[error(
+        "identification option 'prior': {found} numbers for {bodies} bodies (10 per body) with weight {weight}{}",
+        if *mass_weight > 0.0 { format!(" and prior mass weight {mass_weight}") } else { String::new() }
+    )]
+    PriorLength {
+        /// Numbers given.
+        found: usize,
+        /// The model's bodies.
+        bodies: usize,
+        /// The prior's weight.
+        weight: f64,
+        /// The masses' extra weight.
+        mass_weight: f64,
+    },
+    /// Bounding ellipsoids that are not one per body.
+    #[error(
+        "identification option 'ellipsoids': {found} bounding ellipsoids for {bodies} bodies; give one per body"
+    )]
+    EllipsoidCount {
+        /// Ellipsoids given.
+        found: usize,
+        /// The model's bodies.
+        bodies: usize,
+    },
+    /// A body whose level needs a bounding ellipsoid it does not have.
+    #[error("body '{body}' has no bounding ellipsoid for its {level} level")]
+    NoEllipsoid {
+        /// The body.
+        body: String,
+        /// Its level.
+        level: Level,
+    },
+    /// A robot whose sidecar sets identification facts that
+    /// `IdentifyOptions` cannot hold.
+    #[error(
+        "{robot}'s sidecar sets identification constraints ({}) that IdentifyOptions cannot hold; use Identification::for_robot",
+        facts.join(", ")
+    )]
+    RobotFacts {
+        /// The robot's files.
+        robot: String,
+        /// The facts set.
+        facts: Vec<&'static str>,
+    },
+    /// A body without a prior for the entropic regulariser.
+    #[error("body '{body}' has no prior for the entropic regulariser")]
+    NoPrior {
+        /// The body.
+        body: String,
+    },
+    /// A prior body that is not strictly consistent, under the entropic
+    /// regulariser.
+    #[error(
+        "body '{body}': its prior pseudo-inertia is not positive definite (smallest eigenvalue {min_eig:.3e}); the entropic regulariser needs a strictly consistent prior"
+    )]
+    PriorNotConsistent {
+        /// The body.
+        body: String,
+        /// The smallest eigenvalue of its prior's J.
+        min_eig: f64,
+    },
+    /// A prior body the entropic regulariser cannot use.
+    #[error("body '{body}': its prior: {source}")]
+    Prior {
+        /// The body.
+        body: String,
+        /// Why.
+        #[source]
+        source: MomentsError,
+    },
+    /// A Gram matrix given as reduced data that is not one.
+    #[error("reduced data: {0}")]
+    Gram(GramProblem),
     /// An unknown body or joint name.
     #[error("unknown {what} '{name}' (known: {valid})")]
     UnknownName {
@@ -90,7 +173,7 @@ pub enum IdentifyError {
     },
     /// The identification would need more memory than it may use.
     #[error(
-        "identifying this robot would need about {needed_gib:.2} GiB, beyond the {limit_gib:.2} GiB limit: lock joints in the sidecar or raise the limit (identify --max-memory-gib)"
+        "identifying this robot would need about {needed_gib:.2} GiB, beyond the {limit_gib:.2} GiB limit: lock joints in the sidecar or raise the limit"
     )]
     TooLarge {
         /// Estimated need (GiB).
@@ -122,4 +205,39 @@ pub enum IdentifyError {
     /// Model problems.
     #[error(transparent)]
     Dynamics(#[from] DynamicsError),
+}
+
+/// What is wrong with a Gram matrix given as reduced data.
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+pub enum GramProblem {
+    /// Not square, or smaller than 2 × 2.
+    #[error("a square matrix of side ≥ 2 is needed, got {rows}×{cols}")]
+    Shape {
+        /// Rows.
+        rows: usize,
+        /// Columns.
+        cols: usize,
+    },
+    /// No samples.
+    #[error("no samples")]
+    NoSamples,
+    /// An entry that is not finite.
+    #[error("entry ({0}, {1}) is not finite")]
+    NotFinite(usize, usize),
+    /// Not symmetric.
+    #[error("not symmetric at ({0}, {1})")]
+    NotSymmetric(usize, usize),
+}
+
+/// The error for a name that is not one of `valid`.
+pub(crate) fn unknown<'a>(
+    what: &'static str,
+    name: &str,
+    valid: impl Iterator<Item = &'a str>,
+) -> IdentifyError {
+    IdentifyError::UnknownName {
+        what,
+        name: name.to_string(),
+        valid: valid.collect::<Vec<_>>().join(", "),
+    }
 }

@@ -1,22 +1,32 @@
 //! # `identify`: physically consistent identification, the paper's SDP (25)
 //!
 //! [`identify`] reduces the stacked regressor of the training data to a
-//! p × p factor ([`reduce`]), solves (25) at the chosen constraint level
-//! ([`problem`]) through [`conic`](crate::conic) with LMIs from
-//! [`moments`](crate::moments), checks every body with `moments`, and
-//! validates on held-out data.
+//! p × p factor ([`reduce`]), assembles (25) at the chosen constraint levels
+//! ([`Identification`], open to the caller's constraints; [`IdentifyOptions`]
+//! for one level and a prior), solves it ([`solve_identification`]) through
+//! [`conic`](crate::conic) with LMIs from [`moments`](crate::moments),
+//! checks every body with `moments`, and validates on held-out data.
+//!
+//! Files: `options` (levels, regulariser, options, tolerances), `error`,
+//! `warning`, `reduce`, `builder` (assembling), `robot_facts` (a robot's
+//! set-up), `solved` (the answer, by name), `solve` (solving), `result`
+//! (the end-to-end identification and its report).
 
 mod builder;
 mod error;
-pub mod problem;
+mod options;
 pub mod reduce;
 pub mod result;
 mod robot_facts;
+mod solve;
+mod solved;
+mod warning;
 
 pub use builder::{Identification, Vars};
-pub use error::IdentifyError;
-pub use problem::{
-    IdentifyOptions, Level, Regularizer, default_settings, parameter_names, solve_identification,
-};
+pub use error::{GramProblem, IdentifyError};
+pub use options::{CHECK_TOL, IdentifyOptions, Level, Regularizer, default_settings};
 pub use reduce::{Cost, Reduced, StreamReducer, cost, reduce_samples};
 pub use result::{BodyResult, Contributions, IdentifyResult, identify, predict_split, rms};
+pub use solve::solve_identification;
+pub use solved::{Solved, parameter_names};
+pub use warning::IdentifyWarning;

@@ -10,8 +10,8 @@
 //! of the column-scaled regressor; with the unit-diagonal scaling that costs
 //! about `ε·κ` relative accuracy in the fitted torques, far below any noise.
 
-use super::error::IdentifyError;
-use crate::dynamics::{Model, regressor_columns};
+use super::error::{GramProblem, IdentifyError};
+use crate::dynamics::Model;
 use faer::linalg::matmul::triangular::{self, BlockStructure};
 use faer::{Mat, MatRef};
 use rayon::prelude::*;
@@ -32,27 +32,22 @@ impl Reduced {
     /// square, symmetric, finite) of `samples` (≥ 1) samples, for callers
     /// with their own data path.
     pub fn from_gram(gram: Mat<f64>, samples: usize) -> Result<Self, IdentifyError> {
-        let bad = |message: String| IdentifyError::Option {
-            option: "gram",
-            message,
-        };
+        let bad = IdentifyError::Gram;
         let (r, c) = (gram.nrows(), gram.ncols());
         if r != c || r < 2 {
-            return Err(bad(format!(
-                "a square matrix of side ≥ 2 is needed, got {r}×{c}"
-            )));
+            return Err(bad(GramProblem::Shape { rows: r, cols: c }));
         }
         if samples == 0 {
-            return Err(bad("no samples".into()));
+            return Err(bad(GramProblem::NoSamples));
         }
         for j in 0..c {
             for i in 0..r {
                 let (a, b) = (gram[(i, j)], gram[(j, i)]);
                 if !a.is_finite() {
-                    return Err(bad(format!("entry ({i}, {j}) is not finite")));
+                    return Err(bad(GramProblem::NotFinite(i, j)));
                 }
                 if (a - b).abs() > 1e-12 * (a.abs() + b.abs()).max(f64::MIN_POSITIVE) {
-                    return Err(bad(format!("not symmetric at ({i}, {j})")));
+                    return Err(bad(GramProblem::NotSymmetric(i, j)));
                 }
             }
         }
@@ -262,7 +257,7 @@ pub const DEFAULT_MAX_MEMORY_BYTES: u64 = 8 << 30;
 /// The [`Cost`] of identifying `samples` samples of `model`.
 pub fn cost(model: &Model, samples: usize) -> Cost {
     let n = model.dof() as u64;
-    let p1 = regressor_columns(model) as u64 + 1;
+    let p1 = model.regressor_columns() as u64 + 1;
     let threads = rayon::current_num_threads() as u64;
     let gram = 8 * p1 * p1 * (threads + 2);
     let rows = ROWS_BUDGET_BYTES as u64 * threads;
@@ -295,7 +290,7 @@ fn chunk_gram(
 ) -> Result<(), IdentifyError> {
     let [q, qd, qdd, tau] = samples;
     let n = model.dof();
-    let p = regressor_columns(model);
+    let p = model.regressor_columns();
     let p1 = p + 1;
     let mut data = crate::dynamics::Data::new(model);
     let mut rows = Rows::new(n, p1, end - start);
@@ -323,7 +318,7 @@ pub fn reduce_samples(
 ) -> Result<Reduced, IdentifyError> {
     let n = model.dof();
     check_lengths(n, q, qd, qdd, tau)?;
-    let p = regressor_columns(model);
+    let p = model.regressor_columns();
     let chunk = chunk_for(chunk, n, p + 1);
     let starts: Vec<usize> = (0..q.len()).step_by(chunk).collect();
     // one Gram accumulator per thread, not one per chunk
@@ -364,7 +359,7 @@ impl<'m> StreamReducer<'m> {
     /// A reducer for `model`, multiplying out every `chunk` samples.
     pub fn new(model: &'m Model, chunk: usize) -> Self {
         let n = model.dof();
-        let p = regressor_columns(model);
+        let p = model.regressor_columns();
         let chunk = chunk_for(chunk, n, p + 1);
         Self {
             model,

@@ -2,8 +2,9 @@
 
 use super::builder::Identification;
 use super::error::IdentifyError;
-use super::problem::{IdentifyOptions, Level, Regularizer};
+use super::options::{CHECK_TOL, IdentifyOptions, Level, Regularizer};
 use super::reduce::reduce_samples;
+use super::warning::IdentifyWarning;
 use crate::data::Dataset;
 use crate::dynamics::Friction;
 use crate::dynamics::params_file::{BodyParams, ParamsFile};
@@ -13,10 +14,6 @@ use crate::moments::{
     entropic_divergence,
 };
 use serde::Serialize;
-
-/// Tolerance with which identified bodies are checked (an interior-point
-/// solution on the boundary of a cone sits within ~1e-9 of it).
-pub const CHECK_TOL: f64 = 1e-7;
 
 /// One body's identified parameters and physical summary.
 #[derive(Clone, Debug, Serialize)]
@@ -86,7 +83,8 @@ pub struct IdentifyResult {
     /// Solver status.
     pub status: String,
     /// What the caller should know (an inaccurate solve, …).
-    pub warnings: Vec<String>,
+    #[serde(serialize_with = "crate::warning::with_messages")]
+    pub warnings: Vec<IdentifyWarning>,
     /// Interior-point iterations.
     pub iterations: u32,
     /// Numerical rank of the regressor / number of parameters.
@@ -209,7 +207,7 @@ pub fn predict_split(
         let (l, r, f) = (
             part(0, nl),
             part(nl, 10 * nb),
-            part(10 * nb, crate::dynamics::regressor_columns(model)),
+            part(10 * nb, model.regressor_columns()),
         );
         total.push((0..n).map(|i| l[i] + r[i] + f[i]).collect());
         c.links.push(l);
@@ -354,11 +352,8 @@ impl Identification<'_> {
             constraints_satisfied: ok,
             status: status.as_str().into(),
             warnings: (status == crate::conic::Status::SolvedInaccurately)
-                .then(|| {
-                    format!(
-                        "the SDP was solved only to Clarabel's reduced tolerances ({} iterations)",
-                        solved.iterations
-                    )
+                .then_some(IdentifyWarning::Inaccurate {
+                    iterations: solved.iterations,
                 })
                 .into_iter()
                 .chain(self.mass_weight_warning())

@@ -1,29 +1,46 @@
-//! A robot description's identification facts (the sidecar's per-body
-//! levels, `[identify] total_mass`, `equal` and `prior_mass_weight`) applied to an
-//! [`Identification`].
+//! A robot's set-up of an [`Identification`]: its prior and ellipsoids, and
+//! its description's identification facts (the sidecar's per-body levels,
+//! `[identify] total_mass`, `equal` and `prior_mass_weight`).
 
 use super::builder::Identification;
 use super::error::IdentifyError;
-use super::problem::Level;
+use super::options::Level;
 use crate::dynamics::RobotDescription;
+
+impl<'m> Identification<'m> {
+    /// A robot's set-up: `level` for every body, its CAD prior with weight
+    /// `weight`, its bounding ellipsoids where it has exactly one per body,
+    /// and the per-body levels, constraints and masses' extra weight of its
+    /// sidecar (the last used with the Euclidean prior on, [`Self::mass_weight`]).
+    pub fn for_robot(
+        robot: &'m RobotDescription,
+        level: Level,
+        weight: f64,
+    ) -> Result<Self, IdentifyError> {
+        let model = &robot.model;
+        let mut s = Self::new(model)
+            .level_all(level)
+            .prior(weight, robot.prior_vector())?;
+        for (b, e) in s.bodies.iter_mut().zip(&robot.bounding) {
+            if let [e] = e.as_slice() {
+                b.ellipsoid = Some(*e);
+            }
+        }
+        apply(s, robot)
+    }
+}
 
 /// Applies `robot`'s facts: levels replace the common one; a total mass and
 /// pairs of equal bodies become constraints; the masses' extra weight is
 /// the robot's (used with the Euclidean prior on, unless the caller sets one).
-pub(crate) fn apply<'m>(
+fn apply<'m>(
     mut s: Identification<'m>,
     robot: &'m RobotDescription,
 ) -> Result<Identification<'m>, IdentifyError> {
     let facts = &robot.identification;
     for (name, level) in robot.model.body_names().iter().zip(&facts.levels) {
         if let Some(l) = level {
-            let level = Level::parse(l).ok_or_else(|| IdentifyError::Option {
-                option: "level",
-                message: format!(
-                    "body '{name}': level '{l}' is not one of none, semi, consistent, ellipsoid"
-                ),
-            })?;
-            s = s.level(name, level)?;
+            s = s.level(name, *l)?;
         }
     }
     s = s.robot_mass_weight(facts.prior_mass_weight);

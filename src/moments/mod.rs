@@ -15,6 +15,8 @@
 //! - [`realize_on_union`]: Corollary 2, solved with [`conic`](crate::conic);
 //! - [`four_point_masses`] / [`four_point_masses_in`]: four point masses with
 //!   the same moments;
+//! - [`Level`]: a body's constraint level (none, semi, consistent,
+//!   ellipsoid);
 //! - [`lmi`]: the LMIs as [`conic`](crate::conic) expressions;
 //! - [`nearest_consistent`]: repair of an inconsistent π;
 //! - [`entropic_divergence`]: the log-det Bregman divergence `d(J ‖ Ĵ)`
@@ -27,6 +29,7 @@ mod check;
 mod divergence;
 mod ellipsoid;
 mod error;
+mod level;
 pub mod lmi;
 mod nearest;
 mod params;
@@ -44,6 +47,7 @@ pub use divergence::{
 };
 pub use ellipsoid::{Ellipsoid, rpy_rotation};
 pub use error::MomentsError;
+pub use level::{Level, UnknownLevel};
 pub use nearest::{Nearest, NearestOptions, nearest_consistent};
 pub use params::{CovarianceEllipsoid, InertialParams, MAX_ABS_PARAM, MassComInertia, skew};
 pub use points::{PointMass, four_point_masses, four_point_masses_in, pseudo_inertia_of};

@@ -3,7 +3,7 @@
 //! back, and resolved against an effect library
 //! ([`crate::effects::Library`]), which knows what the names mean.
 
-use super::error::SimError;
+use super::error::{OverrideProblem, SimError};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -70,27 +70,6 @@ pub fn parse_override(s: &str) -> Result<(String, f64), SimError> {
         .parse()
         .map_err(|_| bad(OverrideProblem::NotANumber(v.trim().to_string())))?;
     Ok((name.to_string(), value))
-}
-
-/// What is wrong with a `NAME=VALUE` override.
-#[derive(Clone, Debug, PartialEq)]
-pub enum OverrideProblem {
-    /// No `=`.
-    NoEquals,
-    /// Nothing before the `=`.
-    NoName,
-    /// The value is not a number.
-    NotANumber(String),
-}
-
-impl std::fmt::Display for OverrideProblem {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            OverrideProblem::NoEquals => f.write_str("expected NAME=VALUE"),
-            OverrideProblem::NoName => f.write_str("no parameter name before '='"),
-            OverrideProblem::NotANumber(v) => write!(f, "'{v}' is not a number"),
-        }
-    }
 }
 
 #[cfg(test)]

@@ -67,7 +67,7 @@ pub enum SimError {
         /// The text given.
         text: String,
         /// What is wrong with it.
-        problem: super::effects::OverrideProblem,
+        problem: OverrideProblem,
     },
     /// An effect named a body the model does not have.
     #[error("body {body} does not exist (the model has {bodies} links)")]
@@ -80,15 +80,15 @@ pub enum SimError {
     /// The true robot was built with other effects than the configuration
     /// records.
     #[error(
-        "the true robot has effects [{}], the simulation's configuration records [{}]",
-        truth.on.join(", "),
-        config.on.join(", ")
+        "the true robot was built with effects [{}], the simulation's configuration records [{}] (or other magnitudes)",
+        truth.join(", "),
+        config.join(", ")
     )]
     EffectsRecord {
-        /// The true robot's.
-        truth: Box<super::effects::Effects>,
+        /// The true robot's effects.
+        truth: Vec<String>,
         /// The configuration's.
-        config: Box<super::effects::Effects>,
+        config: Vec<String>,
     },
     /// The compliant link-side simulation diverged.
     #[error("the compliant link simulation diverged at t = {t} s")]
@@ -96,4 +96,25 @@ pub enum SimError {
         /// Time (s).
         t: f64,
     },
+}
+
+/// What is wrong with a `NAME=VALUE` override.
+#[derive(Clone, Debug, PartialEq)]
+pub enum OverrideProblem {
+    /// No `=`.
+    NoEquals,
+    /// Nothing before the `=`.
+    NoName,
+    /// The value is not a number.
+    NotANumber(String),
+}
+
+impl std::fmt::Display for OverrideProblem {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            OverrideProblem::NoEquals => f.write_str("expected NAME=VALUE"),
+            OverrideProblem::NoName => f.write_str("no parameter name before '='"),
+            OverrideProblem::NotANumber(v) => write!(f, "'{v}' is not a number"),
+        }
+    }
 }

@@ -21,7 +21,7 @@ pub mod truth;
 mod warning;
 
 pub use effects::Effects;
-pub use error::SimError;
+pub use error::{OverrideProblem, SimError};
 pub use simulate::{SimConfig, simulate_with};
 pub use truth::{JointState, TorqueTerm, TrueRobot, Truth};
 pub use warning::SimWarning;

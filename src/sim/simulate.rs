@@ -231,7 +231,7 @@ impl SimConfig {
             });
         }
         if matches!(self.trajectory, Trajectory::Shell(_))
-            && !crate::dynamics::cheetah3::has_leg_kinematics(model)
+            && !crate::dynamics::leg_kinematics::has_leg_kinematics(model)
         {
             return Err(SimError::Setting {
                 setting: "trajectory",
@@ -378,8 +378,8 @@ pub fn simulate_with(
     let samples = cfg.validate(model)?;
     if truth.effects() != &cfg.effects {
         return Err(SimError::EffectsRecord {
-            truth: Box::new(truth.effects().clone()),
-            config: Box::new(cfg.effects.clone()),
+            truth: truth.effects().on.clone(),
+            config: cfg.effects.on.clone(),
         });
     }
     let edge = if cfg.processed { cfg.edge_samples() } else { 0 };

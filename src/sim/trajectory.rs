@@ -5,7 +5,7 @@
 //! differences of it with a 0.1 ms step (error far below any noise level).
 
 use crate::dynamics::Model;
-pub use crate::dynamics::cheetah3::{Shell, cheetah_ik};
+pub use crate::dynamics::leg_kinematics::{Shell, cheetah_ik};
 use crate::dynamics::sidecar::{Excitation, MultiSine};
 use rand::{RngExt, SeedableRng};
 use serde::{Deserialize, Serialize};

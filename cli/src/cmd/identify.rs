@@ -98,7 +98,7 @@ fn warn_inconsistent_prior(bodies: &[String], prior: &[f64]) {
     use momentlmi::moments::{InertialParams, Verdict, check_consistency};
     for (name, p) in bodies.iter().zip(prior.chunks_exact(10)) {
         let pi = InertialParams(std::array::from_fn(|k| p[k]));
-        let report = check_consistency(&pi, momentlmi::identify::result::CHECK_TOL);
+        let report = check_consistency(&pi, momentlmi::identify::CHECK_TOL);
         // a placeholder (a massless frame) is not a finding
         if !report.consistent && report.verdict != Verdict::Placeholder {
             eprintln!(
@@ -197,15 +197,17 @@ fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
     let id = identification(a, &robot)?.max_memory(super::gib(a.max_memory_gib)?);
     super::warn_cost(momentlmi::identify::cost(&robot.model, train.len()).flops);
     id.identify(&train, val.as_ref()).map_err(|e| match e {
-        IdentifyError::Option {
-            option: "ellipsoids",
-            ..
-        } => {
+        IdentifyError::NoEllipsoid { .. } | IdentifyError::EllipsoidCount { .. } => {
             format!("--constraints ellipsoid: {e}")
         }
-        IdentifyError::Option {
-            option: "prior", ..
-        } => format!("--prior / --regularizer: {e}"),
+        IdentifyError::PriorNotConsistent { .. } => format!(
+            "--prior / --regularizer: {e}\nhint: repair a URDF's inertias with `momentlmi check --repair`, correct that body in a parameter file, or use --regularizer euclidean"
+        ),
+        IdentifyError::PriorLength { .. }
+        | IdentifyError::PriorNotFinite { .. }
+        | IdentifyError::NoPrior { .. }
+        | IdentifyError::Prior { .. } => format!("--prior / --regularizer: {e}"),
+        IdentifyError::TooLarge { .. } => format!("{e}\nhint: --max-memory-gib raises the limit"),
         e => e.to_string(),
     })
 }

@@ -1,30 +1,23 @@
-//! Loading a robot by name or path: the built-in robots (registered here by
-//! name) and URDF files with an optional sidecar, both into a
-//! [`RobotDescription`] through [`RobotDescription::new`].
+//! Loading a robot by name or path: the built-in robots (one file each in
+//! this folder, each joining the registry [`BUILT_IN`] with its entry) and
+//! URDF files with an optional sidecar, both into a [`RobotDescription`]
+//! through [`RobotDescription::new`].
 
-use super::cheetah3;
+pub mod cheetah3;
+mod entry;
+
+pub use entry::BuiltIn;
+
 use super::description::RobotDescription;
 use super::error::DynamicsError;
-use super::model::Model;
 use super::sidecar::Sidecar;
 use super::urdf::model_from_robot;
 use crate::moments::urdf_check::Meshes;
 use crate::urdf::mesh::MeshPaths;
 use std::path::Path;
 
-/// A built-in robot: its name, its model and its sidecar text.
-struct BuiltIn {
-    name: &'static str,
-    model: fn() -> Model,
-    sidecar: &'static str,
-}
-
-/// The registry of built-in robots.
-const BUILT_IN: &[BuiltIn] = &[BuiltIn {
-    name: cheetah3::NAME,
-    model: cheetah3::kinematics,
-    sidecar: cheetah3::SIDECAR,
-}];
+/// The registry of built-in robots: one line per robot.
+const BUILT_IN: &[BuiltIn] = &[cheetah3::ENTRY];
 
 /// The built-in robots' names.
 pub fn built_in_names() -> Vec<&'static str> {
@@ -55,8 +48,7 @@ pub fn load_robot_with(
                     .into(),
             });
         }
-        let sc = Sidecar::parse(b.sidecar, b.name)?;
-        return RobotDescription::new(b.name, (b.model)(), &sc, None);
+        return (b.describe)();
     }
     let p = Path::new(spec);
     if !p.exists() {

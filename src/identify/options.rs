@@ -1,66 +1,17 @@
-//! The identification problem (25) of the paper, built with `conic`:
-//!
-//! ```text
-//! minimise    (1/n_s) Σ ‖Y π + B q̇ + B_c sign(q̇) − τ‖² + w_π R(π, π̂)
-//! subject to  per body, the chosen level: none | I(π) ⪰ εI | J(π) ⪰ εI
-//!             | J(π) ⪰ εI and tr(J(π) Q) ≥ 0   [and the CoM LMI (22)],
-//!             B ⪰ 0, B_c ⪰ 0 (diagonal, i.e. elementwise ≥ 0)
-//! ```
-//!
-//! with `R(π, π̂)` the [`Regularizer`]: `‖π − π̂‖²` (Euclidean) or
-//! `Σ_bodies d(J(π) ‖ J(π̂))` (entropic, the log-det divergence of
-//! [`crate::moments::entropic_divergence`]), and the data entering only
-//! through the reduced factor `R, d`
-//! ([`super::reduce`]). The unconstrained level is solved directly (SVD, no
-//! interior point), so noise-free data are fitted to round-off. For the
-//! constrained levels the variables are scaled by the column norms of R so
-//! that every direction the data see has unit size, which keeps Clarabel's
-//! tolerances from being what limits the fit.
+//! The identification's options: the constraint [`Level`] (the paper's,
+//! from [`crate::moments`]), the [`Regularizer`], [`IdentifyOptions`], the
+//! solver's default tolerances and the tolerance results are checked with.
 
-use super::builder::Identification;
 use super::error::IdentifyError;
-use super::reduce::Reduced;
-use crate::conic::{Settings, Status};
-use crate::dynamics::{Friction, FrictionTerm, Model, RobotDescription};
+use crate::conic::Settings;
+use crate::dynamics::RobotDescription;
 use crate::moments::Ellipsoid;
+pub use crate::moments::Level;
 use serde::Serialize;
 
-/// Per-body constraint level.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Level {
-    /// Ordinary least squares.
-    None,
-    /// Physical semi-consistency `I(π) ⪰ εI` (Theorem 1).
-    Semi,
-    /// Full consistency `J(π) ⪰ εI` (Theorem 3).
-    Consistent,
-    /// Consistency and density realizability in the body's ellipsoid (Theorem 4).
-    Ellipsoid,
-}
-
-impl Level {
-    /// From the CLI name.
-    pub fn parse(s: &str) -> Option<Self> {
-        Some(match s {
-            "none" => Level::None,
-            "semi" => Level::Semi,
-            "consistent" => Level::Consistent,
-            "ellipsoid" => Level::Ellipsoid,
-            _ => return None,
-        })
-    }
-
-    /// The CLI name.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Level::None => "none",
-            Level::Semi => "semi",
-            Level::Consistent => "consistent",
-            Level::Ellipsoid => "ellipsoid",
-        }
-    }
-}
+/// Tolerance with which identified bodies are checked (an interior-point
+/// solution on the boundary of a cone sits within ~1e-9 of it).
+pub const CHECK_TOL: f64 = 1e-7;
 
 /// How the prior π̂ enters the objective, with the weight w_π.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
@@ -96,7 +47,7 @@ impl Regularizer {
     }
 }
 
-/// Options of [`solve_identification`], validated at construction; what
+/// Options of [`super::solve_identification`], validated at construction; what
 /// depends on the model (the prior's and the ellipsoids' lengths) is checked
 /// against it when solving.
 #[derive(Clone, Debug, PartialEq)]
@@ -169,7 +120,7 @@ impl IdentifyOptions {
     /// naming the body otherwise, for [`Level::Ellipsoid`]). A robot whose
     /// sidecar sets identification facts (per-body levels, a total mass,
     /// equal bodies) is refused: these options cannot express them, use
-    /// [`Identification::for_robot`].
+    /// [`super::Identification::for_robot`].
     pub fn for_robot(
         robot: &RobotDescription,
         level: Level,
@@ -185,13 +136,9 @@ impl IdentifyOptions {
         .filter_map(|(name, on)| on.then_some(name))
         .collect();
         if !set.is_empty() {
-            return Err(IdentifyError::Option {
-                option: "robot",
-                message: format!(
-                    "{}'s sidecar sets identification constraints ({}) that IdentifyOptions cannot hold; use Identification::for_robot",
-                    robot.source,
-                    set.join(", ")
-                ),
+            return Err(IdentifyError::RobotFacts {
+                robot: robot.origin(),
+                facts: set,
             });
         }
         let mut opts = Self::new(level).with_prior(weight, robot.prior_vector())?;
@@ -209,9 +156,9 @@ impl IdentifyOptions {
     pub fn with_prior(mut self, weight: f64, prior: Vec<f64>) -> Result<Self, IdentifyError> {
         nonnegative("weight", weight)?;
         if let Some(k) = prior.iter().position(|x| !x.is_finite()) {
-            return Err(IdentifyError::Option {
-                option: "prior",
-                message: format!("entry {k} is not finite ({})", prior[k]),
+            return Err(IdentifyError::PriorNotFinite {
+                index: k,
+                value: prior[k],
             });
         }
         self.weight = weight;
@@ -291,108 +238,11 @@ impl IdentifyOptions {
     }
 }
 
-/// The solver's answer.
-#[derive(Clone, Debug)]
-pub struct Solved {
-    /// θ = [π (links, rotors) | one block of n per friction term, in
-    /// [`FrictionTerm::ALL`]'s order]; read it by name with
-    /// [`Solved::body`] and [`Solved::friction_coefficient`].
-    pub theta: Vec<f64>,
-    /// Body names, in parameter order.
-    pub bodies: Vec<String>,
-    /// Joint names.
-    pub joints: Vec<String>,
-    /// Solver status (`solved` for the direct least squares).
-    pub status: Status,
-    /// Interior-point iterations (0 for the direct solve).
-    pub iterations: u32,
-    /// Solve time (s).
-    pub solve_time_s: f64,
-    /// Parameter directions the data do not excite (named by their largest components).
-    pub unidentifiable: Vec<String>,
-    /// Numerical rank of the reduced regressor.
-    pub rank: usize,
-}
-
-/// Parameter names: `<body>.<m|hx|…>`, then `<term>.<joint>` for each
-/// friction term (`viscous.<joint>`, `coulomb.<joint>`).
-pub fn parameter_names(model: &Model) -> Vec<String> {
-    const P: [&str; 10] = [
-        "m", "hx", "hy", "hz", "Ixx", "Ixy", "Ixz", "Iyy", "Iyz", "Izz",
-    ];
-    let mut v: Vec<String> = model
-        .body_names()
-        .iter()
-        .flat_map(|b| P.iter().map(move |p| format!("{b}.{p}")))
-        .collect();
-    for t in FrictionTerm::ALL {
-        v.extend(
-            model
-                .joint_names()
-                .iter()
-                .map(|j| format!("{}.{j}", t.name())),
-        );
-    }
-    v
-}
-
-/// Solves (25) on reduced data with the options' set-up
-/// ([`Identification::from_options`]).
-pub fn solve_identification(
-    model: &Model,
-    red: &Reduced,
-    opts: &IdentifyOptions,
-) -> Result<Solved, IdentifyError> {
-    Identification::from_options(model, opts)?.solve(red)
-}
-
-impl Solved {
-    /// The parameters of the body named `name`.
-    pub fn body(&self, name: &str) -> Result<crate::moments::InertialParams, IdentifyError> {
-        let b = self.bodies.iter().position(|n| n == name).ok_or_else(|| {
-            super::builder::unknown("body", name, self.bodies.iter().map(String::as_str))
-        })?;
-        Ok(crate::moments::InertialParams(std::array::from_fn(|k| {
-            self.theta[10 * b + k]
-        })))
-    }
-
-    /// Joint `joint`'s coefficient of the friction term `term`.
-    pub fn friction_coefficient(
-        &self,
-        term: FrictionTerm,
-        joint: &str,
-    ) -> Result<f64, IdentifyError> {
-        let i = self.joints.iter().position(|n| n == joint).ok_or_else(|| {
-            super::builder::unknown("joint", joint, self.joints.iter().map(String::as_str))
-        })?;
-        let (nb, n) = (self.bodies.len(), self.joints.len());
-        Ok(self.theta[10 * nb + term.index() * n + i])
-    }
-
-    /// Joint `joint`'s friction `(viscous B, Coulomb B_c)`.
-    pub fn friction(&self, joint: &str) -> Result<(f64, f64), IdentifyError> {
-        Ok((
-            self.friction_coefficient(FrictionTerm::Viscous, joint)?,
-            self.friction_coefficient(FrictionTerm::Coulomb, joint)?,
-        ))
-    }
-
-    /// The identified friction of every joint.
-    pub fn friction_law(&self) -> Friction {
-        let (nb, n) = (self.bodies.len(), self.joints.len());
-        Friction::from_terms(n, |t, i| self.theta[10 * nb + t.index() * n + i])
-    }
-}
-
 /// `value` if it is ≥ 0 and finite, else the option error naming `option`.
 pub(crate) fn nonnegative(option: &'static str, value: f64) -> Result<f64, IdentifyError> {
     if value >= 0.0 && value.is_finite() {
         Ok(value)
     } else {
-        Err(IdentifyError::Option {
-            option,
-            message: format!("must be ≥ 0 and finite, got {value}"),
-        })
+        Err(IdentifyError::Negative { option, value })
     }
 }

@@ -1,0 +1,394 @@
+//! Solving the identification problem (25) of the paper, built with `conic`:
+//!
+//! ```text
+//! minimise    (1/n_s) Σ ‖Y π + B q̇ + B_c sign(q̇) − τ‖² + w_π R(π, π̂)
+//! subject to  per body, the chosen level: none | I(π) ⪰ εI | J(π) ⪰ εI
+//!             | J(π) ⪰ εI and tr(J(π) Q) ≥ 0   [and the CoM LMI (22)],
+//!             B ⪰ 0, B_c ⪰ 0 (diagonal, i.e. elementwise ≥ 0)
+//! ```
+//!
+//! with `R(π, π̂)` the [`super::Regularizer`]: `‖π − π̂‖²` (Euclidean) or
+//! `Σ_bodies d(J(π) ‖ J(π̂))` (entropic, the log-det divergence of
+//! [`crate::moments::entropic_divergence`]), and the data entering only
+//! through the reduced factor `R, d`
+//! ([`super::reduce`]). The unconstrained level is solved directly (SVD, no
+//! interior point), so noise-free data are fitted to round-off. For the
+//! constrained levels the variables are scaled by the column norms of R so
+//! that every direction the data see has unit size, which keeps Clarabel's
+//! tolerances from being what limits the fit.
+
+use super::builder::{Identification, Vars};
+use super::error::IdentifyError;
+use super::options::{IdentifyOptions, Level, MassWeight, Regularizer};
+use super::reduce::Reduced;
+use super::solved::{Solved, parameter_names};
+use crate::conic::{AffExpr, Problem, Status};
+use crate::dynamics::Model;
+use crate::moments::{MomentsError, add_entropic_divergence, lmi::BodyVars};
+use faer::Mat;
+
+/// Solves (25) on reduced data with the options' set-up
+/// ([`Identification::from_options`]).
+pub fn solve_identification(
+    model: &Model,
+    red: &Reduced,
+    opts: &IdentifyOptions,
+) -> Result<Solved, IdentifyError> {
+    Identification::from_options(model, opts)?.solve(red)
+}
+
+impl Identification<'_> {
+    /// Solves on reduced data.
+    pub fn solve(&self, red: &Reduced) -> Result<Solved, IdentifyError> {
+        let model = self.model;
+        let nb = model.num_bodies();
+        let p = model.regressor_columns();
+        if red.p != p {
+            return Err(IdentifyError::Columns {
+                expected: p,
+                found: red.p,
+            });
+        }
+        if red.samples == 0 {
+            return Err(IdentifyError::NoTrainingData {
+                samples: 0,
+                torques: 0,
+            });
+        }
+        self.check()?;
+        let (r, d) = red.r_d()?;
+        let (rank, unidentifiable) = identifiability(&r, &parameter_names(model))?;
+        let ns = red.samples as f64;
+        let t0 = std::time::Instant::now();
+        let reg = Prior {
+            weight: self.weight,
+            mass_weight: self.mass_weight(),
+            values: self.prior.as_slice(),
+        };
+        let direct = self.hooks.is_empty() && !self.entropic();
+        if direct && self.bodies.iter().all(|b| b.level == Level::None) {
+            return Ok(Solved {
+                theta: solve_direct(&r, &d, ns, reg, nb)?,
+                bodies: model.body_names(),
+                joints: model.joint_names().iter().map(|s| s.to_string()).collect(),
+                status: Status::Solved,
+                iterations: 0,
+                solve_time_s: t0.elapsed().as_secs_f64(),
+                unidentifiable,
+                rank,
+            });
+        }
+        let (mut prob, theta) = scaled_problem(&r, &d, ns, reg, nb, !self.entropic())?;
+        let vars = self.vars(&theta);
+        let bodies: Vec<BodyVars> = vars.bodies.iter().map(|(_, b)| b.clone()).collect();
+        self.add_body_constraints(&mut prob, &bodies, &model.body_names())?;
+        if self.entropic() {
+            self.add_entropic(&mut prob, &bodies, &model.body_names())?;
+        }
+        prob.add_nonneg(theta[10 * nb..].to_vec())?; // every friction coefficient ≥ 0
+        for h in &self.hooks {
+            h(&mut prob, &vars)?;
+        }
+        let sol = prob.solve(&self.settings)?;
+        match sol.status {
+            s if s.is_solved() => Ok(Solved {
+                theta: sol.eval_all(&theta)?,
+                bodies: model.body_names(),
+                joints: model.joint_names().iter().map(|s| s.to_string()).collect(),
+                status: sol.status,
+                iterations: sol.iterations,
+                solve_time_s: sol.setup_time_s + sol.solve_time_s,
+                unidentifiable,
+                rank,
+            }),
+            s if s.is_primal_infeasible() => Err(self.explain_infeasible(s)?),
+            s => Err(IdentifyError::Solver(s)),
+        }
+    }
+
+    /// The hook's view of θ.
+    fn vars(&self, theta: &[AffExpr]) -> Vars {
+        let model = self.model;
+        let nb = model.num_bodies();
+        Vars {
+            bodies: model
+                .body_names()
+                .into_iter()
+                .enumerate()
+                .map(|(b, name)| {
+                    (
+                        name,
+                        BodyVars::from_exprs(std::array::from_fn(|k| theta[10 * b + k].clone())),
+                    )
+                })
+                .collect(),
+            joints: model.joint_names().iter().map(|j| j.to_string()).collect(),
+            friction: theta[10 * nb..].to_vec(),
+        }
+    }
+
+    /// Each body's level: `I ⪰ εI`, `J ⪰ εI`, and `tr(JQ) ≥ 0` (+ the CoM LMI).
+    fn add_body_constraints(
+        &self,
+        prob: &mut Problem,
+        bodies: &[BodyVars],
+        names: &[String],
+    ) -> Result<(), IdentifyError> {
+        for ((spec, body), name) in self.bodies.iter().zip(bodies).zip(names) {
+            let id = match spec.level {
+                Level::None => continue,
+                Level::Semi => prob.add_psd_eps(&body.spatial_inertia(), self.eps)?,
+                Level::Consistent | Level::Ellipsoid => body.add_consistent_eps(prob, self.eps)?,
+            };
+            prob.set_name(id, &format!("{} LMI of body '{name}'", spec.level.as_str()))?;
+            if let Some(e) = spec.ellipsoid {
+                if spec.level == Level::Ellipsoid {
+                    let c = prob.add_ge(body.trace_jq(&e), 0.0)?;
+                    prob.set_name(c, &format!("tr(JQ) ≥ 0 of body '{name}'"))?;
+                }
+                if self.com_lmi {
+                    body.add_com_in(prob, &e)?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The objective's `w Σ_b d(J_b ‖ Ĵ_b)`; a prior body that is not
+    /// strictly consistent is an error naming it.
+    fn add_entropic(
+        &self,
+        prob: &mut Problem,
+        bodies: &[BodyVars],
+        names: &[String],
+    ) -> Result<(), IdentifyError> {
+        let mut total = AffExpr::zero();
+        for (b, (body, name)) in bodies.iter().zip(names).enumerate() {
+            // `check` has matched the prior to the bodies when the weight is on
+            let prior = self
+                .prior_body(b)
+                .ok_or_else(|| IdentifyError::NoPrior { body: name.clone() })?;
+            let term = add_entropic_divergence(prob, body, &prior).map_err(|e| match e {
+                MomentsError::NotPositiveSemidefinite { min_eig } => {
+                    IdentifyError::PriorNotConsistent {
+                        body: name.clone(),
+                        min_eig,
+                    }
+                }
+                MomentsError::Conic(e) => IdentifyError::Conic(e),
+                e => IdentifyError::Prior {
+                    body: name.clone(),
+                    source: e,
+                },
+            })?;
+            total += term.divergence * self.weight;
+        }
+        prob.minimize(total);
+        Ok(())
+    }
+
+    /// After an infeasible solve: the first body whose own constraint set is
+    /// empty, else the status itself (the caller's constraints conflict).
+    fn explain_infeasible(&self, status: Status) -> Result<IdentifyError, IdentifyError> {
+        for (b, name) in self.model.body_names().iter().enumerate() {
+            let mut q = Problem::new();
+            let v = BodyVars::new(&mut q, name);
+            let alone = Identification {
+                model: self.model,
+                common: self.common,
+                bodies: vec![self.bodies[b]],
+                weight: 0.0,
+                mass_weight: MassWeight::default(),
+                prior: vec![],
+                regularizer: Regularizer::Euclidean,
+                com_lmi: self.com_lmi,
+                eps: self.eps,
+                settings: self.settings.clone(),
+                max_memory: self.max_memory,
+                hooks: vec![],
+            };
+            alone.add_body_constraints(&mut q, &[v], std::slice::from_ref(name))?;
+            if q.solve(&self.settings)?.status.is_primal_infeasible() {
+                return Ok(IdentifyError::InfeasibleBody { body: name.clone() });
+            }
+        }
+        Ok(IdentifyError::Solver(status))
+    }
+}
+
+/// Rank and unexcited directions of R (columns scaled to unit norm).
+fn identifiability(r: &Mat<f64>, names: &[String]) -> Result<(usize, Vec<String>), IdentifyError> {
+    let p = r.ncols();
+    let scale: Vec<f64> = (0..p)
+        .map(|j| {
+            (0..r.nrows())
+                .map(|i| r[(i, j)].powi(2))
+                .sum::<f64>()
+                .sqrt()
+        })
+        .collect();
+    let mut rs = Mat::<f64>::zeros(r.nrows().max(p), p);
+    for j in 0..p {
+        let s = if scale[j] > 0.0 { 1.0 / scale[j] } else { 0.0 };
+        for i in 0..r.nrows() {
+            rs[(i, j)] = r[(i, j)] * s;
+        }
+    }
+    let svd = rs.svd().map_err(|_| IdentifyError::Factorisation {
+        what: "SVD of the reduced regressor (identifiability)",
+    })?;
+    let s = svd.S().column_vector();
+    let smax = (0..s.nrows()).map(|i| s[i]).fold(0.0, f64::max);
+    let tol = 1e-8 * smax.max(f64::MIN_POSITIVE);
+    let rank = (0..s.nrows()).filter(|&i| s[i] > tol).count();
+    let v = svd.V();
+    let mut dirs = Vec::new();
+    for k in 0..p {
+        if k < s.nrows() && s[k] > tol {
+            continue;
+        }
+        let mut comp: Vec<(usize, f64)> = (0..p).map(|j| (j, v[(j, k)])).collect();
+        comp.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
+        let terms: Vec<String> = comp
+            .iter()
+            .take(3)
+            .filter(|c| c.1.abs() > 0.05)
+            .map(|&(j, c)| format!("{c:+.2}·{}", names[j]))
+            .collect();
+        dirs.push(terms.join(" "));
+    }
+    Ok((rank, dirs))
+}
+
+/// The prior's terms of the objective: `w ‖π − π̂‖²` (Euclidean) and the
+/// masses' `w_m Σ_b (m_b − m̂_b)²`.
+#[derive(Clone, Copy)]
+struct Prior<'a> {
+    weight: f64,
+    mass_weight: f64,
+    values: &'a [f64],
+}
+
+impl Prior<'_> {
+    /// Whether any term is on.
+    fn on(&self) -> bool {
+        self.weight > 0.0 || self.mass_weight > 0.0
+    }
+
+    /// The weight of `(π_k − π̂_k)²` in the objective (k over 10 per body,
+    /// the mass first): the masses' extra weight, plus `weight` when the
+    /// regulariser is the Euclidean one.
+    fn weight_of(&self, k: usize, euclidean: bool) -> f64 {
+        let mass = if k % 10 == 0 { self.mass_weight } else { 0.0 };
+        mass + if euclidean { self.weight } else { 0.0 }
+    }
+}
+
+/// The unconstrained level: `min ‖[R/√ns; √W E] θ − [d/√ns; √W π̂]‖²`
+/// (`W` the [`Prior`]'s weights), minimum norm, by SVD (so noise-free data
+/// are fitted to round-off).
+fn solve_direct(
+    r: &Mat<f64>,
+    d: &[f64],
+    ns: f64,
+    reg: Prior,
+    nb: usize,
+) -> Result<Vec<f64>, IdentifyError> {
+    let (p, prior) = (r.ncols(), reg.values);
+    let extra = if reg.on() { 10 * nb } else { 0 };
+    let rows = r.nrows() + extra;
+    let mut a = Mat::<f64>::zeros(rows.max(p), p);
+    let mut b = Mat::<f64>::zeros(rows.max(p), 1);
+    for i in 0..r.nrows() {
+        for j in 0..p {
+            a[(i, j)] = r[(i, j)] / ns.sqrt();
+        }
+        b[(i, 0)] = d[i] / ns.sqrt();
+    }
+    for k in 0..extra {
+        let w = reg.weight_of(k, true).sqrt();
+        a[(r.nrows() + k, k)] = w;
+        b[(r.nrows() + k, 0)] = w * prior[k];
+    }
+    let svd = a.svd().map_err(|_| IdentifyError::Factorisation {
+        what: "SVD of the least-squares problem",
+    })?;
+    let s = svd.S().column_vector();
+    let smax = (0..s.nrows()).map(|i| s[i]).fold(0.0, f64::max);
+    let u = svd.U();
+    let v = svd.V();
+    let mut theta = vec![0.0; p];
+    for k in 0..s.nrows() {
+        if s[k] <= 1e-13 * smax {
+            continue;
+        }
+        let c: f64 = (0..a.nrows()).map(|i| u[(i, k)] * b[(i, 0)]).sum::<f64>() / s[k];
+        for j in 0..p {
+            theta[j] += c * v[(j, k)];
+        }
+    }
+    Ok(theta)
+}
+
+/// The constrained levels' SDP in scaled variables θ = D z (D = 1 / the
+/// column norms of R, 1 for unexcited columns), with its objective (the
+/// Euclidean prior's squares when `prior_squares`); returns the problem and
+/// θ as expressions of z.
+fn scaled_problem(
+    r: &Mat<f64>,
+    d: &[f64],
+    ns: f64,
+    reg: Prior,
+    nb: usize,
+    prior_squares: bool,
+) -> Result<(Problem, Vec<AffExpr>), IdentifyError> {
+    let prior = reg.values;
+    let p = r.ncols();
+    let dscale: Vec<f64> = (0..p)
+        .map(|j| {
+            let c = (0..r.nrows())
+                .map(|i| r[(i, j)].powi(2))
+                .sum::<f64>()
+                .sqrt()
+                / ns.sqrt();
+            if c > 1e-12 { 1.0 / c } else { 1.0 }
+        })
+        .collect();
+    let mut prob = Problem::new();
+    let z = prob.vector("z", p);
+    let theta: Vec<AffExpr> = (0..p).map(|j| AffExpr::term(z[j], dscale[j])).collect();
+    let residual_rows: Vec<AffExpr> = (0..r.nrows())
+        .map(|i| {
+            let mut e = AffExpr::constant(-d[i]);
+            for j in 0..p {
+                if r[(i, j)] != 0.0 {
+                    e.add_term(z[j], r[(i, j)] * dscale[j]);
+                }
+            }
+            e
+        })
+        .collect();
+    if reg.on() {
+        prob.add_squares(1.0 / ns, residual_rows);
+        for k in 0..10 * nb {
+            let w = reg.weight_of(k, prior_squares);
+            if w > 0.0 {
+                prob.add_square(w, theta[k].clone() - prior[k]);
+            }
+        }
+    } else {
+        // Without regularisation, minimise the residual norm itself (same
+        // minimiser): the solver's gap tolerance then bounds ‖r‖, not ‖r‖²,
+        // so noise-free data are fitted to ~1e-9 instead of ~1e-5.
+        let t = prob.scalar("residual_norm");
+        prob.add_soc(
+            t,
+            residual_rows
+                .into_iter()
+                .map(|e| e * (1.0 / ns.sqrt()))
+                .collect(),
+        )?;
+        prob.minimize(t);
+    }
+    Ok((prob, theta))
+}

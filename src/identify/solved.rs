@@ -1,0 +1,94 @@
+//! [`Solved`]: the solver's answer, read by body and joint name, and the
+//! names of the identified parameters.
+
+use super::error::{IdentifyError, unknown};
+use crate::conic::Status;
+use crate::dynamics::{Friction, FrictionTerm, Model};
+
+/// The solver's answer.
+#[derive(Clone, Debug)]
+pub struct Solved {
+    /// θ = [π (links, rotors) | one block of n per friction term, in
+    /// [`FrictionTerm::ALL`]'s order]; read it by name with
+    /// [`Solved::body`] and [`Solved::friction_coefficient`].
+    pub theta: Vec<f64>,
+    /// Body names, in parameter order.
+    pub bodies: Vec<String>,
+    /// Joint names.
+    pub joints: Vec<String>,
+    /// Solver status (`solved` for the direct least squares).
+    pub status: Status,
+    /// Interior-point iterations (0 for the direct solve).
+    pub iterations: u32,
+    /// Solve time (s).
+    pub solve_time_s: f64,
+    /// Parameter directions the data do not excite (named by their largest components).
+    pub unidentifiable: Vec<String>,
+    /// Numerical rank of the reduced regressor.
+    pub rank: usize,
+}
+
+/// Parameter names: `<body>.<m|hx|…>`, then `<term>.<joint>` for each
+/// friction term (`viscous.<joint>`, `coulomb.<joint>`).
+pub fn parameter_names(model: &Model) -> Vec<String> {
+    const P: [&str; 10] = [
+        "m", "hx", "hy", "hz", "Ixx", "Ixy", "Ixz", "Iyy", "Iyz", "Izz",
+    ];
+    let mut v: Vec<String> = model
+        .body_names()
+        .iter()
+        .flat_map(|b| P.iter().map(move |p| format!("{b}.{p}")))
+        .collect();
+    for t in FrictionTerm::ALL {
+        v.extend(
+            model
+                .joint_names()
+                .iter()
+                .map(|j| format!("{}.{j}", t.name())),
+        );
+    }
+    v
+}
+
+impl Solved {
+    /// The parameters of the body named `name`.
+    pub fn body(&self, name: &str) -> Result<crate::moments::InertialParams, IdentifyError> {
+        let b = self
+            .bodies
+            .iter()
+            .position(|n| n == name)
+            .ok_or_else(|| unknown("body", name, self.bodies.iter().map(String::as_str)))?;
+        Ok(crate::moments::InertialParams(std::array::from_fn(|k| {
+            self.theta[10 * b + k]
+        })))
+    }
+
+    /// Joint `joint`'s coefficient of the friction term `term`.
+    pub fn friction_coefficient(
+        &self,
+        term: FrictionTerm,
+        joint: &str,
+    ) -> Result<f64, IdentifyError> {
+        let i = self
+            .joints
+            .iter()
+            .position(|n| n == joint)
+            .ok_or_else(|| unknown("joint", joint, self.joints.iter().map(String::as_str)))?;
+        let (nb, n) = (self.bodies.len(), self.joints.len());
+        Ok(self.theta[10 * nb + term.index() * n + i])
+    }
+
+    /// Joint `joint`'s friction `(viscous B, Coulomb B_c)`.
+    pub fn friction(&self, joint: &str) -> Result<(f64, f64), IdentifyError> {
+        Ok((
+            self.friction_coefficient(FrictionTerm::Viscous, joint)?,
+            self.friction_coefficient(FrictionTerm::Coulomb, joint)?,
+        ))
+    }
+
+    /// The identified friction of every joint.
+    pub fn friction_law(&self) -> Friction {
+        let (nb, n) = (self.bodies.len(), self.joints.len());
+        Friction::from_terms(n, |t, i| self.theta[10 * nb + t.index() * n + i])
+    }
+}

@@ -1,0 +1,55 @@
+//! What an identification reports without failing.
+
+use serde::Serialize;
+use std::fmt;
+
+/// A warning of the identification (in [`super::IdentifyResult::warnings`]
+/// and the JSON's `warnings`, each with a stable `kind`).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+#[non_exhaustive]
+pub enum IdentifyWarning {
+    /// The SDP was solved only to the solver's reduced tolerances.
+    Inaccurate {
+        /// Interior-point iterations.
+        iterations: u32,
+    },
+    /// The masses' extra weight is on but not ≫ the Euclidean prior's
+    /// weight, so it does not hold the masses.
+    MassWeightLow {
+        /// The masses' weight.
+        mass_weight: f64,
+        /// The prior's weight.
+        weight: f64,
+    },
+    /// Bodies at the ellipsoid level whose prior is consistent but not
+    /// density realizable in their bounding ellipsoid (`tr(J(π̂) Q) < 0`).
+    PriorOutsideEllipsoid {
+        /// The bodies.
+        bodies: Vec<String>,
+    },
+}
+
+impl fmt::Display for IdentifyWarning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            IdentifyWarning::Inaccurate { iterations } => write!(
+                f,
+                "the SDP was solved only to Clarabel's reduced tolerances ({iterations} iterations)"
+            ),
+            IdentifyWarning::MassWeightLow {
+                mass_weight,
+                weight,
+            } => write!(
+                f,
+                "the masses' extra weight {mass_weight:e} is not ≫ the prior's weight {weight:e} (ratio {}, under 100): the masses are not held at the prior's",
+                (mass_weight / weight * 1e3).round() / 1e3
+            ),
+            IdentifyWarning::PriorOutsideEllipsoid { bodies } => write!(
+                f,
+                "the prior is not density realizable in the bounding ellipsoid of {} (tr(J(π̂) Q) < 0): the identified bodies cannot stay at the prior there (a check of the robot's URDF shows its CAD inertias against the geometry)",
+                bodies.join(", ")
+            ),
+        }
+    }
+}
