@@ -27,6 +27,7 @@ pub mod dynamics;
 pub mod effects;
 pub mod identify;
 mod io;
+mod linalg;
 pub mod moments;
 mod numfmt;
 pub mod sdpa;

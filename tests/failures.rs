@@ -139,6 +139,9 @@ fn options_out_of_range_are_refused_at_construction() {
         let cfg = SimConfig::for_robot(&leg, seconds, Effects::default(), 1);
         match simulate(&leg, &cfg, |_, _| {}) {
             Err(EffectError::Sim(SimError::Setting { setting, .. })) => assert_eq!(setting, what),
+            Err(EffectError::Sim(e @ SimError::Samples { .. })) => {
+                assert!(e.to_string().contains("'seconds'"), "{e}")
+            }
             other => panic!("{seconds}: {other:?}"),
         }
     }
@@ -238,7 +241,11 @@ fn inputs_that_would_index_out_of_range_or_go_unnoticed_are_errors() {
     let r = RobotDescription::new("r.urdf", m.clone(), &Sidecar::default(), Some(&robot)).unwrap();
     assert_eq!(r.friction.viscous, vec![0.7]);
     assert_eq!(r.friction.coulomb, vec![0.5]);
-    assert!(r.warnings.iter().any(|w| w.contains("placeholder")));
+    assert!(
+        r.warnings
+            .iter()
+            .any(|w| w.to_string().contains("placeholder"))
+    );
     // an excitation with a non-finite coefficient: an error, not NaN data
     let mut cfg = SimConfig::for_robot(&r, 1.0, Effects::default(), 1);
     cfg.trajectory = Trajectory::multi_sine(&m, &MultiSine::default(), 1);

@@ -300,7 +300,11 @@ fn bad_geometry_is_kept_as_invalid_and_warned_about_by_the_checker_and_the_loade
     std::fs::write(&p, &text).unwrap();
     let d = load_robot(p.to_str().unwrap(), None).unwrap();
     for w in want {
-        assert!(d.warnings.iter().any(|x| x == w), "{w}: {:?}", d.warnings);
+        assert!(
+            d.warnings.iter().any(|x| x.to_string() == *w),
+            "{w}: {:?}",
+            d.warnings
+        );
     }
 }
 

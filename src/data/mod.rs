@@ -8,6 +8,7 @@
 //!   SI units, any column order) with validation naming the row and column;
 //! - [`filter`]: the zero-phase Butterworth low-pass and the differentiator
 //!   that give q̈ (and, for raw encoders, q̇) offline;
+//! - [`rms`], [`rms_per_joint`]: the one RMS helper;
 //! - [`write`]: outputs written whole or not at all, and the JSON record
 //!   written beside a CSV (how the data were made).
 
@@ -15,12 +16,14 @@ pub mod csv;
 mod dataset;
 mod error;
 pub mod filter;
+mod stats;
 pub mod write;
 
 pub use csv::ReadOptions;
 pub use dataset::Dataset;
 pub use error::DataError;
 pub use filter::estimate_qdd;
+pub use stats::{rms, rms_per_joint};
 pub use write::{
     Staged, record_path, same_file, stage_with_record, write_whole, write_with_record,
 };

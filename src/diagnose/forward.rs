@@ -6,8 +6,9 @@ use super::candidate::Candidate;
 use super::options::DiagnoseOptions;
 use super::report::EffectReport;
 use super::select::{Evaluation, choose, evaluate};
-use super::split::{Split, rms_per_joint};
+use super::split::Split;
 use super::warning::DiagnoseWarning;
+use crate::data::rms_per_joint;
 use rayon::prelude::*;
 
 /// What the selection ends with.

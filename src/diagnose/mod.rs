@@ -38,10 +38,11 @@ pub use report::{Diagnosis, EffectReport, HeldOut};
 pub use warning::DiagnoseWarning;
 
 use crate::data::Dataset;
+use crate::data::rms_per_joint;
 use crate::dynamics::predict::predict_torques;
 use crate::dynamics::{Friction, Model};
 use crate::effects::Context;
-use split::{Split, rms_per_joint};
+use split::Split;
 use where_::{JointWhere, analyse_joint, summarise};
 
 /// The fewest samples a diagnosis takes.

@@ -5,8 +5,9 @@
 use super::candidate::{Candidate, Variant};
 use super::fit::{apply, fit_candidate};
 use super::report::EffectReport;
-use super::split::{Split, rms_per_joint};
+use super::split::Split;
 use super::warning::DiagnoseWarning;
+use crate::data::rms_per_joint;
 
 /// Resamples of the block bootstrap.
 const BOOTSTRAP: usize = 20_000;

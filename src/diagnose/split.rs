@@ -41,11 +41,3 @@ impl Split {
             .collect()
     }
 }
-
-/// RMS per joint of sample-major rows (n per sample).
-pub fn rms_per_joint(r: &[f64], n: usize) -> Vec<f64> {
-    let m = (r.len() / n).max(1) as f64;
-    (0..n)
-        .map(|i| (r.iter().skip(i).step_by(n).map(|x| x * x).sum::<f64>() / m).sqrt())
-        .collect()
-}

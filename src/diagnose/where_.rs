@@ -58,7 +58,7 @@ fn stats(label: String, r: &[f64], idx: impl Iterator<Item = usize>) -> Bin {
     Bin {
         label,
         samples: v.len(),
-        rms: (v.iter().map(|x| x * x).sum::<f64>() / n).sqrt(),
+        rms: crate::data::rms(v.iter().copied()),
         bias: v.iter().sum::<f64>() / n,
     }
 }
@@ -98,12 +98,48 @@ pub fn analyse_joint(
 ) -> JointWhere {
     let n = r.len();
     let all = stats("all".into(), r, 0..n);
-    let torque_rms = (tau.iter().map(|x| x * x).sum::<f64>() / n.max(1) as f64).sqrt();
-    let noise_floor = if n > 1 {
+    let spectrum = band_shares(r, all.bias, fs, &[0.0, 1.0, 5.0, 20.0, fs / 2.0]);
+    let autocorrelation = autocorrelation(r, 20);
+    JointWhere {
+        joint: joint.into(),
+        rms: all.rms,
+        bias: all.bias,
+        torque_rms: crate::data::rms(tau.iter().copied()),
+        noise_floor: noise_floor(r),
+        by_velocity: by_velocity(r, qd, fs),
+        by_acceleration: by_acceleration(r, qdd),
+        by_position: by_position(r, q),
+        by_time: (0..5)
+            .map(|b| {
+                stats(
+                    format!("time fifth {}", b + 1),
+                    r,
+                    (b * n / 5)..((b + 1) * n / 5),
+                )
+            })
+            .collect(),
+        spectrum,
+        ljung_box_q: ljung_box(&autocorrelation, n),
+        autocorrelation,
+        whiteness_band: 2.576 / (n.max(1) as f64).sqrt(),
+        cross_correlation: cross_correlation(r, q, qd, qdd, tau),
+    }
+}
+
+/// The white-noise level of `r` from its first differences: `√(mean Δr² / 2)`.
+fn noise_floor(r: &[f64]) -> f64 {
+    let n = r.len();
+    if n > 1 {
         (r.windows(2).map(|w| (w[1] - w[0]).powi(2)).sum::<f64>() / (n - 1) as f64 / 2.0).sqrt()
     } else {
         0.0
-    };
+    }
+}
+
+/// The residual near zero velocity, at velocity reversals (within 20 ms),
+/// and in bands of positive and negative velocity.
+fn by_velocity(r: &[f64], qd: &[f64], fs: f64) -> Vec<Bin> {
+    let n = r.len();
     let vmax = qd.iter().fold(0.0f64, |a, v| a.max(v.abs()));
     let slow = 0.05 * vmax.max(1e-9);
     let window = (0.02 * fs).ceil() as usize;
@@ -114,7 +150,7 @@ pub fn analyse_joint(
             (lo..hi).any(|j| qd[j].signum() != qd[j + 1].signum())
         })
         .collect();
-    let mut by_velocity = vec![
+    let mut bins = vec![
         stats(
             "near zero velocity".into(),
             r,
@@ -128,7 +164,7 @@ pub fn analyse_joint(
     ];
     for (lo, hi) in [(0.05f64, 0.35f64), (0.35, 0.7), (0.7, 1.01)] {
         for s in [1.0, -1.0] {
-            by_velocity.push(stats(
+            bins.push(stats(
                 format!(
                     "{} velocity, {:.0}–{:.0} % of max",
                     if s > 0.0 { "positive" } else { "negative" },
@@ -140,8 +176,14 @@ pub fn analyse_joint(
             ));
         }
     }
+    bins
+}
+
+/// The residual in bands of |q̈|.
+fn by_acceleration(r: &[f64], qdd: &[f64]) -> Vec<Bin> {
+    let n = r.len();
     let amax = qdd.iter().fold(0.0f64, |a, v| a.max(v.abs())).max(1e-9);
-    let by_acceleration = [(0.0f64, 0.2f64), (0.2, 0.5), (0.5, 1.01)]
+    [(0.0f64, 0.2f64), (0.2, 0.5), (0.5, 1.01)]
         .iter()
         .map(|&(lo, hi)| {
             stats(
@@ -150,7 +192,12 @@ pub fn analyse_joint(
                 (0..n).filter(|&k| qdd[k].abs() >= lo * amax && qdd[k].abs() < hi * amax),
             )
         })
-        .collect();
+        .collect()
+}
+
+/// The residual in the position's quartiles.
+fn by_position(r: &[f64], q: &[f64]) -> Vec<Bin> {
+    let n = r.len();
     let qs = [
         quantile(q, 0.0),
         quantile(q, 0.25),
@@ -158,7 +205,7 @@ pub fn analyse_joint(
         quantile(q, 0.75),
         quantile(q, 1.0) + 1e-12,
     ];
-    let by_position = (0..4)
+    (0..4)
         .map(|b| {
             stats(
                 format!("q in [{:.2}, {:.2}) rad", qs[b], qs[b + 1]),
@@ -166,18 +213,13 @@ pub fn analyse_joint(
                 (0..n).filter(|&k| q[k] >= qs[b] && q[k] < qs[b + 1]),
             )
         })
-        .collect();
-    let by_time = (0..5)
-        .map(|b| {
-            stats(
-                format!("time fifth {}", b + 1),
-                r,
-                (b * n / 5)..((b + 1) * n / 5),
-            )
-        })
-        .collect();
-    let spectrum = band_shares(r, all.bias, fs, &[0.0, 1.0, 5.0, 20.0, fs / 2.0]);
-    let autocorrelation: Vec<f64> = (1..=20)
+        .collect()
+}
+
+/// The autocorrelation of `r` at lags 1 … `lags`.
+fn autocorrelation(r: &[f64], lags: usize) -> Vec<f64> {
+    let n = r.len();
+    (1..=lags)
         .map(|l| {
             if n > l {
                 corr(&r[..n - l], &r[l..])
@@ -185,38 +227,36 @@ pub fn analyse_joint(
                 0.0
             }
         })
-        .collect();
-    let ljung_box_q = n as f64
+        .collect()
+}
+
+/// The Ljung–Box statistic of the autocorrelations `rho` of `n` samples.
+fn ljung_box(rho: &[f64], n: usize) -> f64 {
+    n as f64
         * (n as f64 + 2.0)
-        * autocorrelation
+        * rho
             .iter()
             .enumerate()
-            .map(|(i, rho)| rho * rho / (n - i - 1).max(1) as f64)
-            .sum::<f64>();
+            .map(|(i, r)| r * r / (n - i - 1).max(1) as f64)
+            .sum::<f64>()
+}
+
+/// The residual's correlation with q, q̇, sign(q̇), q̈ and τ.
+fn cross_correlation(
+    r: &[f64],
+    q: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+    tau: &[f64],
+) -> Vec<(String, f64)> {
     let sq: Vec<f64> = qd.iter().map(|v| v.signum()).collect();
-    let cross_correlation = vec![
+    vec![
         ("q".to_string(), corr(r, q)),
         ("q̇".to_string(), corr(r, qd)),
         ("sign(q̇)".to_string(), corr(r, &sq)),
         ("q̈".to_string(), corr(r, qdd)),
         ("τ".to_string(), corr(r, tau)),
-    ];
-    JointWhere {
-        joint: joint.into(),
-        rms: all.rms,
-        bias: all.bias,
-        torque_rms,
-        noise_floor,
-        by_velocity,
-        by_acceleration,
-        by_position,
-        by_time,
-        spectrum,
-        autocorrelation,
-        whiteness_band: 2.576 / (n.max(1) as f64).sqrt(),
-        ljung_box_q,
-        cross_correlation,
-    }
+    ]
 }
 
 /// A one-line summary of where a joint's gap lies.

@@ -8,6 +8,7 @@ use super::friction::Friction;
 use super::model::Model;
 use super::params_file::ParamsFile;
 use super::sidecar::{Excitation, PriorSpec, Sidecar, SidecarBody};
+use super::warning::DescriptionWarning;
 use crate::moments::{Ellipsoid, InertialParams, Level};
 use nalgebra::{Matrix3, Vector3};
 use std::collections::{BTreeMap, HashMap, HashSet};
@@ -50,7 +51,7 @@ pub struct RobotDescription {
     /// per-body levels).
     pub identification: IdentificationFacts,
     /// What the description had to fill in (placeholder friction, …).
-    pub warnings: Vec<String>,
+    pub warnings: Vec<DescriptionWarning>,
 }
 
 /// Known facts for the identification: per-body levels (as named in the
@@ -128,7 +129,12 @@ impl RobotDescription {
             None => model,
         };
         let (friction, mut warnings) = nominal_friction(&model, sidecar, urdf);
-        warnings.extend(urdf.map(crate::urdf::geometry_warnings).unwrap_or_default());
+        let geometry = urdf.map(crate::urdf::geometry_warnings).unwrap_or_default();
+        warnings.extend(
+            geometry
+                .into_iter()
+                .map(|note| DescriptionWarning::Geometry { note }),
+        );
         warnings.extend(urdf.map(|r| mimic_warnings(&model, r)).unwrap_or_default());
         let bodies = body_entries(&model, &sidecar.bodies, &err)?;
         let prior = bodies
@@ -184,12 +190,16 @@ impl RobotDescription {
                 continue; // the sidecar's volume stands; its meshes are not read
             }
             let (es, notes) = crate::moments::urdf_check::geometry_ellipsoids(link, meshes);
-            self.warnings.extend(
-                notes
-                    .iter()
-                    .filter(|n| n.mesh)
-                    .map(|n| format!("link '{}': {}", f.name, n.text)),
-            );
+            self.warnings
+                .extend(
+                    notes
+                        .iter()
+                        .filter(|n| n.mesh)
+                        .map(|n| DescriptionWarning::Mesh {
+                            link: f.name.clone(),
+                            note: n.text.clone(),
+                        }),
+                );
             // x_body = Eᵀ x_link + r
             let (e, r) = (f.placement.e.transpose(), f.placement.r);
             parts[b].extend(es.iter().map(|x| x.transformed(&e, &r)));
@@ -200,10 +210,10 @@ impl RobotDescription {
             }
             match Ellipsoid::enclosing(p) {
                 Ok(e) => self.bounding[b] = vec![e],
-                Err(m) => self.warnings.push(format!(
-                    "body '{}': no bounding ellipsoid from its geometry: {m}",
-                    self.model.joints[b].body
-                )),
+                Err(m) => self.warnings.push(DescriptionWarning::NoBoundingEllipsoid {
+                    body: self.model.joints[b].body.clone(),
+                    reason: m.to_string(),
+                }),
             }
         }
         self
@@ -309,15 +319,14 @@ fn with_limits(
 /// A warning per moving joint of the model that the URDF couples to another
 /// (`<mimic>`): the model has no such coupling, so it moves, is simulated
 /// and is identified as a joint of its own.
-fn mimic_warnings(model: &Model, urdf: &crate::urdf::Robot) -> Vec<String> {
+fn mimic_warnings(model: &Model, urdf: &crate::urdf::Robot) -> Vec<DescriptionWarning> {
     urdf.joints
         .iter()
         .filter_map(|j| Some((j.name.as_str(), j.mimic.as_ref()?.joint.as_str())))
         .filter(|(name, _)| model.joints.iter().any(|m| m.name == *name))
-        .map(|(name, leader)| {
-            format!(
-                "joint '{name}' mimics '{leader}' in the URDF (<mimic>), but is simulated and identified as an independent joint: lock it in a sidecar (lock = [\"{name}\"], docs/robots.md) if it follows '{leader}'"
-            )
+        .map(|(name, leader)| DescriptionWarning::Mimic {
+            joint: name.to_string(),
+            leader: leader.to_string(),
         })
         .collect()
 }
@@ -328,7 +337,7 @@ fn nominal_friction(
     model: &Model,
     sidecar: &Sidecar,
     urdf: Option<&crate::urdf::Robot>,
-) -> (Friction, Vec<String>) {
+) -> (Friction, Vec<DescriptionWarning>) {
     let mut f = Friction::zeros(model.dof());
     let mut placeholders = vec![];
     let side_by_name: HashMap<&str, _> = sidecar
@@ -369,10 +378,11 @@ fn nominal_friction(
     let warnings = if placeholders.is_empty() {
         vec![]
     } else {
-        vec![format!(
-            "no nominal friction for joint(s) {} in the sidecar ([[joint]] coulomb/viscous) or the URDF (<dynamics>, positive values): placeholders {PLACEHOLDER_COULOMB} N·m Coulomb, {PLACEHOLDER_VISCOUS} N·m·s/rad viscous where missing",
-            placeholders.join(", ")
-        )]
+        vec![DescriptionWarning::PlaceholderFriction {
+            joints: placeholders.iter().map(|s| s.to_string()).collect(),
+            coulomb: PLACEHOLDER_COULOMB,
+            viscous: PLACEHOLDER_VISCOUS,
+        }]
     };
     (f, warnings)
 }
@@ -443,7 +453,9 @@ fn bounding_of(
     entry: Option<&SidecarBody>,
     err: &dyn Fn(String) -> DynamicsError,
 ) -> Result<Vec<Ellipsoid>, DynamicsError> {
-    entry.map_or(Ok(vec![]), |b| b.ellipsoids().map_err(err))
+    entry.map_or(Ok(vec![]), |b| {
+        b.ellipsoids().map_err(|e| err(e.to_string()))
+    })
 }
 
 /// The sidecar's `[identify]` and per-body levels, with the bodies checked.

@@ -5,12 +5,12 @@
 #[non_exhaustive]
 pub enum DynamicsError {
     /// A model that is not a valid tree or has bad numbers.
-    #[error("model '{model}': {message}")]
+    #[error("model '{model}': {fault}")]
     InvalidModel {
         /// The model.
         model: String,
         /// What is wrong.
-        message: String,
+        fault: super::fault::ModelFault,
     },
     /// Wrong vector length.
     #[error("{what}: expected length {expected}, found {found}")]
@@ -62,6 +62,15 @@ pub enum DynamicsError {
         name: String,
         /// The valid names.
         valid: String,
+    },
+    /// A sidecar body's bounding ellipsoid that is not one.
+    #[error("[[body]] '{body}': bounding: {source}")]
+    Bounding {
+        /// The body.
+        body: String,
+        /// Why.
+        #[source]
+        source: crate::moments::MomentsError,
     },
     /// A robot description (sidecar) entry that does not fit the model.
     #[error("{source_name}: {message}")]

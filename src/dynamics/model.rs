@@ -1,6 +1,7 @@
 //! The constant description of a fixed-base kinematic tree with geared rotors.
 
 use super::error::DynamicsError;
+use super::fault::ModelFault;
 use super::spatial::Transform;
 use crate::moments::InertialParams;
 use nalgebra::{Matrix3, Vector3};
@@ -43,35 +44,40 @@ pub const MAX_ABS_LIMIT: f64 = 1e4;
 
 /// A joint limit pair: increasing, each end ±∞ or finite within
 /// ±[`MAX_ABS_LIMIT`].
-pub fn check_limits(joint: &str, (lo, hi): (f64, f64)) -> Result<(), String> {
+pub fn check_limits(joint: &str, (lower, upper): (f64, f64)) -> Result<(), ModelFault> {
     let ok = |x: f64| x.is_infinite() || x.abs() <= MAX_ABS_LIMIT;
-    if !(lo < hi) {
-        return Err(format!(
-            "joint '{joint}': limits [{lo}, {hi}] must be increasing"
-        ));
+    let joint = joint.to_string();
+    if !(lower < upper) {
+        return Err(ModelFault::LimitsOrder {
+            joint,
+            lower,
+            upper,
+        });
     }
-    if !(ok(lo) && ok(hi)) {
-        return Err(format!(
-            "joint '{joint}': limits [{lo:e}, {hi:e}] beyond ±{MAX_ABS_LIMIT:e} (leave an unlimited joint without limits)"
-        ));
+    if !(ok(lower) && ok(upper)) {
+        return Err(ModelFault::LimitsRange {
+            joint,
+            lower,
+            upper,
+        });
     }
     Ok(())
 }
 
 /// A joint name is also a CSV column name (`q_<name>`): not empty, and no
 /// comma, quote, space or control character.
-pub fn check_joint_name(name: &str) -> Result<(), String> {
+pub fn check_joint_name(name: &str) -> Result<(), ModelFault> {
     if name.is_empty() {
-        return Err("a movable joint without a name".into());
+        return Err(ModelFault::UnnamedJoint);
     }
     if let Some(c) = name
         .chars()
         .find(|c| matches!(c, ',' | '"' | '\'') || c.is_whitespace() || c.is_control())
     {
-        return Err(format!(
-            "joint '{}': its name becomes a CSV column and cannot hold {c:?}",
-            name.escape_debug()
-        ));
+        return Err(ModelFault::JointName {
+            joint: name.to_string(),
+            bad: c,
+        });
     }
     Ok(())
 }
@@ -140,103 +146,27 @@ pub struct Model {
 
 impl Model {
     /// Builds and validates a model: parents before children, unit axes,
-    /// finite numbers, at most one rotor per joint, unique joint names.
+    /// finite numbers, at most one rotor per joint, unique joint and body
+    /// names.
     pub fn new(
         name: &str,
         joints: Vec<Joint>,
         rotors: Vec<Rotor>,
         gravity: Vector3<f64>,
     ) -> Result<Self, DynamicsError> {
-        let bad = |what: String| {
-            Err(DynamicsError::InvalidModel {
-                model: name.to_string(),
-                message: what,
-            })
+        let invalid = |fault| DynamicsError::InvalidModel {
+            model: name.to_string(),
+            fault,
         };
         if joints.is_empty() {
-            return bad("no movable joint: nothing to simulate, identify or diagnose".into());
+            return Err(invalid(ModelFault::NoJoint));
         }
         if !gravity.iter().all(|g| g.is_finite() && g.abs() <= 1e3) {
-            return bad(format!(
-                "gravity {:?} must be finite and within ±1000 m/s²",
-                gravity.as_slice()
-            ));
+            return Err(invalid(ModelFault::Gravity(gravity.into())));
         }
-        let mut names = std::collections::HashSet::with_capacity(joints.len());
-        for (i, j) in joints.iter().enumerate() {
-            check_joint_name(&j.name).map_err(|m| DynamicsError::InvalidModel {
-                model: name.to_string(),
-                message: m,
-            })?;
-            check_limits(&j.name, j.limits).map_err(|m| DynamicsError::InvalidModel {
-                model: name.to_string(),
-                message: m,
-            })?;
-            if let Some(p) = j.parent {
-                if p >= i {
-                    return bad(format!(
-                        "joint '{}' comes before its parent (index {p})",
-                        j.name
-                    ));
-                }
-            }
-            if !((j.axis.norm() - 1.0).abs() < 1e-9) {
-                return bad(format!(
-                    "joint '{}': axis {:?} is not a unit vector",
-                    j.name,
-                    j.axis.as_slice()
-                ));
-            }
-            if !j.inertia.is_finite()
-                || !j
-                    .x_tree
-                    .r
-                    .iter()
-                    .chain(j.x_tree.e.iter())
-                    .all(|x| x.is_finite())
-            {
-                return bad(format!("joint '{}': non-finite numbers", j.name));
-            }
-            if !names.insert(j.name.as_str()) {
-                return bad(format!("duplicate joint name '{}'", j.name));
-            }
-        }
-        let mut rotor_of = vec![None; joints.len()];
-        for (k, r) in rotors.iter().enumerate() {
-            if r.joint >= joints.len() {
-                return bad(format!(
-                    "rotor '{}' drives joint {} of {}",
-                    r.name,
-                    r.joint,
-                    joints.len()
-                ));
-            }
-            if rotor_of[r.joint].is_some() {
-                return bad(format!("joint '{}' has two rotors", joints[r.joint].name));
-            }
-            if !((r.axis.norm() - 1.0).abs() < 1e-9)
-                || !r.gear_ratio.is_finite()
-                || !r.inertia.is_finite()
-            {
-                return bad(format!(
-                    "rotor '{}': axis not unit or non-finite numbers",
-                    r.name
-                ));
-            }
-            rotor_of[r.joint] = Some(k);
-        }
-        let mut bodies = std::collections::HashSet::with_capacity(joints.len() + rotors.len());
-        for b in joints
-            .iter()
-            .map(|j| &j.body)
-            .chain(rotors.iter().map(|r| &r.name))
-        {
-            if !bodies.insert(b.as_str()) {
-                return bad(format!(
-                    "two bodies are named '{b}' (a rotor named like a link?): parameter files name bodies"
-                ));
-            }
-        }
+        check_joints(&joints).map_err(invalid)?;
+        let rotor_of = check_rotors(&joints, &rotors).map_err(invalid)?;
+        check_body_names(&joints, &rotors).map_err(invalid)?;
         let frames = joints
             .iter()
             .enumerate()
@@ -266,12 +196,12 @@ impl Model {
     pub fn with_frames(mut self, frames: Vec<Frame>) -> Result<Self, DynamicsError> {
         let mut names = std::collections::HashSet::with_capacity(frames.len());
         for f in &frames {
-            let bad = |what: String| DynamicsError::InvalidModel {
+            let bad = |fault| DynamicsError::InvalidModel {
                 model: self.name.clone(),
-                message: format!("frame '{}': {what}", f.name),
+                fault,
             };
             if f.body.is_some_and(|b| b >= self.joints.len()) {
-                return Err(bad("attached to a body the model does not have".into()));
+                return Err(bad(ModelFault::FrameBody(f.name.clone())));
             }
             if !f
                 .placement
@@ -280,10 +210,10 @@ impl Model {
                 .chain(f.placement.e.iter())
                 .all(|x| x.is_finite())
             {
-                return Err(bad("non-finite placement".into()));
+                return Err(bad(ModelFault::FramePlacement(f.name.clone())));
             }
             if !names.insert(f.name.as_str()) {
-                return Err(bad("defined twice".into()));
+                return Err(bad(ModelFault::DuplicateFrame(f.name.clone())));
             }
         }
         self.frames = frames;
@@ -298,28 +228,22 @@ impl Model {
     /// The same model with its tool point at `xyz` (m) in frame `frame`,
     /// which must be on a moving body.
     pub fn with_tool(mut self, frame: &str, xyz: [f64; 3]) -> Result<Self, DynamicsError> {
-        let bad = |message: String| DynamicsError::InvalidModel {
+        let bad = |fault| DynamicsError::InvalidModel {
             model: self.name.clone(),
-            message,
+            fault,
         };
         let f = self.frame(frame).ok_or_else(|| {
-            bad(format!(
-                "tool frame '{frame}' is not a frame of the model (frames: {})",
-                self.frames
-                    .iter()
-                    .map(|f| f.name.as_str())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ))
+            bad(ModelFault::ToolFrame {
+                frame: frame.to_string(),
+                frames: self.frames.iter().map(|f| f.name.clone()).collect(),
+            })
         })?;
-        let body = f.body.ok_or_else(|| {
-            bad(format!(
-                "tool frame '{frame}' is on the fixed base; a payload there does not move"
-            ))
-        })?;
+        let body = f
+            .body
+            .ok_or_else(|| bad(ModelFault::ToolOnBase(frame.to_string())))?;
         let x = Vector3::from(xyz);
         if !x.iter().all(|v| v.is_finite()) {
-            return Err(bad("non-finite tool point".into()));
+            return Err(bad(ModelFault::ToolPoint));
         }
         // x_body = Eᵀ x_frame + r
         let point = f.placement.e.transpose() * x + f.placement.r;
@@ -373,11 +297,10 @@ impl Model {
         if let Some(k) = p.iter().position(|x| !x.is_finite()) {
             return Err(DynamicsError::InvalidModel {
                 model: self.name.clone(),
-                message: format!(
-                    "body '{}': non-finite parameter {}",
-                    self.body_names()[k / 10],
-                    p[k]
-                ),
+                fault: ModelFault::BodyParameter {
+                    body: self.body_names()[k / 10].clone(),
+                    value: p[k],
+                },
             });
         }
         let nj = self.joints.len();
@@ -470,4 +393,76 @@ impl Model {
         );
         spin.compose(&r.x_tree)
     }
+}
+
+/// Every joint's name, limits, parent order, axis and numbers, and unique
+/// names.
+fn check_joints(joints: &[Joint]) -> Result<(), ModelFault> {
+    let mut names = std::collections::HashSet::with_capacity(joints.len());
+    for (i, j) in joints.iter().enumerate() {
+        check_joint_name(&j.name)?;
+        check_limits(&j.name, j.limits)?;
+        let joint = || j.name.clone();
+        if let Some(parent) = j.parent.filter(|&p| p >= i) {
+            return Err(ModelFault::ParentOrder {
+                joint: joint(),
+                parent,
+            });
+        }
+        if !((j.axis.norm() - 1.0).abs() < 1e-9) {
+            return Err(ModelFault::Axis {
+                joint: joint(),
+                axis: j.axis.into(),
+            });
+        }
+        let placement = j.x_tree.r.iter().chain(j.x_tree.e.iter());
+        if !j.inertia.is_finite() || !placement.into_iter().all(|x| x.is_finite()) {
+            return Err(ModelFault::JointNumbers { joint: joint() });
+        }
+        if !names.insert(j.name.as_str()) {
+            return Err(ModelFault::DuplicateJoint(joint()));
+        }
+    }
+    Ok(())
+}
+
+/// Every rotor drives an existing joint, one per joint, with a unit axis
+/// and finite numbers; returns each joint's rotor.
+fn check_rotors(joints: &[Joint], rotors: &[Rotor]) -> Result<Vec<Option<usize>>, ModelFault> {
+    let mut rotor_of = vec![None; joints.len()];
+    for (k, r) in rotors.iter().enumerate() {
+        if r.joint >= joints.len() {
+            return Err(ModelFault::RotorJoint {
+                rotor: r.name.clone(),
+                joint: r.joint,
+                joints: joints.len(),
+            });
+        }
+        if rotor_of[r.joint].is_some() {
+            return Err(ModelFault::TwoRotors(joints[r.joint].name.clone()));
+        }
+        if !((r.axis.norm() - 1.0).abs() < 1e-9)
+            || !r.gear_ratio.is_finite()
+            || !r.inertia.is_finite()
+        {
+            return Err(ModelFault::RotorNumbers(r.name.clone()));
+        }
+        rotor_of[r.joint] = Some(k);
+    }
+    Ok(rotor_of)
+}
+
+/// Link and rotor bodies have distinct names (parameter files name them).
+fn check_body_names(joints: &[Joint], rotors: &[Rotor]) -> Result<(), ModelFault> {
+    let mut bodies = std::collections::HashSet::with_capacity(joints.len() + rotors.len());
+    let names = joints
+        .iter()
+        .map(|j| &j.body)
+        .chain(rotors.iter().map(|r| &r.name));
+    for b in names {
+        if !bodies.insert(b.as_str()) {
+            return Err(ModelFault::DuplicateBody(b.clone()));
+        }
+    }
+    Ok(())
 }

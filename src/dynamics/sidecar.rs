@@ -217,12 +217,15 @@ pub struct EllipsoidSpec {
 
 impl SidecarBody {
     /// Its bounding ellipsoids (`[]` without any); the error names the body.
-    pub fn ellipsoids(&self) -> Result<Vec<Ellipsoid>, String> {
+    pub fn ellipsoids(&self) -> Result<Vec<Ellipsoid>, DynamicsError> {
         self.bounding
             .iter()
             .map(|e| e.ellipsoid())
             .collect::<Result<_, _>>()
-            .map_err(|m| format!("[[body]] '{}': bounding: {m}", self.name))
+            .map_err(|source| DynamicsError::Bounding {
+                body: self.name.clone(),
+                source,
+            })
     }
 }
 

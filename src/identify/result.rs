@@ -221,14 +221,7 @@ pub fn predict_split(
 pub fn rms(a: &[Vec<f64>], b: &[Vec<f64>]) -> Vec<f64> {
     let n = a.first().map_or(0, |r| r.len());
     (0..n)
-        .map(|j| {
-            (a.iter()
-                .zip(b)
-                .map(|(x, y)| (x[j] - y[j]).powi(2))
-                .sum::<f64>()
-                / a.len().max(1) as f64)
-                .sqrt()
-        })
+        .map(|j| crate::data::rms(a.iter().zip(b).map(|(x, y)| x[j] - y[j])))
         .collect()
 }
 

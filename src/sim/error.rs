@@ -10,14 +10,41 @@ pub enum SimError {
     #[error(transparent)]
     Dynamics(#[from] DynamicsError),
     /// A setting out of range.
-    #[error("simulation setting '{setting}' = {}: {message}", crate::numfmt::short(*value))]
+    #[error("simulation setting '{setting}' = {}: {requirement}", crate::numfmt::short(*value))]
     Setting {
         /// The setting (`seconds`, `rate_hz`, …).
         setting: &'static str,
         /// Its value.
         value: f64,
         /// What it must be.
-        message: String,
+        requirement: &'static str,
+    },
+    /// A duration that gives too few or too many samples at the rate.
+    #[error(
+        "simulation setting 'seconds' = {}: {samples} samples at this rate; a data set needs at least 2 and at most {most}",
+        crate::numfmt::short(*seconds)
+    )]
+    Samples {
+        /// The duration (s).
+        seconds: f64,
+        /// The samples it gives.
+        samples: f64,
+        /// The most a simulation makes.
+        most: usize,
+    },
+    /// A simulation beyond the memory it may plan for.
+    #[error(
+        "{joints} joints × {samples} samples need about {needed_gib:.1} GiB, beyond {limit_gib} GiB (fewer joints, lock some in the sidecar, or a shorter run)"
+    )]
+    TooLarge {
+        /// Joints.
+        joints: usize,
+        /// Samples (with the dropped edges).
+        samples: usize,
+        /// The estimate (GiB).
+        needed_gib: f64,
+        /// The limit (GiB).
+        limit_gib: f64,
     },
     /// The excitation cannot be evaluated (the leg's foot target out of reach).
     #[error("the excitation leaves the workspace at t = {t} s")]

@@ -149,81 +149,8 @@ impl SimConfig {
 
     /// Checks every setting; returns the number of samples.
     pub fn validate(&self, model: &Model) -> Result<usize, SimError> {
-        let bad = |setting, value, message: &str| {
-            Err(SimError::Setting {
-                setting,
-                value,
-                message: message.into(),
-            })
-        };
-        if !(self.seconds > 0.0 && self.seconds.is_finite()) {
-            return bad("seconds", self.seconds, "must be positive and finite");
-        }
-        if !(self.rate_hz > 0.0 && self.rate_hz.is_finite()) {
-            return bad("rate_hz", self.rate_hz, "must be positive and finite");
-        }
-        if !(self.noise_sigma >= 0.0 && self.noise_sigma <= MAX_NOISE_SIGMA) {
-            return bad(
-                "noise_sigma",
-                self.noise_sigma,
-                "must be in [0, 1e4] N·m (the data readers refuse torques beyond ±1e8)",
-            );
-        }
-        if !(self.encoder_counts >= 0.0 && self.encoder_counts.is_finite()) {
-            return bad(
-                "encoder_counts",
-                self.encoder_counts,
-                "must be ≥ 0 and finite",
-            );
-        }
-        if let Some(b) = self.link_encoder_bits
-            && !(0.0..=64.0).contains(&b)
-        {
-            return bad("link_encoder_bits", b, "must be in [0, 64]");
-        }
-        if let Some(r) = self.linear_resolution_m
-            && !(0.0..=1.0).contains(&r)
-        {
-            return bad("linear_resolution_m", r, "must be in [0, 1] m");
-        }
-        if !(0.0..=10.0).contains(&self.edge_seconds) {
-            return bad("edge_seconds", self.edge_seconds, "must be in [0, 10] s");
-        }
-        if self.processed && !(self.cutoff_hz > 0.0 && self.cutoff_hz < 0.5 * self.rate_hz) {
-            return bad(
-                "cutoff_hz",
-                self.cutoff_hz,
-                "must be positive and below half the rate",
-            );
-        }
-        let samples = (self.seconds * self.rate_hz).round();
-        if samples > MAX_SAMPLES as f64 {
-            return bad(
-                "seconds",
-                self.seconds,
-                &format!("{samples} samples at this rate; at most {MAX_SAMPLES}"),
-            );
-        }
-        if samples < 2.0 {
-            return bad(
-                "seconds",
-                self.seconds,
-                &format!("{samples} samples at this rate; a data set needs at least 2"),
-            );
-        }
-        let need = memory_estimate(model.dof(), samples as usize + 2 * self.edge_samples());
-        if need > MAX_SIM_BYTES {
-            return bad(
-                "seconds",
-                self.seconds,
-                &format!(
-                    "{} joints × {samples} samples need about {:.1} GiB, beyond {} GiB (fewer joints, lock some in the sidecar, or a shorter run)",
-                    model.dof(),
-                    need as f64 / (1u64 << 30) as f64,
-                    MAX_SIM_BYTES >> 30
-                ),
-            );
-        }
+        self.check_ranges()?;
+        let samples = self.check_size(model.dof())?;
         if self.trajectory.joints() != model.dof() {
             return Err(SimError::Excitation {
                 expected: model.dof(),
@@ -236,7 +163,100 @@ impl SimConfig {
             return Err(SimError::Setting {
                 setting: "trajectory",
                 value: f64::NAN,
-                message: "the leg shell drives the built-in leg's foot through its inverse kinematics; this model does not have that leg's joints".into(),
+                requirement: "the leg shell drives the built-in leg's foot through its inverse kinematics; this model does not have that leg's joints",
+            });
+        }
+        Ok(samples)
+    }
+
+    /// Each setting within its range.
+    fn check_ranges(&self) -> Result<(), SimError> {
+        let within = |setting, value: f64, ok: bool, requirement| {
+            if ok {
+                Ok(())
+            } else {
+                Err(SimError::Setting {
+                    setting,
+                    value,
+                    requirement,
+                })
+            }
+        };
+        let positive = |v: f64| v > 0.0 && v.is_finite();
+        within(
+            "seconds",
+            self.seconds,
+            positive(self.seconds),
+            "must be positive and finite",
+        )?;
+        within(
+            "rate_hz",
+            self.rate_hz,
+            positive(self.rate_hz),
+            "must be positive and finite",
+        )?;
+        within(
+            "noise_sigma",
+            self.noise_sigma,
+            self.noise_sigma >= 0.0 && self.noise_sigma <= MAX_NOISE_SIGMA,
+            "must be in [0, 1e4] N·m (the data readers refuse torques beyond ±1e8)",
+        )?;
+        within(
+            "encoder_counts",
+            self.encoder_counts,
+            self.encoder_counts >= 0.0 && self.encoder_counts.is_finite(),
+            "must be ≥ 0 and finite",
+        )?;
+        if let Some(b) = self.link_encoder_bits {
+            within(
+                "link_encoder_bits",
+                b,
+                (0.0..=64.0).contains(&b),
+                "must be in [0, 64]",
+            )?;
+        }
+        if let Some(r) = self.linear_resolution_m {
+            within(
+                "linear_resolution_m",
+                r,
+                (0.0..=1.0).contains(&r),
+                "must be in [0, 1] m",
+            )?;
+        }
+        within(
+            "edge_seconds",
+            self.edge_seconds,
+            (0.0..=10.0).contains(&self.edge_seconds),
+            "must be in [0, 10] s",
+        )?;
+        let cutoff_ok =
+            !self.processed || (self.cutoff_hz > 0.0 && self.cutoff_hz < 0.5 * self.rate_hz);
+        within(
+            "cutoff_hz",
+            self.cutoff_hz,
+            cutoff_ok,
+            "must be positive and below half the rate",
+        )
+    }
+
+    /// The number of samples, within [2, [`MAX_SAMPLES`]] and the memory a
+    /// simulation of `n` joints may plan for.
+    fn check_size(&self, n: usize) -> Result<usize, SimError> {
+        let samples = (self.seconds * self.rate_hz).round();
+        if !(2.0..=MAX_SAMPLES as f64).contains(&samples) {
+            return Err(SimError::Samples {
+                seconds: self.seconds,
+                samples,
+                most: MAX_SAMPLES,
+            });
+        }
+        let need = memory_estimate(n, samples as usize + 2 * self.edge_samples());
+        if need > MAX_SIM_BYTES {
+            return Err(SimError::TooLarge {
+                joints: n,
+                samples: samples as usize,
+                needed_gib: need as f64 / (1u64 << 30) as f64,
+                limit_gib: (MAX_SIM_BYTES >> 30) as f64,
             });
         }
         Ok(samples as usize)

@@ -36,6 +36,23 @@ pub(crate) fn load_robot(
     Ok(robot)
 }
 
+/// Warnings as JSON: each its `kind` and values, and its sentence as
+/// `message` (the form the library's reports use).
+pub(crate) fn warnings_json<W: serde::Serialize + std::fmt::Display>(
+    warnings: &[W],
+) -> Vec<serde_json::Value> {
+    warnings
+        .iter()
+        .map(|w| {
+            let mut v = serde_json::to_value(w).unwrap_or_default();
+            if let Some(m) = v.as_object_mut() {
+                m.insert("message".into(), w.to_string().into());
+            }
+            v
+        })
+        .collect()
+}
+
 /// Prints what the robot description filled in (placeholder friction, …).
 pub(crate) fn warn_robot(robot: &momentlmi::dynamics::RobotDescription) {
     for w in &robot.warnings {

@@ -113,7 +113,7 @@ fn run_inner(a: &SimulateArgs) -> Result<(), String> {
             "body": robot.model.joints[t.body].body,
             "point": [t.point.x, t.point.y, t.point.z],
         })),
-        "warnings": robot.warnings,
+        "warnings": super::warnings_json(&robot.warnings),
     });
     let rec = stage_with_record(&mut staged, &d, a.out, &record).map_err(|e| e.to_string())?;
     staged.commit().map_err(|e| e.to_string())?;

@@ -1,30 +1,6 @@
 //! The linearised link dynamics solved for the acceleration at every sample
 //! ([`Nodes`]), and the joint count an integration is compiled for ([`Dim`]).
 
-/// The Cholesky factor of the small SPD matrix `a` in place (row-major,
-/// lower triangle); `false` if it is not positive definite.
-fn cholesky(a: &mut [f64], n: usize) -> bool {
-    for j in 0..n {
-        let mut d = a[j * n + j];
-        for k in 0..j {
-            d -= a[j * n + k] * a[j * n + k];
-        }
-        if d <= 0.0 || !d.is_finite() {
-            return false;
-        }
-        let d = d.sqrt();
-        a[j * n + j] = d;
-        for i in j + 1..n {
-            let mut s = a[i * n + j];
-            for k in 0..j {
-                s -= a[i * n + k] * a[j * n + k];
-            }
-            a[i * n + j] = s / d;
-        }
-    }
-    true
-}
-
 /// The values of a node, the linearised dynamics at one sample solved for
 /// the acceleration, `ẍ = b − P x − Q ẋ − A τ_s` with `A = M⁻¹`, `P = A G`,
 /// `Q = A C` and `b = A τ_L`, stored flat as `[b (n), P (n×n), Q (n×n),
@@ -48,7 +24,7 @@ pub(super) fn solve_node<D: Dim>(
     let n = d.n();
     let nn = n * n;
     let (l, li) = (&mut s.m[..nn], &mut s.li[..nn]);
-    if !cholesky(l, n) {
+    if !crate::linalg::cholesky_in_place(l, n) {
         return false;
     }
     // L⁻¹, lower triangular
