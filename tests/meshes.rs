@@ -283,7 +283,8 @@ fn package_paths_are_searched_and_a_missing_mesh_is_a_warning() {
     assert!(
         rep.warnings
             .iter()
-            .any(|w| w.contains("link 'body'") && w.contains("package://my_robot")),
+            .any(|w| w.to_string().contains("link 'body'")
+                && w.to_string().contains("package://my_robot")),
         "{:?}",
         rep.warnings
     );
@@ -329,7 +330,9 @@ fn hostile_meshes_are_warnings_not_failures() {
         let (_, rep) = check_urdf_file(&u, &[]).unwrap();
         assert_eq!(rep.links[0].realizable_in_geometry, None, "{name}");
         assert!(
-            rep.warnings.iter().any(|w| w.contains("link 'body'")),
+            rep.warnings
+                .iter()
+                .any(|w| w.to_string().contains("link 'body'")),
             "{name}: {:?}",
             rep.warnings
         );

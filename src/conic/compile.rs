@@ -11,7 +11,8 @@ use super::error::ConicError;
 use super::expr::AffExpr;
 use super::problem::{ConeKind, Problem, Sense};
 use super::settings::{LeastSquaresForm, Settings};
-use super::solution::{Solution, Status};
+use super::solution::Solution;
+use super::status::Status;
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
 use std::time::Instant;
@@ -91,18 +92,59 @@ impl Triplets {
     }
 }
 
+/// Stage 1's output: the constraint rows `A x + s = b` (A transposed into
+/// triplets), each constraint's first row, and the cones.
+struct Rows {
+    at: Triplets,
+    b: Vec<f64>,
+    offsets: Vec<usize>,
+    cones: Vec<SupportedConeT<f64>>,
+}
+
+/// Stage 2's output: the variables (the user's, and a squares' epigraph in
+/// the second-order-cone form), `q`, the constant and `P`'s triplets.
+struct Objective {
+    n: usize,
+    q: Vec<f64>,
+    obj_const: f64,
+    pt: Triplets,
+}
+
 impl Problem {
-    /// Compiles to Clarabel's form.
+    /// Compiles to Clarabel's form: the checks, then stage 1 (constraint
+    /// rows and cones), then stage 2 (the objective).
     pub fn compile(&self, settings: &Settings) -> Result<Compiled, ConicError> {
         let t0 = Instant::now();
         settings.validate()?;
+        self.check_objective()?;
+        let mut rows = self.constraint_rows();
+        let obj = self.objective(settings, &mut rows);
+        let m = rows.b.len();
+        Ok(Compiled {
+            p: obj.pt.into_csc(obj.n, obj.n),
+            q: obj.q,
+            a: rows.at.into_csc(m, obj.n),
+            b: rows.b,
+            cones: rows.cones,
+            obj_const: obj.obj_const,
+            n_user: self.nvars,
+            offsets: rows.offsets,
+            kinds: self.constraints.iter().map(|c| c.kind).collect(),
+            names: self.constraints.iter().map(|c| c.name.clone()).collect(),
+            flipped: self.constraints.iter().map(|c| c.flipped).collect(),
+            lineage: self.lineage.clone(),
+            sense: self.sense,
+            settings: settings.clone(),
+            compile_time: t0.elapsed().as_secs_f64(),
+        })
+    }
+
+    /// A problem with variables, a convex objective with this problem's
+    /// variables, finite numbers and non-negative weights.
+    fn check_objective(&self) -> Result<(), ConicError> {
         if self.nvars == 0 {
             return Err(ConicError::EmptyProblem);
         }
-        let sign = match self.sense {
-            Sense::Minimize => 1.0,
-            Sense::Maximize => -1.0,
-        };
         if self.sense == Sense::Maximize && !self.squares.is_empty() {
             return Err(ConicError::Unsupported(
                 "maximising an objective with squares (not convex); minimise its negation".into(),
@@ -129,21 +171,26 @@ impl Problem {
             }
             check(e, format!("square #{k} of the objective"))?;
         }
+        Ok(())
+    }
 
-        // Stage 1: constraint rows.
-        let mut at = Triplets::new();
-        let mut b = Vec::new();
-        let mut offsets = Vec::with_capacity(self.constraints.len() + 1);
-        let mut cones: Vec<SupportedConeT<f64>> = Vec::new();
+    /// Stage 1: every constraint's rows `s_r = a_r·x + c_r` as `A_r = −a_r`,
+    /// `b_r = c_r`, and its cone (runs of zero or non-negative cones merged).
+    fn constraint_rows(&self) -> Rows {
+        let mut rows = Rows {
+            at: Triplets::new(),
+            b: Vec::new(),
+            offsets: Vec::with_capacity(self.constraints.len() + 1),
+            cones: Vec::new(),
+        };
         for c in &self.constraints {
-            offsets.push(b.len());
+            rows.offsets.push(rows.b.len());
             for e in &c.rows {
-                let r = b.len();
+                let r = rows.b.len();
                 for &(v, a) in &e.terms {
-                    let i = v.index();
-                    at.push(r, i, -a);
+                    rows.at.push(r, v.index(), -a);
                 }
-                b.push(e.constant);
+                rows.b.push(e.constant);
             }
             let k = c.rows.len();
             let cone = match c.kind {
@@ -153,106 +200,105 @@ impl Problem {
                 ConeKind::Psd { n } => SupportedConeT::PSDTriangleConeT(n),
                 ConeKind::Exponential => SupportedConeT::ExponentialConeT(),
             };
-            // merge runs of zero / nonnegative cones
-            match (cones.last_mut(), &cone) {
+            match (rows.cones.last_mut(), &cone) {
                 (Some(SupportedConeT::ZeroConeT(a)), SupportedConeT::ZeroConeT(k)) => *a += k,
                 (
                     Some(SupportedConeT::NonnegativeConeT(a)),
                     SupportedConeT::NonnegativeConeT(k),
                 ) => *a += k,
                 _ if k == 0 => {}
-                _ => cones.push(cone),
+                _ => rows.cones.push(cone),
             }
         }
-        offsets.push(b.len());
+        rows.offsets.push(rows.b.len());
+        rows
+    }
 
-        // Stage 2: objective.
-        let mut n = self.nvars;
-        let mut q = vec![0.0; n];
+    /// Stage 2: the linear objective (negated to maximise), and the squares
+    /// reduced once, to the Gram matrix or to one second-order cone (whose
+    /// rows join `rows`).
+    fn objective(&self, settings: &Settings, rows: &mut Rows) -> Objective {
+        let sign = match self.sense {
+            Sense::Minimize => 1.0,
+            Sense::Maximize => -1.0,
+        };
+        let mut obj = Objective {
+            n: self.nvars,
+            q: vec![0.0; self.nvars],
+            obj_const: sign * self.linear.constant,
+            pt: Triplets::new(),
+        };
         for &(v, a) in &self.linear.terms {
-            let i = v.index();
-            q[i] += sign * a;
+            obj.q[v.index()] += sign * a;
         }
-        let mut obj_const = sign * self.linear.constant;
-        let mut pt = Triplets::new();
         if !self.squares.is_empty() {
             let (cols, d) = stack_squares(&self.squares, self.nvars);
-            let k = cols.len();
             match settings.least_squares {
-                LeastSquaresForm::Quadratic => {
-                    let mut g = faer::Mat::<f64>::zeros(k + 1, k + 1);
-                    faer::linalg::matmul::matmul(
-                        g.as_mut(),
-                        faer::Accum::Replace,
-                        d.transpose(),
-                        d.as_ref(),
-                        1.0,
-                        faer::Par::Seq,
-                    );
-                    for jj in 0..k {
-                        for ii in 0..=jj {
-                            pt.push(
-                                cols[ii].min(cols[jj]),
-                                cols[ii].max(cols[jj]),
-                                2.0 * g[(ii, jj)],
-                            );
-                        }
-                        q[cols[jj]] += 2.0 * g[(jj, k)];
-                    }
-                    obj_const += g[(k, k)];
-                }
-                LeastSquaresForm::SecondOrderCone => {
-                    let r = if d.nrows() > d.ncols() {
-                        d.qr().thin_R().to_owned()
-                    } else {
-                        d.clone()
-                    };
-                    let t = n;
-                    n += 1;
-                    q.push(1.0);
-                    // rows: t + 1, t − 1, 2 R [x; 1]
-                    let r0 = b.len();
-                    at.push(r0, t, -1.0);
-                    b.push(1.0);
-                    at.push(r0 + 1, t, -1.0);
-                    b.push(-1.0);
-                    for i in 0..r.nrows() {
-                        let row = b.len();
-                        for jj in 0..k {
-                            at.push(row, cols[jj], -2.0 * r[(i, jj)]);
-                        }
-                        b.push(2.0 * r[(i, k)]);
-                    }
-                    cones.push(SupportedConeT::SecondOrderConeT(2 + r.nrows()));
-                }
+                LeastSquaresForm::Quadratic => gram_form(&cols, &d, &mut obj),
+                LeastSquaresForm::SecondOrderCone => soc_form(&cols, &d, &mut obj, rows),
             }
         }
-        let m = b.len();
-        let a = at.into_csc(m, n);
-        let p = pt.into_csc(n, n);
-        Ok(Compiled {
-            p,
-            q,
-            a,
-            b,
-            cones,
-            obj_const,
-            n_user: self.nvars,
-            offsets,
-            kinds: self.constraints.iter().map(|c| c.kind).collect(),
-            names: self.constraints.iter().map(|c| c.name.clone()).collect(),
-            flipped: self.constraints.iter().map(|c| c.flipped).collect(),
-            lineage: self.lineage.clone(),
-            sense: self.sense,
-            settings: settings.clone(),
-            compile_time: t0.elapsed().as_secs_f64(),
-        })
+        obj
     }
 
     /// Compiles and solves.
     pub fn solve(&self, settings: &Settings) -> Result<Solution, ConicError> {
         self.compile(settings)?.solve()
     }
+}
+
+/// The squares `‖D [x; 1]‖²` as `xᵀ P x / 2 + qᵀx + c` with `P = 2 GᵀG`'s
+/// pattern over `cols`, `G = DᵀD` (one matrix product).
+fn gram_form(cols: &[usize], d: &faer::Mat<f64>, obj: &mut Objective) {
+    let k = cols.len();
+    let mut g = faer::Mat::<f64>::zeros(k + 1, k + 1);
+    faer::linalg::matmul::matmul(
+        g.as_mut(),
+        faer::Accum::Replace,
+        d.transpose(),
+        d.as_ref(),
+        1.0,
+        faer::Par::Seq,
+    );
+    for jj in 0..k {
+        for ii in 0..=jj {
+            obj.pt.push(
+                cols[ii].min(cols[jj]),
+                cols[ii].max(cols[jj]),
+                2.0 * g[(ii, jj)],
+            );
+        }
+        obj.q[cols[jj]] += 2.0 * g[(jj, k)];
+    }
+    obj.obj_const += g[(k, k)];
+}
+
+/// The squares as a variable t ≥ ‖R [x; 1]‖² (R the thin QR factor of D),
+/// minimised: rows `t + 1, t − 1, 2 R [x; 1]` in one second-order cone.
+fn soc_form(cols: &[usize], d: &faer::Mat<f64>, obj: &mut Objective, rows: &mut Rows) {
+    let k = cols.len();
+    let r = if d.nrows() > d.ncols() {
+        d.qr().thin_R().to_owned()
+    } else {
+        d.clone()
+    };
+    let t = obj.n;
+    obj.n += 1;
+    obj.q.push(1.0);
+    let r0 = rows.b.len();
+    rows.at.push(r0, t, -1.0);
+    rows.b.push(1.0);
+    rows.at.push(r0 + 1, t, -1.0);
+    rows.b.push(-1.0);
+    for i in 0..r.nrows() {
+        let row = rows.b.len();
+        for jj in 0..k {
+            rows.at.push(row, cols[jj], -2.0 * r[(i, jj)]);
+        }
+        rows.b.push(2.0 * r[(i, k)]);
+    }
+    rows.cones
+        .push(SupportedConeT::SecondOrderConeT(2 + r.nrows()));
 }
 
 /// Stacks `√w (a·x + b)` rows densely over the variables they use:

@@ -1,7 +1,7 @@
 //! Errors of the conic layer.
 
 /// What can go wrong while building, compiling or solving a conic problem.
-/// A solver that ends without a solution is a [`Status`](super::Status), not
+/// A solver that ends without a solution is a [`Status`](super::status::Status), not
 /// an error.
 #[derive(Debug, thiserror::Error, Clone, PartialEq)]
 #[non_exhaustive]
@@ -59,7 +59,7 @@ pub enum ConicError {
     #[error("the solver ended with status {status}: there is no {what} to read")]
     NotSolved {
         /// The status.
-        status: super::Status,
+        status: super::status::Status,
         /// What was asked for (values, duals).
         what: &'static str,
     },

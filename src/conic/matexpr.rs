@@ -305,70 +305,7 @@ impl MatExpr {
     /// The block matrix `[[B₀₀, B₀₁, …], [B₁₀, …], …]`; `None` is a zero block
     /// whose size is taken from the other blocks of its row and column.
     pub fn block(blocks: &[Vec<Option<&MatExpr>>]) -> Result<MatExpr, ConicError> {
-        let nr = blocks.len();
-        let nc = blocks.first().map_or(0, |r| r.len());
-        if nr == 0 || nc == 0 {
-            return Err(ConicError::DimensionMismatch {
-                what: "block matrix".into(),
-                expected: "at least one block".into(),
-                found: "none".into(),
-            });
-        }
-        let mut heights = vec![None; nr];
-        let mut widths = vec![None; nc];
-        for (bi, row) in blocks.iter().enumerate() {
-            if row.len() != nc {
-                return Err(ConicError::DimensionMismatch {
-                    what: format!("block row {bi}"),
-                    expected: format!("{nc} blocks"),
-                    found: format!("{} blocks", row.len()),
-                });
-            }
-            for (bj, b) in row.iter().enumerate() {
-                if let Some(b) = b {
-                    for (slot, val, what) in [
-                        (
-                            &mut heights[bi],
-                            b.rows,
-                            format!("height of block row {bi}"),
-                        ),
-                        (
-                            &mut widths[bj],
-                            b.cols,
-                            format!("width of block column {bj}"),
-                        ),
-                    ] {
-                        match *slot {
-                            None => *slot = Some(val),
-                            Some(v) if v != val => {
-                                return Err(ConicError::DimensionMismatch {
-                                    what,
-                                    expected: v.to_string(),
-                                    found: format!("{val} in block ({bi}, {bj})"),
-                                });
-                            }
-                            _ => {}
-                        }
-                    }
-                }
-            }
-        }
-        let undetermined = |v: &[Option<usize>], what: &str| {
-            v.iter()
-                .position(Option::is_none)
-                .map(|i| ConicError::DimensionMismatch {
-                    what: format!("{what} {i} of block matrix"),
-                    expected: "a non-empty block to fix its size".into(),
-                    found: "only zero blocks".into(),
-                })
-        };
-        if let Some(e) =
-            undetermined(&heights, "block row").or(undetermined(&widths, "block column"))
-        {
-            return Err(e);
-        }
-        let h: Vec<usize> = heights.into_iter().flatten().collect();
-        let w: Vec<usize> = widths.into_iter().flatten().collect();
+        let (h, w) = block_sizes(blocks)?;
         let mut out = MatExpr::zeros(h.iter().sum(), w.iter().sum());
         let mut r0 = 0;
         for (bi, row) in blocks.iter().enumerate() {
@@ -567,4 +504,77 @@ impl Mul<&DMatrix<f64>> for MatExpr {
     fn mul(self, c: &DMatrix<f64>) -> MatExpr {
         &self * c
     }
+}
+
+/// The heights of a block matrix's rows and the widths of its columns,
+/// each fixed by its non-empty blocks (which must agree).
+fn block_sizes(blocks: &[Vec<Option<&MatExpr>>]) -> Result<(Vec<usize>, Vec<usize>), ConicError> {
+    let nr = blocks.len();
+    let nc = blocks.first().map_or(0, |r| r.len());
+    if nr == 0 || nc == 0 {
+        return Err(ConicError::DimensionMismatch {
+            what: "block matrix".into(),
+            expected: "at least one block".into(),
+            found: "none".into(),
+        });
+    }
+    let mut heights = vec![None; nr];
+    let mut widths = vec![None; nc];
+    for (bi, row) in blocks.iter().enumerate() {
+        if row.len() != nc {
+            return Err(ConicError::DimensionMismatch {
+                what: format!("block row {bi}"),
+                expected: format!("{nc} blocks"),
+                found: format!("{} blocks", row.len()),
+            });
+        }
+        for (bj, b) in row.iter().enumerate() {
+            if let Some(b) = b {
+                fix(&mut heights[bi], b.rows, (bi, bj), || {
+                    format!("height of block row {bi}")
+                })?;
+                fix(&mut widths[bj], b.cols, (bi, bj), || {
+                    format!("width of block column {bj}")
+                })?;
+            }
+        }
+    }
+    let undetermined = |v: &[Option<usize>], what: &str| {
+        v.iter()
+            .position(Option::is_none)
+            .map(|i| ConicError::DimensionMismatch {
+                what: format!("{what} {i} of block matrix"),
+                expected: "a non-empty block to fix its size".into(),
+                found: "only zero blocks".into(),
+            })
+    };
+    if let Some(e) = undetermined(&heights, "block row").or(undetermined(&widths, "block column")) {
+        return Err(e);
+    }
+    Ok((
+        heights.into_iter().flatten().collect(),
+        widths.into_iter().flatten().collect(),
+    ))
+}
+
+/// A block row's height (or column's width) set by block `at`'s `val`, or
+/// the mismatch with the one set before.
+fn fix(
+    slot: &mut Option<usize>,
+    val: usize,
+    (bi, bj): (usize, usize),
+    what: impl Fn() -> String,
+) -> Result<(), ConicError> {
+    match *slot {
+        None => *slot = Some(val),
+        Some(v) if v != val => {
+            return Err(ConicError::DimensionMismatch {
+                what: what(),
+                expected: v.to_string(),
+                found: format!("{val} in block ({bi}, {bj})"),
+            });
+        }
+        _ => {}
+    }
+    Ok(())
 }

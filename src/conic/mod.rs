@@ -50,6 +50,7 @@ mod matexpr;
 mod problem;
 mod settings;
 mod solution;
+mod status;
 mod verify;
 
 pub use compile::Compiled;
@@ -58,6 +59,8 @@ pub use expr::{AffExpr, Var, sum};
 pub use kkt::{KktReport, check_optimality};
 pub use logdet::LogDet;
 pub use matexpr::MatExpr;
+pub(crate) use problem::ConstraintData;
 pub use problem::{ConeKind, ConstraintId, Problem, Sense, SymVar};
 pub use settings::{Decomposition, KktSolver, LeastSquaresForm, Settings};
-pub use solution::{DecompositionOutcome, Dual, Solution, Status, svec_to_mat};
+pub use solution::{DecompositionOutcome, Dual, Solution, svec_to_mat};
+pub use status::Status;

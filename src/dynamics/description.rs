@@ -130,11 +130,7 @@ impl RobotDescription {
         };
         let (friction, mut warnings) = nominal_friction(&model, sidecar, urdf);
         let geometry = urdf.map(crate::urdf::geometry_warnings).unwrap_or_default();
-        warnings.extend(
-            geometry
-                .into_iter()
-                .map(|note| DescriptionWarning::Geometry { note }),
-        );
+        warnings.extend(geometry.into_iter().map(DescriptionWarning::Geometry));
         warnings.extend(urdf.map(|r| mimic_warnings(&model, r)).unwrap_or_default());
         let bodies = body_entries(&model, &sidecar.bodies, &err)?;
         let prior = bodies
@@ -176,7 +172,7 @@ impl RobotDescription {
     pub fn with_urdf_geometry(
         mut self,
         robot: &crate::urdf::Robot,
-        meshes: &mut crate::moments::urdf_check::Meshes,
+        meshes: &mut crate::moments::geometry::Meshes,
     ) -> Self {
         let nj = self.model.dof();
         let mut parts: Vec<Vec<Ellipsoid>> = vec![vec![]; nj];
@@ -189,7 +185,7 @@ impl RobotDescription {
             if !self.bounding[b].is_empty() {
                 continue; // the sidecar's volume stands; its meshes are not read
             }
-            let (es, notes) = crate::moments::urdf_check::geometry_ellipsoids(link, meshes);
+            let (es, notes) = crate::moments::geometry::geometry_ellipsoids(link, meshes);
             self.warnings
                 .extend(
                     notes

@@ -21,7 +21,7 @@ use super::error::DynamicsError;
 use super::model::{Frame, Joint, JointKind, Model, Rotor};
 use super::spatial::Transform;
 use crate::moments::{InertialParams, rpy_rotation};
-use crate::urdf::{self as format, JointType, Pose, Robot, Tree};
+use crate::urdf::{self as format, JointType, Pose, Reduction, Robot, Tree};
 use nalgebra::Vector3;
 use std::collections::{HashMap, HashSet};
 use std::path::Path;
@@ -172,7 +172,7 @@ fn rotor(
     r: &SidecarRotor,
     joints: &[Joint],
     index: &HashMap<&str, usize>,
-    reductions: &HashMap<&str, &Result<f64, String>>,
+    reductions: &HashMap<&str, &Reduction>,
     path: &str,
 ) -> Result<Rotor, DynamicsError> {
     let Some(&ji) = index.get(r.joint.as_str()) else {
@@ -190,8 +190,8 @@ fn rotor(
         .unwrap_or_else(|| format!("{}_rotor", r.joint));
     let n = match (r.gear_ratio, reductions.get(r.joint.as_str())) {
         (Some(n), _) => n,
-        (None, Some(Ok(n))) => *n,
-        (None, Some(Err(text))) => {
+        (None, Some(Reduction::Ratio(n))) => *n,
+        (None, Some(Reduction::NotANumber(text))) => {
             return Err(ferr(
                 path,
                 format!(
@@ -294,7 +294,7 @@ pub fn model_from_robot(
         .map(|(i, j)| (j.name.as_str(), i))
         .collect();
     // `<transmission>` reductions by joint name (the last one wins)
-    let reductions: HashMap<&str, &Result<f64, String>> = robot
+    let reductions: HashMap<&str, &Reduction> = robot
         .transmissions
         .iter()
         .filter_map(|t| Some((t.joint.as_deref()?, t.reduction.as_ref()?)))

@@ -20,10 +20,7 @@ pub enum DescriptionWarning {
         viscous: f64,
     },
     /// A URDF shape that could not be read (kept as invalid geometry).
-    Geometry {
-        /// What the URDF reader found.
-        note: String,
-    },
+    Geometry(crate::urdf::GeometryWarning),
     /// A moving joint the URDF couples to another (`<mimic>`), which the
     /// model moves on its own.
     Mimic {
@@ -60,7 +57,7 @@ impl fmt::Display for DescriptionWarning {
                 "no nominal friction for joint(s) {} in the sidecar ([[joint]] coulomb/viscous) or the URDF (<dynamics>, positive values): placeholders {coulomb} N·m Coulomb, {viscous} N·m·s/rad viscous where missing",
                 joints.join(", ")
             ),
-            DescriptionWarning::Geometry { note } => f.write_str(note),
+            DescriptionWarning::Geometry(g) => g.fmt(f),
             DescriptionWarning::Mimic { joint, leader } => write!(
                 f,
                 "joint '{joint}' mimics '{leader}' in the URDF (<mimic>), but is simulated and identified as an independent joint: lock it in a sidecar (lock = [\"{joint}\"], docs/robots.md) if it follows '{leader}'"

@@ -123,25 +123,22 @@ pub fn jacobi_eigenvalues(mut a: Vec<f64>, n: usize) -> Vec<f64> {
     w
 }
 
-/// Reference Cholesky (lower, dense ld = n); `None` if not positive definite.
+/// Reference Cholesky (lower, dense ld = n, column-major) of the symmetric
+/// `a`, by the crate's own small-matrix Cholesky ([`crate::linalg`], not
+/// faer's: the shim is tested against it); `None` if not positive definite.
 pub fn cholesky_lower(a: &[f64], n: usize) -> Option<Vec<f64>> {
-    let mut l = vec![0.0; n * n];
-    for j in 0..n {
-        let mut d = a[j + j * n];
-        for k in 0..j {
-            d -= l[j + k * n] * l[j + k * n];
-        }
-        if d <= 0.0 {
-            return None;
-        }
-        l[j + j * n] = d.sqrt();
-        for i in j + 1..n {
-            let mut s = a[i + j * n];
-            for k in 0..j {
-                s -= l[i + k * n] * l[j + k * n];
-            }
-            l[i + j * n] = s / l[j + j * n];
-        }
+    // symmetric: the row-major reading of `a` is the same matrix
+    let mut l = a.to_vec();
+    if !crate::linalg::cholesky_in_place(&mut l, n) {
+        return None;
     }
-    Some(l)
+    // L (row-major, lower) to column-major, the upper triangle zero
+    Some(
+        (0..n * n)
+            .map(|k| {
+                let (i, j) = (k % n, k / n);
+                if i >= j { l[i * n + j] } else { 0.0 }
+            })
+            .collect(),
+    )
 }

@@ -23,18 +23,19 @@
 //!   between two bodies, its gradient, and [`add_entropic_divergence`] to
 //!   write it into a `conic` problem;
 //! - [`urdf_check`]: the URDF inertia checker behind `momentlmi check`;
-//! - [`shape_points`]: points on a link's shapes (for plots).
+//! - [`geometry`]: a URDF link's geometry — meshes, the bounding ellipsoids
+//!   of its shapes, points on them (for plots).
 
 mod check;
 mod divergence;
 mod ellipsoid;
 mod error;
+pub mod geometry;
 mod level;
 pub mod lmi;
 mod nearest;
 mod params;
 mod points;
-pub mod shape_points;
 mod union;
 pub mod urdf_check;
 
@@ -49,6 +50,8 @@ pub use ellipsoid::{Ellipsoid, rpy_rotation};
 pub use error::MomentsError;
 pub use level::{Level, UnknownLevel};
 pub use nearest::{Nearest, NearestOptions, nearest_consistent};
-pub use params::{CovarianceEllipsoid, InertialParams, MAX_ABS_PARAM, MassComInertia, skew};
+pub use params::{
+    CovarianceEllipsoid, InertialParams, MAX_ABS_PARAM, MassComInertia, ParamFault, skew,
+};
 pub use points::{PointMass, four_point_masses, four_point_masses_in, pseudo_inertia_of};
 pub use union::{UnionRealization, point_masses_on_union, realize_on_union};

@@ -122,27 +122,7 @@ pub fn nearest_consistent(
     } else {
         pi.0.iter().map(|x| x.abs()).fold(0.0, f64::max).max(1.0)
     };
-    let l = opts.length_scale.unwrap_or_else(|| {
-        if !opts.within.is_empty() {
-            return opts
-                .within
-                .iter()
-                .map(|e| e.semi_axes.max())
-                .fold(0.0, f64::max);
-        }
-        let g = if m > 0.0 {
-            (pi.inertia_com().trace() / (2.0 * m)).sqrt()
-        } else {
-            f64::NAN
-        };
-        if g.is_finite() && g > 0.0 { g } else { 0.1 }
-    });
-    if !(l.is_finite() && l > 0.0) {
-        return Err(MomentsError::InvalidOption {
-            option: "length_scale",
-            value: l,
-        });
-    }
+    let l = length_scale(pi, opts)?;
     if !(opts.eps.is_finite() && opts.eps >= 0.0) {
         return Err(MomentsError::InvalidOption {
             option: "eps",
@@ -188,4 +168,33 @@ pub fn nearest_consistent(
         distance,
         length_scale: l,
     })
+}
+
+/// The metric's length scale: the option's, else the largest semi-axis of
+/// the ellipsoids, else the body's radius of gyration, else 0.1 m; an error
+/// if it is not positive and finite.
+fn length_scale(pi: &InertialParams, opts: &NearestOptions) -> Result<f64, MomentsError> {
+    let m = pi.mass();
+    let l = opts.length_scale.unwrap_or_else(|| {
+        if !opts.within.is_empty() {
+            return opts
+                .within
+                .iter()
+                .map(|e| e.semi_axes.max())
+                .fold(0.0, f64::max);
+        }
+        let g = if m > 0.0 {
+            (pi.inertia_com().trace() / (2.0 * m)).sqrt()
+        } else {
+            f64::NAN
+        };
+        if g.is_finite() && g > 0.0 { g } else { 0.1 }
+    });
+    if !(l.is_finite() && l > 0.0) {
+        return Err(MomentsError::InvalidOption {
+            option: "length_scale",
+            value: l,
+        });
+    }
+    Ok(l)
 }

@@ -292,23 +292,47 @@ impl InertialParams {
     /// and the mass not negative. A massless frame (all zero) passes;
     /// physical consistency is a separate question
     /// ([`crate::moments::check_consistency`]). The error names the number.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), ParamFault> {
         const NAMES: [&str; 10] = [
             "mass", "hx", "hy", "hz", "Ixx", "Ixy", "Ixz", "Iyy", "Iyz", "Izz",
         ];
         for (name, x) in NAMES.iter().zip(self.0) {
             if !x.is_finite() {
-                return Err(format!("{name} = {x} is not finite"));
+                return Err(ParamFault::NotFinite { name, value: x });
             }
             if x.abs() > MAX_ABS_PARAM {
-                return Err(format!("{name} = {x:e} is beyond ±{MAX_ABS_PARAM:e}"));
+                return Err(ParamFault::TooLarge { name, value: x });
             }
         }
         if self.0[0] < 0.0 {
-            return Err(format!("mass = {} kg is negative", self.0[0]));
+            return Err(ParamFault::NegativeMass(self.0[0]));
         }
         Ok(())
     }
+}
+
+/// Why inertial parameters fail [`InertialParams::validate`].
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+pub enum ParamFault {
+    /// A number that is not finite.
+    #[error("{name} = {value} is not finite")]
+    NotFinite {
+        /// Which parameter (`mass`, `hx`, …, `Izz`).
+        name: &'static str,
+        /// Its value.
+        value: f64,
+    },
+    /// A number beyond ±[`MAX_ABS_PARAM`].
+    #[error("{name} = {value:e} is beyond ±{:e}", MAX_ABS_PARAM)]
+    TooLarge {
+        /// Which parameter.
+        name: &'static str,
+        /// Its value.
+        value: f64,
+    },
+    /// A negative mass (kg).
+    #[error("mass = {0} kg is negative")]
+    NegativeMass(f64),
 }
 
 /// The largest magnitude of an inertial parameter the readers accept

@@ -17,17 +17,15 @@
 //! ([`UrdfReport::warnings`]). Time and memory are linear in the file.
 
 use super::check::{DEFAULT_TOL, Verdict, check_consistency, check_realizable};
-use super::ellipsoid::{Ellipsoid, rpy_rotation};
+use super::ellipsoid::Ellipsoid;
+use super::geometry::{Meshes, geometry_ellipsoids};
 use super::nearest::{NearestOptions, nearest_consistent};
 use super::params::InertialParams;
 use super::union::{UnionRealization, realize_on_union};
-use crate::urdf::mesh::{MeshPaths, read_vertices};
-use crate::urdf::{
-    Geometry, Pose, Robot, Shape, UrdfError, geometry_warnings, read_file, read_str, validate,
-};
+use crate::urdf::mesh::MeshPaths;
+use crate::urdf::{Robot, UrdfError, geometry_warnings, read_file, read_str, validate};
 use nalgebra::Vector3;
 use serde::Serialize;
-use std::collections::HashMap;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
@@ -159,6 +157,34 @@ fn degeneracy(pi: &InertialParams) -> Option<&'static str> {
     }
 }
 
+/// A warning of the URDF check.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+#[non_exhaustive]
+pub enum CheckWarning {
+    /// The robot has no link: nothing to check.
+    NoLink,
+    /// A shape that cannot be used.
+    Geometry(crate::urdf::GeometryWarning),
+    /// A mesh that could not be found or read.
+    Mesh {
+        /// The link.
+        link: String,
+        /// Why.
+        note: String,
+    },
+}
+
+impl std::fmt::Display for CheckWarning {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            CheckWarning::NoLink => f.write_str("the <robot> has no <link>: nothing to check"),
+            CheckWarning::Geometry(g) => g.fmt(f),
+            CheckWarning::Mesh { link, note } => write!(f, "link '{link}': {note}"),
+        }
+    }
+}
+
 /// The whole robot's findings.
 #[derive(Clone, Debug, Serialize)]
 pub struct UrdfReport {
@@ -168,9 +194,11 @@ pub struct UrdfReport {
     pub links: Vec<LinkReport>,
     /// Links without `<inertial>` (massless frames).
     pub links_without_inertial: Vec<String>,
-    /// Shapes whose origin or geometry cannot be read or is out of range,
-    /// naming the link and the element ([`geometry_warnings`]).
-    pub warnings: Vec<String>,
+    /// Shapes whose origin or geometry cannot be read or is out of range
+    /// ([`geometry_warnings`]), meshes that could not be used, a robot with
+    /// no link; in the JSON each with its `kind` and `message`.
+    #[serde(serialize_with = "crate::warning::with_messages")]
+    pub warnings: Vec<CheckWarning>,
     /// Some link has an `<inertial>`, and every one is `ok` or a
     /// `placeholder` (false when there is nothing to check).
     pub consistent: bool,
@@ -181,154 +209,6 @@ impl UrdfReport {
     pub fn nothing_to_check(&self) -> bool {
         self.links.is_empty()
     }
-}
-
-fn pose_of(p: &Pose) -> (nalgebra::Matrix3<f64>, Vector3<f64>) {
-    (rpy_rotation(p.rpy), Vector3::from(p.xyz))
-}
-
-/// Where link geometry comes from: where meshes are found, the vertices of
-/// those read so far (a mesh several links use is read once), and bounding
-/// ellipsoids given for links by name (a sidecar's `[[body]] bounding`),
-/// which replace the ones of the link's shapes.
-pub struct Meshes {
-    paths: Option<MeshPaths>,
-    read: HashMap<PathBuf, Result<Vec<Vector3<f64>>, String>>,
-    given: HashMap<String, Vec<Ellipsoid>>,
-}
-
-impl Meshes {
-    /// Meshes found through `paths`.
-    pub fn new(paths: MeshPaths) -> Self {
-        Self {
-            paths: Some(paths),
-            read: HashMap::new(),
-            given: HashMap::new(),
-        }
-    }
-
-    /// The link `link`'s bounding volume is the union of `ellipsoids` (link
-    /// frame), whatever its shapes.
-    pub fn with_bounding(mut self, link: &str, ellipsoids: Vec<Ellipsoid>) -> Self {
-        self.given.insert(link.to_string(), ellipsoids);
-        self
-    }
-
-    /// The links given a bounding volume with [`Meshes::with_bounding`].
-    pub fn given_links(&self) -> impl Iterator<Item = &str> {
-        self.given.keys().map(String::as_str)
-    }
-
-    /// No mesh is read (a URDF given as text has no folder).
-    pub fn none() -> Self {
-        Self {
-            paths: None,
-            read: HashMap::new(),
-            given: HashMap::new(),
-        }
-    }
-
-    /// The distinct vertices of the mesh `filename` names.
-    pub(crate) fn vertices(&mut self, filename: &str) -> Result<&[Vector3<f64>], String> {
-        let Some(paths) = &self.paths else {
-            return Err(format!(
-                "mesh '{filename}': no folder to look in (URDF text)"
-            ));
-        };
-        let file = paths.resolve(filename)?;
-        let v = self
-            .read
-            .entry(file.clone())
-            .or_insert_with(|| read_vertices(&file).map(distinct));
-        v.as_deref().map_err(Clone::clone)
-    }
-}
-
-/// The distinct points of a vertex list (an STL repeats each vertex for
-/// every triangle that has it).
-fn distinct(v: Vec<[f64; 3]>) -> Vec<Vector3<f64>> {
-    let mut seen = std::collections::HashSet::with_capacity(v.len());
-    v.into_iter()
-        .filter(|p| seen.insert(p.map(f64::to_bits)))
-        .map(Vector3::from)
-        .collect()
-}
-
-/// The minimum-volume ellipsoid enclosing a mesh's vertices, scaled.
-fn mesh_ellipsoid(points: &[Vector3<f64>], scale: [f64; 3]) -> Result<Ellipsoid, String> {
-    let s = Vector3::from(scale);
-    let scaled: Vec<Vector3<f64>> = points.iter().map(|p| p.component_mul(&s)).collect();
-    Ellipsoid::minimum_volume_enclosing(&scaled, 1e-7).map_err(|e| e.to_string())
-}
-
-/// Why one shape gave no bounding ellipsoid.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ShapeNote {
-    /// The reason, naming the shape (`collision 2: …`).
-    pub text: String,
-    /// A mesh that could not be found or read (a warning of the report,
-    /// not only a note on the link).
-    pub mesh: bool,
-}
-
-/// The bounding ellipsoid of one shape, in the link frame, or why there is
-/// none (and whether it is a mesh that could not be used).
-fn shape_ellipsoid(s: &Shape, meshes: &mut Meshes) -> Result<Ellipsoid, (bool, String)> {
-    let e = match &s.geometry {
-        Geometry::Box { size } => Ellipsoid::bounding_box(Vector3::from(*size)),
-        Geometry::Cylinder { radius, length } => Ellipsoid::bounding_cylinder(*radius, *length),
-        Geometry::Capsule { radius, length } => Ellipsoid::bounding_capsule(*radius, *length),
-        Geometry::Sphere { radius } => Ellipsoid::bounding_sphere(*radius),
-        Geometry::Mesh { filename, scale } => {
-            let e = meshes
-                .vertices(filename)
-                .and_then(|v| mesh_ellipsoid(v, *scale))
-                .map_err(|m| (true, format!("mesh '{filename}': {m}")))?;
-            Ok(e)
-        }
-        Geometry::Invalid { message } => return Err((false, message.clone())),
-    }
-    .map_err(|e| (false, e.to_string()))?;
-    let (r, p) = pose_of(&s.origin);
-    Ok(e.transformed(&r, &p))
-}
-
-/// The shapes that bound a link: its collision shapes, else its visual
-/// ones, and which they are.
-pub fn bounded_shapes(link: &crate::urdf::Link) -> (&[crate::urdf::Shape], &'static str) {
-    if link.collisions.is_empty() {
-        (&link.visuals, "visual")
-    } else {
-        (&link.collisions, "collision")
-    }
-}
-
-/// Bounding ellipsoids of a link's shapes (collision, else visual; link
-/// frame), and notes on the shapes that gave none; the given ones instead
-/// when [`Meshes::with_bounding`] names the link.
-pub fn geometry_ellipsoids(
-    link: &crate::urdf::Link,
-    meshes: &mut Meshes,
-) -> (Vec<Ellipsoid>, Vec<ShapeNote>) {
-    if let Some(es) = meshes.given.get(&link.name) {
-        return (es.clone(), vec![]);
-    }
-    let (shapes, kind) = bounded_shapes(link);
-    let mut es = vec![];
-    let mut notes = vec![];
-    for (k, s) in shapes.iter().enumerate() {
-        if matches!(s.geometry, Geometry::Invalid { .. }) {
-            continue; // a warning of the report
-        }
-        match shape_ellipsoid(s, meshes) {
-            Ok(e) => es.push(e),
-            Err((mesh, m)) => notes.push(ShapeNote {
-                text: format!("{kind} {}: {m}", k + 1),
-                mesh,
-            }),
-        }
-    }
-    (es, notes)
 }
 
 /// Whether π is density realizable in the ellipsoids (one: Theorem 4;
@@ -412,20 +292,26 @@ pub fn check_robot_with(
             robot: robot.name.clone(),
             links: vec![],
             links_without_inertial: vec![],
-            warnings: vec!["the <robot> has no <link>: nothing to check".into()],
+            warnings: vec![CheckWarning::NoLink],
             consistent: false,
         });
     }
     validate(robot, path)?;
     let mut links = Vec::new();
     let mut without = Vec::new();
-    let mut warnings = geometry_warnings(robot);
+    let mut warnings: Vec<CheckWarning> = geometry_warnings(robot)
+        .into_iter()
+        .map(CheckWarning::Geometry)
+        .collect();
     for l in &robot.links {
         let report = link_report(l, meshes);
         if let Some(r) = &report
             && meshes.paths.is_some()
         {
-            warnings.extend(r.mesh_warnings().map(|n| format!("link '{}': {n}", l.name)));
+            warnings.extend(r.mesh_warnings().map(|n| CheckWarning::Mesh {
+                link: l.name.clone(),
+                note: n.to_string(),
+            }));
         }
         match report {
             Some(r) => links.push(r),

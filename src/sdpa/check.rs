@@ -2,7 +2,7 @@
 //! numbers) and by problems built in code (errors naming the field).
 
 use super::error::SdpaError;
-use super::format::SdpaProblem;
+use super::problem::SdpaProblem;
 
 /// Largest m: the conic layer indexes variables with 32 bits.
 pub const MAX_VARIABLES: usize = u32::MAX as usize;

@@ -6,11 +6,12 @@
 //! non-negative orthant on its n diagonal rows (O(n), never an n × n matrix).
 
 use super::error::SdpaError;
-use super::format::SdpaProblem;
 use super::memory::MemoryEstimate;
 use super::options::SdpaOptions;
+use super::problem::SdpaProblem;
 use crate::conic::{
-    AffExpr, ConeKind, ConicError, ConstraintId, MatExpr, Problem, Sense, Settings, Solution, Var,
+    AffExpr, ConeKind, ConicError, ConstraintData, ConstraintId, MatExpr, Problem, Sense, Settings,
+    Solution, Var,
 };
 
 type Entry = (usize, usize, usize, usize, f64);
@@ -165,11 +166,25 @@ impl SdpaProblem {
         for (v, a) in p.linear.coefficients() {
             c[v.index()] += sign * a;
         }
-        let mut blocks = Vec::new();
-        let mut entries = Vec::new();
-        // entry (i, j) of the current block = expression e: Fᵢ gets the
-        // coefficients, F₀ the negated constant.
-        let mut put = |blk: usize, i: usize, j: usize, e: &AffExpr| {
+        let mut out = Self {
+            c,
+            blocks: vec![],
+            entries: vec![],
+        };
+        for con in &p.constraints {
+            out.add_constraint(con)?;
+        }
+        Ok(out)
+    }
+
+    /// One constraint as a block of F(x) (none for an empty one).
+    fn add_constraint(&mut self, con: &ConstraintData) -> Result<(), SdpaError> {
+        let blk = self.blocks.len();
+        let k = con.rows.len();
+        let entries = &mut self.entries;
+        // entry (i, j) of this block = expression e: Fᵢ gets the
+        // coefficients, F₀ the negated constant
+        let mut put = |i: usize, j: usize, e: &AffExpr| {
             for (v, a) in e.coefficients() {
                 entries.push((v.index() + 1, blk, i, j, a));
             }
@@ -177,58 +192,54 @@ impl SdpaProblem {
                 entries.push((0, blk, i, j, -e.constant_term()));
             }
         };
-        let s2 = std::f64::consts::SQRT_2;
-        for con in &p.constraints {
-            let blk = blocks.len();
-            let k = con.rows.len();
-            match con.kind {
-                ConeKind::Nonnegative => {
-                    blocks.push(-(k as i64));
-                    for (r, e) in con.rows.iter().enumerate() {
-                        put(blk, r, r, e);
-                    }
+        let size = match con.kind {
+            ConeKind::Nonnegative => {
+                for (r, e) in con.rows.iter().enumerate() {
+                    put(r, r, e);
                 }
-                ConeKind::Zero => {
-                    blocks.push(-2 * k as i64);
-                    for (r, e) in con.rows.iter().enumerate() {
-                        put(blk, 2 * r, 2 * r, e);
-                        put(blk, 2 * r + 1, 2 * r + 1, &(e * -1.0));
-                    }
+                -(k as i64)
+            }
+            ConeKind::Zero => {
+                for (r, e) in con.rows.iter().enumerate() {
+                    put(2 * r, 2 * r, e);
+                    put(2 * r + 1, 2 * r + 1, &(e * -1.0));
                 }
-                ConeKind::SecondOrder => {
-                    blocks.push(k as i64);
-                    for r in 0..k {
-                        put(blk, r, r, &con.rows[0]);
-                    }
-                    for r in 1..k {
-                        put(blk, 0, r, &con.rows[r]);
-                    }
+                -2 * k as i64
+            }
+            ConeKind::SecondOrder => {
+                for r in 0..k {
+                    put(r, r, &con.rows[0]);
                 }
-                ConeKind::Exponential => {
-                    return Err(ConicError::Unsupported(format!(
-                        "{}: an exponential cone has no SDPA form",
-                        con.name
-                    ))
-                    .into());
+                for r in 1..k {
+                    put(0, r, &con.rows[r]);
                 }
-                ConeKind::Psd { n } => {
-                    blocks.push(n as i64);
-                    for j in 0..n {
-                        for i in 0..=j {
-                            let e = &con.rows[j * (j + 1) / 2 + i];
-                            if i == j {
-                                put(blk, i, j, e)
-                            } else {
-                                put(blk, i, j, &(e * (1.0 / s2)))
-                            }
+                k as i64
+            }
+            ConeKind::Exponential => {
+                return Err(ConicError::Unsupported(format!(
+                    "{}: an exponential cone has no SDPA form",
+                    con.name
+                ))
+                .into());
+            }
+            ConeKind::Psd { n } => {
+                let s2 = std::f64::consts::SQRT_2;
+                for j in 0..n {
+                    for i in 0..=j {
+                        let e = &con.rows[j * (j + 1) / 2 + i];
+                        if i == j {
+                            put(i, j, e)
+                        } else {
+                            put(i, j, &(e * (1.0 / s2)))
                         }
                     }
                 }
+                n as i64
             }
-            if k == 0 {
-                blocks.pop();
-            }
+        };
+        if k > 0 {
+            self.blocks.push(size);
         }
-        Ok(Self { c, blocks, entries })
+        Ok(())
     }
 }

@@ -1,4 +1,4 @@
-//! The SDPA data structure and its text format.
+//! The SDPA text format: reading and writing an [`SdpaProblem`].
 //!
 //! The parser reads the whole header and every entry before anything is
 //! sized from the header: no buffer is reserved from a declared m, number of
@@ -7,20 +7,9 @@
 use super::check::{MAX_VARIABLES, entry_fault, first_duplicate};
 use super::error::SdpaError;
 use super::options::SdpaOptions;
+use super::problem::SdpaProblem;
 use std::fmt::Write as _;
 use std::path::Path;
-
-/// An SDPA problem: `min cᵀx s.t. Σ xᵢ Fᵢ − F₀ ⪰ 0`.
-#[derive(Clone, Debug, PartialEq)]
-pub struct SdpaProblem {
-    /// Cost vector c (length m).
-    pub c: Vec<f64>,
-    /// Block sizes: `n > 0` a dense `n × n` block, `n < 0` a diagonal block of size `|n|`.
-    pub blocks: Vec<i64>,
-    /// Entries `(matrix 0..=m, block 0-based, i, j, value)`, 0-based `i ≤ j`,
-    /// each `(matrix, block, i, j)` at most once.
-    pub entries: Vec<(usize, usize, usize, usize, f64)>,
-}
 
 /// Lines of SDPA text as tokens, with their 1-based numbers; `,{}()` are
 /// blanks.
@@ -183,7 +172,7 @@ impl SdpaProblem {
     }
 
     /// Reads a file, first checking that reading it fits the memory limit
-    /// (about [`READ_BYTES_PER_FILE_BYTE`](super::READ_BYTES_PER_FILE_BYTE)
+    /// (about [`READ_BYTES_PER_FILE_BYTE`](super::memory::READ_BYTES_PER_FILE_BYTE)
     /// bytes per byte of file).
     pub fn read_with(path: &Path, opts: &SdpaOptions) -> Result<Self, SdpaError> {
         opts.validate()?;
@@ -191,7 +180,7 @@ impl SdpaProblem {
             path: path.to_path_buf(),
             source: e,
         };
-        let most = (opts.max_memory_bytes() / super::READ_BYTES_PER_FILE_BYTE) as u64;
+        let most = (opts.max_memory_bytes() / super::memory::READ_BYTES_PER_FILE_BYTE) as u64;
         let bytes = match crate::io::read_capped(path, most) {
             Ok(b) => b,
             Err(crate::io::Capped::Io(e)) => return Err(io(e)),

@@ -28,8 +28,8 @@
 
 use super::cliques::decomposed_t2;
 use super::error::{SdpaError, gib};
-use super::format::SdpaProblem;
 use super::options::{GIB, SdpaOptions};
+use super::problem::SdpaProblem;
 use crate::conic::{AffExpr, Decomposition, Settings};
 use std::path::Path;
 

@@ -30,14 +30,15 @@ mod error;
 mod format;
 mod memory;
 mod options;
+mod problem;
 #[cfg(test)]
 mod tests;
 
 pub use check::MAX_VARIABLES;
 pub use error::SdpaError;
-pub use format::SdpaProblem;
 pub use memory::{
     BYTES_FIXED, BYTES_PER_DENSE, BYTES_PER_ENTRY, BYTES_PER_ROW, BYTES_PER_VARIABLE,
     MemoryEstimate, READ_BYTES_PER_FILE_BYTE,
 };
 pub use options::{DEFAULT_MAX_MEMORY_GIB, SdpaOptions};
+pub use problem::SdpaProblem;

@@ -5,7 +5,7 @@
 //! Only the file the URDF names is opened: an OBJ's material library and a
 //! COLLADA's images are never read. A COLLADA file is held to the URDF
 //! reader's XML limits first (size, nodes, depth; no DTD, so no entity
-//! expansion). Errors are strings naming the file, for the caller to turn
+//! expansion). Errors ([`MeshError`]) name the file, for the caller to turn
 //! into a warning about the link.
 
 use super::limits::{self, Limits};
@@ -43,7 +43,7 @@ impl MeshPaths {
 
     /// The file `filename` (as written in the URDF) names, if it exists; the
     /// error says where it was looked for.
-    pub fn resolve(&self, filename: &str) -> Result<PathBuf, String> {
+    pub fn resolve(&self, filename: &str) -> Result<PathBuf, MeshError> {
         if let Some(rest) = filename.strip_prefix("package://") {
             return self.resolve_package(rest);
         }
@@ -56,11 +56,11 @@ impl MeshPaths {
         if p.is_file() {
             Ok(p)
         } else {
-            Err(format!("no such file ({})", p.display()))
+            Err(MeshError::NotFound(p))
         }
     }
 
-    fn resolve_package(&self, rest: &str) -> Result<PathBuf, String> {
+    fn resolve_package(&self, rest: &str) -> Result<PathBuf, MeshError> {
         let (name, inner) = rest.split_once('/').unwrap_or((rest, ""));
         let mut roots: Vec<PathBuf> = self.urdf_dir.ancestors().map(Path::to_path_buf).collect();
         roots.extend(self.package_paths.iter().cloned());
@@ -78,22 +78,24 @@ impl MeshPaths {
                 }
             }
         }
-        Err(format!(
-            "'{name}/{inner}' not found above the URDF, in --package-path or in ROS_PACKAGE_PATH"
-        ))
+        Err(MeshError::PackageNotFound {
+            package: name.to_string(),
+            file: inner.to_string(),
+        })
     }
 }
 
 /// The vertices (m, the file's frame, COLLADA's unit and node transforms
 /// applied) of the mesh file at `path`.
-pub fn read_vertices(path: &Path) -> Result<Vec<[f64; 3]>, String> {
+pub fn read_vertices(path: &Path) -> Result<Vec<[f64; 3]>, MeshError> {
     let name = path.display().to_string();
+    let file = || path.to_path_buf();
     let bytes = crate::io::read_capped(path, MAX_MESH_BYTES).map_err(|e| match e {
-        crate::io::Capped::Io(e) => format!("{name}: {e}"),
-        crate::io::Capped::TooLarge(size) => format!(
-            "{name}: {size} bytes, more than the {} MiB a mesh may have",
-            MAX_MESH_BYTES >> 20
-        ),
+        crate::io::Capped::Io(source) => MeshError::Io {
+            path: file(),
+            source,
+        },
+        crate::io::Capped::TooLarge(size) => MeshError::TooLarge { path: file(), size },
     })?;
     let ext = path
         .extension()
@@ -110,33 +112,115 @@ pub fn read_vertices(path: &Path) -> Result<Vec<[f64; 3]>, String> {
         "stl" => loader.load_stl_from_slice(&bytes, path),
         "obj" => loader.load_obj_from_slice_with_reader(&bytes, path, never),
         "dae" => {
-            let text =
-                std::str::from_utf8(&bytes).map_err(|e| format!("{name}: not UTF-8: {e}"))?;
-            limits::check(text, &name, &Limits::default()).map_err(|e| e.to_string())?;
+            let text = std::str::from_utf8(&bytes).map_err(|_| MeshError::NotUtf8(file()))?;
+            limits::check(text, &name, &Limits::default()).map_err(|e| MeshError::Xml {
+                path: file(),
+                source: Box::new(e),
+            })?;
             loader.load_collada_from_slice(&bytes, path)
         }
-        _ => {
-            return Err(format!(
-                "{name}: unknown mesh format '.{ext}' (STL, OBJ, DAE)"
-            ));
-        }
+        _ => return Err(MeshError::Format { path: file(), ext }),
     }
-    .map_err(|e| format!("{name}: {e}"))?;
+    .map_err(|source| MeshError::Load {
+        path: file(),
+        source,
+    })?;
+    vertices_of(&scene, path)
+}
+
+/// Every vertex of `scene` (at most [`MAX_MESH_VERTICES`], each finite, at
+/// least one).
+fn vertices_of(scene: &mesh_loader::Scene, path: &Path) -> Result<Vec<[f64; 3]>, MeshError> {
+    let file = || path.to_path_buf();
     let mut out = Vec::new();
     for m in &scene.meshes {
         if out.len() + m.vertices.len() > MAX_MESH_VERTICES {
-            return Err(format!("{name}: more than {MAX_MESH_VERTICES} vertices"));
+            return Err(MeshError::TooManyVertices(file()));
         }
         for v in &m.vertices {
             let p = v.map(f64::from);
             if !p.iter().all(|x| x.is_finite()) {
-                return Err(format!("{name}: a vertex is not finite"));
+                return Err(MeshError::NonFiniteVertex(file()));
             }
             out.push(p);
         }
     }
     if out.is_empty() {
-        return Err(format!("{name}: no vertices"));
+        return Err(MeshError::NoVertices(file()));
     }
     Ok(out)
+}
+
+/// Why a mesh file could not be found or used.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum MeshError {
+    /// A relative or absolute mesh path that is not a file.
+    #[error("no such file ({})", .0.display())]
+    NotFound(PathBuf),
+    /// A `package://` mesh found nowhere.
+    #[error(
+        "'{package}/{file}' not found above the URDF, in the package folders given or in ROS_PACKAGE_PATH"
+    )]
+    PackageNotFound {
+        /// The package.
+        package: String,
+        /// The file inside it.
+        file: String,
+    },
+    /// The file could not be read.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The OS error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// A file beyond [`MAX_MESH_BYTES`].
+    #[error("{}: {size} bytes, more than the {} MiB a mesh may have", path.display(), MAX_MESH_BYTES >> 20)]
+    TooLarge {
+        /// The file.
+        path: PathBuf,
+        /// Its size (bytes).
+        size: u64,
+    },
+    /// A COLLADA file that is not UTF-8.
+    #[error("{}: not UTF-8", .0.display())]
+    NotUtf8(PathBuf),
+    /// A COLLADA file beyond the XML limits.
+    #[error("{}: {source}", path.display())]
+    Xml {
+        /// The file.
+        path: PathBuf,
+        /// The limit it passes.
+        #[source]
+        source: Box<super::UrdfError>,
+    },
+    /// An extension that is not STL, OBJ or DAE.
+    #[error("{}: unknown mesh format '.{ext}' (STL, OBJ, DAE)", path.display())]
+    Format {
+        /// The file.
+        path: PathBuf,
+        /// Its extension.
+        ext: String,
+    },
+    /// The mesh loader could not read the file.
+    #[error("{}: {source}", path.display())]
+    Load {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        source: std::io::Error,
+    },
+    /// More than [`MAX_MESH_VERTICES`] vertices.
+    #[error("{}: more than {MAX_MESH_VERTICES} vertices", .0.display())]
+    TooManyVertices(PathBuf),
+    /// A vertex that is not finite.
+    #[error("{}: a vertex is not finite", .0.display())]
+    NonFiniteVertex(PathBuf),
+    /// No vertex at all.
+    #[error("{}: no vertices", .0.display())]
+    NoVertices(PathBuf),
 }

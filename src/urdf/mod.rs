@@ -32,10 +32,13 @@ mod tree;
 
 pub use error::UrdfError;
 pub use limits::{Limits, MAX_ATTRIBUTES, MAX_BYTES, MAX_DEPTH, MAX_NAMESPACES, MAX_NODES};
+pub use mesh::MeshError;
 pub use read::{read_file, read_file_with, read_str, read_str_with};
 pub use robot::{
-    Geometry, Inertial, Joint, JointDynamics, JointType, Limit, Link, Mimic, Pose, Robot, Shape,
-    Transmission,
+    Geometry, Inertial, Joint, JointDynamics, JointType, Limit, Link, Mimic, Pose, Reduction,
+    Robot, Shape, Transmission,
 };
-pub use rules::{MAX_ABS_INERTIAL, axis_ok, geometry_warnings, validate, validate_masses};
+pub use rules::{
+    GeometryWarning, MAX_ABS_INERTIAL, axis_ok, geometry_warnings, validate, validate_masses,
+};
 pub use tree::Tree;

@@ -7,8 +7,8 @@
 use super::error::UrdfError;
 use super::limits::{self, Limits};
 use super::robot::{
-    Geometry, Inertial, Joint, JointDynamics, JointType, Limit, Link, Mimic, Pose, Robot, Shape,
-    Transmission,
+    Geometry, Inertial, Joint, JointDynamics, JointType, Limit, Link, Mimic, Pose, Reduction,
+    Robot, Shape, Transmission,
 };
 use roxmltree::Node;
 use std::collections::HashSet;
@@ -362,10 +362,10 @@ fn read_transmission(node: Node) -> Transmission {
             .find(|c| c.has_tag_name("mechanicalReduction"))
             .map(|r| {
                 let text = r.text().unwrap_or("").trim();
-                text.parse::<f64>()
-                    .ok()
-                    .filter(|v| v.is_finite())
-                    .ok_or_else(|| text.to_string())
+                match text.parse::<f64>() {
+                    Ok(v) if v.is_finite() => Reduction::Ratio(v),
+                    _ => Reduction::NotANumber(text.to_string()),
+                }
             }),
     }
 }

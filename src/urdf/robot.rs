@@ -177,8 +177,17 @@ pub struct Transmission {
     pub name: String,
     /// The joint (`<joint name>`), if given.
     pub joint: Option<String>,
-    /// `<mechanicalReduction>`, if given: the number, or the text that is not one.
-    pub reduction: Option<Result<f64, String>>,
+    /// `<mechanicalReduction>`, if given.
+    pub reduction: Option<Reduction>,
+}
+
+/// A `<mechanicalReduction>`: the number, or the text that is not one.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Reduction {
+    /// A finite ratio.
+    Ratio(f64),
+    /// Text that is not a finite number.
+    NotANumber(String),
 }
 
 /// A whole URDF: the elements a robot description needs, in file order.

@@ -94,20 +94,48 @@ pub fn axis_ok(axis: [f64; 3]) -> bool {
     n > 0.0 && n.is_finite()
 }
 
-/// One line per shape kept as [`Geometry::Invalid`], naming the link, the
-/// element (`<collision>` or `<visual>` and its 1-based position among the
-/// link's elements of that kind) and why: `link 'arm': <collision> 2:
+/// One warning per shape kept as [`Geometry::Invalid`], naming the link,
+/// the element (`<collision>` or `<visual>` and its 1-based position among
+/// the link's elements of that kind) and why: `link 'arm': <collision> 2:
 /// <box size="-1 1 1">: every value must be positive`.
-pub fn geometry_warnings(robot: &Robot) -> Vec<String> {
+pub fn geometry_warnings(robot: &Robot) -> Vec<GeometryWarning> {
     let mut out = Vec::new();
     for l in &robot.links {
-        for (tag, shapes) in [("collision", &l.collisions), ("visual", &l.visuals)] {
+        for (element, shapes) in [("collision", &l.collisions), ("visual", &l.visuals)] {
             for (k, s) in shapes.iter().enumerate() {
                 if let Geometry::Invalid { message } = &s.geometry {
-                    out.push(format!("link '{}': <{tag}> {}: {message}", l.name, k + 1));
+                    out.push(GeometryWarning {
+                        link: l.name.clone(),
+                        element,
+                        position: k + 1,
+                        why: message.clone(),
+                    });
                 }
             }
         }
     }
     out
+}
+
+/// A link's shape that cannot be used ([`geometry_warnings`]).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct GeometryWarning {
+    /// The link.
+    pub link: String,
+    /// `collision` or `visual`.
+    pub element: &'static str,
+    /// Its 1-based position among the link's elements of that kind.
+    pub position: usize,
+    /// Why (the element as written and what is wrong with it).
+    pub why: String,
+}
+
+impl std::fmt::Display for GeometryWarning {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "link '{}': <{}> {}: {}",
+            self.link, self.element, self.position, self.why
+        )
+    }
 }

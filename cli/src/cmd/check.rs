@@ -3,10 +3,9 @@
 
 use momentlmi::data::{Staged, same_file};
 use momentlmi::dynamics::sidecar::Sidecar;
-use momentlmi::moments::shape_points::geometry_points;
+use momentlmi::moments::geometry::{Meshes, geometry_points};
 use momentlmi::moments::urdf_check::{
-    LEFT_AS_IS, Meshes, RepairOptions, UrdfReport, check_urdf_file_with, check_urdf_str,
-    repair_urdf,
+    LEFT_AS_IS, RepairOptions, UrdfReport, check_urdf_file_with, check_urdf_str, repair_urdf,
 };
 use momentlmi::urdf::Robot;
 use momentlmi::urdf::mesh::MeshPaths;

@@ -12,7 +12,7 @@ use super::description::RobotDescription;
 use super::error::DynamicsError;
 use super::sidecar::Sidecar;
 use super::urdf::model_from_robot;
-use crate::moments::urdf_check::Meshes;
+use crate::moments::geometry::Meshes;
 use crate::urdf::mesh::MeshPaths;
 use std::path::Path;
 
