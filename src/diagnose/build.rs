@@ -36,6 +36,8 @@ pub fn candidates(
             None => proposed.push(e.clone()),
         }
     }
+    // what several hypotheses share, computed with every core first
+    proposed.iter().for_each(|e| e.prepare(cx));
     let build = |e: &Arc<dyn Effect>| -> Built {
         let h: Hypothesis = e.hypothesis(cx)?;
         // the Gram matrices the selection rounds reuse, while cores are free

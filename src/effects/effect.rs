@@ -59,6 +59,13 @@ pub trait Effect: Send + Sync {
         0
     }
 
+    /// Diagnosis: computes, before the hypotheses are built in parallel,
+    /// what this effect shares with others through `cx` (the linearised
+    /// link dynamics), so that it is computed once with every core rather
+    /// than by one build while the others wait (nothing by default; an error
+    /// is left for [`Self::hypothesis`] to report).
+    fn prepare(&self, _cx: &Context) {}
+
     /// Diagnosis: the hypothesis for the data in `cx` — regressor columns
     /// where the effect is linear in its magnitudes, a grid of variants
     /// over a nonlinear parameter, or the result of a search on the

@@ -51,6 +51,10 @@ impl Effect for Backlash {
         2
     }
 
+    fn prepare(&self, cx: &Context) {
+        let _ = cx.linearisation();
+    }
+
     fn hypothesis(&self, cx: &Context) -> Result<Hypothesis, EffectError> {
         searched(cx, true)
     }

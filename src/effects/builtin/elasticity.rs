@@ -89,6 +89,10 @@ impl Effect for Elasticity {
         1
     }
 
+    fn prepare(&self, cx: &Context) {
+        let _ = cx.linearisation();
+    }
+
     fn hypothesis(&self, cx: &Context) -> Result<Hypothesis, EffectError> {
         searched(cx, false)
     }
