@@ -8,6 +8,8 @@
 //! - layers only look down (`conic` … `diagnose`);
 //! - no public function returns `Result<_, String>`, no public field holds
 //!   one, and no public result keeps its warnings as `Vec<String>`;
+//! - no message of the library names a command-line flag (advice about the
+//!   command line is the CLI's to give);
 //! - no file over 700 lines and no function over 80 lines outside test
 //!   code (the BLAS/LAPACK shims of `faer_lapack` aside: generated-style
 //!   numeric kernels).
@@ -551,6 +553,49 @@ fn errors_and_warnings_are_typed_in_the_public_api() {
     assert!(problems.is_empty(), "\n{}", problems.join("\n"));
 }
 
+/// String literals that name a command-line flag (`--name`).
+#[derive(Default)]
+struct Flags(Vec<String>);
+
+impl<'a> Visit<'a> for Flags {
+    fn visit_item_mod(&mut self, m: &'a syn::ItemMod) {
+        if !is_test(&m.attrs) {
+            syn::visit::visit_item_mod(self, m);
+        }
+    }
+    fn visit_attribute(&mut self, _: &'a syn::Attribute) {} // doc comments
+    fn visit_lit_str(&mut self, l: &'a syn::LitStr) {
+        let v = l.value();
+        let flag = v.match_indices("--").any(|(i, _)| {
+            let before = v[..i].chars().next_back();
+            let after = v[i + 2..].chars().next();
+            before.is_none_or(|c| c.is_whitespace() || "(`'\"".contains(c))
+                && after.is_some_and(|c| c.is_ascii_lowercase())
+        });
+        if flag {
+            self.0.push(v);
+        }
+    }
+}
+
+#[test]
+fn library_messages_name_no_command_line_flag() {
+    let mut problems = vec![];
+    for f in read_sources() {
+        // the crate root's build-configuration error names cargo's flags
+        if f.module.is_empty() {
+            continue;
+        }
+        let mut flags = Flags::default();
+        for i in &f.items {
+            flags.visit_item(i);
+        }
+        let at = f.path.display();
+        problems.extend(flags.0.iter().map(|s| format!("{at}: \"{s}\"")));
+    }
+    assert!(problems.is_empty(), "\n{}", problems.join("\n"));
+}
+
 #[test]
 fn files_and_functions_stay_readable() {
     #[derive(Default)]
@@ -620,6 +665,11 @@ fn the_checks_find_what_they_look_for() {
     assert!(cycles[0].contains("`a`"), "{cycles:?}");
     let e = edges(&files, &c);
     assert!(e[&vec!["conic".to_string()]].contains_key(&vec!["diagnose".to_string()]));
+    let mut f = Flags::default();
+    f.visit_file(
+        &syn::parse_file(r#"fn m() -> &'static str { "raise it (--max-memory-gib)" }"#).unwrap(),
+    );
+    assert_eq!(f.0.len(), 1);
     let mut p = Public::default();
     let src = "pub fn h() -> Result<(), String> { Ok(()) }
                pub struct R { pub warnings: Vec<String>, pub x: Option<Result<f64, String>> }";

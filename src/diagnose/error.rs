@@ -45,7 +45,7 @@ pub enum DiagnoseError {
     NoMotion,
     /// The diagnosis would need more memory than it may use.
     #[error(
-        "the diagnosis would need about {needed_gib:.2} GiB for its candidate library, beyond the {limit_gib:.2} GiB limit: use fewer samples, lock joints in the sidecar, or raise the limit (diagnose --max-memory-gib)"
+        "the diagnosis would need about {needed_gib:.2} GiB for its candidate library, beyond the {limit_gib:.2} GiB limit: use fewer samples, lock joints in the sidecar, or raise the limit"
     )]
     TooLarge {
         /// Estimated need (GiB).

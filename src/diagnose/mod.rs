@@ -19,7 +19,7 @@
 //! of the withheld-effect benchmark.
 
 mod build;
-pub mod candidate;
+mod candidate;
 mod error;
 mod fit;
 mod forward;

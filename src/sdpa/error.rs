@@ -87,7 +87,7 @@ pub enum SdpaError {
     /// The solve would need more memory than allowed.
     #[error(
         "{what} would need about {} GiB ({detail}), more than the limit of {} GiB; \
-         raise the limit (--max-memory-gib, SdpaOptions::max_memory_gib) only if the machine has that much",
+         raise the limit (max_memory_gib) only if the machine has that much",
         gib(*.needed_gib),
         gib(*.limit_gib)
     )]

@@ -108,7 +108,7 @@ impl MemoryEstimate {
         }
         s.forbid_decomposition_fallback(format!(
             "without decomposition the solve would need {} GiB, above the limit of {} GiB \
-             (raise --max-memory-gib, SdpaOptions::max_memory_gib, to allow it)",
+             (a higher max_memory_gib allows it)",
             gib(self.total_gib()),
             gib(opts.memory_limit_gib())
         ))

@@ -116,7 +116,7 @@ fn a_decomposed_estimate_that_fits_forbids_an_undecomposed_fall_back_that_does_n
     assert!(
         s.no_fallback
             .as_deref()
-            .is_some_and(|w| w.contains("--max-memory-gib"))
+            .is_some_and(|w| w.contains("max_memory_gib"))
     );
     let roomy = SdpaOptions::default();
     assert_eq!(

@@ -36,7 +36,12 @@ fn diagnosis(a: &DiagnoseArgs) -> Result<Diagnosis, String> {
         super::parameters_for(&robot, "--nominal", a.nominal, ParamChoice::Own)?;
     let names = model.joint_names();
     let d = super::read_data(a.data, &names, ReadOptions::default(), a.robot, a.sidecar)?;
-    diagnose(&model, &friction, &d, &opts).map_err(|e| e.to_string())
+    diagnose(&model, &friction, &d, &opts).map_err(|e| match e {
+        e @ momentlmi::diagnose::DiagnoseError::TooLarge { .. } => {
+            format!("{e}\nhint: --max-memory-gib raises the limit")
+        }
+        e => e.to_string(),
+    })
 }
 
 /// `diagnosis.json` and the plots into `dir`, all or none; none may be an

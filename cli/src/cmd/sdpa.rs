@@ -1,7 +1,7 @@
 //! `momentlmi sdpa FILE [--json] [--max-memory-gib G] [--decomposition verified|unchecked|off] [--qdldl] [--verbose]`.
 
-use momentlmi::conic::{Decomposition, KktSolver, Settings, Solution};
-use momentlmi::sdpa::{MemoryEstimate, SdpaOptions, SdpaProblem};
+use momentlmi::conic::{ConicError, Decomposition, KktSolver, Settings, Solution};
+use momentlmi::sdpa::{MemoryEstimate, SdpaError, SdpaOptions, SdpaProblem};
 use serde_json::json;
 use std::path::Path;
 
@@ -46,8 +46,16 @@ impl From<DecompositionArg> for Decomposition {
 /// otherwise, 2 on unreadable or too large input (the error names the
 /// line, block or entry, or the memory it would need).
 pub fn run(a: &SdpaArgs) -> i32 {
-    let fail = |e: &dyn std::fmt::Display| {
+    let fail = |e: &SdpaError| {
         eprintln!("error: {}: {e}", a.file.display());
+        let memory = matches!(e, SdpaError::TooLarge { .. })
+            || matches!(
+                e,
+                SdpaError::Conic(ConicError::DecompositionRejected { .. })
+            );
+        if memory {
+            eprintln!("hint: --max-memory-gib raises the limit (max_memory_gib)");
+        }
         2
     };
     let opts = SdpaOptions::default()
