@@ -73,7 +73,7 @@ fn read_file(src: &Path, p: PathBuf) -> File {
         .items
         .iter()
         .filter(|i| is_test(item_attrs(i)))
-        .map(|i| span_lines(i))
+        .map(span_lines)
         .sum();
     let items = parsed
         .items
@@ -261,7 +261,7 @@ impl Crate {
         }
         let k = (0..=path.len())
             .rev()
-            .find(|&k| self.modules.contains(&path[..k].to_vec()))?;
+            .find(|&k| self.modules.contains(&path[..k]))?;
         let module = path[..k].to_vec();
         let Some(name) = path.get(k) else {
             return Some(module);
