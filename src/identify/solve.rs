@@ -1,13 +1,14 @@
 //! Solving the identification problem (25) of the paper, built with `conic`:
 //!
 //! ```text
-//! minimise    (1/n_s) Σ ‖Y π + B q̇ + B_c sign(q̇) − τ‖² + w_π R(π, π̂)
+//! minimise    (1/n_s) Σ ‖Y π + Σ_t c_t φ_t(q̇) − τ‖² + w_π R(π, π̂)
 //! subject to  per body, the chosen level: none | I(π) ⪰ εI | J(π) ⪰ εI
 //!             | J(π) ⪰ εI and tr(J(π) Q) ≥ 0   [and the CoM LMI (22)],
-//!             B ⪰ 0, B_c ⪰ 0 (diagonal, i.e. elementwise ≥ 0)
+//!             every friction coefficient c ≥ 0
 //! ```
 //!
-//! with `R(π, π̂)` the [`super::Regularizer`]: `‖π − π̂‖²` (Euclidean) or
+//! with the friction law of [`crate::dynamics::friction`] (viscous B q̇ and
+//! Coulomb B_c sign(q̇)), `R(π, π̂)` the [`super::Regularizer`]: `‖π − π̂‖²` (Euclidean) or
 //! `Σ_bodies d(J(π) ‖ J(π̂))` (entropic, the log-det divergence of
 //! [`crate::moments::entropic_divergence`]), and the data entering only
 //! through the reduced factor `R, d`

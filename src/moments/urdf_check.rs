@@ -348,7 +348,7 @@ pub fn check_urdf_file(
 }
 
 /// [`check_urdf_file`] with the caller's [`Meshes`] (kept for more use,
-/// e.g. [`geometry_points`](super::shape_points::geometry_points)); also
+/// e.g. [`geometry_points`](super::geometry::geometry_points)); also
 /// returns the robot read.
 pub fn check_urdf_file_with(
     path: &Path,
