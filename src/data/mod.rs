@@ -9,7 +9,7 @@
 //! - [`filter`]: the zero-phase Butterworth low-pass and the differentiator
 //!   that give q̈ (and, for raw encoders, q̇) offline;
 //! - [`rms`], [`rms_per_joint`]: the one RMS helper;
-//! - [`write`]: outputs written whole or not at all, and the JSON record
+//! - [`write`](mod@write): outputs written whole or not at all, and the JSON record
 //!   written beside a CSV (how the data were made).
 
 pub mod csv;

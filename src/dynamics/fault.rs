@@ -29,7 +29,7 @@ pub enum ModelFault {
         /// Upper limit.
         upper: f64,
     },
-    /// A finite joint limit beyond ±[`super::model::MAX_ABS_LIMIT`].
+    /// A finite joint limit beyond ±1e4 (rad or m).
     LimitsRange {
         /// The joint.
         joint: String,

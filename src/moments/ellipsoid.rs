@@ -162,7 +162,7 @@ impl Ellipsoid {
 
     /// The minimum-volume enclosing ellipsoid of a point cloud (Khachiyan's
     /// algorithm to relative tolerance `tol`, at most
-    /// [`MVEE_MAX_ITERATIONS`] iterations, then scaled so every point is
+    /// `MVEE_MAX_ITERATIONS` (20,000) iterations, then scaled so every point is
     /// inside: the result always encloses the points, and is minimal to
     /// `tol` when the iterations suffice). Needs at least 4 affinely
     /// independent points; time O(n) per iteration, memory O(n).

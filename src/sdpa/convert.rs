@@ -68,8 +68,8 @@ impl SdpaProblem {
         self.to_problem_with(&SdpaOptions::default())
     }
 
-    /// The conic problem and its variables x₁..x_m. First [validates]
-    /// (SdpaProblem::validate) the problem and checks its
+    /// The conic problem and its variables x₁..x_m. First validates
+    /// ([`SdpaProblem::validate`]) the problem and checks its
     /// [`memory_estimate`](SdpaProblem::memory_estimate) against
     /// `opts`' limit ([`SdpaError::TooLarge`] with the numbers), so
     /// nothing is allocated for a problem that would not fit.

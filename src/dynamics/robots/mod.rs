@@ -1,5 +1,5 @@
 //! Loading a robot by name or path: the built-in robots (one file each in
-//! this folder, each joining the registry [`BUILT_IN`] with its entry) and
+//! this folder, each joining the registry `BUILT_IN` with its entry) and
 //! URDF files with an optional sidecar, both into a [`RobotDescription`]
 //! through [`RobotDescription::new`].
 

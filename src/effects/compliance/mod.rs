@@ -16,7 +16,7 @@
 //!
 //! which is ~100× cheaper to integrate than the full link dynamics. The
 //! coefficients are solved for the acceleration once per data set and axial
-//! shift, at every sample ([`Nodes`]: `ẍ = b − P x − Q ẋ − A τ_s`, `A = M⁻¹`;
+//! shift, at every sample (the nodes: `ẍ = b − P x − Q ẋ − A τ_s`, `A = M⁻¹`;
 //! the shifts of recent simulations are cached), so a step is four
 //! matrix–vector products: RK4, one step per sample, its middle node the
 //! mean of its ends; a step in which a joint enters or leaves its dead band
@@ -44,11 +44,11 @@
 //! rotor's `N² I_zz` and the link's axial inertia enter rigid torques as one
 //! sum), but the link's ringing depends on it, hence the fitted shift s_i.
 //!
-//! Files: [`transmission`] (the parameters), [`nodes`] (the dynamics solved
-//! per sample), [`sinks`] (what a simulation feeds), [`integrate`] (the
-//! lock-step RK4), [`linearisation`] (the precomputation, its node cache and
-//! the simulations), [`search`] (the three stages); this file turns a fit
-//! into the hypothesis' columns.
+//! Files: `transmission` (the parameters), `nodes` (the dynamics solved per
+//! sample), `sinks` (what a simulation feeds), `integrate` (the lock-step
+//! RK4), `linearisation` (the precomputation, its node cache and the
+//! simulations), `search` (the three stages); this file turns a fit into
+//! the hypothesis' columns.
 
 mod integrate;
 mod linearisation;
