@@ -43,11 +43,16 @@ pub fn candidates(
         // the Gram matrices the selection rounds reuse, while cores are free
         Ok(Candidate::new(e.clone(), h).inspect(|c| c.warm_gram(train)))
     };
+    let nothing = "its hypothesis has no columns for these data";
     let built = build_all(&proposed, build);
     let mut out = vec![];
     for (e, b) in proposed.iter().zip(built) {
         match b {
-            Ok(c) => out.extend(c),
+            Ok(Some(c)) => out.push(c),
+            Ok(None) => warnings.push(DiagnoseWarning::NotBuilt {
+                effect: e.name().into(),
+                reason: nothing.into(),
+            }),
             Err(err) => warnings.push(DiagnoseWarning::NotBuilt {
                 effect: e.name().into(),
                 reason: err.to_string(),

@@ -162,6 +162,6 @@ mod tests {
         let col = 16 * 2000 * 3;
         assert_eq!(est.essential, (109 - 72) * col);
         assert_eq!(est.optional.len(), 1);
-        assert_eq!(est.optional[0].effects, ["rotor_inertia", "link_inertia"]);
+        assert_eq!(est.optional[0].effects, ["link_inertia"]);
     }
 }

@@ -87,7 +87,8 @@ pub trait Effect: Send + Sync {
     }
 
     /// Diagnosis: fitted values the report's JSON carries under their own
-    /// key (none by default; `joint_offset` gives `joint_offsets`).
+    /// key (none by default; `joint_offset` gives `joint_offsets`). A key
+    /// must not be one of the report's own fields (`effect`, `detail`, …).
     fn fitted(&self, _variant: &Columns, _beta: &[f64]) -> Vec<(&'static str, Vec<f64>)> {
         vec![]
     }

@@ -25,6 +25,13 @@ impl Effect for RotorInertia {
         Ok(())
     }
 
+    fn inapplicable(&self, model: &crate::dynamics::Model) -> Option<&'static str> {
+        model
+            .rotors
+            .is_empty()
+            .then_some("not proposed: the model has no rotors")
+    }
+
     fn memory(&self, shape: &Shape) -> Memory {
         let rotors = shape.bodies - shape.joints;
         Memory::optional(shape, 10 * rotors, "inertial", 0)
