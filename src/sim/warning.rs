@@ -14,6 +14,13 @@ pub enum SimWarning {
         /// The effect.
         effect: String,
     },
+    /// An effect is on but the robot has nothing it acts on.
+    Inert {
+        /// The effect.
+        effect: String,
+        /// Why (what the robot lacks).
+        why: &'static str,
+    },
 }
 
 impl fmt::Display for SimWarning {
@@ -23,6 +30,9 @@ impl fmt::Display for SimWarning {
                 f,
                 "effect '{effect}' is on but the robot's nominal friction it scales is zero on every joint"
             ),
+            SimWarning::Inert { effect, why } => {
+                write!(f, "effect '{effect}' is on but changes nothing: {why}")
+            }
         }
     }
 }

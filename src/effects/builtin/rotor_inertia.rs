@@ -6,7 +6,7 @@
 use crate::effects::{
     Columns, Context, Effect, EffectError, Hypothesis, Memory, Shape, Values,
 };
-use crate::sim::Truth;
+use crate::sim::{SimWarning, Truth};
 
 /// The rotors' inertia.
 pub struct RotorInertia;
@@ -21,6 +21,12 @@ impl Effect for RotorInertia {
     }
 
     fn apply(&self, _: &Values, truth: &mut Truth) -> Result<(), EffectError> {
+        if truth.robot().model.rotors.is_empty() {
+            truth.warn(SimWarning::Inert {
+                effect: self.name().into(),
+                why: "the robot has no rotors",
+            });
+        }
         truth.include_rotors();
         Ok(())
     }
