@@ -36,11 +36,9 @@ pub struct JointState {
 /// An additive torque (N·m, or N) on one joint, from its state.
 pub type TorqueTerm = Arc<dyn Fn(&JointState) -> f64 + Send + Sync>;
 
-/// The true robot being built ([`Truth::build`]).
-pub struct Truth<'r> {
-    robot: &'r RobotDescription,
-    joints: Vec<Joint>,
-    rotors: bool,
+/// What effects set on a true robot besides its bodies.
+#[derive(Clone)]
+struct Parts {
     friction: Friction,
     terms: Vec<TorqueTerm>,
     gain: f64,
@@ -48,6 +46,14 @@ pub struct Truth<'r> {
     position_offset: Vec<f64>,
     compliance: Option<Compliance>,
     warnings: Vec<SimWarning>,
+}
+
+/// The true robot being built ([`Truth::build`]).
+pub struct Truth<'r> {
+    robot: &'r RobotDescription,
+    joints: Vec<Joint>,
+    rotors: bool,
+    parts: Parts,
 }
 
 impl<'r> Truth<'r> {
@@ -59,13 +65,15 @@ impl<'r> Truth<'r> {
             robot,
             joints: robot.model.joints.clone(),
             rotors: false,
-            friction: Friction::zeros(n),
-            terms: vec![],
-            gain: 1.0,
-            delay: 0.0,
-            position_offset: vec![0.0; n],
-            compliance: None,
-            warnings: vec![],
+            parts: Parts {
+                friction: Friction::zeros(n),
+                terms: vec![],
+                gain: 1.0,
+                delay: 0.0,
+                position_offset: vec![0.0; n],
+                compliance: None,
+                warnings: vec![],
+            },
         }
     }
 
@@ -101,40 +109,43 @@ impl<'r> Truth<'r> {
     /// The friction law's coefficients of the true robot (zero until an
     /// effect sets them).
     pub fn friction_mut(&mut self) -> &mut Friction {
-        &mut self.friction
+        &mut self.parts.friction
     }
 
     /// Adds a torque term to every joint's torque (applied in the order
     /// added, after the rigid-body torque and the friction).
     pub fn add_torque(&mut self, term: impl Fn(&JointState) -> f64 + Send + Sync + 'static) {
-        self.terms.push(Arc::new(term));
+        self.parts.terms.push(Arc::new(term));
     }
 
     /// The measured torque is `gain` × the true one (ideal: 1).
     pub fn set_gain(&mut self, gain: f64) {
-        self.gain = gain;
+        self.parts.gain = gain;
     }
 
     /// The torque is measured at the state `delay` seconds earlier.
     pub fn set_delay(&mut self, delay: f64) {
-        self.delay = delay;
+        self.parts.delay = delay;
     }
 
     /// Every encoder reads its joint `delta` short of the true position
     /// (true q = measured q + δ; rad or m).
     pub fn offset_positions(&mut self, delta: f64) {
-        self.position_offset.iter_mut().for_each(|d| *d = delta);
+        self.parts
+            .position_offset
+            .iter_mut()
+            .for_each(|d| *d = delta);
     }
 
     /// The links are driven through this compliant transmission.
     pub fn set_compliance(&mut self, c: Compliance) {
-        self.compliance = Some(c);
+        self.parts.compliance = Some(c);
     }
 
     /// Records a warning about the true robot (an effect that changes
     /// nothing, …).
     pub fn warn(&mut self, w: SimWarning) {
-        self.warnings.push(w);
+        self.parts.warnings.push(w);
     }
 
     /// The true robot; `effects` is the record of what built it (the
@@ -155,13 +166,7 @@ impl<'r> Truth<'r> {
         Ok(TrueRobot {
             model: m,
             effects,
-            friction: self.friction,
-            terms: self.terms,
-            gain: self.gain,
-            delay: self.delay,
-            position_offset: self.position_offset,
-            compliance: self.compliance,
-            warnings: self.warnings,
+            parts: self.parts,
             gear,
         })
     }
@@ -172,13 +177,7 @@ impl<'r> Truth<'r> {
 pub struct TrueRobot {
     model: Model,
     effects: Effects,
-    friction: Friction,
-    terms: Vec<TorqueTerm>,
-    gain: f64,
-    delay: f64,
-    position_offset: Vec<f64>,
-    compliance: Option<Compliance>,
-    warnings: Vec<SimWarning>,
+    parts: Parts,
     gear: Vec<f64>,
 }
 
@@ -187,7 +186,7 @@ impl std::fmt::Debug for TrueRobot {
         f.debug_struct("TrueRobot")
             .field("model", &self.model.name)
             .field("effects", &self.effects)
-            .field("terms", &self.terms.len())
+            .field("terms", &self.parts.terms.len())
             .finish_non_exhaustive()
     }
 }
@@ -200,22 +199,22 @@ impl TrueRobot {
 
     /// What the effects reported while it was built.
     pub fn warnings(&self) -> &[SimWarning] {
-        &self.warnings
+        &self.parts.warnings
     }
 
     /// The compliance of the transmission, if any.
     pub fn compliance(&self) -> Option<Compliance> {
-        self.compliance
+        self.parts.compliance
     }
 
     /// The measured-torque gain (1: ideal).
     pub fn gain(&self) -> f64 {
-        self.gain
+        self.parts.gain
     }
 
     /// The delay (s) the trajectory must be sampled with for the torques.
     pub fn delay(&self) -> f64 {
-        self.delay
+        self.parts.delay
     }
 
     /// The link side of the true robot driven through a compliant
@@ -234,15 +233,15 @@ impl TrueRobot {
         qd: &[Vec<f64>],
         qdd: &[Vec<f64>],
     ) -> Result<Vec<Vec<f64>>, SimError> {
-        let n = self.model.dof();
+        let (n, p) = (self.model.dof(), &self.parts);
         let shifted: Vec<Vec<f64>>;
-        let q = if self.position_offset.iter().any(|d| *d != 0.0) {
+        let q = if p.position_offset.iter().any(|d| *d != 0.0) {
             // the encoders read q − δ: the robot is really at q + δ
             shifted = q
                 .iter()
                 .map(|r| {
                     r.iter()
-                        .zip(&self.position_offset)
+                        .zip(&p.position_offset)
                         .map(|(x, d)| x + d)
                         .collect()
                 })
@@ -251,7 +250,7 @@ impl TrueRobot {
         } else {
             q
         };
-        let mut tau = predict_torques(&self.model, &self.friction, q, qd, qdd)?;
+        let mut tau = predict_torques(&self.model, &p.friction, q, qd, qdd)?;
         for (k, t) in tau.iter_mut().enumerate() {
             for i in 0..n {
                 let s = JointState {
@@ -260,10 +259,10 @@ impl TrueRobot {
                     qd: qd[k][i],
                     gear: self.gear[i],
                 };
-                for term in &self.terms {
+                for term in &p.terms {
                     t[i] += term(&s);
                 }
-                t[i] *= self.gain;
+                t[i] *= p.gain;
             }
         }
         Ok(tau)

@@ -2,10 +2,11 @@
 //! `a s_c B_c,i |sign(q̇ᵢ)|` added to the Coulomb term: (1 + a)·B_c forward,
 //! (1 − a)·B_c backward.
 
-use super::coulomb::{COULOMB_SCALE, scaled_coulomb};
-use crate::dynamics::sign;
+use super::coulomb::COULOMB_SCALE;
+use super::friction::scaled_nominal;
+use crate::dynamics::{FrictionTerm, sign};
 use crate::effects::{Context, Effect, EffectError, Hypothesis, ParamSpec, Range, Values};
-use crate::sim::{SimWarning, Truth};
+use crate::sim::Truth;
 
 /// Direction-dependent Coulomb friction.
 pub struct AsymmetricFriction;
@@ -33,12 +34,8 @@ impl Effect for AsymmetricFriction {
 
     fn apply(&self, p: &Values, truth: &mut Truth) -> Result<(), EffectError> {
         let a = p.get(ASYMMETRY.name)?;
-        let c = scaled_coulomb(truth, p.get(COULOMB_SCALE.name)?);
-        if c.iter().all(|x| *x == 0.0) {
-            truth.warn(SimWarning::NominalFrictionZero {
-                effect: self.name().into(),
-            });
-        }
+        let scale = p.get(COULOMB_SCALE.name)?;
+        let c = scaled_nominal(truth, FrictionTerm::Coulomb, scale, self.name());
         truth.add_torque(move |s| a * c[s.joint] * sign(s.qd).abs());
         Ok(())
     }

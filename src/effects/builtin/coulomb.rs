@@ -3,7 +3,8 @@
 
 use crate::dynamics::FrictionTerm;
 use crate::effects::{Context, Effect, EffectError, Hypothesis, ParamSpec, Range, Values};
-use crate::sim::{SimWarning, Truth};
+use super::friction::{basis_hypothesis, scaled_nominal};
+use crate::sim::Truth;
 
 /// Coulomb friction.
 pub struct Coulomb;
@@ -17,12 +18,6 @@ pub const COULOMB_SCALE: ParamSpec = ParamSpec::new(
     Range::Any,
     "Scale of the robot's nominal Coulomb friction (1: as described).",
 );
-
-/// The true robot's Coulomb coefficients: the nominal ones times `scale`.
-pub fn scaled_coulomb(truth: &Truth, scale: f64) -> Vec<f64> {
-    let nominal = truth.robot().friction.coefficients(FrictionTerm::Coulomb);
-    nominal.iter().map(|c| c * scale).collect()
-}
 
 impl Effect for Coulomb {
     fn name(&self) -> &'static str {
@@ -38,20 +33,13 @@ impl Effect for Coulomb {
     }
 
     fn apply(&self, p: &Values, truth: &mut Truth) -> Result<(), EffectError> {
-        let c = scaled_coulomb(truth, p.get(COULOMB_SCALE.name)?);
-        if c.iter().all(|x| *x == 0.0) {
-            truth.warn(SimWarning::NominalFrictionZero {
-                effect: self.name().into(),
-            });
-        }
+        let scale = p.get(COULOMB_SCALE.name)?;
+        let c = scaled_nominal(truth, FrictionTerm::Coulomb, scale, self.name());
         *truth.friction_mut().coefficients_mut(FrictionTerm::Coulomb) = c;
         Ok(())
     }
 
     fn hypothesis(&self, cx: &Context) -> Result<Hypothesis, EffectError> {
-        let d = cx.data;
-        Ok(Hypothesis::linear(cx.per_joint(|k, i| {
-            FrictionTerm::Coulomb.basis(d.qd[k][i])
-        })))
+        Ok(basis_hypothesis(cx, FrictionTerm::Coulomb))
     }
 }

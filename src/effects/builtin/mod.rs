@@ -1,10 +1,13 @@
 //! The built-in effects, one file each. The registry below is the one list:
 //! its order is the order the diagnosis tries them (and reports ties in)
 //! and the simulator applies them. A new built-in effect is a new file
-//! here implementing [`super::Effect`] and one line in `registry!`.
+//! here implementing [`super::Effect`] and one line in `registry!`
+//! (`friction.rs` is not an effect: what the friction effects share).
 
 use super::effect::Effect;
 use std::sync::Arc;
+
+mod friction;
 
 /// Declares each effect's module and lists the effects in order.
 macro_rules! registry {

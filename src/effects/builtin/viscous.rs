@@ -3,7 +3,8 @@
 
 use crate::dynamics::FrictionTerm;
 use crate::effects::{Context, Effect, EffectError, Hypothesis, ParamSpec, Range, Values};
-use crate::sim::{SimWarning, Truth};
+use super::friction::{basis_hypothesis, scaled_nominal};
+use crate::sim::Truth;
 
 /// Viscous friction.
 pub struct Viscous;
@@ -30,22 +31,13 @@ impl Effect for Viscous {
     }
 
     fn apply(&self, p: &Values, truth: &mut Truth) -> Result<(), EffectError> {
-        let s = p.get(VISCOUS_SCALE.name)?;
-        let nominal = truth.robot().friction.coefficients(FrictionTerm::Viscous);
-        let v: Vec<f64> = nominal.iter().map(|c| c * s).collect();
-        if v.iter().all(|x| *x == 0.0) {
-            truth.warn(SimWarning::NominalFrictionZero {
-                effect: self.name().into(),
-            });
-        }
+        let scale = p.get(VISCOUS_SCALE.name)?;
+        let v = scaled_nominal(truth, FrictionTerm::Viscous, scale, self.name());
         *truth.friction_mut().coefficients_mut(FrictionTerm::Viscous) = v;
         Ok(())
     }
 
     fn hypothesis(&self, cx: &Context) -> Result<Hypothesis, EffectError> {
-        let d = cx.data;
-        Ok(Hypothesis::linear(cx.per_joint(|k, i| {
-            FrictionTerm::Viscous.basis(d.qd[k][i])
-        })))
+        Ok(basis_hypothesis(cx, FrictionTerm::Viscous))
     }
 }

@@ -1,0 +1,27 @@
+//! What the effects of the friction law share (not an effect itself): the
+//! true robot's coefficients of one term, scaled from the robot's nominal
+//! ones, and one term's basis as a hypothesis.
+
+use crate::dynamics::FrictionTerm;
+use crate::effects::{Context, Hypothesis};
+use crate::sim::{SimWarning, Truth};
+
+/// The robot's nominal coefficients of `term` times `scale`; a warning
+/// naming `effect` when they are zero on every joint (it then changes
+/// nothing).
+pub fn scaled_nominal(truth: &mut Truth, term: FrictionTerm, scale: f64, effect: &str) -> Vec<f64> {
+    let nominal = truth.robot().friction.coefficients(term);
+    let c: Vec<f64> = nominal.iter().map(|c| c * scale).collect();
+    if c.iter().all(|x| *x == 0.0) {
+        truth.warn(SimWarning::NominalFrictionZero {
+            effect: effect.into(),
+        });
+    }
+    c
+}
+
+/// One column per joint: the basis φ(q̇ᵢ) of `term`.
+pub fn basis_hypothesis(cx: &Context, term: FrictionTerm) -> Hypothesis {
+    let d = cx.data;
+    Hypothesis::linear(cx.per_joint(|k, i| term.basis(d.qd[k][i])))
+}
