@@ -1,7 +1,7 @@
 //! Ellipsoids `S = {x : (x − c)ᵀ R A⁻² Rᵀ (x − c) ≤ 1}` and their 4×4 form Q.
 
 use super::error::MomentsError;
-use nalgebra::{Matrix3, Matrix4, Rotation3, SymmetricEigen, Vector3, Vector4};
+use nalgebra::{Matrix3, Matrix4, Rotation3, SymmetricEigen, Vector3};
 
 /// An ellipsoid in a body frame: centre c (m), semi-axes a (m, all > 0) along
 /// the columns of the rotation R.
@@ -159,108 +159,7 @@ impl Ellipsoid {
     pub fn bounding_sphere(r: f64) -> Result<Self, MomentsError> {
         Self::sphere(Vector3::zeros(), r)
     }
-
-    /// The minimum-volume enclosing ellipsoid of a point cloud (Khachiyan's
-    /// algorithm to relative tolerance `tol`, at most
-    /// `MVEE_MAX_ITERATIONS` (20,000) iterations, then scaled so every point is
-    /// inside: the result always encloses the points, and is minimal to
-    /// `tol` when the iterations suffice). Needs at least 4 affinely
-    /// independent points; time O(n) per iteration, memory O(n).
-    pub fn minimum_volume_enclosing(
-        points: &[Vector3<f64>],
-        tol: f64,
-    ) -> Result<Self, MomentsError> {
-        let n = points.len();
-        if n < 4 || points.iter().any(|p| !p.iter().all(|x| x.is_finite())) {
-            return Err(MomentsError::InvalidEllipsoid(format!(
-                "need at least 4 finite points, got {n}"
-            )));
-        }
-        // Khachiyan on the lifted points q = (p, 1): X = Σ u_k q_k q_kᵀ is 4×4,
-        // so an iteration costs O(n) and memory stays O(n)
-        let q: Vec<Vector4<f64>> = points.iter().map(|p| p.push(1.0)).collect();
-        let mut u = vec![1.0 / n as f64; n];
-        for _ in 0..MVEE_MAX_ITERATIONS {
-            let x: Matrix4<f64> = q.iter().zip(&u).map(|(v, w)| v * v.transpose() * *w).sum();
-            let xi = x.try_inverse().ok_or_else(|| {
-                MomentsError::InvalidEllipsoid(
-                    "points are coplanar (no enclosing ellipsoid with volume)".into(),
-                )
-            })?;
-            let (j, mj) = q
-                .iter()
-                .map(|v| v.dot(&(xi * v)))
-                .enumerate()
-                .fold((0, f64::MIN), |a, b| if b.1 > a.1 { b } else { a });
-            let step = (mj - 4.0) / (4.0 * (mj - 1.0));
-            u.iter_mut().for_each(|w| *w *= 1.0 - step);
-            u[j] += step;
-            if step < tol {
-                break;
-            }
-        }
-        let c: Vector3<f64> = points.iter().zip(u.iter()).map(|(p, w)| p * *w).sum();
-        let mut cov = Matrix3::zeros();
-        for (p, w) in points.iter().zip(u.iter()) {
-            cov += (p - c) * (p - c).transpose() * *w;
-        }
-        let a = cov
-            .try_inverse()
-            .ok_or_else(|| MomentsError::InvalidEllipsoid("points are coplanar".into()))?
-            / 3.0;
-        let worst = points
-            .iter()
-            .map(|p| (p - c).dot(&(a * (p - c))))
-            .fold(0.0, f64::max);
-        let a = a / worst.max(f64::MIN_POSITIVE);
-        let eig = SymmetricEigen::new(a);
-        let mut r = eig.eigenvectors;
-        if r.determinant() < 0.0 {
-            r.set_column(2, &(-r.column(2)));
-        }
-        Self::with_rotation(c, eig.eigenvalues.map(|l| 1.0 / l.sqrt()), r)
-    }
 }
-
-impl Ellipsoid {
-    /// One ellipsoid containing all of `parts` (a body whose shapes are
-    /// several): the part itself when there is one, else the minimum-volume
-    /// ellipsoid enclosing points on each part's surface pushed out by
-    /// 1/cos(0.3) — the convex hull of 300 Fibonacci directions covers
-    /// every direction within 0.3 rad, so that hull, and with it the
-    /// result, contains every part.
-    pub fn enclosing(parts: &[Ellipsoid]) -> Result<Self, MomentsError> {
-        match parts {
-            [] => Err(MomentsError::InvalidEllipsoid("no parts to enclose".into())),
-            [e] => Ok(*e),
-            many => {
-                const N: usize = 300;
-                let push = 1.0 / 0.3f64.cos();
-                let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
-                let dirs: Vec<Vector3<f64>> = (0..N)
-                    .map(|k| {
-                        let z = 1.0 - 2.0 * (k as f64 + 0.5) / N as f64;
-                        let r = (1.0 - z * z).sqrt();
-                        let a = golden * k as f64;
-                        Vector3::new(r * a.cos(), r * a.sin(), z)
-                    })
-                    .collect();
-                let points: Vec<Vector3<f64>> = many
-                    .iter()
-                    .flat_map(|e| {
-                        dirs.iter().map(move |u| {
-                            e.center + e.rotation * e.semi_axes.component_mul(u) * push
-                        })
-                    })
-                    .collect();
-                Self::minimum_volume_enclosing(&points, 1e-7)
-            }
-        }
-    }
-}
-
-/// The most Khachiyan iterations of [`Ellipsoid::minimum_volume_enclosing`].
-pub const MVEE_MAX_ITERATIONS: usize = 20_000;
 
 /// URDF-style pose: translation and roll-pitch-yaw (R = Rz(y) Ry(p) Rx(r)).
 pub fn rpy_rotation(rpy: [f64; 3]) -> Matrix3<f64> {

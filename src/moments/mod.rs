@@ -27,12 +27,14 @@
 //!   of its shapes, points on them (for plots).
 
 mod check;
+mod cover;
 mod divergence;
 mod ellipsoid;
 mod error;
 pub mod geometry;
 mod level;
 pub mod lmi;
+pub mod mvee;
 mod nearest;
 mod params;
 mod points;
