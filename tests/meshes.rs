@@ -392,7 +392,7 @@ fn a_urdf_robot_identifies_at_the_ellipsoid_level_from_its_geometry() {
     .unwrap();
     let robot = load_robot(u.to_str().unwrap(), None).unwrap();
     assert!(
-        robot.bounding.iter().all(|b| b.len() == 1),
+        robot.bounding().iter().all(|b| b.len() == 1),
         "{:?}",
         robot.warnings
     );
@@ -407,4 +407,132 @@ fn a_urdf_robot_identifies_at_the_ellipsoid_level_from_its_geometry() {
         let b = r.body(name).unwrap();
         assert!(b.realizability.as_ref().unwrap().realizable, "{name}");
     }
+}
+
+/// Bounding volumes cost nothing unused: loading a URDF robot and
+/// identifying it at the consistent level reads no mesh; the ellipsoid level
+/// (or a later per-body ellipsoid level) computes them then.
+#[test]
+fn bounding_volumes_are_computed_only_when_a_level_needs_them() {
+    use momentlmi::dynamics::robots::load_robot;
+    use momentlmi::effects::simulate;
+    use momentlmi::identify::{Identification, Level};
+    use momentlmi::sim::{Effects, SimConfig};
+    let d = dir("lazy");
+    let (v, f) = box_mesh([0.3, 0.06, 0.06]);
+    std::fs::write(d.join("upper.stl"), stl_ascii(&v, &f)).unwrap();
+    let u = d.join("arm.urdf");
+    std::fs::write(&u, two_link_arm(r#"<mesh filename="upper.stl"/>"#, "")).unwrap();
+    let robot = load_robot(u.to_str().unwrap(), None).unwrap();
+    assert!(!robot.bounds.is_resolved(), "computed at load");
+    let data = simulate(
+        &robot,
+        &SimConfig::for_robot(&robot, 2.0, Effects::default(), 3),
+        |_, _| {},
+    )
+    .unwrap();
+    let r = Identification::for_robot(&robot, Level::Consistent, 1e-6).unwrap();
+    r.identify(&data, None).unwrap();
+    assert!(
+        !robot.bounds.is_resolved(),
+        "computed for the consistent level"
+    );
+    let id = Identification::for_robot(&robot, Level::Consistent, 1e-6)
+        .unwrap()
+        .level("upper", Level::Ellipsoid)
+        .unwrap();
+    assert!(
+        robot.bounds.is_resolved(),
+        "not computed for the ellipsoid level"
+    );
+    let r = id.identify(&data, None).unwrap();
+    let upper = r.body("upper").unwrap();
+    assert!(upper.realizability.as_ref().unwrap().realizable);
+    // the mesh's box: semi-axes √3 × the half-sides (the mesh's closed form)
+    let e = robot.bounding()[0][0];
+    let mut a: Vec<f64> = e.semi_axes.iter().copied().collect();
+    a.sort_by(f64::total_cmp);
+    for (x, h) in a.iter().zip([0.03, 0.03, 0.15]) {
+        assert!((x - 3f64.sqrt() * h).abs() < 1e-6, "{a:?}");
+    }
+}
+
+/// A collision mesh that is missing falls back to the link's visual
+/// geometry, with a warning naming both; with no visual geometry the other
+/// collision shapes bound the link alone; with none at all, the ellipsoid
+/// level names the link's body.
+#[test]
+fn a_missing_collision_mesh_falls_back_to_the_visual_geometry() {
+    use momentlmi::dynamics::robots::load_robot;
+    let d = dir("fallback");
+    let (v, f) = box_mesh([0.3, 0.06, 0.06]);
+    std::fs::write(d.join("upper_visual.stl"), stl_ascii(&v, &f)).unwrap();
+    let visual = r#"<visual><geometry><mesh filename="upper_visual.stl"/></geometry></visual>"#;
+    let load = |name: &str, text: String| {
+        let u = d.join(name);
+        std::fs::write(&u, text).unwrap();
+        load_robot(u.to_str().unwrap(), None).unwrap()
+    };
+    // visual fallback
+    let r = load(
+        "a.urdf",
+        two_link_arm(r#"<mesh filename="gone.stl"/>"#, visual),
+    );
+    let b = r.bounding()[0].clone();
+    assert_eq!(b.len(), 1);
+    let mut a: Vec<f64> = b[0].semi_axes.iter().copied().collect();
+    a.sort_by(f64::total_cmp);
+    assert!(
+        (a[2] - 3f64.sqrt() * 0.15).abs() < 1e-6,
+        "the visual box bounds it: {a:?}"
+    );
+    let w: Vec<String> = r
+        .bounding_warnings()
+        .iter()
+        .map(|w| w.to_string())
+        .collect();
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(
+        w[0].contains("gone.stl") && w[0].contains("upper_visual.stl"),
+        "{w:?}"
+    );
+    assert!(
+        w[0].contains("link 'upper'") && w[0].contains("visual geometry"),
+        "{w:?}"
+    );
+    // other collision shapes alone
+    let extra = r#"<collision><geometry><sphere radius="0.05"/></geometry></collision>"#;
+    let r = load(
+        "b.urdf",
+        two_link_arm(r#"<mesh filename="gone.stl"/>"#, extra),
+    );
+    assert!((r.bounding()[0][0].semi_axes.max() - 0.05).abs() < 1e-5);
+    let w = r.bounding_warnings()[0].to_string();
+    assert!(
+        w.contains("other collision shapes bound the link alone"),
+        "{w}"
+    );
+    // nothing: the ellipsoid level names the body
+    let r = load("c.urdf", two_link_arm(r#"<mesh filename="gone.stl"/>"#, ""));
+    assert!(r.bounding()[0].is_empty());
+    let e = r.single_ellipsoids().unwrap_err().to_string();
+    assert!(e.contains("body 'upper' has no bounding ellipsoid"), "{e}");
+}
+
+/// A two-link arm whose link `upper` has one collision shape `geometry`
+/// and the extra elements `extra` (visuals, more collisions); `fore` a box.
+fn two_link_arm(geometry: &str, extra: &str) -> String {
+    format!(
+        r#"<robot name="arm"><link name="base"/>
+<link name="upper"><inertial><origin xyz="0 0 0"/><mass value="1.2"/>
+<inertia ixx="0.001" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>
+<collision><geometry>{geometry}</geometry></collision>{extra}</link>
+<link name="fore"><inertial><origin xyz="0.12 0 0"/><mass value="0.6"/>
+<inertia ixx="0.0004" ixy="0" ixz="0" iyy="0.004" iyz="0" izz="0.004"/></inertial>
+<collision><origin xyz="0.12 0 0"/><geometry><box size="0.24 0.05 0.05"/></geometry></collision></link>
+<joint name="shoulder" type="revolute"><parent link="base"/><child link="upper"/><axis xyz="0 1 0"/>
+<limit lower="-2" upper="2" effort="20" velocity="5"/></joint>
+<joint name="elbow" type="revolute"><parent link="upper"/><child link="fore"/><origin xyz="0.15 0 0"/>
+<axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="20" velocity="5"/></joint></robot>"#
+    )
 }

@@ -142,7 +142,10 @@ fn the_embedded_arm_is_the_repositorys() {
     let (a, b) = (load(&tmp), load(&repo));
     assert!(a.warnings.is_empty(), "{:?}", a.warnings);
     assert_eq!(a.prior_vector(), b.prior_vector());
-    assert_eq!(format!("{:?}", a.bounding), format!("{:?}", b.bounding));
-    assert!(!a.bounding.iter().all(|v| v.is_empty()), "meshes were read");
+    assert_eq!(format!("{:?}", a.bounding()), format!("{:?}", b.bounding()));
+    assert!(
+        !a.bounding().iter().all(|v| v.is_empty()),
+        "meshes were read"
+    );
     let _ = std::fs::remove_dir_all(&tmp);
 }

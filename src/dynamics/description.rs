@@ -3,6 +3,7 @@
 //! ([`RobotDescription::new`]) from a model and a sidecar — for a URDF robot
 //! and for the built-in leg alike.
 
+use super::bounding::Bounding;
 use super::error::DynamicsError;
 use super::friction::Friction;
 use super::model::Model;
@@ -10,6 +11,7 @@ use super::params_file::ParamsFile;
 use super::sidecar::{Excitation, PriorSpec, Sidecar, SidecarBody};
 use super::warning::DescriptionWarning;
 use crate::moments::{Ellipsoid, InertialParams, Level};
+use crate::urdf::mesh::MeshPaths;
 use nalgebra::{Matrix3, Vector3};
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::path::PathBuf;
@@ -35,9 +37,9 @@ pub struct RobotDescription {
     /// The CAD prior per body (links then rotors, body frames): the
     /// sidecar's, else the model's own.
     pub prior: Vec<InertialParams>,
-    /// Bounding ellipsoids per body (body frames; several: their union;
-    /// none: unknown).
-    pub bounding: Vec<Vec<Ellipsoid>>,
+    /// Bounding ellipsoids per body, the geometry's computed when first
+    /// needed ([`Self::bounding`]).
+    pub bounds: Bounding,
     /// Nominal friction per joint (what the simulator's `coulomb` and
     /// `viscous` effects apply, and `--params true` includes).
     pub friction: Friction,
@@ -154,7 +156,7 @@ impl RobotDescription {
             sidecar: None,
             model,
             prior,
-            bounding,
+            bounds: Bounding::given(bounding),
             friction,
             excitation,
             effects,
@@ -163,56 +165,32 @@ impl RobotDescription {
         })
     }
 
-    /// Fills in, from the URDF's geometry, the bounding ellipsoid of every
-    /// link body the sidecar gives none: the one ellipsoid enclosing the
-    /// bounding ellipsoids of the collision shapes (visual when a link has
-    /// none; meshes included, found through `meshes`) of every URDF link
-    /// merged into the body, in the body's frame. A mesh that cannot be
-    /// used is a warning; a body with no usable shape keeps none.
-    pub fn with_urdf_geometry(
-        mut self,
-        robot: &crate::urdf::Robot,
-        meshes: &mut crate::moments::geometry::Meshes,
-    ) -> Self {
-        let nj = self.model.dof();
-        let mut parts: Vec<Vec<Ellipsoid>> = vec![vec![]; nj];
-        let links: HashMap<&str, &crate::urdf::Link> =
-            robot.links.iter().map(|l| (l.name.as_str(), l)).collect();
-        for f in &self.model.frames {
-            let (Some(b), Some(link)) = (f.body, links.get(f.name.as_str())) else {
-                continue;
-            };
-            if !self.bounding[b].is_empty() {
-                continue; // the sidecar's volume stands; its meshes are not read
-            }
-            let (es, notes) = crate::moments::geometry::geometry_ellipsoids(link, meshes);
-            self.warnings
-                .extend(
-                    notes
-                        .iter()
-                        .filter(|n| n.mesh)
-                        .map(|n| DescriptionWarning::Mesh {
-                            link: f.name.clone(),
-                            note: n.text.clone(),
-                        }),
-                );
-            // x_body = Eᵀ x_link + r
-            let (e, r) = (f.placement.e.transpose(), f.placement.r);
-            parts[b].extend(es.iter().map(|x| x.transformed(&e, &r)));
-        }
-        for (b, p) in parts.iter().enumerate() {
-            if p.is_empty() {
-                continue;
-            }
-            match Ellipsoid::enclosing(p) {
-                Ok(e) => self.bounding[b] = vec![e],
-                Err(m) => self.warnings.push(DescriptionWarning::NoBoundingEllipsoid {
-                    body: self.model.joints[b].body.clone(),
-                    reason: m.to_string(),
-                }),
-            }
-        }
+    /// Bounds, from the URDF's geometry, every link body the sidecar gives
+    /// no bounding ellipsoid: the one ellipsoid enclosing the bounding
+    /// ellipsoids of the shapes of every URDF link merged into the body, in
+    /// the body's frame (collision shapes, visual ones where a link has none
+    /// or where a collision mesh cannot be used:
+    /// [`crate::moments::geometry::geometry_ellipsoids`]). Computed when
+    /// first needed ([`Self::bounding`]), meshes found through `paths`.
+    pub fn with_urdf_geometry(mut self, robot: &crate::urdf::Robot, paths: MeshPaths) -> Self {
+        self.bounds = self.bounds.with_urdf(robot.clone(), paths);
         self
+    }
+
+    /// Bounding ellipsoids per body (links then rotors, body frames;
+    /// several: their union; none: unknown): the sidecar's, and the URDF
+    /// geometry's, computed on the first call (meshes read, minimum-volume
+    /// ellipsoids solved; [`Self::bounding_warnings`] says what could not be
+    /// used).
+    pub fn bounding(&self) -> &[Vec<Ellipsoid>] {
+        self.bounds.get(&self.model)
+    }
+
+    /// What the URDF's geometry could not give for [`Self::bounding`] (a
+    /// mesh that could not be used, a body with no ellipsoid); computes
+    /// the bounding volumes if not yet done.
+    pub fn bounding_warnings(&self) -> &[DescriptionWarning] {
+        self.bounds.warnings(&self.model)
     }
 
     /// The prior as one vector (10 per body, links then rotors).
@@ -224,7 +202,7 @@ impl RobotDescription {
     /// an error naming the first body that has none or several.
     pub fn single_ellipsoids(&self) -> Result<Vec<Ellipsoid>, DynamicsError> {
         let names = self.model.body_names();
-        self.bounding
+        self.bounding()
             .iter()
             .zip(&names)
             .map(|(b, name)| match b.as_slice() {

@@ -20,6 +20,7 @@
 //! mounted on joint i's parent body and spins about its own axis at
 //! `N q̇ᵢ` (Cheetah 3: N = 10.6).
 
+mod bounding;
 mod crba;
 mod data;
 mod description;
@@ -38,6 +39,7 @@ pub mod spatial;
 pub mod urdf;
 mod warning;
 
+pub use bounding::Bounding;
 pub use crba::{crba, energy, forward_dynamics, transform_matrix};
 pub use data::{BodyRegressor, Data};
 pub use description::{IdentificationFacts, ParamChoice, RobotDescription};

@@ -116,6 +116,9 @@ pub struct Identification<'m> {
     pub(super) settings: Settings,
     pub(super) max_memory: u64,
     pub(super) hooks: Vec<Hook<'m>>,
+    /// The robot whose bounding volumes fill in the bodies that need one
+    /// ([`Identification::for_robot`]): computed only then.
+    pub(super) robot: Option<&'m crate::dynamics::RobotDescription>,
 }
 
 impl<'m> Identification<'m> {
@@ -140,6 +143,7 @@ impl<'m> Identification<'m> {
             settings: default_settings(),
             max_memory: crate::identify::reduce::DEFAULT_MAX_MEMORY_BYTES,
             hooks: vec![],
+            robot: None,
         }
     }
 
@@ -172,7 +176,29 @@ impl<'m> Identification<'m> {
     pub fn level_all(mut self, level: Level) -> Self {
         self.common = level;
         self.bodies.iter_mut().for_each(|b| b.level = level);
+        self.resolve_ellipsoids();
         self
+    }
+
+    /// Gives each body that needs a bounding ellipsoid (its level is the
+    /// ellipsoid one, or the CoM LMI is on) and has none the robot's, when
+    /// it has exactly one: the robot's bounding volumes are computed on
+    /// the first such need only.
+    pub(super) fn resolve_ellipsoids(&mut self) {
+        let Some(robot) = self.robot else { return };
+        let com = self.com_lmi;
+        let needs = |b: &BodySpec| {
+            b.ellipsoid.is_none()
+                && (b.level == Level::Ellipsoid || (com && b.level != Level::None))
+        };
+        if !self.bodies.iter().any(needs) {
+            return;
+        }
+        for (b, e) in self.bodies.iter_mut().zip(robot.bounding()) {
+            if let (true, [e]) = (b.ellipsoid.is_none(), e.as_slice()) {
+                b.ellipsoid = Some(*e);
+            }
+        }
     }
 
     /// The model.
@@ -207,6 +233,7 @@ impl<'m> Identification<'m> {
     pub fn level(mut self, body: &str, level: Level) -> Result<Self, IdentifyError> {
         let k = self.body_index(body)?;
         self.bodies[k].level = level;
+        self.resolve_ellipsoids();
         Ok(self)
     }
 
@@ -329,6 +356,7 @@ impl<'m> Identification<'m> {
     /// Adds the CoM-in-ellipsoid LMI (22) to every constrained body with an ellipsoid.
     pub fn com_lmi(mut self, on: bool) -> Self {
         self.com_lmi = on;
+        self.resolve_ellipsoids();
         self
     }
 

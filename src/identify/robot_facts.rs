@@ -9,7 +9,9 @@ use crate::dynamics::RobotDescription;
 
 impl<'m> Identification<'m> {
     /// A robot's set-up: `level` for every body, its CAD prior with weight
-    /// `weight`, its bounding ellipsoids where it has exactly one per body,
+    /// `weight`, its bounding ellipsoids where it has exactly one per body
+    /// (computed only when a body needs one, now or after a later
+    /// [`Self::level`] or [`Self::com_lmi`]: [`RobotDescription::bounding`]),
     /// and the per-body levels, constraints and masses' extra weight of its
     /// sidecar (the last used with the Euclidean prior on, [`Self::mass_weight`]).
     pub fn for_robot(
@@ -21,11 +23,8 @@ impl<'m> Identification<'m> {
         let mut s = Self::new(model)
             .level_all(level)
             .prior(weight, robot.prior_vector())?;
-        for (b, e) in s.bodies.iter_mut().zip(&robot.bounding) {
-            if let [e] = e.as_slice() {
-                b.ellipsoid = Some(*e);
-            }
-        }
+        s.robot = Some(robot);
+        s.resolve_ellipsoids();
         apply(s, robot)
     }
 }

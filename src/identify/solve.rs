@@ -207,6 +207,7 @@ impl Identification<'_> {
                 settings: self.settings.clone(),
                 max_memory: self.max_memory,
                 hooks: vec![],
+                robot: None,
             };
             alone.add_body_constraints(&mut q, &[v], std::slice::from_ref(name))?;
             if q.solve(&self.settings)?.status.is_primal_infeasible() {

@@ -24,6 +24,9 @@ pub struct Meshes {
     pub(super) paths: Option<MeshPaths>,
     read: HashMap<PathBuf, Result<Vec<Vector3<f64>>, String>>,
     given: HashMap<String, Vec<Ellipsoid>>,
+    /// Mesh ellipsoids by content (the distinct vertices' and the scale's
+    /// bits, hashed): a mesh several links or files share is solved once.
+    solved: HashMap<u64, Ellipsoid>,
 }
 
 impl Meshes {
@@ -33,6 +36,7 @@ impl Meshes {
             paths: Some(paths),
             read: HashMap::new(),
             given: HashMap::new(),
+            solved: HashMap::new(),
         }
     }
 
@@ -54,6 +58,7 @@ impl Meshes {
             paths: None,
             read: HashMap::new(),
             given: HashMap::new(),
+            solved: HashMap::new(),
         }
     }
 
@@ -71,6 +76,26 @@ impl Meshes {
                 .map_err(|e| e.to_string())
         });
         v.as_deref().map_err(Clone::clone)
+    }
+}
+
+impl Meshes {
+    /// The minimum-volume ellipsoid enclosing the mesh `filename`'s
+    /// vertices, scaled; solved once per content.
+    fn mesh_ellipsoid(&mut self, filename: &str, scale: [f64; 3]) -> Result<Ellipsoid, String> {
+        use std::hash::{Hash, Hasher};
+        let v = self.vertices(filename)?.to_vec();
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        scale.map(f64::to_bits).hash(&mut h);
+        v.iter()
+            .for_each(|p| p.map(f64::to_bits).as_slice().hash(&mut h));
+        let key = h.finish();
+        if let Some(e) = self.solved.get(&key) {
+            return Ok(*e);
+        }
+        let e = mesh_ellipsoid(&v, scale)?;
+        self.solved.insert(key, e);
+        Ok(e)
     }
 }
 
@@ -111,8 +136,7 @@ fn shape_ellipsoid(s: &Shape, meshes: &mut Meshes) -> Result<Ellipsoid, (bool, S
         Geometry::Sphere { radius } => Ellipsoid::bounding_sphere(*radius),
         Geometry::Mesh { filename, scale } => {
             let e = meshes
-                .vertices(filename)
-                .and_then(|v| mesh_ellipsoid(v, *scale))
+                .mesh_ellipsoid(filename, *scale)
                 .map_err(|m| (true, format!("mesh '{filename}': {m}")))?;
             Ok(e)
         }
@@ -133,14 +157,49 @@ pub fn bounded_shapes(link: &Link) -> (&[Shape], &'static str) {
     }
 }
 
-/// Bounding ellipsoids of a link's shapes (collision, else visual; link
-/// frame), and notes on the shapes that gave none; the given ones instead
-/// when [`Meshes::with_bounding`] names the link.
+/// Bounding ellipsoids of a link's shapes (link frame), and notes on the
+/// shapes that gave none; the given ones instead when
+/// [`Meshes::with_bounding`] names the link. The shapes are the collision
+/// ones, else the visual ones. A collision mesh that cannot be used (not
+/// found, unreadable, flat) falls back to the link's visual geometry,
+/// bounded with the remaining collision shapes, and its note says so; with
+/// no usable visual geometry, the other collision shapes bound the link
+/// alone, and the note says that too.
 pub fn geometry_ellipsoids(link: &Link, meshes: &mut Meshes) -> (Vec<Ellipsoid>, Vec<ShapeNote>) {
     if let Some(es) = meshes.given.get(&link.name) {
         return (es.clone(), vec![]);
     }
     let (shapes, kind) = bounded_shapes(link);
+    let (mut es, mut notes) = shapes_ellipsoids(shapes, kind, meshes);
+    if kind != "collision" || !notes.iter().any(|n| n.mesh) {
+        return (es, notes);
+    }
+    let (visual, visual_notes) = shapes_ellipsoids(&link.visuals, "visual", meshes);
+    let fallback = if !visual.is_empty() && visual_notes.is_empty() {
+        let names: Vec<String> = link.visuals.iter().map(shape_name).collect();
+        es.extend(visual);
+        format!(
+            "the link's visual geometry ({}) bounds it instead",
+            names.join(", ")
+        )
+    } else if !es.is_empty() {
+        "no usable visual geometry: its other collision shapes bound the link alone".into()
+    } else {
+        "no usable visual geometry either: the link has no bounding ellipsoid".into()
+    };
+    for n in notes.iter_mut().filter(|n| n.mesh) {
+        n.text = format!("{}; {fallback}", n.text);
+    }
+    (es, notes)
+}
+
+/// The bounding ellipsoids of `shapes` (`kind`: collision or visual, for
+/// the notes) and notes on those that gave none.
+fn shapes_ellipsoids(
+    shapes: &[Shape],
+    kind: &str,
+    meshes: &mut Meshes,
+) -> (Vec<Ellipsoid>, Vec<ShapeNote>) {
     let mut es = vec![];
     let mut notes = vec![];
     for (k, s) in shapes.iter().enumerate() {
@@ -156,6 +215,18 @@ pub fn geometry_ellipsoids(link: &Link, meshes: &mut Meshes) -> (Vec<Ellipsoid>,
         }
     }
     (es, notes)
+}
+
+/// A shape as the notes name it: its mesh's file name, or its kind.
+fn shape_name(s: &Shape) -> String {
+    match &s.geometry {
+        Geometry::Mesh { filename, .. } => format!("mesh '{filename}'"),
+        Geometry::Box { .. } => "a box".into(),
+        Geometry::Cylinder { .. } => "a cylinder".into(),
+        Geometry::Capsule { .. } => "a capsule".into(),
+        Geometry::Sphere { .. } => "a sphere".into(),
+        Geometry::Invalid { .. } => "an invalid shape".into(),
+    }
 }
 
 /// Points of the link's shapes (collision, else visual; the shapes the

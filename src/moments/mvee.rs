@@ -1,9 +1,9 @@
-//! The minimum-volume enclosing ellipsoid (MVEE) of a point cloud: the
-//! points reduced to their convex hull's vertices, then Todd and Yildirim's
-//! algorithm with away steps (Todd & Yildirim, "On Khachiyan's algorithm for
-//! the computation of minimum-volume enclosing ellipsoids", Discrete Appl.
-//! Math. 2007), which converges linearly where Khachiyan's first-order
-//! iteration alone stalls.
+//! The minimum-volume enclosing ellipsoid (MVEE) of a point cloud: Todd
+//! and Yildirim's algorithm with away steps (Todd & Yildirim, "On
+//! Khachiyan's algorithm for the computation of minimum-volume enclosing
+//! ellipsoids", Discrete Appl. Math. 2007), which converges linearly where
+//! Khachiyan's first-order iteration alone stalls, on a working set of the
+//! cloud's extreme points, then polished exactly.
 //!
 //! Lifted to ℝ⁴ (`q = (p, 1)`), the dual is: find weights `u ≥ 0`,
 //! `Σu = 1`, maximising `log det X(u)` with `X(u) = Σ u_k q_k q_kᵀ`. With
@@ -15,13 +15,33 @@
 //! and every supporting `m_k ≥ 4(1 − tol)`: the ellipsoid then has at most
 //! `(1 + tol)²` times the minimum volume (Todd & Yildirim, Lemma 2.3),
 //! before the final scaling that puts every point inside.
+//!
+//! The iteration runs on the points extreme along [`EXTREME_DIRECTIONS`]
+//! directions (vertices of the convex hull, found in O(n) each), and only
+//! to a coarse tolerance ([`POLISH_BELOW`]): points nearly all on the
+//! ellipsoid (a finely tessellated rounded part) slow it down to thousands
+//! of steps per digit. The MVEE is then solved exactly on the coarse
+//! support — a small SDP through [`conic`](crate::conic): maximise
+//! `log det A` subject to `‖A p + b‖ ≤ 1` — and the points of the whole
+//! cloud it leaves outside are added, the worst first, until it contains
+//! them all; it is then the MVEE of the whole cloud. Should the polish
+//! fail, the iteration runs on every point to the tolerance asked.
 
 use super::ellipsoid::Ellipsoid;
 use super::error::MomentsError;
+use crate::conic::{AffExpr, Problem, Settings};
 use nalgebra::{Matrix3, Matrix4, SymmetricEigen, Vector3, Vector4};
 
-/// The most iterations of [`mvee`] (each O(n) on n hull vertices).
+/// The most iterations of [`mvee`] (each O(n) on its n working points).
 pub const MVEE_MAX_ITERATIONS: usize = 100_000;
+
+/// The tolerance the first-order iteration runs to when a finer one is
+/// asked for; the exact polish does the rest.
+pub const POLISH_BELOW: f64 = 1e-3;
+
+/// Directions (over a sphere, in the cloud's whitened frame) whose extreme
+/// points, both ways, form the iteration's working set.
+pub const EXTREME_DIRECTIONS: usize = 200;
 
 /// The result of [`mvee`]: the ellipsoid (which always contains every
 /// point) and how close to minimal it is.
@@ -35,15 +55,19 @@ pub struct Mvee {
     /// stopped it: the ellipsoid encloses the points but may be larger than
     /// minimal by more than `(1 + tol)²` in volume).
     pub converged: bool,
-    /// Points it was computed on (the convex hull's vertices, or every
-    /// distinct point when the hull could not be built).
+    /// Whether the exact conic polish ran (it finds the support, on which
+    /// the first-order iteration then refines the ellipsoid); else the
+    /// first-order iteration alone gave it.
+    pub polished: bool,
+    /// Points the iteration ran on (the extreme points, or every point
+    /// when the polish failed).
     pub support_candidates: usize,
 }
 
 impl Ellipsoid {
     /// The minimum-volume enclosing ellipsoid of a point cloud, to relative
-    /// tolerance `tol` ([`mvee`]: on the convex hull's vertices,
-    /// Todd–Yildirim with away steps; the result always encloses every
+    /// tolerance `tol` ([`mvee`]: Todd–Yildirim with away steps on the
+    /// extreme points, polished exactly; the result always encloses every
     /// point). Needs at least 4 affinely independent points.
     pub fn minimum_volume_enclosing(
         points: &[Vector3<f64>],
@@ -54,8 +78,9 @@ impl Ellipsoid {
 }
 
 /// The minimum-volume ellipsoid enclosing `points` to relative tolerance
-/// `tol` (e.g. 1e-7), computed on their convex hull's vertices. Needs at
-/// least 4 finite, affinely independent points.
+/// `tol` (e.g. 1e-7; below [`POLISH_BELOW`] the exact polish gives it to
+/// the solver's accuracy). Needs at least 4 finite, affinely independent
+/// points.
 pub fn mvee(points: &[Vector3<f64>], tol: f64) -> Result<Mvee, MomentsError> {
     let n = points.len();
     if n < 4 || points.iter().any(|p| !p.iter().all(|x| x.is_finite())) {
@@ -63,45 +88,110 @@ pub fn mvee(points: &[Vector3<f64>], tol: f64) -> Result<Mvee, MomentsError> {
             "need at least 4 finite points, got {n}"
         )));
     }
-    let pts = hull_vertices(points);
-    check_volume(&pts)?;
-    let q: Vec<Vector4<f64>> = pts.iter().map(|p| p.push(1.0)).collect();
-    let mut u = initial_weights(&pts);
-    let (iterations, converged) = iterate(&q, &mut u, tol)?;
-    let ellipsoid = from_weights(&pts, &u, points)?;
+    check_volume(points)?;
+    let work: Vec<Vector3<f64>> = extreme_points(points).iter().map(|&k| points[k]).collect();
+    let coarse = tol.max(POLISH_BELOW);
+    let (u, iterations, converged) = weights(&work, coarse, MVEE_MAX_ITERATIONS)?;
+    if coarse > tol && converged {
+        if let Ok(p) = polish(&work, &u, points) {
+            return refined(p, points, tol, iterations);
+        }
+    }
+    let (u, iterations, converged, pts) = if coarse > tol || !converged {
+        let (u, i, c) = weights(points, tol, MVEE_MAX_ITERATIONS)?;
+        (u, iterations + i, c, points)
+    } else {
+        (u, iterations, converged, &work[..])
+    };
+    let (centre, shape) = from_weights(pts, &u)?;
     Ok(Mvee {
-        ellipsoid,
+        ellipsoid: enclosing_all(centre, shape, points)?,
         iterations,
         converged,
+        polished: false,
         support_candidates: pts.len(),
     })
 }
 
-/// The convex hull's vertices (chull's robust quickhull), or the points
-/// themselves when no hull with volume can be built (then the iteration
-/// reports the flatness).
-fn hull_vertices(points: &[Vector3<f64>]) -> Vec<Vector3<f64>> {
-    // centre and scale first: the hull's tolerances are absolute
-    let c: Vector3<f64> = points.iter().sum::<Vector3<f64>>() / points.len() as f64;
-    let s = points.iter().map(|p| (p - c).amax()).fold(0.0, f64::max);
-    if s <= 0.0 {
-        return points.to_vec();
-    }
-    let scaled: Vec<Vec<f64>> = points
+/// The polished MVEE, refined: the first-order iteration on the polish's
+/// support alone (at most [`REFINE_ITERATIONS`], to [`REFINE_TOL`] or
+/// `tol` if finer) reaches where the
+/// interior-point solve stops short (its volume is flat at the optimum, so
+/// a gap ε in `log det` leaves the shape off by ~√ε); the smaller of the
+/// two ellipsoids, each scaled to enclose every point, is the result.
+fn refined(
+    p: Polished,
+    points: &[Vector3<f64>],
+    tol: f64,
+    iterations: usize,
+) -> Result<Mvee, MomentsError> {
+    let exact = enclosing_all(p.centre, p.shape, points)?;
+    let (u, more, _) = weights(&p.support, tol.min(REFINE_TOL), REFINE_ITERATIONS)?;
+    let (c, a) = from_weights(&p.support, &u)?;
+    let first_order = enclosing_all(c, a, points)?;
+    Ok(Mvee {
+        ellipsoid: if first_order.volume() < exact.volume() {
+            first_order
+        } else {
+            exact
+        },
+        iterations: iterations + more,
+        converged: true,
+        polished: true,
+        support_candidates: p.support.len(),
+    })
+}
+
+/// Todd–Yildirim weights on `pts` to tolerance `tol` (at most
+/// `max_iterations`), from the Kumar–Yildirim start; with the iterations and whether they converged.
+fn weights(
+    pts: &[Vector3<f64>],
+    tol: f64,
+    max_iterations: usize,
+) -> Result<(Vec<f64>, usize, bool), MomentsError> {
+    let q: Vec<Vector4<f64>> = pts.iter().map(|p| p.push(1.0)).collect();
+    let mut u = initial_weights(pts);
+    let (iterations, converged) = iterate(&q, &mut u, tol, max_iterations)?;
+    Ok((u, iterations, converged))
+}
+
+/// The indices of the points extreme (largest and smallest) along
+/// [`EXTREME_DIRECTIONS`] directions spread over the sphere in the cloud's
+/// whitened frame (where it is round): vertices of its convex hull, and
+/// the ones an ellipsoid touches first.
+fn extreme_points(points: &[Vector3<f64>]) -> Vec<usize> {
+    let n = points.len() as f64;
+    let c: Vector3<f64> = points.iter().sum::<Vector3<f64>>() / n;
+    let cov: Matrix3<f64> = points
         .iter()
-        .map(|p| ((p - c) / s).iter().copied().collect())
-        .collect();
-    match chull::ConvexHullWrapper::try_new(&scaled, None) {
-        Ok(h) => {
-            let (v, _) = h.vertices_indices();
-            let v: Vec<Vector3<f64>> = v
-                .iter()
-                .map(|x| Vector3::new(x[0], x[1], x[2]) * s + c)
-                .collect();
-            if v.len() >= 4 { v } else { points.to_vec() }
+        .map(|p| (p - c) * (p - c).transpose())
+        .sum::<Matrix3<f64>>()
+        / n;
+    let eig = SymmetricEigen::new(cov);
+    // a direction d of the whitened frame is Σ^{-1/2} d here
+    let w = eig.eigenvectors * Matrix3::from_diagonal(&eig.eigenvalues.map(|l| 1.0 / l.sqrt()));
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    let mut pick = vec![];
+    for k in 0..EXTREME_DIRECTIONS {
+        let z = 1.0 - 2.0 * (k as f64 + 0.5) / EXTREME_DIRECTIONS as f64;
+        let r = (1.0 - z * z).sqrt();
+        let a = golden * k as f64;
+        let d = w * Vector3::new(r * a.cos(), r * a.sin(), z);
+        let (mut lo, mut hi) = ((f64::INFINITY, 0), (f64::NEG_INFINITY, 0));
+        for (i, p) in points.iter().enumerate() {
+            let x = d.dot(p);
+            if x < lo.0 {
+                lo = (x, i);
+            }
+            if x > hi.0 {
+                hi = (x, i);
+            }
         }
-        Err(_) => points.to_vec(),
+        pick.extend([lo.1, hi.1]);
     }
+    pick.sort_unstable();
+    pick.dedup();
+    pick
 }
 
 /// Points that span a volume: the spread along the thinnest principal axis
@@ -158,7 +248,12 @@ fn initial_weights(pts: &[Vector3<f64>]) -> Vec<f64> {
 
 /// Todd–Yildirim iterations on the weights `u`; returns the iteration count
 /// and whether the optimality test held.
-fn iterate(q: &[Vector4<f64>], u: &mut [f64], tol: f64) -> Result<(usize, bool), MomentsError> {
+fn iterate(
+    q: &[Vector4<f64>],
+    u: &mut [f64],
+    tol: f64,
+    max_iterations: usize,
+) -> Result<(usize, bool), MomentsError> {
     const D: f64 = 4.0;
     let flat = || {
         MomentsError::InvalidEllipsoid(
@@ -166,7 +261,7 @@ fn iterate(q: &[Vector4<f64>], u: &mut [f64], tol: f64) -> Result<(usize, bool),
         )
     };
     let mut m = vec![0.0; q.len()];
-    for it in 0..MVEE_MAX_ITERATIONS {
+    for it in 0..max_iterations {
         let x: Matrix4<f64> = q
             .iter()
             .zip(u.iter())
@@ -194,7 +289,7 @@ fn iterate(q: &[Vector4<f64>], u: &mut [f64], tol: f64) -> Result<(usize, bool),
             u[down] = if step == cap { 0.0 } else { u[down] - step };
         }
     }
-    Ok((MVEE_MAX_ITERATIONS, false))
+    Ok((max_iterations, false))
 }
 
 /// The index and value of the extreme `m_k` over the `k` that `keep`
@@ -213,13 +308,12 @@ fn extreme(
     best
 }
 
-/// The ellipsoid of the weights: centre `Σ u p`, shape `(Σ u (p − c)(p − c)ᵀ)⁻¹ / 3`,
-/// scaled so that every one of `all` is inside.
+/// The ellipsoid of the weights: centre `Σ u p` and shape
+/// `(Σ u (p − c)(p − c)ᵀ)⁻¹ / 3` (`(x − c)ᵀ A (x − c) ≤ 1`).
 fn from_weights(
     pts: &[Vector3<f64>],
     u: &[f64],
-    all: &[Vector3<f64>],
-) -> Result<Ellipsoid, MomentsError> {
+) -> Result<(Vector3<f64>, Matrix3<f64>), MomentsError> {
     let c: Vector3<f64> = pts.iter().zip(u).map(|(p, w)| p * *w).sum();
     let mut cov = Matrix3::zeros();
     for (p, w) in pts.iter().zip(u) {
@@ -229,6 +323,16 @@ fn from_weights(
         .try_inverse()
         .ok_or_else(|| MomentsError::InvalidEllipsoid("points are coplanar".into()))?
         / 3.0;
+    Ok((c, a))
+}
+
+/// The ellipsoid `(x − c)ᵀ A (x − c) ≤ 1`, scaled about `c` so that every
+/// one of `all` is inside.
+fn enclosing_all(
+    c: Vector3<f64>,
+    a: Matrix3<f64>,
+    all: &[Vector3<f64>],
+) -> Result<Ellipsoid, MomentsError> {
     let worst = all
         .iter()
         .map(|p| (p - c).dot(&(a * (p - c))))
@@ -240,6 +344,104 @@ fn from_weights(
         r.set_column(2, &(-r.column(2)));
     }
     Ellipsoid::with_rotation(c, eig.eigenvalues.map(|l| 1.0 / l.sqrt()), r)
+}
+
+/// The most rounds of the polish (each adds the points left outside).
+const POLISH_ROUNDS: usize = 40;
+
+/// The most iterations of the refinement on the polish's support.
+pub const REFINE_ITERATIONS: usize = 5_000;
+
+/// The tolerance of the refinement (a few points: cheap to reach; the
+/// semi-axes are off by ~√tol at a tolerance tol in volume).
+pub const REFINE_TOL: f64 = 1e-12;
+
+/// What the polish found: the MVEE's centre and shape (as
+/// [`from_weights`] gives them) and the points on its boundary.
+struct Polished {
+    centre: Vector3<f64>,
+    shape: Matrix3<f64>,
+    support: Vec<Vector3<f64>>,
+}
+
+/// The most points the polish adds in one round (the worst outside).
+const POLISH_ADD: usize = 24;
+
+/// The exact MVEE of `all` from the coarse weights `u` on `work`: solved
+/// on the coarse support, in coordinates centred and scaled to unit size,
+/// with the points of `all` left outside added (the [`POLISH_ADD`] worst
+/// each round) until none is.
+fn polish(
+    work: &[Vector3<f64>],
+    u: &[f64],
+    all: &[Vector3<f64>],
+) -> Result<Polished, MomentsError> {
+    let c: Vector3<f64> = all.iter().sum::<Vector3<f64>>() / all.len() as f64;
+    let s = all.iter().map(|p| (p - c).amax()).fold(0.0, f64::max);
+    let mut cand: Vec<Vector3<f64>> = work
+        .iter()
+        .zip(u)
+        .filter(|(_, w)| **w > 0.0)
+        .map(|(p, _)| (p - c) / s)
+        .collect();
+    for _ in 0..POLISH_ROUNDS {
+        let (a, b) = conic_mvee(&cand)?;
+        let mut out: Vec<(f64, Vector3<f64>)> = all
+            .iter()
+            .map(|p| (p - c) / s)
+            .map(|x| ((a * x + b).norm(), x))
+            .filter(|(l, _)| *l > 1.0 + 1e-7)
+            .collect();
+        if out.is_empty() {
+            let ai = a
+                .try_inverse()
+                .ok_or_else(|| MomentsError::InvalidEllipsoid("a flat MVEE".into()))?;
+            let support = all
+                .iter()
+                .filter(|p| (a * ((*p - c) / s) + b).norm() > 1.0 - 1e-4)
+                .copied()
+                .collect();
+            // ‖A (x − c)/s + b‖ ≤ 1: centre c − s A⁻¹ b, shape A²/s²
+            return Ok(Polished {
+                centre: c - s * (ai * b),
+                shape: a * a / (s * s),
+                support,
+            });
+        }
+        out.sort_by(|x, y| y.0.total_cmp(&x.0));
+        cand.extend(out.iter().take(POLISH_ADD).map(|(_, x)| *x));
+    }
+    Err(MomentsError::InvalidEllipsoid(
+        "the MVEE polish did not settle".into(),
+    ))
+}
+
+/// The MVEE `{x : ‖A x + b‖ ≤ 1}` of `pts` as one SDP: maximise
+/// `log det A` over symmetric A, subject to every point inside.
+fn conic_mvee(pts: &[Vector3<f64>]) -> Result<(Matrix3<f64>, Vector3<f64>), MomentsError> {
+    let mut p = Problem::new();
+    let a = p.symmetric("A", 3);
+    let b = p.vector("b", 3);
+    let t = p.scalar("log det A");
+    p.add_logdet_ge(&a, t)?;
+    let ae = a.expr();
+    for x in pts {
+        let rows: Vec<AffExpr> = (0..3)
+            .map(|i| (0..3).map(|j| ae[(i, j)].clone() * x[j]).sum::<AffExpr>() + b[i])
+            .collect();
+        p.add_soc(1.0, rows)?;
+    }
+    p.maximize(t);
+    let sol = p.solve(&Settings::default())?;
+    if !sol.status.is_solved() {
+        return Err(MomentsError::Solver {
+            status: sol.status,
+            task: "the minimum-volume ellipsoid of a mesh".into(),
+        });
+    }
+    let am = Matrix3::from_fn(|i, j| ae[(i, j)].eval(sol.x()));
+    let bv = Vector3::from_fn(|i, _| sol.value(b[i]).unwrap_or(f64::NAN));
+    Ok((am, bv))
 }
 
 #[cfg(test)]
@@ -263,9 +465,10 @@ mod tests {
         }
         let r = mvee(&pts, 1e-9).unwrap();
         assert!(r.converged);
+        assert!(r.polished);
         assert_eq!(
             r.support_candidates, 8,
-            "the hull of a grid box is its corners"
+            "the extreme points of a grid box are its corners"
         );
         let mut a: Vec<f64> = r.ellipsoid.semi_axes.iter().copied().collect();
         a.sort_by(f64::total_cmp);

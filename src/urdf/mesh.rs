@@ -20,7 +20,7 @@ pub const MAX_MESH_VERTICES: usize = 10_000_000;
 /// folders above the URDF (a folder named NAME, or one holding NAME), the
 /// `--package-path` folders (each either a package itself or a folder of
 /// packages), then those of `ROS_PACKAGE_PATH`.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct MeshPaths {
     /// The URDF's folder (relative mesh paths start here).
     pub urdf_dir: PathBuf,

@@ -24,7 +24,7 @@ fn check_leg(robot: &RobotDescription) {
     let params = robot.model.params();
     for (k, name) in robot.model.body_names().iter().enumerate() {
         let pi = momentlmi::moments::InertialParams(std::array::from_fn(|i| params[10 * k + i]));
-        let Some(e) = robot.bounding[k].first() else {
+        let Some(e) = robot.bounding()[k].first() else {
             continue;
         };
         let c = check_consistency(&pi, 1e-12);

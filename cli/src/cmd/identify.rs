@@ -189,6 +189,9 @@ fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
     {
         // the bounding volumes come from the geometry these warnings are about
         super::warn_robot(&robot);
+        for w in robot.bounding_warnings() {
+            eprintln!("warning: {}: {w}", robot.source);
+        }
     }
     let names = robot.model.joint_names();
     let read = |p| super::read_data(p, &names, ReadOptions::default(), a.robot, a.sidecar);

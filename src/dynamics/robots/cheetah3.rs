@@ -149,7 +149,7 @@ pub fn cad_params() -> [InertialParams; 6] {
 /// The sidecar's bounding ellipsoids in each body's frame, bodies as
 /// [`BODIES`]. Every identified body is density realizable in its ellipsoid.
 pub fn ellipsoids() -> [Ellipsoid; 6] {
-    let b = description().bounding;
+    let b = description().bounding().to_vec();
     std::array::from_fn(|k| b[k][0])
 }
 

@@ -12,7 +12,6 @@ use super::description::RobotDescription;
 use super::error::DynamicsError;
 use super::sidecar::Sidecar;
 use super::urdf::model_from_robot;
-use crate::moments::geometry::Meshes;
 use crate::urdf::mesh::MeshPaths;
 use std::path::Path;
 
@@ -64,11 +63,10 @@ pub fn load_robot_with(
     let sc = sidecar.map(Sidecar::read).transpose()?.unwrap_or_default();
     let model = model_from_robot(&robot, spec, Some(&sc))
         .map_err(|e| name_the_sidecar(e, spec, sidecar))?;
-    let mut meshes = Meshes::new(MeshPaths::for_urdf(p, package_paths));
     let described = RobotDescription::new(spec, model, &sc, Some(&robot));
     let mut described = described
         .map_err(|e| name_the_sidecar(e, spec, sidecar))?
-        .with_urdf_geometry(&robot, &mut meshes);
+        .with_urdf_geometry(&robot, MeshPaths::for_urdf(p, package_paths));
     described.sidecar = sidecar.map(|s| s.display().to_string());
     Ok(described)
 }
