@@ -37,8 +37,8 @@ fn bad_rows_are_named() {
             "row 2, column 'q_hip': 'abc' is not a number",
         ),
         (
-            format!("{head}{ok}0,0,0,0,0,0,0,0,0,0\n"),
-            "row 2, column 't': time 0 is not after",
+            format!("{head}{ok}0.002,1,0,0,0,0,0,0,0,0\n0.001,2,0,0,0,0,0,0,0,0\n"),
+            "row 3, column 't': time 0.001 goes back from 0.002",
         ),
         (format!("{head}{ok}0.001,0,0,0\n"), "row 2: has 4 fields"),
         ("t,q_abad\n0,0\n".to_string(), "missing column 'q_hip'"),
@@ -209,25 +209,21 @@ fn io_errors_keep_their_source_and_outputs_are_whole() {
     let mut s =
         String::from("t,q_abad,qd_abad,q_hip,qd_hip,q_knee,qd_knee,tau_abad,tau_hip,tau_knee\n");
     for k in 0..50 {
-        s += &format!("{},0,0,0,0,0,0,0,0,0\n", k as f64 * 0.02);
+        let x = (k as f64 * 0.3).sin();
+        s += &format!("{},{x},0,{x},0,{x},0,{x},0,0\n", k as f64 * 0.02);
     }
-    let e = Dataset::parse_csv(&s, "slow.csv", &J, ReadOptions::default()).unwrap_err();
+    let at = |c: f64| ReadOptions {
+        cutoff_hz: Some(c),
+        ..Default::default()
+    };
+    let e = Dataset::parse_csv(&s, "slow.csv", &J, at(30.0)).unwrap_err();
     assert!(matches!(e, DataError::Cutoff { .. }), "{e}");
     assert!(
         e.to_string().contains("slow.csv") && e.to_string().contains("25 Hz"),
         "{e}"
     );
     // the data file and its record would be one file: refused, nothing written
-    let d = Dataset::parse_csv(
-        &s,
-        "slow.csv",
-        &J,
-        ReadOptions {
-            cutoff_hz: 5.0,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let d = Dataset::parse_csv(&s, "slow.csv", &J, at(5.0)).unwrap();
     let dir = std::env::temp_dir().join(format!("momentlmi-data-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let clash = dir.join("x.json");
@@ -239,16 +235,8 @@ fn io_errors_keep_their_source_and_outputs_are_whole() {
     let ok = dir.join("x.csv");
     let rec = write_with_record(&d, &ok, &"made by a test").unwrap();
     assert_eq!(rec, dir.join("x.json"));
-    let back = Dataset::read_csv(
-        &ok,
-        &J,
-        ReadOptions {
-            cutoff_hz: 5.0,
-            ..Default::default()
-        },
-    )
-    .unwrap();
-    assert_eq!(back.len(), 50);
+    let back = Dataset::read_csv(&ok, &J, at(5.0)).unwrap();
+    assert_eq!(back.len(), d.len());
     let leftovers: Vec<_> = std::fs::read_dir(&dir)
         .unwrap()
         .filter_map(|e| e.ok())

@@ -92,7 +92,7 @@ fn mutated(base: &'static str) -> impl Strategy<Value = String> {
 
 fn csv_holds_its_rules(text: &str) {
     let opts = ReadOptions {
-        cutoff_hz: 100.0,
+        cutoff_hz: Some(100.0),
         ..Default::default()
     };
     if let Ok(d) = Dataset::parse_csv(text, "fuzz.csv", &["a", "b"], opts) {
@@ -169,7 +169,7 @@ const PARAMS: &str = r#"{"robot":"cheetah3-leg","joints":["abad","hip","knee"],
 fn the_unmutated_inputs_are_accepted() {
     // the properties above would hold vacuously if the bases were refused
     let opts = ReadOptions {
-        cutoff_hz: 100.0,
+        cutoff_hz: Some(100.0),
         ..Default::default()
     };
     Dataset::parse_csv(CSV, "base.csv", &["a", "b"], opts).unwrap();

@@ -1,28 +1,22 @@
 //! The CSV format of robot logs.
 //!
-//! Columns: `t`, then per joint `q_<joint>`, `qd_<joint>`, optionally
-//! `qdd_<joint>`, and `tau_<joint>` (SI units: s, rad, rad/s, rad/s², N·m),
-//! in any order; extra columns are ignored. Files without `qdd_*` get q̈ from
-//! the zero-phase filtered derivative of q̇ ([`super::filter`]). Readers
-//! reject NaN/inf, values beyond [`MAX_ABS_VALUE`] (t: [`MAX_ABS_TIME`]),
-//! missing or repeated columns, non-increasing time, ragged rows and more
-//! than [`MAX_ROWS`] rows with an error naming the row and column. The file
-//! is streamed: memory grows with the rows kept, not the file's size.
+//! Columns: `t`, then per joint `q_<joint>`, optionally `qd_<joint>`,
+//! `qdd_<joint>` and `tau_<joint>` (SI units: s, rad, rad/s, rad/s², N·m),
+//! in any order; extra columns are ignored; a [`Mapping`] names other
+//! columns and units. A file with `qdd_*` is taken as prepared; one without
+//! is a raw log ([`super::prepare`]). Readers reject NaN/inf, values beyond
+//! [`MAX_ABS_VALUE`] (t: [`MAX_ABS_TIME`]), missing or repeated columns,
+//! ragged rows and more than [`MAX_ROWS`] rows with an error naming the row
+//! and column. The file is streamed: memory grows with the rows kept, not
+//! the file's size.
 
 use super::dataset::Dataset;
 use super::error::DataError;
-use super::filter::estimate_qdd;
+use super::mapping::{Kind, Mapping};
+pub use super::raw::{MAX_ABS_TIME, MAX_ABS_VALUE, MAX_ROWS};
+use super::raw::{RawLog, joint_positions};
 use super::write::write_whole;
 use std::path::Path;
-
-/// The most data rows a file may have (10 million: about 3 hours at 1 kHz).
-pub const MAX_ROWS: usize = 10_000_000;
-/// The largest magnitude of a q, q̇, q̈ or τ value (rad, rad/s, rad/s², N·m):
-/// no robot moves or pushes like that, and beyond it products in the
-/// regressor lose all precision long before they overflow.
-pub const MAX_ABS_VALUE: f64 = 1e8;
-/// The largest magnitude of a time stamp (s): room for Unix time.
-pub const MAX_ABS_TIME: f64 = 1e12;
 /// The most columns a header may have.
 pub const MAX_COLUMNS: usize = 100_000;
 /// The longest line (bytes): a file without line breaks is not read whole.
@@ -51,105 +45,7 @@ impl<R: std::io::Read> std::io::Read for LineLimit<R> {
     }
 }
 
-/// Options for reading.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ReadOptions {
-    /// Cut-off (Hz) of the zero-phase filter used when q̈ must be computed.
-    pub cutoff_hz: f64,
-    /// Whether `tau_*` columns are required.
-    pub require_tau: bool,
-}
-
-impl Default for ReadOptions {
-    fn default() -> Self {
-        Self {
-            cutoff_hz: 30.0,
-            require_tau: true,
-        }
-    }
-}
-
 impl Dataset {
-    /// Reads a CSV file for the given joints.
-    pub fn read_csv(path: &Path, joints: &[&str], opts: ReadOptions) -> Result<Self, DataError> {
-        let p = path.display().to_string();
-        let file = std::fs::File::open(path).map_err(|source| DataError::Io {
-            path: p.clone(),
-            source,
-        })?;
-        Self::parse_from(std::io::BufReader::new(file), &p, joints, opts)
-    }
-
-    /// Parses CSV text; `path` names it in errors.
-    pub fn parse_csv(
-        text: &str,
-        path: &str,
-        joints: &[&str],
-        opts: ReadOptions,
-    ) -> Result<Self, DataError> {
-        Self::parse_from(text.as_bytes(), path, joints, opts)
-    }
-
-    fn parse_from(
-        input: impl std::io::Read,
-        path: &str,
-        joints: &[&str],
-        opts: ReadOptions,
-    ) -> Result<Self, DataError> {
-        let mut rdr = ::csv::ReaderBuilder::new()
-            .trim(csv::Trim::All)
-            .flexible(true)
-            .from_reader(LineLimit {
-                inner: input,
-                line: 0,
-            });
-        let header: Vec<String> = rdr
-            .headers()
-            .map_err(|e| DataError::Row {
-                path: path.into(),
-                row: 0,
-                message: e.to_string(),
-            })?
-            .iter()
-            .map(str::to_string)
-            .collect();
-        let cols = Columns::find(&header, path, joints, opts.require_tau)?;
-        let mut d = Dataset {
-            joints: joints.iter().map(|s| s.to_string()).collect(),
-            t: vec![],
-            q: vec![],
-            qd: vec![],
-            qdd: vec![],
-            tau: vec![],
-        };
-        for (r, rec) in rdr.records().enumerate() {
-            let rec = rec.map_err(|e| DataError::Row {
-                path: path.into(),
-                row: r + 1,
-                message: e.to_string(),
-            })?;
-            if r >= MAX_ROWS {
-                return Err(DataError::Row {
-                    path: path.into(),
-                    row: r + 1,
-                    message: format!("more than {MAX_ROWS} data rows; split the log"),
-                });
-            }
-            cols.push_row(&mut d, &rec, &header, path, r + 1)?;
-        }
-        if d.t.is_empty() {
-            return Err(DataError::Row {
-                path: path.into(),
-                row: 1,
-                message: "no data rows".into(),
-            });
-        }
-        if cols.qdd.is_none() {
-            d.qdd = qdd_of(&d, path, opts.cutoff_hz)?;
-        }
-        Ok(d)
-    }
-
     /// The CSV text: `t, q_*, qd_*, qdd_*, tau_*` (tau only when present).
     pub fn to_csv(&self) -> String {
         let mut s = String::from("t");
@@ -183,62 +79,132 @@ impl Dataset {
     }
 }
 
-/// Where each quantity's columns are in the header.
+/// Reads a CSV stream through `mapping` (default: the format's own
+/// names) into a raw log for the robot's `joints`.
+pub(crate) fn read_raw(
+    input: impl std::io::Read,
+    path: &str,
+    mapping: Option<&Mapping>,
+    joints: &[&str],
+    require_tau: bool,
+) -> Result<RawLog, DataError> {
+    let default = Mapping::csv_default();
+    let mapping = mapping.unwrap_or(&default);
+    let mut rdr = ::csv::ReaderBuilder::new()
+        .trim(csv::Trim::All)
+        .flexible(true)
+        .from_reader(LineLimit {
+            inner: input,
+            line: 0,
+        });
+    let header: Vec<String> = rdr
+        .headers()
+        .map_err(|e| DataError::Row {
+            path: path.into(),
+            row: 0,
+            message: e.to_string(),
+        })?
+        .iter()
+        .map(str::to_string)
+        .collect();
+    let cols = Columns::find(&header, path, mapping, joints, require_tau)?;
+    let mut d = RawLog {
+        path: path.into(),
+        ..RawLog::default()
+    };
+    for (r, rec) in rdr.records().enumerate() {
+        let rec = rec.map_err(|e| DataError::Row {
+            path: path.into(),
+            row: r + 1,
+            message: e.to_string(),
+        })?;
+        if r >= MAX_ROWS {
+            return Err(DataError::Row {
+                path: path.into(),
+                row: r + 1,
+                message: format!("more than {MAX_ROWS} data rows; split the log"),
+            });
+        }
+        cols.push_row(&mut d, &rec, &header, path, r + 1)?;
+    }
+    Ok(d)
+}
+
+/// Where each quantity's columns are in the header (per robot joint), and
+/// the factor of each to SI units.
 struct Columns {
-    t: usize,
-    q: Vec<usize>,
-    qd: Vec<usize>,
-    qdd: Option<Vec<usize>>,
-    tau: Option<Vec<usize>>,
+    t: (usize, f64),
+    q: (Vec<usize>, f64),
+    qd: Option<(Vec<usize>, f64)>,
+    qdd: Option<(Vec<usize>, f64)>,
+    tau: Option<(Vec<usize>, f64)>,
 }
 
 impl Columns {
-    /// `t`, `q_*`, `qd_*` (and `tau_*` when required) must be there;
-    /// `qdd_*` (and optional `tau_*`) are all there or none is.
+    /// The mapping's columns: the time and q (and τ if `require_tau`) must
+    /// be there, every other
+    /// quantity is all there or absent (a partial set is an error; with
+    /// the default names, `qd_*` and `tau_*` may be absent).
     fn find(
         header: &[String],
         path: &str,
+        mapping: &Mapping,
         joints: &[&str],
         require_tau: bool,
     ) -> Result<Self, DataError> {
         let index = check_header(header, path)?;
-        let col = |name: &str| index.get(name).copied();
-        let need = |name: String| -> Result<usize, DataError> {
-            col(&name).ok_or_else(|| DataError::MissingColumn {
+        let missing = |name: &str| DataError::MissingColumn {
+            path: path.into(),
+            column: name.into(),
+            header: header.join(","),
+        };
+        let t = *index
+            .get(mapping.time_name())
+            .ok_or_else(|| missing(mapping.time_name()))?;
+        let order = mapping.joint_order(joints);
+        let mut found: [Option<(Vec<usize>, f64)>; 4] = Default::default();
+        for (slot, k) in found.iter_mut().zip(Kind::ALL) {
+            let Some(qm) = mapping.quantity(k) else {
+                continue;
+            };
+            let names = qm.per_joint(&order).ok_or_else(|| DataError::Mapping {
                 path: path.into(),
-                column: name,
-                header: header.join(","),
-            })
-        };
-        let all = |p: &str| -> Result<Vec<usize>, DataError> {
-            joints.iter().map(|j| need(format!("{p}_{j}"))).collect()
-        };
-        // optional columns: all of them or none (a partial set is an error)
-        let any = |p: &str| -> Result<Option<Vec<usize>>, DataError> {
-            if joints.iter().any(|j| col(&format!("{p}_{j}")).is_some()) {
-                all(p).map(Some)
-            } else {
-                Ok(None)
+                message: format!(
+                    "[{}]: a CSV needs one column per joint: `{{joint}}` in source, or columns",
+                    k.prefix()
+                ),
+            })?;
+            let have: Vec<Option<usize>> = names
+                .iter()
+                .map(|n| index.get(n.as_str()).copied())
+                .collect();
+            let needed = k == Kind::Q || (k == Kind::Tau && require_tau);
+            if have.iter().all(Option::is_none) && !needed {
+                continue;
             }
-        };
+            if let Some(m) = names.iter().zip(&have).find(|(_, h)| h.is_none()) {
+                return Err(missing(m.0));
+            }
+            let label = names.first().cloned().unwrap_or_default();
+            let pos = joint_positions(joints, &order, path, &label)?;
+            let cols = pos.iter().map(|&p| have[p].expect("checked")).collect();
+            *slot = Some((cols, qm.scale().unwrap_or(1.0)));
+        }
+        let [q, qd, qdd, tau] = found;
         Ok(Self {
-            t: need("t".into())?,
-            q: all("q")?,
-            qd: all("qd")?,
-            qdd: any("qdd")?,
-            tau: if require_tau {
-                Some(all("tau")?)
-            } else {
-                any("tau")?
-            },
+            t: (t, mapping.time_scale().unwrap_or(1.0)),
+            q: q.ok_or_else(|| missing("q"))?,
+            qd,
+            qdd,
+            tau,
         })
     }
 
-    /// Reads one record (1-based data `row`) into `d`, checking its length,
-    /// every value and that time increases.
+    /// Reads one record (1-based data `row`) into `d`, checking its length
+    /// and every value.
     fn push_row(
         &self,
-        d: &mut Dataset,
+        d: &mut RawLog,
         rec: &::csv::StringRecord,
         header: &[String],
         path: &str,
@@ -251,7 +217,7 @@ impl Columns {
                 message: format!("has {} fields, the header has {}", rec.len(), header.len()),
             });
         }
-        let get = |c: usize| -> Result<f64, DataError> {
+        let get = |c: usize, scale: f64| -> Result<f64, DataError> {
             let raw = &rec[c];
             let bad = |message: String| DataError::Value {
                 path: path.into(),
@@ -265,36 +231,32 @@ impl Columns {
             if !v.is_finite() {
                 return Err(bad(format!("non-finite value '{raw}'")));
             }
-            let limit = if c == self.t {
+            let limit = if c == self.t.0 {
                 MAX_ABS_TIME
             } else {
                 MAX_ABS_VALUE
             };
+            let v = v * scale;
             if v.abs() > limit {
                 return Err(bad(format!("{raw} is beyond ±{limit:e}")));
             }
             Ok(v)
         };
-        let many = |ix: &[usize]| ix.iter().map(|&c| get(c)).collect::<Result<Vec<f64>, _>>();
-        let t = get(self.t)?;
-        if let Some(&prev) = d.t.last()
-            && t <= prev
-        {
-            return Err(DataError::Value {
-                path: path.into(),
-                row,
-                column: "t".into(),
-                message: format!("time {t} is not after the previous row's {prev}"),
-            });
-        }
-        d.t.push(t);
+        let many = |(ix, s): &(Vec<usize>, f64)| {
+            ix.iter()
+                .map(|&c| get(c, *s))
+                .collect::<Result<Vec<f64>, _>>()
+        };
+        d.t.push(get(self.t.0, self.t.1)?);
         d.q.push(many(&self.q)?);
-        d.qd.push(many(&self.qd)?);
-        if let Some(ix) = &self.qdd {
-            d.qdd.push(many(ix)?);
-        }
-        if let Some(ix) = &self.tau {
-            d.tau.push(many(ix)?);
+        for (src, dst) in [
+            (&self.qd, &mut d.qd),
+            (&self.qdd, &mut d.qdd),
+            (&self.tau, &mut d.tau),
+        ] {
+            if let Some(c) = src {
+                dst.get_or_insert_with(Vec::new).push(many(c)?);
+            }
         }
         Ok(())
     }
@@ -328,22 +290,4 @@ fn check_header<'h>(
         }
     }
     Ok(seen)
-}
-
-/// q̈ from q̇ with a cut-off below the file's Nyquist frequency.
-fn qdd_of(d: &Dataset, path: &str, cutoff_hz: f64) -> Result<Vec<Vec<f64>>, DataError> {
-    let n = d.len();
-    let nyquist = if n > 1 {
-        0.5 * (n - 1) as f64 / (d.t[n - 1] - d.t[0])
-    } else {
-        f64::INFINITY
-    };
-    if !(cutoff_hz > 0.0 && cutoff_hz < nyquist) {
-        return Err(DataError::Cutoff {
-            path: path.into(),
-            cutoff_hz,
-            nyquist_hz: nyquist,
-        });
-    }
-    Ok(estimate_qdd(&d.t, &d.qd, cutoff_hz))
 }

@@ -15,9 +15,59 @@ pub struct Dataset {
     pub qdd: Vec<Vec<f64>>,
     /// Torques (empty when the file has none, e.g. a trajectory to predict on).
     pub tau: Vec<Vec<f64>>,
+    /// Where each segment starts (sample indices, the first 0), when the
+    /// data are several files or a log split at its gaps: no filter or
+    /// derivative crossed a boundary. Empty: one segment.
+    pub segments: Vec<usize>,
 }
 
 impl Dataset {
+    /// No samples, for `joints`.
+    pub fn empty(joints: &[&str]) -> Self {
+        Self {
+            joints: joints.iter().map(|j| j.to_string()).collect(),
+            t: vec![],
+            q: vec![],
+            qd: vec![],
+            qdd: vec![],
+            tau: vec![],
+            segments: vec![],
+        }
+    }
+
+    /// Appends the samples of `s` as a new segment; when its times do not
+    /// follow ours, they are shifted to start one of its steps after our
+    /// last (times stay increasing).
+    pub fn append_segment(&mut self, mut s: Dataset) {
+        if let (Some(&last), Some(&first)) = (self.t.last(), s.t.first())
+            && first <= last
+        {
+            let step = s.t.get(1).map_or(1e-3, |t1| t1 - first);
+            s.t.iter_mut().for_each(|t| *t += last + step - first);
+        }
+        if !self.is_empty() {
+            if self.segments.is_empty() {
+                self.segments.push(0);
+            }
+            self.segments.push(self.len());
+        }
+        self.t.append(&mut s.t);
+        self.q.append(&mut s.q);
+        self.qd.append(&mut s.qd);
+        self.qdd.append(&mut s.qdd);
+        self.tau.append(&mut s.tau);
+    }
+
+    /// The sample ranges of the segments (one: the whole).
+    pub fn segment_ranges(&self) -> Vec<std::ops::Range<usize>> {
+        let mut starts = self.segments.clone();
+        if starts.is_empty() {
+            starts.push(0);
+        }
+        starts.push(self.len());
+        starts.windows(2).map(|w| w[0]..w[1]).collect()
+    }
+
     /// Number of samples.
     pub fn len(&self) -> usize {
         self.t.len()
@@ -37,6 +87,7 @@ impl Dataset {
             v.truncate(range.end);
             v.drain(..range.start.min(v.len()));
         }
+        self.segments = segments_within(&self.segments, &range);
     }
 
     /// The samples `range` as a new data set.
@@ -55,6 +106,21 @@ impl Dataset {
             qd: cut(&self.qd),
             qdd: cut(&self.qdd),
             tau: cut(&self.tau),
+            segments: segments_within(&self.segments, &range),
         }
+    }
+}
+
+/// The segment starts of `segments` inside `range`, relative to its start
+/// (empty: one segment).
+fn segments_within(segments: &[usize], range: &std::ops::Range<usize>) -> Vec<usize> {
+    let inner: Vec<usize> = (segments.iter())
+        .filter(|&&k| k > range.start && k < range.end)
+        .map(|k| k - range.start)
+        .collect();
+    if inner.is_empty() {
+        vec![]
+    } else {
+        [vec![0], inner].concat()
     }
 }

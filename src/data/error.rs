@@ -46,9 +46,9 @@ pub enum DataError {
         /// What is wrong.
         message: String,
     },
-    /// The q̈ filter's cut-off is not below the file's Nyquist frequency.
+    /// The low-pass cut-off is not below the file's Nyquist frequency.
     #[error(
-        "{path}: the q̈ filter cut-off {cutoff_hz} Hz must be positive and below half the sampling rate ({nyquist_hz} Hz)"
+        "{path}: the low-pass cut-off {cutoff_hz} Hz must be positive and below half the sampling rate ({nyquist_hz} Hz)"
     )]
     Cutoff {
         /// The file.
@@ -64,6 +64,25 @@ pub enum DataError {
     Output {
         /// The file.
         path: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A column mapping that cannot be used.
+    #[error("{path}: mapping: {message}")]
+    Mapping {
+        /// The mapping file.
+        path: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// An array (or topic, or message field) of a log file that is
+    /// missing, misnamed, of the wrong shape or type, or holds a bad value.
+    #[error("{path}: {array}: {message}")]
+    Array {
+        /// The log file.
+        path: String,
+        /// The array, topic or field.
+        array: String,
         /// What is wrong.
         message: String,
     },

@@ -4,7 +4,12 @@
 //! simulator that makes logs:
 //!
 //! - [`Dataset`]: samples of t, q, q̇, q̈, τ for named joints;
-//! - [`csv`](mod@csv): the CSV format (`t, q_<joint>, qd_<joint>[, qdd_<joint>][, tau_<joint>]`,
+//! - [`read_logs`]: one or several log files (CSV, NumPy `.npz`/`.npy`),
+//!   each its own segment, through one [`Mapping`] (which array or column is
+//!   q, q̇, q̈, τ of which joint, in which unit), [`prepare`]d as a careful
+//!   hand would (repeated rows dropped, split at gaps, resampled, one
+//!   zero-phase low-pass on q and τ, derivatives), with a report per file;
+//! - [`csv`](mod@csv): the CSV format (`t, q_<joint>[, qd_<joint>][, qdd_<joint>][, tau_<joint>]`,
 //!   SI units, any column order) with validation naming the row and column;
 //! - [`filter`]: the zero-phase Butterworth low-pass and the differentiator
 //!   that give q̈ (and, for raw encoders, q̇) offline;
@@ -16,13 +21,22 @@ pub mod csv;
 mod dataset;
 mod error;
 pub mod filter;
+pub mod mapping;
+pub mod npz;
+pub mod prepare;
+mod raw;
+mod read;
+pub mod spectrum;
 mod stats;
 pub mod write;
 
-pub use csv::ReadOptions;
 pub use dataset::Dataset;
 pub use error::DataError;
 pub use filter::estimate_qdd;
+pub use mapping::Mapping;
+pub use prepare::{FileReport, Prepare, Velocity};
+pub use raw::RawLog;
+pub use read::{ReadOptions, ReadReport, Reading, read_logs};
 pub use stats::{rms, rms_per_joint};
 pub use write::{
     Staged, record_path, same_file, stage_with_record, write_whole, write_with_record,

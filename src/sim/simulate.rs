@@ -417,6 +417,7 @@ pub fn simulate_with(
         qd,
         qdd,
         tau,
+        segments: vec![],
     };
     if cfg.processed {
         process(model, cfg, &mut d);

@@ -1,0 +1,290 @@
+//! NumPy logs: `.npz` archives (arrays named by a [`Mapping`]) and `.npy`
+//! arrays (one 2-D array laid out as the CSV format's columns), read with
+//! `npyz` (arrays of float64, float32, int64 or int32, C or Fortran order)
+//! and `zip`.
+
+use super::error::DataError;
+use super::mapping::{Kind, Mapping};
+use super::raw::{MAX_ABS_TIME, MAX_ABS_VALUE, MAX_ROWS, RawLog, check_value, joint_positions};
+use std::io::Read;
+use std::path::Path;
+
+/// The most values one array may hold (an array is read whole).
+pub const MAX_ARRAY_VALUES: u64 = 400_000_000;
+
+/// One array: its shape and values, in C order.
+struct Array {
+    shape: Vec<u64>,
+    values: Vec<f64>,
+}
+
+impl Array {
+    /// Reads a `.npy` stream of `bytes` bytes; `name` names it in errors.
+    fn read(r: impl Read, bytes: u64, path: &str, name: &str) -> Result<Self, DataError> {
+        let bad = |message: String| DataError::Array {
+            path: path.into(),
+            array: name.into(),
+            message,
+        };
+        let npy = npyz::NpyFile::new(r).map_err(|e| bad(format!("not a NumPy array: {e}")))?;
+        let shape = npy.shape().to_vec();
+        let n = npy.len();
+        if n > MAX_ARRAY_VALUES {
+            return Err(bad(format!("{n} values; at most {MAX_ARRAY_VALUES}")));
+        }
+        let width = match npy.dtype() {
+            npyz::DType::Plain(t) => t.size_field() as u64,
+            d => return Err(bad(format!("dtype {} is not a number", d.descr()))),
+        };
+        if n.saturating_mul(width) > bytes {
+            return Err(bad(format!(
+                "truncated: shape {shape:?} needs {} bytes, the archive holds {bytes}",
+                n * width
+            )));
+        }
+        let fortran = npy.order() == npyz::Order::Fortran;
+        let values = numbers(npy).map_err(|m| bad(m))?;
+        let values = if fortran && shape.len() == 2 {
+            transpose(&values, shape[0] as usize, shape[1] as usize)
+        } else {
+            values
+        };
+        Ok(Self { shape, values })
+    }
+}
+
+/// The array's values as f64 (from f8, f4, i8 or i4).
+fn numbers<R: Read>(npy: npyz::NpyFile<R>) -> Result<Vec<f64>, String> {
+    let io = |e: std::io::Error| format!("truncated or unreadable: {e}");
+    let npy = match npy.try_data::<f64>() {
+        Ok(r) => return r.collect::<Result<_, _>>().map_err(io),
+        Err(n) => n,
+    };
+    let npy = match npy.try_data::<f32>() {
+        Ok(r) => {
+            return r
+                .map(|x| x.map(f64::from))
+                .collect::<Result<_, _>>()
+                .map_err(io);
+        }
+        Err(n) => n,
+    };
+    let npy = match npy.try_data::<i64>() {
+        Ok(r) => {
+            return r
+                .map(|x| x.map(|v| v as f64))
+                .collect::<Result<_, _>>()
+                .map_err(io);
+        }
+        Err(n) => n,
+    };
+    match npy.try_data::<i32>() {
+        Ok(r) => r
+            .map(|x| x.map(f64::from))
+            .collect::<Result<_, _>>()
+            .map_err(io),
+        Err(n) => Err(format!(
+            "dtype {} is not float64, float32, int64 or int32",
+            n.dtype().descr()
+        )),
+    }
+}
+
+/// Column-major `v` (`rows × cols`) in row-major order.
+fn transpose(v: &[f64], rows: usize, cols: usize) -> Vec<f64> {
+    (0..rows * cols)
+        .map(|k| v[(k % cols) * rows + k / cols])
+        .collect()
+}
+
+/// Reads an `.npz` archive through `mapping` for the robot's `joints`.
+pub fn read_npz(path: &Path, mapping: &Mapping, joints: &[&str]) -> Result<RawLog, DataError> {
+    let p = path.display().to_string();
+    let file = std::fs::File::open(path).map_err(|source| DataError::Io {
+        path: p.clone(),
+        source,
+    })?;
+    let mut zip =
+        zip::ZipArchive::new(std::io::BufReader::new(file)).map_err(|e| DataError::Array {
+            path: p.clone(),
+            array: "(archive)".into(),
+            message: format!("not a NumPy .npz archive (a zip file): {e}"),
+        })?;
+    let names: Vec<String> = zip
+        .file_names()
+        .filter_map(Result::ok)
+        .map(|n| n.trim_end_matches(".npy").to_string())
+        .collect();
+    let mut get = |name: &str| -> Result<Array, DataError> {
+        let mut f = zip
+            .by_name(&format!("{name}.npy"))
+            .map_err(|_| DataError::Array {
+                path: p.clone(),
+                array: name.into(),
+                message: format!("no such array (the archive has: {})", names.join(", ")),
+            })?;
+        let size = f.size();
+        Array::read(&mut f, size, &p, name)
+    };
+    let t = get(mapping.time_name())?;
+    let scale = mapping.time_scale().unwrap_or(1.0);
+    let rows = vector(&t, &p, mapping.time_name())?;
+    let t: Vec<f64> = rows
+        .iter()
+        .enumerate()
+        .map(|(r, v)| check_value(v * scale, MAX_ABS_TIME, &p, mapping.time_name(), r + 1))
+        .collect::<Result<_, _>>()?;
+    let order = mapping.joint_order(joints);
+    let mut log = RawLog {
+        path: p.clone(),
+        t,
+        ..RawLog::default()
+    };
+    for k in Kind::ALL {
+        let Some(qm) = mapping.quantity(k) else {
+            continue;
+        };
+        let scale = qm.scale().unwrap_or(1.0);
+        let m = match qm.per_joint(&order) {
+            Some(names) => per_joint_arrays(&mut get, &names, log.len(), &p)?,
+            None => {
+                let name = qm.source.clone().unwrap_or_default();
+                let a = get(&name)?;
+                matrix(a, log.len(), order.len(), &p, &name)?
+            }
+        };
+        let label = qm.source.clone().unwrap_or_else(|| k.prefix().into());
+        let pos = joint_positions(joints, &order, &p, &label)?;
+        let v = rows_of(&m, order.len(), &pos, scale, &p, &label)?;
+        match k {
+            Kind::Q => log.q = v,
+            Kind::Qd => log.qd = Some(v),
+            Kind::Qdd => log.qdd = Some(v),
+            Kind::Tau => log.tau = Some(v),
+        }
+    }
+    Ok(log)
+}
+
+/// A 1-D array (or n × 1).
+fn vector(a: &Array, path: &str, name: &str) -> Result<Vec<f64>, DataError> {
+    match a.shape.as_slice() {
+        [n] | [n, 1] if (*n as usize) <= MAX_ROWS => Ok(a.values.clone()),
+        s => Err(DataError::Array {
+            path: path.into(),
+            array: name.into(),
+            message: format!("shape {s:?}: expected one value per sample, at most {MAX_ROWS}"),
+        }),
+    }
+}
+
+/// An `n × cols` array, row-major.
+fn matrix(a: Array, n: usize, cols: usize, path: &str, name: &str) -> Result<Vec<f64>, DataError> {
+    match a.shape.as_slice() {
+        [r, c] if *r as usize == n && *c as usize == cols => Ok(a.values),
+        s => Err(DataError::Array {
+            path: path.into(),
+            array: name.into(),
+            message: format!(
+                "shape {s:?}: expected [{n}, {cols}] (one row per time stamp, one column per joint of the mapping's order)"
+            ),
+        }),
+    }
+}
+
+/// One 1-D array per joint, interleaved into an `n × joints` matrix.
+fn per_joint_arrays(
+    get: &mut impl FnMut(&str) -> Result<Array, DataError>,
+    names: &[String],
+    n: usize,
+    path: &str,
+) -> Result<Vec<f64>, DataError> {
+    let cols = names.len();
+    let mut m = vec![0.0; n * cols];
+    for (j, name) in names.iter().enumerate() {
+        let v = vector(&get(name)?, path, name)?;
+        if v.len() != n {
+            return Err(DataError::Array {
+                path: path.into(),
+                array: name.clone(),
+                message: format!("{} values for {n} time stamps", v.len()),
+            });
+        }
+        v.iter().enumerate().for_each(|(r, x)| m[r * cols + j] = *x);
+    }
+    Ok(m)
+}
+
+/// Per sample, the robot's joints' values (columns `pos` of the row-major
+/// `m`, `cols` wide), scaled and checked.
+fn rows_of(
+    m: &[f64],
+    cols: usize,
+    pos: &[usize],
+    scale: f64,
+    path: &str,
+    name: &str,
+) -> Result<Vec<Vec<f64>>, DataError> {
+    m.chunks_exact(cols.max(1))
+        .enumerate()
+        .map(|(r, row)| {
+            pos.iter()
+                .map(|&c| check_value(row[c] * scale, MAX_ABS_VALUE, path, name, r + 1))
+                .collect()
+        })
+        .collect()
+}
+
+/// Reads a `.npy` file: one 2-D array whose columns are the CSV format's
+/// `t, q_*, qd_*, [qdd_*,] tau_*` for the robot's `joints` in order (the
+/// column count says whether q̈ is there), or `t, q_*, qd_*` without τ.
+pub fn read_npy(path: &Path, joints: &[&str]) -> Result<RawLog, DataError> {
+    let p = path.display().to_string();
+    let file = std::fs::File::open(path).map_err(|source| DataError::Io {
+        path: p.clone(),
+        source,
+    })?;
+    let size = file.metadata().map(|m| m.len()).unwrap_or(0);
+    let a = Array::read(std::io::BufReader::new(file), size, &p, "(array)")?;
+    let j = joints.len();
+    let blocks = match a.shape.as_slice() {
+        [_, c] if (*c as usize) > 0 && (*c as usize - 1) % j.max(1) == 0 => {
+            (*c as usize - 1) / j.max(1)
+        }
+        _ => 0,
+    };
+    if !(2..=4).contains(&blocks) {
+        return Err(DataError::Array {
+            path: p,
+            array: "(array)".into(),
+            message: format!(
+                "shape {:?}: expected [n, 1 + k·{j}] with k = 2 (q, q̇), 3 (q, q̇, τ) or 4 (q, q̇, q̈, τ) for the joints {}",
+                a.shape,
+                joints.join(", ")
+            ),
+        });
+    }
+    let c = 1 + blocks * j;
+    let col = |b: usize| -> Result<Vec<Vec<f64>>, DataError> {
+        let pos: Vec<usize> = (0..j).map(|k| 1 + b * j + k).collect();
+        rows_of(&a.values, c, &pos, 1.0, &p, "(array)")
+    };
+    let t = a
+        .values
+        .chunks_exact(c)
+        .enumerate()
+        .map(|(r, row)| check_value(row[0], MAX_ABS_TIME, &p, "(array)", r + 1))
+        .collect::<Result<_, _>>()?;
+    Ok(RawLog {
+        path: p.clone(),
+        t,
+        q: col(0)?,
+        qd: Some(col(1)?),
+        qdd: if blocks == 4 { Some(col(2)?) } else { None },
+        tau: if blocks >= 3 {
+            Some(col(blocks - 1)?)
+        } else {
+            None
+        },
+    })
+}

@@ -1,0 +1,353 @@
+//! From a raw log to identification data: what a careful hand does to a
+//! real robot's log, done the same way every time and reported.
+//!
+//! A file that already has q̈ is taken as prepared (its rows as they are;
+//! time must increase). Otherwise, per file:
+//! 1. **repeated rows** — a host-side logger repeats the last state when no
+//!    new one arrived: a row whose q, q̇ and τ equal the previous row's bit
+//!    for bit, or whose time stamp does, is dropped (counted);
+//! 2. **gaps** — a step longer than [`GAP_STEPS`] times the median step
+//!    ends a segment; no filter or derivative crosses a segment boundary
+//!    (nor a file boundary); segments shorter than [`MIN_SEGMENT`] samples
+//!    are dropped (counted);
+//! 3. **resampling** — each segment is resampled at the median step by
+//!    linear interpolation (steps of real loggers vary several-fold);
+//! 4. **one zero-phase low-pass** (2nd-order Butterworth, forward and
+//!    backward: [`super::filter::filtfilt`]) on q and τ alike (and on the
+//!    file's q̇ when it is used), so that τ stays aligned with the
+//!    derivatives; the cut-off is the caller's or chosen from the data
+//!    ([`super::spectrum::choose_cutoff`]);
+//! 5. **derivatives** — q̇ from the filtered q (default) or the file's
+//!    filtered q̇, q̈ from q̇, by central differences;
+//! 6. **ends** — half a period of the cut-off is trimmed at each segment
+//!    end, where the filter's start-up and the one-sided differences are.
+
+use super::dataset::Dataset;
+use super::error::DataError;
+use super::filter::{differentiate, filtfilt};
+use super::raw::RawLog;
+use serde::Serialize;
+
+/// A step this many times the median step (or longer) is a gap.
+pub const GAP_STEPS: f64 = 20.0;
+/// The fewest samples a segment keeps (shorter ones are dropped).
+pub const MIN_SEGMENT: usize = 32;
+
+/// Where q̇ comes from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Velocity {
+    /// Differentiated from the filtered q (the default: a logged velocity
+    /// is often filtered by the drive and lags the position).
+    #[default]
+    Differentiate,
+    /// The file's q̇, through the same low-pass.
+    File,
+}
+
+/// How raw logs are prepared.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Prepare {
+    /// The low-pass cut-off (Hz); `None`: chosen from the data.
+    pub cutoff_hz: Option<f64>,
+    /// Where q̇ comes from.
+    pub velocity: Velocity,
+}
+
+/// What preparing one file did.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct FileReport {
+    /// The file.
+    pub path: String,
+    /// Its rows as read.
+    pub rows: usize,
+    /// Whether it had q̈ and was taken as prepared (the rest then does not apply).
+    pub taken_as_prepared: bool,
+    /// Rows dropped as repeats of the previous one (same state or same stamp).
+    pub repeated_rows_dropped: usize,
+    /// The median, smallest and largest step between the rows kept (s).
+    pub steps_s: [f64; 3],
+    /// The gaps the file was split at (s each).
+    pub gaps_s: Vec<f64>,
+    /// Segments used, and samples of the segments dropped as too short.
+    pub segments: usize,
+    /// Samples in segments shorter than [`MIN_SEGMENT`], dropped.
+    pub short_segment_samples_dropped: usize,
+    /// The uniform rate the segments were resampled at (Hz).
+    pub resampled_hz: f64,
+    /// The low-pass cut-off (Hz).
+    pub cutoff_hz: f64,
+    /// How the cut-off was chosen.
+    pub cutoff_from: String,
+    /// Where q̇ came from.
+    pub velocity: Velocity,
+    /// Samples trimmed at each segment end.
+    pub trimmed_per_end: usize,
+    /// Samples given to the identification.
+    pub samples: usize,
+}
+
+/// Prepares one raw log into segments of identification data.
+pub fn prepare(
+    raw: RawLog,
+    opts: &Prepare,
+    require_tau: bool,
+) -> Result<(Vec<Dataset>, FileReport), DataError> {
+    let mut report = FileReport {
+        path: raw.path.clone(),
+        rows: raw.len(),
+        velocity: opts.velocity,
+        ..FileReport::default()
+    };
+    if raw.is_empty() {
+        return Err(DataError::Row {
+            path: raw.path,
+            row: 1,
+            message: "no data rows".into(),
+        });
+    }
+    if require_tau && raw.tau.is_none() {
+        return Err(DataError::Array {
+            path: raw.path,
+            array: "tau".into(),
+            message: "no torques (the mapping's [tau], or the tau_<joint> columns)".into(),
+        });
+    }
+    if raw.qdd.is_some() {
+        report.taken_as_prepared = true;
+        let d = as_prepared(raw)?;
+        report.samples = d.len();
+        report.segments = 1;
+        return Ok((vec![d], report));
+    }
+    if opts.velocity == Velocity::File && raw.qd.is_none() {
+        return Err(DataError::Array {
+            path: raw.path,
+            array: "qd".into(),
+            message: "velocities from the file were asked for, and it has none".into(),
+        });
+    }
+    let raw = drop_repeats(raw, &mut report)?;
+    let pieces = split_at_gaps(&raw, &mut report);
+    // the rate to a micro-hertz: 1/0.02 s is 50 Hz, not 49.99999999999999
+    let fs = (1e6 / report.steps_s[0]).round() / 1e6;
+    report.resampled_hz = fs;
+    let uniform: Vec<RawLog> = pieces
+        .iter()
+        .map(|r| resample(&raw, r.clone(), fs))
+        .collect();
+    let (cutoff, from) = match opts.cutoff_hz {
+        Some(c) => (c, "given".to_string()),
+        None => super::spectrum::choose_cutoff(&uniform, fs),
+    };
+    if !(cutoff > 0.0 && cutoff < fs / 2.0) {
+        return Err(DataError::Cutoff {
+            path: raw.path.clone(),
+            cutoff_hz: cutoff,
+            nyquist_hz: fs / 2.0,
+        });
+    }
+    (report.cutoff_hz, report.cutoff_from) = (cutoff, from);
+    report.trimmed_per_end = (0.5 * fs / cutoff).ceil() as usize;
+    let out: Vec<Dataset> = uniform
+        .iter()
+        .filter_map(|u| filtered(u, fs, cutoff, opts.velocity, report.trimmed_per_end))
+        .collect();
+    report.segments = out.len();
+    report.samples = out.iter().map(Dataset::len).sum();
+    if out.is_empty() {
+        return Err(DataError::Row {
+            path: raw.path,
+            row: 1,
+            message: format!(
+                "no segment of at least {MIN_SEGMENT} samples is left after dropping repeated rows and splitting at gaps"
+            ),
+        });
+    }
+    Ok((out, report))
+}
+
+/// A file with q̈, as it is: time must increase, q̇ must be there.
+fn as_prepared(raw: RawLog) -> Result<Dataset, DataError> {
+    if let Some(r) = raw.t.windows(2).position(|w| w[1] <= w[0]) {
+        return Err(DataError::Value {
+            path: raw.path,
+            row: r + 2,
+            column: "t".into(),
+            message: format!(
+                "time {} is not after the previous row's {}",
+                raw.t[r + 1],
+                raw.t[r]
+            ),
+        });
+    }
+    let Some(qd) = raw.qd else {
+        return Err(DataError::Array {
+            path: raw.path,
+            array: "qd".into(),
+            message: "the file has q̈ (taken as prepared) but no q̇".into(),
+        });
+    };
+    Ok(Dataset {
+        joints: vec![],
+        t: raw.t,
+        q: raw.q,
+        qd,
+        qdd: raw.qdd.unwrap_or_default(),
+        tau: raw.tau.unwrap_or_default(),
+        segments: vec![],
+    })
+}
+
+/// Drops rows that repeat the previous kept row's state (q, q̇, τ bit for
+/// bit) or stamp; time going backwards is an error naming the row.
+fn drop_repeats(raw: RawLog, report: &mut FileReport) -> Result<RawLog, DataError> {
+    let same = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
+    let mut keep = vec![0usize];
+    for k in 1..raw.len() {
+        let last = *keep.last().expect("one kept");
+        if raw.t[k] < raw.t[last] {
+            return Err(DataError::Value {
+                path: raw.path.clone(),
+                row: k + 1,
+                column: "t".into(),
+                message: format!("time {} goes back from {}", raw.t[k], raw.t[last]),
+            });
+        }
+        let repeat = raw.t[k] == raw.t[last]
+            || (same(&raw.q[k], &raw.q[last])
+                && raw.qd.as_ref().is_none_or(|v| same(&v[k], &v[last]))
+                && raw.tau.as_ref().is_none_or(|v| same(&v[k], &v[last])));
+        if !repeat {
+            keep.push(k);
+        }
+    }
+    report.repeated_rows_dropped = raw.len() - keep.len();
+    let pick = |v: &Vec<Vec<f64>>| keep.iter().map(|&k| v[k].clone()).collect::<Vec<_>>();
+    Ok(RawLog {
+        t: keep.iter().map(|&k| raw.t[k]).collect(),
+        q: pick(&raw.q),
+        qd: raw.qd.as_ref().map(pick),
+        qdd: None,
+        tau: raw.tau.as_ref().map(pick),
+        path: raw.path,
+    })
+}
+
+/// The row ranges between gaps (steps ≥ [`GAP_STEPS`] × median), those of
+/// at least [`MIN_SEGMENT`] rows; the steps and gaps go to the report.
+fn split_at_gaps(raw: &RawLog, report: &mut FileReport) -> Vec<std::ops::Range<usize>> {
+    let steps: Vec<f64> = raw.t.windows(2).map(|w| w[1] - w[0]).collect();
+    let mut sorted = steps.clone();
+    sorted.sort_by(f64::total_cmp);
+    let median = sorted.get(sorted.len() / 2).copied().unwrap_or(1.0);
+    let mut cuts = vec![0];
+    for (k, s) in steps.iter().enumerate() {
+        if *s >= GAP_STEPS * median {
+            cuts.push(k + 1);
+            report.gaps_s.push(*s);
+        }
+    }
+    cuts.push(raw.len());
+    let small: Vec<f64> = steps
+        .iter()
+        .copied()
+        .filter(|s| *s < GAP_STEPS * median)
+        .collect();
+    let (lo, hi) = small
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(a, b), s| (a.min(*s), b.max(*s)));
+    report.steps_s = [median, lo, hi];
+    let ranges: Vec<_> = cuts.windows(2).map(|w| w[0]..w[1]).collect();
+    report.short_segment_samples_dropped = ranges
+        .iter()
+        .filter(|r| r.len() < MIN_SEGMENT)
+        .map(|r| r.len())
+        .sum();
+    ranges
+        .into_iter()
+        .filter(|r| r.len() >= MIN_SEGMENT)
+        .collect()
+}
+
+/// Rows `r` of `raw` resampled at `fs` Hz from their first stamp, by
+/// linear interpolation.
+fn resample(raw: &RawLog, r: std::ops::Range<usize>, fs: f64) -> RawLog {
+    let (t0, t1) = (raw.t[r.start], raw.t[r.end - 1]);
+    let n = ((t1 - t0) * fs).floor() as usize + 1;
+    let mut k = r.start;
+    let mut at = Vec::with_capacity(n);
+    for i in 0..n {
+        let t = t0 + i as f64 / fs;
+        while k + 2 < r.end && raw.t[k + 1] <= t {
+            k += 1;
+        }
+        let w = ((t - raw.t[k]) / (raw.t[k + 1] - raw.t[k])).clamp(0.0, 1.0);
+        at.push((t, k, w));
+    }
+    let lerp = |v: &Vec<Vec<f64>>| -> Vec<Vec<f64>> {
+        at.iter()
+            .map(|&(_, k, w)| {
+                v[k].iter()
+                    .zip(&v[k + 1])
+                    .map(|(a, b)| a + w * (b - a))
+                    .collect()
+            })
+            .collect()
+    };
+    RawLog {
+        path: raw.path.clone(),
+        t: at.iter().map(|a| a.0).collect(),
+        q: lerp(&raw.q),
+        qd: raw.qd.as_ref().map(lerp),
+        qdd: None,
+        tau: raw.tau.as_ref().map(lerp),
+    }
+}
+
+/// One uniform segment low-passed and differentiated, its ends trimmed;
+/// `None` when too short once trimmed.
+fn filtered(u: &RawLog, fs: f64, cutoff: f64, velocity: Velocity, trim: usize) -> Option<Dataset> {
+    let n = u.len();
+    if n < MIN_SEGMENT.max(2 * trim + 3) {
+        return None;
+    }
+    let lp = |v: &Vec<Vec<f64>>| columns_map(v, |x| filtfilt(x, cutoff, fs));
+    let q = lp(&u.q);
+    let qd = match (velocity, &u.qd) {
+        (Velocity::File, Some(v)) => lp(v),
+        _ => columns_map(&q, |x| differentiate(x, &u.t)),
+    };
+    let qdd = columns_map(&qd, |x| differentiate(x, &u.t));
+    let tau = u.tau.as_ref().map(lp).unwrap_or_default();
+    let keep = trim..n - trim;
+    let cut = |v: Vec<Vec<f64>>| {
+        if v.is_empty() {
+            v
+        } else {
+            v[keep.clone()].to_vec()
+        }
+    };
+    Some(Dataset {
+        joints: vec![],
+        t: u.t[keep.clone()].to_vec(),
+        q: cut(q),
+        qd: cut(qd),
+        qdd: cut(qdd),
+        tau: cut(tau),
+        segments: vec![],
+    })
+}
+
+/// `f` applied to each joint's series of the per-sample rows `v`.
+fn columns_map(v: &[Vec<f64>], f: impl Fn(&[f64]) -> Vec<f64>) -> Vec<Vec<f64>> {
+    let n = v.first().map_or(0, Vec::len);
+    let mut out = vec![vec![0.0; n]; v.len()];
+    for j in 0..n {
+        let x: Vec<f64> = v.iter().map(|r| r[j]).collect();
+        for (k, y) in f(&x).into_iter().enumerate() {
+            out[k][j] = y;
+        }
+    }
+    out
+}

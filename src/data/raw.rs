@@ -1,0 +1,99 @@
+//! One log file as read, before preparation ([`super::prepare`]): time
+//! stamps and the joints' values, in SI units and the robot's joint order.
+
+use super::error::DataError;
+
+/// The most data rows a file may have (10 million: about 3 hours at 1 kHz).
+pub const MAX_ROWS: usize = 10_000_000;
+/// The largest magnitude of a q, q̇, q̈ or τ value (rad, rad/s, rad/s², N·m):
+/// no robot moves or pushes like that, and beyond it products in the
+/// regressor lose all precision long before they overflow.
+pub const MAX_ABS_VALUE: f64 = 1e8;
+/// The largest magnitude of a time stamp (s): room for Unix time.
+pub const MAX_ABS_TIME: f64 = 1e12;
+
+/// A log file's samples as recorded: `t` (s), and per sample one value
+/// per joint of the robot (its order) of q, and of q̇, q̈, τ where the
+/// file has them.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RawLog {
+    /// The file (for errors and the report).
+    pub path: String,
+    /// Time stamps (s), as recorded (absolute or not, possibly irregular).
+    pub t: Vec<f64>,
+    /// Positions (rad or m).
+    pub q: Vec<Vec<f64>>,
+    /// Velocities, if recorded.
+    pub qd: Option<Vec<Vec<f64>>>,
+    /// Accelerations, if recorded.
+    pub qdd: Option<Vec<Vec<f64>>>,
+    /// Torques, if recorded.
+    pub tau: Option<Vec<Vec<f64>>>,
+}
+
+impl RawLog {
+    /// Number of samples.
+    pub fn len(&self) -> usize {
+        self.t.len()
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.t.is_empty()
+    }
+}
+
+/// Checks one value read from `path`'s `array` at 1-based `row`: finite
+/// and within `limit`.
+pub(crate) fn check_value(
+    v: f64,
+    limit: f64,
+    path: &str,
+    array: &str,
+    row: usize,
+) -> Result<f64, DataError> {
+    let bad = |message: String| DataError::Array {
+        path: path.into(),
+        array: array.into(),
+        message: format!("row {row}: {message}"),
+    };
+    if !v.is_finite() {
+        return Err(bad(format!("non-finite value {v}")));
+    }
+    if v.abs() > limit {
+        return Err(bad(format!("{v} is beyond ±{limit:e}")));
+    }
+    Ok(v)
+}
+
+/// Where each robot joint is among the `order` of a file's columns
+/// (`""` entries are columns to skip): every robot joint must be there,
+/// and every named column must be a robot joint.
+pub(crate) fn joint_positions(
+    robot: &[&str],
+    order: &[&str],
+    path: &str,
+    array: &str,
+) -> Result<Vec<usize>, DataError> {
+    let bad = |message: String| DataError::Array {
+        path: path.into(),
+        array: array.into(),
+        message,
+    };
+    if let Some(j) = order.iter().find(|j| !j.is_empty() && !robot.contains(j)) {
+        return Err(bad(format!(
+            "the mapping names joint '{j}', which the robot lacks (its joints: {}; \"\" skips a column)",
+            robot.join(", ")
+        )));
+    }
+    robot
+        .iter()
+        .map(|j| {
+            order.iter().position(|o| o == j).ok_or_else(|| {
+                bad(format!(
+                    "no column for the robot's joint '{j}' in the mapping's joints"
+                ))
+            })
+        })
+        .collect()
+}

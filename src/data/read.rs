@@ -1,0 +1,182 @@
+//! Reading logs: one or several files (each its own segment), in any of
+//! the formats ([`csv`](super::csv), [`npz`](super::npz)), through one
+//! [`Mapping`], prepared ([`super::prepare`]) and joined.
+
+use super::dataset::Dataset;
+use super::error::DataError;
+use super::mapping::Mapping;
+use super::prepare::{FileReport, Prepare, Velocity, prepare};
+use super::raw::RawLog;
+use serde::Serialize;
+use std::path::Path;
+
+/// Options for reading.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReadOptions {
+    /// The low-pass cut-off (Hz) of raw logs; `None`: chosen from the data.
+    pub cutoff_hz: Option<f64>,
+    /// Where a raw log's q̇ comes from.
+    pub velocity: Velocity,
+    /// Whether torques are required.
+    pub require_tau: bool,
+    /// Which array or column is what (default: each format's own names).
+    pub mapping: Option<Mapping>,
+}
+
+impl Default for ReadOptions {
+    fn default() -> Self {
+        Self {
+            cutoff_hz: None,
+            velocity: Velocity::Differentiate,
+            require_tau: true,
+            mapping: None,
+        }
+    }
+}
+
+/// Logs read and prepared: the samples, joined, and what was done to each
+/// file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Reading {
+    /// The samples of every segment of every file, in order
+    /// ([`Dataset::segments`] marks where each starts).
+    pub data: Dataset,
+    /// Per file, what preparing it did.
+    pub files: Vec<FileReport>,
+}
+
+/// The preparation of every file, for reports and JSON.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ReadReport<'a> {
+    /// Per file.
+    pub files: &'a [FileReport],
+    /// Segments in all.
+    pub segments: usize,
+    /// Samples in all.
+    pub samples: usize,
+}
+
+impl Reading {
+    /// The report of the preparation.
+    pub fn report(&self) -> ReadReport<'_> {
+        ReadReport {
+            files: &self.files,
+            segments: self.data.segments.len().max(1),
+            samples: self.data.len(),
+        }
+    }
+}
+
+/// Reads `paths` (`.csv`, `.npz`, `.npy`, by extension; anything
+/// else as CSV) for the robot's `joints`, prepares each and joins them.
+pub fn read_logs(
+    paths: &[&Path],
+    joints: &[&str],
+    opts: &ReadOptions,
+) -> Result<Reading, DataError> {
+    let raws = paths
+        .iter()
+        .map(|p| read_raw(p, joints, opts))
+        .collect::<Result<Vec<_>, _>>()?;
+    prepared(raws, joints, opts)
+}
+
+/// One file, raw.
+fn read_raw(path: &Path, joints: &[&str], opts: &ReadOptions) -> Result<RawLog, DataError> {
+    let mapping = opts.mapping.as_ref();
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("npz") => super::npz::read_npz(path, mapping.unwrap_or(&npz_default()), joints),
+        Some("npy") => super::npz::read_npy(path, joints),
+        _ => {
+            let p = path.display().to_string();
+            let file = std::fs::File::open(path).map_err(|source| DataError::Io {
+                path: p.clone(),
+                source,
+            })?;
+            super::csv::read_raw(
+                std::io::BufReader::new(file),
+                &p,
+                mapping,
+                joints,
+                opts.require_tau,
+            )
+        }
+    }
+}
+
+/// An archive's default names: arrays `t`, `q`, `qd`, `qdd`, `tau`
+/// (n × joints, the robot's order).
+fn npz_default() -> Mapping {
+    let mut m = Mapping::csv_default();
+    for (q, name) in [
+        (&mut m.q, "q"),
+        (&mut m.qd, "qd"),
+        (&mut m.qdd, "qdd"),
+        (&mut m.tau, "tau"),
+    ] {
+        if let Some(q) = q {
+            q.source = Some(name.into());
+        }
+    }
+    m
+}
+
+/// Raw logs prepared and joined: segments in file order; a file whose
+/// time stamps do not follow the previous one's is shifted to start one
+/// step after it (times stay increasing; the segments stay apart).
+pub(crate) fn prepared(
+    raws: Vec<RawLog>,
+    joints: &[&str],
+    opts: &ReadOptions,
+) -> Result<Reading, DataError> {
+    let prep = Prepare {
+        cutoff_hz: opts.cutoff_hz,
+        velocity: opts.velocity,
+    };
+    let mut data = Dataset::empty(joints);
+    let mut files = vec![];
+    for raw in raws {
+        let path = raw.path.clone();
+        let (segments, report) = prepare(raw, &prep, opts.require_tau)?;
+        for s in segments {
+            if !data.is_empty() && data.tau.is_empty() != s.tau.is_empty() {
+                return Err(DataError::Array {
+                    path,
+                    array: "tau".into(),
+                    message: "torques in some files and not in others".into(),
+                });
+            }
+            data.append_segment(s);
+        }
+        files.push(report);
+    }
+    Ok(Reading { data, files })
+}
+
+impl Dataset {
+    /// Reads a log file for the given joints ([`read_logs`] of one file).
+    pub fn read_csv(path: &Path, joints: &[&str], opts: ReadOptions) -> Result<Self, DataError> {
+        read_logs(&[path], joints, &opts).map(|r| r.data)
+    }
+
+    /// Parses CSV text (one file's); `path` names it in errors.
+    pub fn parse_csv(
+        text: &str,
+        path: &str,
+        joints: &[&str],
+        opts: ReadOptions,
+    ) -> Result<Self, DataError> {
+        let raw = super::csv::read_raw(
+            text.as_bytes(),
+            path,
+            opts.mapping.as_ref(),
+            joints,
+            opts.require_tau,
+        )?;
+        prepared(vec![raw], joints, &opts).map(|r| r.data)
+    }
+}
