@@ -4,6 +4,7 @@
 
 use crate::cmd::{check, demo, diagnose, identify, predict, sdpa, simulate};
 use clap::{Args, Parser, Subcommand};
+use momentlmi::data::Velocity;
 use momentlmi::effects::Library;
 use momentlmi::identify::Regularizer;
 use momentlmi::moments::urdf_check::{RepairOptions, RepairTarget};
@@ -17,12 +18,58 @@ struct RobotArgs {
     robot: String,
     /// TOML sidecar for a URDF: rotors, locked joints, prior, bounding
     /// ellipsoids, friction, tool point (docs/robots.md).
-    #[arg(long)]
+    /// [default: NAME.toml beside NAME.urdf, if there is one]
+    #[arg(long, conflicts_with = "no_sidecar")]
     sidecar: Option<PathBuf>,
+    /// Use no sidecar, not even the one beside the URDF.
+    #[arg(long)]
+    no_sidecar: bool,
     /// A folder where a URDF's `package://NAME/…` meshes are found (repeatable; searched after
     /// the folders above the URDF, before ROS_PACKAGE_PATH).
     #[arg(long = "package-path", value_name = "DIR")]
     package_path: Vec<PathBuf>,
+}
+
+/// The sidecar: the one given, else (unless `--no-sidecar`) `NAME.toml`
+/// beside a `NAME.urdf`, said on stderr.
+fn own_sidecar(robot: &str, given: Option<PathBuf>, none: bool) -> Option<PathBuf> {
+    if none || given.is_some() {
+        return given;
+    }
+    let beside = crate::cmd::sidecar_beside(robot)?;
+    eprintln!(
+        "note: using the sidecar beside the URDF, {} (--sidecar FILE for another, --no-sidecar for none)",
+        beside.display()
+    );
+    Some(beside)
+}
+
+/// How log files are read (docs/inputs.md).
+#[derive(Args, Debug)]
+struct ReadArgs {
+    /// Column mapping (TOML): which array, column or field is q, q̇, q̈, τ of which joint, and
+    /// units [default: the sidecar's [data] mapping, else each format's own names]
+    /// (docs/inputs.md, "Column mappings").
+    #[arg(long, value_name = "FILE")]
+    mapping: Option<PathBuf>,
+    /// Low-pass cut-off (Hz) applied to q and τ alike of raw logs (files without q̈)
+    /// [default: chosen from the data's spectrum, and reported].
+    #[arg(long, value_name = "HZ")]
+    cutoff_hz: Option<f64>,
+    /// Where a raw log's q̇ comes from: differentiate (the filtered q; a logged velocity is
+    /// often filtered by the drive and lags) or file (the file's, through the same low-pass).
+    #[arg(long, value_enum, default_value_t = Velocity::Differentiate)]
+    velocity: Velocity,
+}
+
+impl ReadArgs {
+    fn choice(&self) -> crate::cmd::ReadChoice<'_> {
+        crate::cmd::ReadChoice {
+            mapping: self.mapping.as_deref(),
+            cutoff_hz: self.cutoff_hz,
+            velocity: self.velocity,
+        }
+    }
 }
 
 /// `simulate --help`'s list of effect parameters.
@@ -111,9 +158,12 @@ enum Command {
         /// default: the model's own, no friction.
         #[arg(long)]
         params: Option<String>,
-        /// Data CSV: t, q_<joint>, qd_<joint>[, qdd_<joint>]; extra columns are ignored.
+        /// Data file (CSV: t, q_<joint>[, qd_<joint>][, qdd_<joint>]; extra columns are
+        /// ignored; or NumPy .npz/.npy, docs/inputs.md).
         #[arg(long)]
         data: PathBuf,
+        #[command(flatten)]
+        read: ReadArgs,
         /// Output CSV: t, tau_<joint>…
         #[arg(long)]
         out: PathBuf,
@@ -157,9 +207,12 @@ enum Command {
     Identify {
         #[command(flatten)]
         robot: RobotArgs,
-        /// Training data CSV.
-        #[arg(long)]
-        data: PathBuf,
+        /// Training data: a CSV or NumPy .npz/.npy log (repeatable: each file is a segment that no
+        /// filter crosses).
+        #[arg(long, required = true)]
+        data: Vec<PathBuf>,
+        #[command(flatten)]
+        read: ReadArgs,
         /// Constraint level per body: none, semi, consistent, ellipsoid.
         #[arg(long, default_value = "consistent")]
         constraints: String,
@@ -183,9 +236,9 @@ enum Command {
         /// 1e-6; a weight under 100 × --weight holds nothing and is warned about).
         #[arg(long, allow_negative_numbers = true)]
         prior_mass_weight: Option<f64>,
-        /// Held-out validation data CSV.
+        /// Held-out validation data (repeatable, like --data).
         #[arg(long)]
-        validate: Option<PathBuf>,
+        validate: Vec<PathBuf>,
         /// Print one JSON object (a model file for predict/diagnose/--prior).
         #[arg(long)]
         json: bool,
@@ -207,9 +260,11 @@ enum Command {
     Diagnose {
         #[command(flatten)]
         robot: RobotArgs,
-        /// Measured data CSV.
+        /// Measured data (a CSV or NumPy .npz/.npy log).
         #[arg(long)]
         data: PathBuf,
+        #[command(flatten)]
+        read: ReadArgs,
         /// Nominal model: cad | true or a parameter file (e.g. from identify --json);
         /// default: the model's own parameters, no friction.
         #[arg(long)]
@@ -302,14 +357,17 @@ pub fn main() -> i32 {
                     robot,
                     sidecar,
                     package_path,
+                    no_sidecar,
                 },
             params,
             data,
+            read,
             out,
             json,
         } => predict::run(&predict::PredictArgs {
+            read: read.choice(),
             robot: &robot,
-            sidecar: sidecar.as_deref(),
+            sidecar: own_sidecar(&robot, sidecar, no_sidecar).as_deref(),
             package_paths: &package_path,
             params: params.as_deref(),
             data: &data,
@@ -322,6 +380,7 @@ pub fn main() -> i32 {
                     robot,
                     sidecar,
                     package_path,
+                    no_sidecar,
                 },
             seconds,
             effects,
@@ -333,7 +392,7 @@ pub fn main() -> i32 {
             effect_param,
         } => simulate::run(&simulate::SimulateArgs {
             robot: &robot,
-            sidecar: sidecar.as_deref(),
+            sidecar: own_sidecar(&robot, sidecar, no_sidecar).as_deref(),
             package_paths: &package_path,
             seconds,
             effects: &effects,
@@ -350,8 +409,10 @@ pub fn main() -> i32 {
                     robot,
                     sidecar,
                     package_path,
+                    no_sidecar,
                 },
             data,
+            read,
             constraints,
             prior,
             weight,
@@ -364,8 +425,9 @@ pub fn main() -> i32 {
             equal,
             max_memory_gib,
         } => identify::run(&identify::IdentifyArgs {
+            read: read.choice(),
             robot: &robot,
-            sidecar: sidecar.as_deref(),
+            sidecar: own_sidecar(&robot, sidecar, no_sidecar).as_deref(),
             package_paths: &package_path,
             data: &data,
             constraints: &constraints,
@@ -373,7 +435,7 @@ pub fn main() -> i32 {
             weight,
             regularizer,
             prior_mass_weight,
-            validate: validate.as_deref(),
+            validate: &validate,
             json,
             levels: &levels,
             total_mass,
@@ -386,15 +448,18 @@ pub fn main() -> i32 {
                     robot,
                     sidecar,
                     package_path,
+                    no_sidecar,
                 },
             data,
+            read,
             nominal,
             json,
             out,
             max_memory_gib,
         } => diagnose::run(&diagnose::DiagnoseArgs {
+            read: read.choice(),
             robot: &robot,
-            sidecar: sidecar.as_deref(),
+            sidecar: own_sidecar(&robot, sidecar, no_sidecar).as_deref(),
             package_paths: &package_path,
             data: &data,
             nominal: nominal.as_deref(),

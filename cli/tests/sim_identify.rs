@@ -341,7 +341,12 @@ bounding = [{ center = [0.1, 0.0, 0.0], semi_axes = [0.2, 0.08, 0.08] }]
     );
     // without the sidecar the ellipsoid level names the body that has none
     let o = bin()
-        .args(["identify", "--robot", urdf.to_str().unwrap()])
+        .args([
+            "identify",
+            "--robot",
+            urdf.to_str().unwrap(),
+            "--no-sidecar",
+        ])
         .args([
             "--data",
             data.to_str().unwrap(),
@@ -669,7 +674,7 @@ fn data_made_with_a_sidecar_read_without_it_hints_at_the_sidecar() {
     let out = dir.0.join("pred.csv");
     for cmd in ["identify", "diagnose", "predict"] {
         let mut c = bin();
-        c.args([cmd, "--robot", u, "--data", d]);
+        c.args([cmd, "--robot", u, "--no-sidecar", "--data", d]);
         if cmd == "predict" {
             c.args(["--out", out.to_str().unwrap()]);
         }
@@ -697,7 +702,7 @@ fn data_made_with_a_sidecar_read_without_it_hints_at_the_sidecar() {
 /// `identify --robot ROBOT --data DATA`'s standard error, asserting exit 2.
 fn identify_fails(robot: &str, data: &str) -> String {
     let o = bin()
-        .args(["identify", "--robot", robot, "--data", data])
+        .args(["identify", "--robot", robot, "--no-sidecar", "--data", data])
         .output()
         .unwrap();
     let err = String::from_utf8_lossy(&o.stderr).into_owned();
@@ -717,6 +722,7 @@ fn a_missing_torque_column_gets_no_sidecar_hint() {
         "simulate",
         "--robot",
         u,
+        "--no-sidecar",
         "--seconds",
         "1",
         "--out",

@@ -36,6 +36,7 @@ pub const MIN_SEGMENT: usize = 32;
 /// Where q̇ comes from.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum Velocity {
     /// Differentiated from the filtered q (the default: a logged velocity
     /// is often filtered by the drive and lags the position).

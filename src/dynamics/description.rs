@@ -54,6 +54,9 @@ pub struct RobotDescription {
     pub identification: IdentificationFacts,
     /// What the description had to fill in (placeholder friction, …).
     pub warnings: Vec<DescriptionWarning>,
+    /// The default column mapping of its logs (the sidecar's `[data]
+    /// mapping`, resolved against the sidecar's folder).
+    pub data_mapping: Option<PathBuf>,
 }
 
 /// Known facts for the identification: per-body levels (as named in the
@@ -162,6 +165,7 @@ impl RobotDescription {
             effects,
             identification,
             warnings,
+            data_mapping: None,
         })
     }
 

@@ -49,6 +49,17 @@ pub struct Sidecar {
     pub effects: Option<BTreeMap<String, f64>>,
     /// Known facts the identification must respect.
     pub identify: Option<SidecarIdentify>,
+    /// How this robot's logs are read.
+    pub data: Option<SidecarData>,
+}
+
+/// `[data]`: how this robot's logs are read.
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SidecarData {
+    /// The default column mapping (a TOML file, relative to the sidecar;
+    /// docs/inputs.md, "Column mappings").
+    pub mapping: Option<String>,
 }
 
 /// `[identify]`: constraints the identification adds for this robot, and

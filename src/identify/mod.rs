@@ -26,7 +26,9 @@ pub use builder::{Identification, Vars};
 pub use error::{GramProblem, IdentifyError};
 pub use options::{CHECK_TOL, IdentifyOptions, Level, Regularizer, default_settings};
 pub use reduce::{Cost, Reduced, StreamReducer, cost, reduce_samples};
-pub use result::{BodyResult, Contributions, IdentifyResult, identify, predict_split, rms};
+pub use result::{
+    BodyResult, Contributions, DataPreparation, IdentifyResult, identify, predict_split, rms,
+};
 pub use solve::solve_identification;
 pub use solved::{Solved, parameter_names};
 pub use warning::IdentifyWarning;

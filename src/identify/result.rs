@@ -57,6 +57,22 @@ pub struct Contributions {
     pub friction: Vec<Vec<f64>>,
 }
 
+/// What reading did to the files of an identification.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct DataPreparation {
+    /// The training files.
+    pub training: Vec<crate::data::FileReport>,
+    /// The validation files.
+    pub validation: Vec<crate::data::FileReport>,
+}
+
+impl DataPreparation {
+    /// Whether no file is reported.
+    pub fn is_empty(&self) -> bool {
+        self.training.is_empty() && self.validation.is_empty()
+    }
+}
+
 /// The result of [`identify`].
 #[derive(Clone, Debug, Serialize)]
 pub struct IdentifyResult {
@@ -107,6 +123,10 @@ pub struct IdentifyResult {
     pub reduce_time_s: f64,
     /// Whole identification in the process, reading excluded (s); the CLI adds reading.
     pub total_time_s: f64,
+    /// What reading did to the training and validation files (each step
+    /// of the preparation of raw logs); empty when the caller read no file.
+    #[serde(skip_serializing_if = "DataPreparation::is_empty")]
+    pub data_preparation: DataPreparation,
     /// Validation predictions per sample (not serialised).
     #[serde(skip)]
     pub validation_prediction: Vec<Vec<f64>>,
@@ -363,6 +383,7 @@ impl Identification<'_> {
             solve_time_s: solved.solve_time_s,
             reduce_time_s: reduce_time,
             total_time_s: t0.elapsed().as_secs_f64(),
+            data_preparation: DataPreparation::default(),
             validation_prediction,
             contributions,
             theta: solved.theta,

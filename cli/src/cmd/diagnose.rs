@@ -1,6 +1,5 @@
 //! `momentlmi diagnose --robot MODEL --data FILE.csv [--nominal cad|true|FILE] [--json] [--out DIR]`.
 
-use momentlmi::data::ReadOptions;
 use momentlmi::data::Staged;
 use momentlmi::diagnose::{DiagnoseOptions, Diagnosis, diagnose};
 use momentlmi::dynamics::ParamChoice;
@@ -16,6 +15,8 @@ pub struct DiagnoseArgs<'a> {
     pub package_paths: &'a [std::path::PathBuf],
     /// Measured data.
     pub data: &'a Path,
+    /// How it is read.
+    pub read: super::ReadChoice<'a>,
     /// `cad`, `true` or a parameter file.
     pub nominal: Option<&'a str>,
     /// Print the JSON report.
@@ -35,7 +36,10 @@ fn diagnosis(a: &DiagnoseArgs) -> Result<Diagnosis, String> {
     let (model, friction) =
         super::parameters_for(&robot, "--nominal", a.nominal, ParamChoice::Own)?;
     let names = model.joint_names();
-    let d = super::read_data(a.data, &names, ReadOptions::default(), a.robot, a.sidecar)?;
+    let read = a.read.options(&robot, true)?;
+    let reading = super::read_data(&[a.data], &names, &read, a.robot, a.sidecar)?;
+    super::report_reading("--data", &reading);
+    let d = reading.data;
     diagnose(&model, &friction, &d, &opts).map_err(|e| match e {
         e @ momentlmi::diagnose::DiagnoseError::TooLarge { .. } => {
             format!("{e}\nhint: --max-memory-gib raises the limit")

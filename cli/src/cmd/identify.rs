@@ -2,7 +2,6 @@
 //! [--prior cad|true|FILE] [--weight W] [--regularizer euclidean|entropic]
 //! [--prior-mass-weight W] [--validate FILE.csv] [--json]`.
 
-use momentlmi::data::ReadOptions;
 use momentlmi::dynamics::ParamChoice;
 use momentlmi::dynamics::RobotDescription;
 use momentlmi::identify::{Identification, IdentifyError, IdentifyResult, Level, Regularizer};
@@ -16,8 +15,10 @@ pub struct IdentifyArgs<'a> {
     pub sidecar: Option<&'a Path>,
     /// Folders of `package://` meshes.
     pub package_paths: &'a [std::path::PathBuf],
-    /// Training data.
-    pub data: &'a Path,
+    /// Training data (each file a segment).
+    pub data: &'a [std::path::PathBuf],
+    /// How the files are read.
+    pub read: super::ReadChoice<'a>,
     /// Level name.
     pub constraints: &'a str,
     /// Prior: cad | true | FILE (default: cad, the description's prior: the sidecar's, else the URDF's own inertias).
@@ -29,8 +30,8 @@ pub struct IdentifyArgs<'a> {
     /// Extra weight on the masses' distance from the prior's (None: the
     /// robot's, `Identification::for_robot`).
     pub prior_mass_weight: Option<f64>,
-    /// Validation data.
-    pub validate: Option<&'a Path>,
+    /// Validation data (each file a segment; none: no validation).
+    pub validate: &'a [std::path::PathBuf],
     /// JSON output.
     pub json: bool,
     /// Per-body levels `BODY=LEVEL`.
@@ -194,12 +195,27 @@ fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
         }
     }
     let names = robot.model.joint_names();
-    let read = |p| super::read_data(p, &names, ReadOptions::default(), a.robot, a.sidecar);
+    let opts = a.read.options(&robot, true)?;
+    let read = |paths: &[std::path::PathBuf]| {
+        let p: Vec<&Path> = paths.iter().map(|p| p.as_path()).collect();
+        super::read_data(&p, &names, &opts, a.robot, a.sidecar)
+    };
     let train = read(a.data)?;
-    let val = a.validate.map(read).transpose()?;
+    super::report_reading("--data", &train);
+    let val = (!a.validate.is_empty())
+        .then(|| read(a.validate))
+        .transpose()?;
+    if let Some(v) = &val {
+        super::report_reading("--validate", v);
+    }
+    let preparation = momentlmi::identify::DataPreparation {
+        training: train.files.clone(),
+        validation: val.as_ref().map(|v| v.files.clone()).unwrap_or_default(),
+    };
+    let (train, val) = (train.data, val.map(|v| v.data));
     let id = identification(a, &robot)?.max_memory(super::gib(a.max_memory_gib)?);
     super::warn_cost(momentlmi::identify::cost(&robot.model, train.len()).flops);
-    id.identify(&train, val.as_ref()).map_err(|e| match e {
+    let mut r = id.identify(&train, val.as_ref()).map_err(|e| match e {
         IdentifyError::NoEllipsoid { .. } | IdentifyError::EllipsoidCount { .. } => {
             format!("--constraints ellipsoid: {e}")
         }
@@ -212,7 +228,9 @@ fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
         | IdentifyError::Prior { .. } => format!("--prior / --regularizer: {e}"),
         IdentifyError::TooLarge { .. } => format!("{e}\nhint: --max-memory-gib raises the limit"),
         e => e.to_string(),
-    })
+    })?;
+    r.data_preparation = preparation;
+    Ok(r)
 }
 
 /// A short human report.

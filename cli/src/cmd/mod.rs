@@ -36,6 +36,16 @@ pub(crate) fn load_robot(
     Ok(robot)
 }
 
+/// A URDF's own sidecar: `NAME.toml` beside `NAME.urdf`, if there is one.
+pub(crate) fn sidecar_beside(spec: &str) -> Option<std::path::PathBuf> {
+    let p = Path::new(spec);
+    let is_urdf = p
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("urdf"));
+    let toml = p.with_extension("toml");
+    (is_urdf && p.is_file() && toml.is_file()).then_some(toml)
+}
+
 /// Warnings as JSON: each its `kind` and values, and its sentence as
 /// `message` (the form the library's reports use).
 pub(crate) fn warnings_json<W: serde::Serialize + std::fmt::Display>(
@@ -60,22 +70,66 @@ pub(crate) fn warn_robot(robot: &momentlmi::dynamics::RobotDescription) {
     }
 }
 
-/// Reads a data file for the joints `names` of the robot `spec`; a missing
-/// joint (its `q_` column) of a URDF robot given without `--sidecar` says
-/// that a sidecar may be what locks the joint the data lack.
+/// How the user asked for logs to be read (`--mapping`, `--cutoff-hz`,
+/// `--velocity`).
+#[derive(Clone, Copy, Debug)]
+pub struct ReadChoice<'a> {
+    /// `--mapping`.
+    pub mapping: Option<&'a Path>,
+    /// `--cutoff-hz`.
+    pub cutoff_hz: Option<f64>,
+    /// `--velocity`.
+    pub velocity: momentlmi::data::Velocity,
+}
+
+impl ReadChoice<'_> {
+    /// The library's options: the mapping given, else the robot's default
+    /// (its sidecar's `[data] mapping`).
+    pub(crate) fn options(
+        &self,
+        robot: &momentlmi::dynamics::RobotDescription,
+        require_tau: bool,
+    ) -> Result<momentlmi::data::ReadOptions, String> {
+        let path = self
+            .mapping
+            .map(Path::to_path_buf)
+            .or_else(|| robot.data_mapping.clone());
+        let mapping = path
+            .map(|p| momentlmi::data::Mapping::read(&p))
+            .transpose()
+            .map_err(|e| {
+                let from = if self.mapping.is_some() {
+                    "--mapping"
+                } else {
+                    "the sidecar's [data] mapping"
+                };
+                format!("{from}: {e}")
+            })?;
+        Ok(momentlmi::data::ReadOptions {
+            cutoff_hz: self.cutoff_hz,
+            velocity: self.velocity,
+            require_tau,
+            mapping,
+        })
+    }
+}
+
+/// Reads log files (each a segment) for the joints `names` of the robot
+/// `spec`; a missing joint (its `q_` column) of a URDF robot given without
+/// `--sidecar` says that a sidecar may be what locks the joint the data lack.
 pub(crate) fn read_data(
-    path: &Path,
+    paths: &[&Path],
     names: &[&str],
-    opts: momentlmi::data::ReadOptions,
+    opts: &momentlmi::data::ReadOptions,
     spec: &str,
     sidecar: Option<&Path>,
-) -> Result<momentlmi::data::Dataset, String> {
-    use momentlmi::data::{DataError, Dataset};
-    Dataset::read_csv(path, names, opts).map_err(|e| match e {
-        DataError::MissingColumn { ref column, .. }
+) -> Result<momentlmi::data::Reading, String> {
+    use momentlmi::data::DataError;
+    momentlmi::data::read_logs(paths, names, opts).map_err(|e| match e {
+        DataError::MissingColumn { ref column, ref path, .. }
             if column.starts_with("q_") && sidecar.is_none() && Path::new(spec).is_file() =>
         {
-            match simulated_with_sidecar(path) {
+            match simulated_with_sidecar(Path::new(path)) {
                 Some(sc) => format!(
                     "{e}\nhint: the data were simulated with --sidecar {sc}; pass it here too"
                 ),
@@ -87,6 +141,41 @@ pub(crate) fn read_data(
         }
         e => e.to_string(),
     })
+}
+
+/// Prints what reading did to each raw log (files taken as prepared say
+/// nothing).
+pub(crate) fn report_reading(what: &str, r: &momentlmi::data::Reading) {
+    for f in r.files.iter().filter(|f| !f.taken_as_prepared) {
+        eprintln!(
+            "note: {what} {}: {} rows, {} repeated dropped, steps {:.2}–{:.2} ms (median {:.2}), {} gap(s), {} segment(s), resampled at {:.1} Hz, low-pass {:.2} Hz ({}), q̇ {}, {} samples trimmed per segment end, {} samples",
+            f.path,
+            f.rows,
+            f.repeated_rows_dropped,
+            1e3 * f.steps_s[1],
+            1e3 * f.steps_s[2],
+            1e3 * f.steps_s[0],
+            f.gaps_s.len(),
+            f.segments,
+            f.resampled_hz,
+            f.cutoff_hz,
+            f.cutoff_from,
+            match f.velocity {
+                momentlmi::data::Velocity::Differentiate => "differentiated from the filtered q",
+                momentlmi::data::Velocity::File => "the file's, filtered",
+            },
+            f.trimmed_per_end,
+            f.samples
+        );
+        if f.short_segment_samples_dropped > 0 {
+            eprintln!(
+                "warning: {what} {}: {} samples in segments shorter than {} dropped",
+                f.path,
+                f.short_segment_samples_dropped,
+                momentlmi::data::prepare::MIN_SEGMENT
+            );
+        }
+    }
 }
 
 /// The sidecar a data file was simulated with, from the JSON `simulate`

@@ -1,6 +1,6 @@
 //! `momentlmi predict --robot MODEL [--params true|cad|FILE] --data FILE.csv --out PRED.csv [--json]`.
 
-use momentlmi::data::{ReadOptions, Staged};
+use momentlmi::data::Staged;
 use momentlmi::dynamics::ParamChoice;
 use momentlmi::dynamics::predict::predict_torques;
 use serde_json::json;
@@ -18,6 +18,8 @@ pub struct PredictArgs<'a> {
     pub params: Option<&'a str>,
     /// Input data.
     pub data: &'a Path,
+    /// How it is read.
+    pub read: super::ReadChoice<'a>,
     /// Output CSV.
     pub out: &'a Path,
     /// Print a JSON summary.
@@ -54,11 +56,10 @@ fn run_inner(a: &PredictArgs) -> Result<(), String> {
     }
     let (model, friction) = super::parameters_for(&robot, "--params", a.params, ParamChoice::Own)?;
     let names = model.joint_names();
-    let opts = ReadOptions {
-        require_tau: false,
-        ..Default::default()
-    };
-    let d = super::read_data(a.data, &names, opts, a.robot, a.sidecar)?;
+    let opts = a.read.options(&robot, false)?;
+    let reading = super::read_data(&[a.data], &names, &opts, a.robot, a.sidecar)?;
+    super::report_reading("--data", &reading);
+    let d = reading.data;
     let tau = predict_torques(&model, &friction, &d.q, &d.qd, &d.qdd).map_err(|e| e.to_string())?;
     let mut s = String::from("t");
     for j in &names {
