@@ -19,8 +19,8 @@
 //!    ([`super::spectrum::choose_cutoff`]);
 //! 5. **derivatives** — q̇ from the filtered q (default) or the file's
 //!    filtered q̇, q̈ from q̇, by central differences;
-//! 6. **ends** — half a period of the cut-off is trimmed at each segment
-//!    end, where the filter's start-up and the one-sided differences are.
+//! 6. **ends** — one period of the cut-off is trimmed at each segment end,
+//!    where the filter's start-up and the one-sided differences are.
 
 use super::dataset::Dataset;
 use super::error::DataError;
@@ -149,7 +149,7 @@ pub fn prepare(
         });
     }
     (report.cutoff_hz, report.cutoff_from) = (cutoff, from);
-    report.trimmed_per_end = (0.5 * fs / cutoff).ceil() as usize;
+    report.trimmed_per_end = (fs / cutoff).ceil() as usize;
     let out: Vec<Dataset> = uniform
         .iter()
         .filter_map(|u| filtered(u, fs, cutoff, opts.velocity, report.trimmed_per_end))

@@ -6,8 +6,9 @@
 //! Blackman–Harris window whose −92 dB side lobes keep the large
 //! low-frequency motion from leaking over the floor); the noise floor is
 //! the median over the upper half of the band. The excitation's band ends
-//! at the highest frequency where the spectrum, averaged over 4 bins, is
-//! still [`SNR`] times the floor, on any joint. The cut-off is
+//! where the spectrum, averaged over 4 bins and followed up from its peak,
+//! first falls below [`SNR`] times the floor; the edge is the highest of the
+//! joints'. The cut-off is
 //! [`MARGIN`] times that edge, within `[fs/100, 0.4 fs]`. The same
 //! signal-to-noise ratio holds for q̈ and τ's inertial part, which are q
 //! weighted by f⁴ in the same bins.
@@ -46,9 +47,13 @@ pub fn choose_cutoff(segments: &[RawLog], fs: f64) -> (f64, String) {
         if !(floor > 0.0) {
             continue;
         }
-        let above = (1..psd.len().saturating_sub(4))
-            .filter(|&f| psd[f..f + 4].iter().sum::<f64>() / 4.0 > SNR * floor)
-            .max();
+        // from the motion's peak up to where the spectrum meets the floor
+        let mean4 = |f: usize| psd[f..f + 4].iter().sum::<f64>() / 4.0;
+        let last = psd.len().saturating_sub(4);
+        let peak = (1..last)
+            .max_by(|&a, &b| psd[a].total_cmp(&psd[b]))
+            .unwrap_or(1);
+        let above = (peak..last).take_while(|&f| mean4(f) > SNR * floor).last();
         if let Some(f) = above {
             edge = edge.max((f + 3) as f64 * fs / l as f64);
         }
