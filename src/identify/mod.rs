@@ -27,7 +27,8 @@ pub use error::{GramProblem, IdentifyError};
 pub use options::{CHECK_TOL, IdentifyOptions, Level, Regularizer, default_settings};
 pub use reduce::{Cost, Reduced, StreamReducer, cost, reduce_samples};
 pub use result::{
-    BodyResult, Contributions, DataPreparation, IdentifyResult, identify, predict_split, rms,
+    BodyResult, Contributions, DEGENERATE_ADVICE, DataPreparation, Degenerate, IdentifyResult,
+    identify, predict_split, rms,
 };
 pub use solve::solve_identification;
 pub use solved::{Solved, parameter_names};

@@ -10,8 +10,8 @@ use crate::dynamics::Friction;
 use crate::dynamics::params_file::{BodyParams, ParamsFile};
 use crate::dynamics::{Data, Model, regressor};
 use crate::moments::{
-    ConsistencyReport, InertialParams, RealizabilityReport, check_consistency, check_realizable,
-    entropic_divergence,
+    ConsistencyReport, DEGENERATE_TOL, DegenerateShape, InertialParams, RealizabilityReport,
+    check_consistency, check_realizable, degenerate_shape, entropic_divergence,
 };
 use serde::Serialize;
 
@@ -44,7 +44,29 @@ pub struct BodyResult {
     /// (dimensionless), with either regulariser; `None` without a prior or
     /// when π or π̂ is not strictly consistent (the divergence is infinite).
     pub divergence_from_prior: Option<f64>,
+    /// Whether the body has collapsed to a point mass, a rod or a plate
+    /// (physically consistent, but no real link), against the size of its
+    /// prior or bounding ellipsoid; `None` when it has spread.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub degenerate: Option<Degenerate>,
 }
+
+/// A body identified as a point mass, a rod or a plate, and what to do.
+#[derive(Clone, Debug, Serialize)]
+pub struct Degenerate {
+    /// The shape.
+    pub shape: DegenerateShape,
+    /// Its covariance semi-axes √(μᵢ/m) (m).
+    pub semi_axes: [f64; 3],
+    /// The length they were measured against (m): the prior's or the
+    /// bounding ellipsoid's largest semi-axis.
+    pub length: f64,
+    /// What to do about it.
+    pub advice: String,
+}
+
+/// Advice for a degenerate body.
+pub const DEGENERATE_ADVICE: &str = "the data do not determine this body's spread: bound it (the ellipsoid level with a bounding volume), hold it to its prior (the entropic regulariser with a weight of 1e-3 to 1e-1), or excite it more";
 
 /// Torque contributions on the validation data (Fig. 5 of the paper).
 #[derive(Clone, Debug, Default, Serialize)]
@@ -96,6 +118,14 @@ pub struct IdentifyResult {
     pub friction: Friction,
     /// Every body satisfies what it was asked for (checked by `moments`).
     pub constraints_satisfied: bool,
+    /// Every body is physically consistent (`J ⪰ 0`), whatever its level:
+    /// at the `none` level the constraints are satisfied by definition, and
+    /// this says whether the result is a physical robot.
+    pub all_bodies_consistent: bool,
+    /// The bodies that are not.
+    pub inconsistent_bodies: Vec<String>,
+    /// The bodies identified as point masses, rods or plates.
+    pub degenerate_bodies: Vec<String>,
     /// Solver status.
     pub status: String,
     /// What the caller should know (an inaccurate solve, …).
@@ -237,6 +267,15 @@ pub fn predict_split(
     Ok((total, c))
 }
 
+/// The names of the bodies that `keep` accepts.
+fn names_where(bodies: &[BodyResult], keep: impl Fn(&BodyResult) -> bool) -> Vec<String> {
+    bodies
+        .iter()
+        .filter(|b| keep(b))
+        .map(|b| b.name.clone())
+        .collect()
+}
+
 /// RMS per joint of `a − b`.
 pub fn rms(a: &[Vec<f64>], b: &[Vec<f64>]) -> Vec<f64> {
     let n = a.first().map_or(0, |r| r.len());
@@ -279,9 +318,33 @@ fn body_results(id: &Identification, theta: &[f64]) -> (Vec<BodyResult>, bool) {
             divergence_from_prior: id
                 .prior_body(b)
                 .and_then(|prior| entropic_divergence(&pi, &prior).ok()),
+            degenerate: degeneracy(id, b, &pi, ellipsoid),
         });
     }
     (bodies, ok)
+}
+
+/// Body `b`'s degeneracy against its prior's size (else its bounding
+/// ellipsoid's; neither: not judged).
+fn degeneracy(
+    id: &Identification,
+    b: usize,
+    pi: &InertialParams,
+    ellipsoid: Option<crate::moments::Ellipsoid>,
+) -> Option<Degenerate> {
+    let from_prior = id
+        .prior_body(b)
+        .filter(|p| p.mass() > 0.0)
+        .map(|p| p.covariance_ellipsoid().semi_axes.max())
+        .filter(|l| l.is_finite() && *l > 0.0);
+    let length = from_prior.or(ellipsoid.map(|e| e.semi_axes.max()))?;
+    let (shape, semi_axes) = degenerate_shape(pi, length, DEGENERATE_TOL)?;
+    Some(Degenerate {
+        shape,
+        semi_axes,
+        length,
+        advice: DEGENERATE_ADVICE.into(),
+    })
 }
 
 /// Checks that a data set has torques for every sample.
@@ -309,6 +372,18 @@ pub fn identify(
 }
 
 impl Identification<'_> {
+    /// The planned memory of `samples` samples is within the limit.
+    fn check_memory(&self, samples: usize) -> Result<(), IdentifyError> {
+        let need = crate::identify::cost(self.model(), samples).bytes;
+        if need > self.memory_limit() {
+            return Err(IdentifyError::TooLarge {
+                needed_gib: need as f64 / (1u64 << 30) as f64,
+                limit_gib: self.memory_limit() as f64 / (1u64 << 30) as f64,
+            });
+        }
+        Ok(())
+    }
+
     /// Reduces `train`, solves, checks every body and validates on
     /// `validate` (which then needs torques too).
     pub fn identify(
@@ -322,18 +397,14 @@ impl Identification<'_> {
         if let Some(v) = validate {
             with_torques(v)?;
         }
-        let need = crate::identify::cost(model, train.len()).bytes;
-        if need > self.memory_limit() {
-            return Err(IdentifyError::TooLarge {
-                needed_gib: need as f64 / (1u64 << 30) as f64,
-                limit_gib: self.memory_limit() as f64 / (1u64 << 30) as f64,
-            });
-        }
+        self.check_memory(train.len())?;
         let red = reduce_samples(model, &train.q, &train.qd, &train.qdd, &train.tau, 1024)?;
         let reduce_time = t0.elapsed().as_secs_f64();
         let solved = self.solve(&red)?;
         let theta = &solved.theta;
         let (bodies, ok) = body_results(self, theta);
+        let inconsistent_bodies = names_where(&bodies, |b| !b.consistent);
+        let degenerate_bodies = names_where(&bodies, |b| b.degenerate.is_some());
         let friction = solved.friction_law();
         let (train_pred, _) = predict_split(model, theta, train)?;
         let training_rms = rms(&train_pred, &train.tau);
@@ -363,6 +434,9 @@ impl Identification<'_> {
             bodies,
             friction,
             constraints_satisfied: ok,
+            all_bodies_consistent: inconsistent_bodies.is_empty(),
+            inconsistent_bodies,
+            degenerate_bodies,
             status: status.as_str().into(),
             warnings: (status == crate::conic::Status::SolvedInaccurately)
                 .then_some(IdentifyWarning::Inaccurate {

@@ -15,6 +15,8 @@
 //! - [`realize_on_union`]: Corollary 2, solved with [`conic`](crate::conic);
 //! - [`four_point_masses`] / [`four_point_masses_in`]: four point masses with
 //!   the same moments;
+//! - [`degenerate_shape`]: whether a body has collapsed to a point mass, a
+//!   rod or a plate against a length;
 //! - [`Level`]: a body's constraint level (none, semi, consistent,
 //!   ellipsoid);
 //! - [`lmi`]: the LMIs as [`conic`](crate::conic) expressions;
@@ -38,6 +40,7 @@ pub mod mvee;
 mod nearest;
 mod params;
 mod points;
+mod shape;
 mod union;
 pub mod urdf_check;
 
@@ -56,4 +59,5 @@ pub use params::{
     CovarianceEllipsoid, InertialParams, MAX_ABS_PARAM, MassComInertia, ParamFault, skew,
 };
 pub use points::{PointMass, four_point_masses, four_point_masses_in, pseudo_inertia_of};
+pub use shape::{DEGENERATE_TOL, DegenerateShape, degenerate_shape};
 pub use union::{UnionRealization, point_masses_on_union, realize_on_union};

@@ -66,12 +66,38 @@ pub fn run(a: &IdentifyArgs) -> i32 {
             for w in &r.warnings {
                 eprintln!("warning: {w}");
             }
+            warn_bodies(&r);
             warn_unexcited(&r.unidentifiable_directions);
             if r.constraints_satisfied { 0 } else { 1 }
         }
         Err(e) => {
             eprintln!("error: {e}");
             2
+        }
+    }
+}
+
+/// The bodies that are not physically consistent (whatever the level), and
+/// those identified as point masses, rods or plates, with what to do.
+fn warn_bodies(r: &IdentifyResult) {
+    if !r.all_bodies_consistent {
+        eprintln!(
+            "warning: not physically consistent (J(π) is not positive semidefinite): {}; --constraints consistent or above makes every body physical",
+            r.inconsistent_bodies.join(", ")
+        );
+    }
+    for b in &r.bodies {
+        if let Some(d) = &b.degenerate {
+            eprintln!(
+                "warning: body '{}' is identified as a {} (spread {:.1e}, {:.1e}, {:.1e} m against {:.3} m): {}",
+                b.name,
+                d.shape.as_str(),
+                d.semi_axes[0],
+                d.semi_axes[1],
+                d.semi_axes[2],
+                d.length,
+                d.advice
+            );
         }
     }
 }
