@@ -586,3 +586,46 @@ fn degenerate_bodies_are_flagged_and_consistency_is_reported_at_every_level() {
     let r = entropic(&leg, &sim);
     assert!(r.degenerate_bodies.is_empty(), "{:?}", r.degenerate_bodies);
 }
+
+/// A mapping's `""` skips a column the robot does not have (a gripper's),
+/// and the robot's joints are taken in its own order whatever the file's.
+#[test]
+fn a_mapping_skips_columns_and_reorders_joints() {
+    let d = dir("skip");
+    let t = irregular(600, 0.0);
+    let rows: Vec<[[f64; 2]; 4]> = t.iter().map(|&x| motion(x)).collect();
+    // columns: b, gripper, a
+    let wide =
+        |k: usize| -> Vec<f64> { rows.iter().flat_map(|r| [r[k][1], 9.0, r[k][0]]).collect() };
+    let n = t.len() as u64;
+    let p = d.join("wide.npz");
+    write_npz(
+        &p,
+        &[
+            ("times", vec![n], t.clone()),
+            ("positions", vec![n, 3], wide(0)),
+            ("torques", vec![n, 3], wide(3)),
+        ],
+    );
+    let m = Mapping::parse(
+        "joints = [\"b\", \"\", \"a\"]\ntime = \"times\"\n[q]\nsource = \"positions\"\n[tau]\nsource = \"torques\"\n",
+        "skip.toml",
+    )
+    .unwrap();
+    let o = ReadOptions {
+        mapping: Some(m),
+        cutoff_hz: Some(5.0),
+        ..ReadOptions::default()
+    };
+    let r = read_logs(&[&p], &J, &o).unwrap();
+    let narrow = d.join("narrow.npz");
+    motion_npz(&narrow, &t);
+    let want = read_logs(&[&narrow], &J, &opts(Some(5.0))).unwrap();
+    assert_eq!(r.data.len(), want.data.len());
+    for k in 0..r.data.len() {
+        for j in 0..2 {
+            assert!((r.data.q[k][j] - want.data.q[k][j]).abs() < 1e-12);
+            assert!((r.data.tau[k][j] - want.data.tau[k][j]).abs() < 1e-12);
+        }
+    }
+}
