@@ -370,21 +370,28 @@ fn malformed_archives_name_the_file_and_the_array() {
     assert!(e.to_string().contains("unit 'grad'"), "{e}");
 }
 
-/// The KUKA's run as published (robots/kuka-lwr4) reads with its sidecar's
-/// mapping: 5027 rows, 7 joints, no repeated row, one segment, ~200 Hz.
-#[test]
-fn the_kuka_run_reads_as_published() {
-    use momentlmi::dynamics::robots::load_robot;
+/// The KUKA of robots/kuka-lwr4: its folder, the robot with its sidecar,
+/// and the mapping the sidecar names.
+fn kuka() -> (PathBuf, momentlmi::dynamics::RobotDescription, Mapping) {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/kuka-lwr4");
-    let robot = load_robot(
+    let robot = momentlmi::dynamics::robots::load_robot(
         root.join("kuka_lwr4.urdf").to_str().unwrap(),
         Some(&root.join("kuka_lwr4.toml")),
     )
     .unwrap();
-    let m = Mapping::read(robot.data_mapping.as_ref().expect("the sidecar names it")).unwrap();
+    let mapping =
+        Mapping::read(robot.data_mapping.as_ref().expect("the sidecar names it")).unwrap();
+    (root, robot, mapping)
+}
+
+/// The KUKA's run as published (robots/kuka-lwr4) reads with its sidecar's
+/// mapping: 5027 rows, 7 joints, no repeated row, one segment, ~200 Hz.
+#[test]
+fn the_kuka_run_reads_as_published() {
+    let (root, robot, mapping) = kuka();
     let names = robot.model.joint_names();
     let o = ReadOptions {
-        mapping: Some(m),
+        mapping: Some(mapping),
         ..ReadOptions::default()
     };
     let r = read_logs(&[&root.join("data/measurements_1.npz")], &names, &o).unwrap();
@@ -450,16 +457,9 @@ fn by_hand(raw: &momentlmi::data::RawLog, cutoff: f64) -> momentlmi::data::Datas
 #[test]
 fn a_raw_kuka_log_identifies_like_the_hand_prepared_one() {
     use momentlmi::data::npz::read_npz;
-    use momentlmi::dynamics::robots::load_robot;
     use momentlmi::identify::{Identification, Level};
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/kuka-lwr4");
-    let robot = load_robot(
-        root.join("kuka_lwr4.urdf").to_str().unwrap(),
-        Some(&root.join("kuka_lwr4.toml")),
-    )
-    .unwrap();
+    let (root, robot, mapping) = kuka();
     let names = robot.model.joint_names();
-    let mapping = Mapping::read(robot.data_mapping.as_ref().unwrap()).unwrap();
     let run = |k: u32| {
         read_npz(
             &root.join(format!("data/measurements_{k}.npz")),
@@ -529,17 +529,11 @@ fn a_raw_kuka_log_identifies_like_the_hand_prepared_one() {
 /// consistent; the leg's simulated data at the ellipsoid level give neither.
 #[test]
 fn degenerate_bodies_are_flagged_and_consistency_is_reported_at_every_level() {
-    use momentlmi::dynamics::robots::load_robot;
     use momentlmi::identify::{Identification, Level};
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/kuka-lwr4");
-    let robot = load_robot(
-        root.join("kuka_lwr4.urdf").to_str().unwrap(),
-        Some(&root.join("kuka_lwr4.toml")),
-    )
-    .unwrap();
+    let (root, robot, mapping) = kuka();
     let names = robot.model.joint_names();
     let o = ReadOptions {
-        mapping: Some(Mapping::read(robot.data_mapping.as_ref().unwrap()).unwrap()),
+        mapping: Some(mapping),
         ..ReadOptions::default()
     };
     let data = read_logs(&[&root.join("data/measurements_1.npz")], &names, &o)

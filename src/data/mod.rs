@@ -36,7 +36,7 @@ pub use filter::estimate_qdd;
 pub use mapping::Mapping;
 pub use prepare::{FileReport, Prepare, Velocity};
 pub use raw::RawLog;
-pub use read::{ReadOptions, ReadReport, Reading, read_logs};
+pub use read::{ReadOptions, Reading, read_logs};
 pub use stats::{rms, rms_per_joint};
 pub use write::{
     Staged, record_path, same_file, stage_with_record, write_whole, write_with_record,

@@ -70,7 +70,7 @@ pub struct FileReport {
     pub steps_s: [f64; 3],
     /// The gaps the file was split at (s each).
     pub gaps_s: Vec<f64>,
-    /// Segments used, and samples of the segments dropped as too short.
+    /// Segments used.
     pub segments: usize,
     /// Samples in segments shorter than [`MIN_SEGMENT`], dropped.
     pub short_segment_samples_dropped: usize,

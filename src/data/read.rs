@@ -7,7 +7,6 @@ use super::error::DataError;
 use super::mapping::Mapping;
 use super::prepare::{FileReport, Prepare, Velocity, prepare};
 use super::raw::RawLog;
-use serde::Serialize;
 use std::path::Path;
 
 /// Options for reading.
@@ -43,28 +42,6 @@ pub struct Reading {
     pub data: Dataset,
     /// Per file, what preparing it did.
     pub files: Vec<FileReport>,
-}
-
-/// The preparation of every file, for reports and JSON.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct ReadReport<'a> {
-    /// Per file.
-    pub files: &'a [FileReport],
-    /// Segments in all.
-    pub segments: usize,
-    /// Samples in all.
-    pub samples: usize,
-}
-
-impl Reading {
-    /// The report of the preparation.
-    pub fn report(&self) -> ReadReport<'_> {
-        ReadReport {
-            files: &self.files,
-            segments: self.data.segments.len().max(1),
-            samples: self.data.len(),
-        }
-    }
 }
 
 /// Reads `paths` (`.csv`, `.npz`, `.npy`, by extension; anything

@@ -14,7 +14,7 @@
 //! weighted by f⁴ in the same bins.
 
 use super::raw::RawLog;
-use rustfft::{FftPlanner, num_complex::Complex};
+use rustfft::{Fft, FftPlanner, num_complex::Complex};
 
 /// Samples per Welch window (shorter segments use their largest power of 2).
 pub const WINDOW: usize = 1024;
@@ -39,9 +39,10 @@ pub fn choose_cutoff(segments: &[RawLog], fs: f64) -> (f64, String) {
         .first()
         .and_then(|s| s.q.first())
         .map_or(0, Vec::len);
+    let fft = FftPlanner::new().plan_fft_forward(l);
     let mut edge: f64 = 0.0;
     for j in 0..nj {
-        let psd = welch(segments, j, l);
+        let psd = welch(segments, j, l, &*fft);
         let upper: Vec<f64> = psd[l / 4..].to_vec();
         let floor = median(upper);
         if !(floor > 0.0) {
@@ -88,8 +89,7 @@ fn median(mut v: Vec<f64>) -> f64 {
 
 /// Welch's power spectrum of joint `j`'s q over every segment, bins
 /// `0..=l/2`.
-fn welch(segments: &[RawLog], j: usize, l: usize) -> Vec<f64> {
-    let fft = FftPlanner::new().plan_fft_forward(l);
+fn welch(segments: &[RawLog], j: usize, l: usize, fft: &dyn Fft<f64>) -> Vec<f64> {
     let w: Vec<f64> = (0..l).map(|k| blackman_harris(k, l)).collect();
     let mut psd = vec![0.0; l / 2 + 1];
     for s in segments.iter().filter(|s| s.len() >= l) {

@@ -50,11 +50,6 @@ impl Bounding {
         }
     }
 
-    /// The ellipsoids given (a sidecar's), without computing any.
-    pub fn given_only(&self) -> &[Vec<Ellipsoid>] {
-        &self.given
-    }
-
     /// Every body's bounding ellipsoids (computing the geometry's on first
     /// call); `model` is the robot's.
     pub fn get(&self, model: &Model) -> &[Vec<Ellipsoid>] {

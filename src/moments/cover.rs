@@ -17,7 +17,7 @@
 use super::ellipsoid::Ellipsoid;
 use super::error::MomentsError;
 use crate::conic::{AffExpr, MatExpr, Problem, Settings};
-use nalgebra::{Matrix3, SymmetricEigen, Vector3};
+use nalgebra::{Matrix3, Vector3};
 
 impl Ellipsoid {
     /// The minimum-volume ellipsoid containing all of `parts` (a body whose
@@ -48,13 +48,9 @@ pub fn covering(parts: &[Ellipsoid]) -> Result<Ellipsoid, MomentsError> {
                 .map(|e| Ellipsoid::with_rotation((e.center - c0) / l, e.semi_axes / l, e.rotation))
                 .collect::<Result<_, _>>()?;
             let (shape, centre) = solve(&scaled)?;
-            let eig = SymmetricEigen::new(shape);
-            let mut r = eig.eigenvectors;
-            if r.determinant() < 0.0 {
-                r.set_column(2, &(-r.column(2)));
-            }
-            let axes = eig.eigenvalues.map(|v| l * (1.0 + 1e-6) / v.sqrt());
-            Ellipsoid::with_rotation(c0 + l * centre, axes, r)
+            // back to metres, enlarged by 1e-6 of each semi-axis
+            let grow = l * (1.0 + 1e-6);
+            Ellipsoid::from_shape(c0 + l * centre, &(shape / (grow * grow)))
         }
     }
 }

@@ -100,7 +100,13 @@ impl Ellipsoid {
                 "Q describes an empty set".into(),
             ));
         }
-        let eig = SymmetricEigen::new(ps / s);
+        Self::from_shape(c, &(ps / s))
+    }
+
+    /// The ellipsoid `(x − c)ᵀ P (x − c) ≤ 1` of a symmetric positive
+    /// definite `P` (m⁻²): semi-axes `1/√λᵢ(P)` along its eigenvectors.
+    pub fn from_shape(c: Vector3<f64>, p: &Matrix3<f64>) -> Result<Self, MomentsError> {
+        let eig = SymmetricEigen::new(*p);
         let mut r = eig.eigenvectors;
         if r.determinant() < 0.0 {
             r.set_column(2, &(-r.column(2)));

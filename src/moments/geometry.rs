@@ -84,16 +84,14 @@ impl Meshes {
     /// vertices, scaled; solved once per content.
     fn mesh_ellipsoid(&mut self, filename: &str, scale: [f64; 3]) -> Result<Ellipsoid, String> {
         use std::hash::{Hash, Hasher};
-        let v = self.vertices(filename)?.to_vec();
         let mut h = std::collections::hash_map::DefaultHasher::new();
         scale.map(f64::to_bits).hash(&mut h);
-        v.iter()
-            .for_each(|p| p.map(f64::to_bits).as_slice().hash(&mut h));
+        (self.vertices(filename)?.iter()).for_each(|p| p.map(f64::to_bits).as_slice().hash(&mut h));
         let key = h.finish();
         if let Some(e) = self.solved.get(&key) {
             return Ok(*e);
         }
-        let e = mesh_ellipsoid(&v, scale)?;
+        let e = mesh_ellipsoid(self.vertices(filename)?, scale)?;
         self.solved.insert(key, e);
         Ok(e)
     }

@@ -337,13 +337,7 @@ fn enclosing_all(
         .iter()
         .map(|p| (p - c).dot(&(a * (p - c))))
         .fold(0.0, f64::max);
-    let a = a / worst.max(f64::MIN_POSITIVE);
-    let eig = SymmetricEigen::new(a);
-    let mut r = eig.eigenvectors;
-    if r.determinant() < 0.0 {
-        r.set_column(2, &(-r.column(2)));
-    }
-    Ellipsoid::with_rotation(c, eig.eigenvalues.map(|l| 1.0 / l.sqrt()), r)
+    Ellipsoid::from_shape(c, &(a / worst.max(f64::MIN_POSITIVE)))
 }
 
 /// The most rounds of the polish (each adds the points left outside).
