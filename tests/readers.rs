@@ -463,7 +463,7 @@ fn a_raw_kuka_log_identifies_like_the_hand_prepared_one() {
     let run = |k: u32| {
         read_npz(
             &root.join(format!("data/measurements_{k}.npz")),
-            &mapping,
+            Some(&mapping),
             &names,
         )
         .unwrap()
@@ -622,4 +622,42 @@ fn a_mapping_skips_columns_and_reorders_joints() {
             assert!((r.data.tau[k][j] - want.data.tau[k][j]).abs() < 1e-12);
         }
     }
+}
+
+/// Without a mapping an archive's arrays are `t`, `q` (and optionally `qd`,
+/// `qdd`, `tau`); one with other names is refused with the names it has and
+/// where mappings are described; formats not read say so.
+#[test]
+fn default_archive_names_and_formats_not_read() {
+    let d = dir("defaults");
+    let t = irregular(400, 0.0);
+    let rows: Vec<[[f64; 2]; 4]> = t.iter().map(|&x| motion(x)).collect();
+    let col = |k: usize| rows.iter().flat_map(|r| r[k]).collect::<Vec<f64>>();
+    let n = t.len() as u64;
+    let p = d.join("plain.npz");
+    write_npz(
+        &p,
+        &[
+            ("t", vec![n], t.clone()),
+            ("q", vec![n, 2], col(0)),
+            ("tau", vec![n, 2], col(3)),
+        ],
+    );
+    let o = ReadOptions {
+        cutoff_hz: Some(5.0),
+        ..ReadOptions::default()
+    };
+    let r = read_logs(&[&p], &J, &o).unwrap();
+    assert!(r.data.len() > 300 && r.data.tau.len() == r.data.len());
+    let named = d.join("named.npz");
+    motion_npz(&named, &t);
+    let e = read_logs(&[&named], &J, &o).unwrap_err().to_string();
+    assert!(
+        e.contains("named.npz: t: no such array") && e.contains("Column mappings"),
+        "{e}"
+    );
+    let bag = d.join("run.mcap");
+    std::fs::write(&bag, b"\x89MCAP0\r\n").unwrap();
+    let e = read_logs(&[&bag], &J, &o).unwrap_err().to_string();
+    assert!(e.contains("run.mcap") && e.contains("not read"), "{e}");
 }

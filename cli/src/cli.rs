@@ -54,7 +54,7 @@ struct ReadArgs {
     mapping: Option<PathBuf>,
     /// Low-pass cut-off (Hz) applied to q and τ alike of raw logs (files without q̈)
     /// [default: chosen from the data's spectrum, and reported].
-    #[arg(long, value_name = "HZ")]
+    #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
     cutoff_hz: Option<f64>,
     /// Where a raw log's q̇ comes from: differentiate (the filtered q; a logged velocity is
     /// often filtered by the drive and lags) or file (the file's, through the same low-pass).

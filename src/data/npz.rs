@@ -97,31 +97,26 @@ fn transpose(v: &[f64], rows: usize, cols: usize) -> Vec<f64> {
         .collect()
 }
 
-/// Reads an `.npz` archive through `mapping` for the robot's `joints`.
-pub fn read_npz(path: &Path, mapping: &Mapping, joints: &[&str]) -> Result<RawLog, DataError> {
+/// Reads an `.npz` archive through `mapping` (`None`: the default names
+/// `t`, `q`, `qd`, `qdd`, `tau`, of which only `t`, `q` are required) for the
+/// robot's `joints`.
+pub fn read_npz(
+    path: &Path,
+    mapping: Option<&Mapping>,
+    joints: &[&str],
+) -> Result<RawLog, DataError> {
+    let default = default_names();
+    let mapping = mapping.unwrap_or(&default);
+    let by_default = std::ptr::eq(mapping, &default);
     let p = path.display().to_string();
-    let file = std::fs::File::open(path).map_err(|source| DataError::Io {
-        path: p.clone(),
-        source,
-    })?;
-    let mut zip =
-        zip::ZipArchive::new(std::io::BufReader::new(file)).map_err(|e| DataError::Array {
-            path: p.clone(),
-            array: "(archive)".into(),
-            message: format!("not a NumPy .npz archive (a zip file): {e}"),
-        })?;
-    let names: Vec<String> = zip
-        .file_names()
-        .filter_map(Result::ok)
-        .map(|n| n.trim_end_matches(".npy").to_string())
-        .collect();
+    let (mut zip, names) = open_archive(path, &p)?;
     let mut get = |name: &str| -> Result<Array, DataError> {
         let mut f = zip
             .by_name(&format!("{name}.npy"))
             .map_err(|_| DataError::Array {
                 path: p.clone(),
                 array: name.into(),
-                message: format!("no such array (the archive has: {})", names.join(", ")),
+                message: no_such_array(&names, by_default),
             })?;
         let size = f.size();
         Array::read(&mut f, size, &p, name)
@@ -144,6 +139,11 @@ pub fn read_npz(path: &Path, mapping: &Mapping, joints: &[&str]) -> Result<RawLo
         let Some(qm) = mapping.quantity(k) else {
             continue;
         };
+        let label = qm.source.clone().unwrap_or_else(|| k.prefix().into());
+        if by_default && k != Kind::Q && !names.contains(&label) {
+            continue; // the defaults beyond t and q are optional
+        }
+        let pos = joint_positions(joints, &order, &p, &label)?;
         let scale = qm.scale().unwrap_or(1.0);
         let m = match qm.per_joint(&order) {
             Some(names) => per_joint_arrays(&mut get, &names, log.len(), &p)?,
@@ -153,8 +153,6 @@ pub fn read_npz(path: &Path, mapping: &Mapping, joints: &[&str]) -> Result<RawLo
                 matrix(a, log.len(), order.len(), &p, &name)?
             }
         };
-        let label = qm.source.clone().unwrap_or_else(|| k.prefix().into());
-        let pos = joint_positions(joints, &order, &p, &label)?;
         let v = rows_of(&m, order.len(), &pos, scale, &p, &label)?;
         match k {
             Kind::Q => log.q = v,
@@ -164,6 +162,58 @@ pub fn read_npz(path: &Path, mapping: &Mapping, joints: &[&str]) -> Result<RawLo
         }
     }
     Ok(log)
+}
+
+type Archive = zip::ZipArchive<std::io::BufReader<std::fs::File>>;
+
+/// The archive at `path` (`p` names it) and its arrays' names.
+fn open_archive(path: &Path, p: &str) -> Result<(Archive, Vec<String>), DataError> {
+    let file = std::fs::File::open(path).map_err(|source| DataError::Io {
+        path: p.into(),
+        source,
+    })?;
+    let zip =
+        zip::ZipArchive::new(std::io::BufReader::new(file)).map_err(|e| DataError::Array {
+            path: p.into(),
+            array: "(archive)".into(),
+            message: format!("not a NumPy .npz archive (a zip file): {e}"),
+        })?;
+    let names = (zip.file_names())
+        .filter_map(Result::ok)
+        .map(|n| n.trim_end_matches(".npy").to_string())
+        .collect();
+    Ok((zip, names))
+}
+
+/// What a missing array's error says: the arrays there are, and, when no
+/// mapping was given, where mappings are described.
+fn no_such_array(names: &[String], by_default: bool) -> String {
+    let hint = if by_default {
+        "; no mapping was given, and a column mapping names other arrays (docs/inputs.md, \"Column mappings\")"
+    } else {
+        ""
+    };
+    format!(
+        "no such array (the archive has: {}){hint}",
+        names.join(", ")
+    )
+}
+
+/// An archive's default names: arrays `t`, `q`, `qd`, `qdd`, `tau`
+/// (n × joints, the robot's order).
+fn default_names() -> Mapping {
+    let mut m = Mapping::csv_default();
+    for (q, name) in [
+        (&mut m.q, "q"),
+        (&mut m.qd, "qd"),
+        (&mut m.qdd, "qdd"),
+        (&mut m.tau, "tau"),
+    ] {
+        if let Some(q) = q {
+            q.source = Some(name.into());
+        }
+    }
+    m
 }
 
 /// A 1-D array (or n × 1).

@@ -66,8 +66,15 @@ fn read_raw(path: &Path, joints: &[&str], opts: &ReadOptions) -> Result<RawLog, 
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     match ext.as_deref() {
-        Some("npz") => super::npz::read_npz(path, mapping.unwrap_or(&npz_default()), joints),
+        Some("npz") => super::npz::read_npz(path, mapping, joints),
         Some("npy") => super::npz::read_npy(path, joints),
+        Some(ext @ ("mcap" | "bag" | "db3" | "parquet")) => Err(DataError::Array {
+            path: path.display().to_string(),
+            array: "(file)".into(),
+            message: format!(
+                "a .{ext} file is not read (yet): convert it to CSV or .npz (docs/inputs.md)"
+            ),
+        }),
         _ => {
             let p = path.display().to_string();
             let file = std::fs::File::open(path).map_err(|source| DataError::Io {
@@ -83,23 +90,6 @@ fn read_raw(path: &Path, joints: &[&str], opts: &ReadOptions) -> Result<RawLog, 
             )
         }
     }
-}
-
-/// An archive's default names: arrays `t`, `q`, `qd`, `qdd`, `tau`
-/// (n × joints, the robot's order).
-fn npz_default() -> Mapping {
-    let mut m = Mapping::csv_default();
-    for (q, name) in [
-        (&mut m.q, "q"),
-        (&mut m.qd, "qd"),
-        (&mut m.qdd, "qdd"),
-        (&mut m.tau, "tau"),
-    ] {
-        if let Some(q) = q {
-            q.source = Some(name.into());
-        }
-    }
-    m
 }
 
 /// Raw logs prepared and joined: segments in file order; a file whose
