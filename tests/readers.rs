@@ -464,6 +464,7 @@ fn a_raw_kuka_log_identifies_like_the_hand_prepared_one() {
         read_npz(
             &root.join(format!("data/measurements_{k}.npz")),
             Some(&mapping),
+            false,
             &names,
         )
         .unwrap()

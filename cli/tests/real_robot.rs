@@ -138,3 +138,31 @@ fn predict_does_not_filter_across_a_pause() {
         peak(&a)
     );
 }
+
+/// The sidecar's mapping is a default: a log `simulate` wrote for the KUKA
+/// (the CSV format's own names) still reads without flags; a mapping given
+/// with `--mapping` is held to.
+#[test]
+fn a_simulated_kuka_log_reads_past_the_robots_default_mapping() {
+    let dir = common::TempDir::new("kuka-sim");
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../robots/kuka-lwr4");
+    let (urdf, csv) = (root.join("kuka_lwr4.urdf"), dir.0.join("k.csv"));
+    let (u, c) = (urdf.to_str().unwrap(), csv.to_str().unwrap());
+    common::ok(&["simulate", "--robot", u, "--seconds", "3", "--out", c]);
+    common::ok(&["identify", "--robot", u, "--data", c]);
+    let m = root.join("kuka_lwr4_mapping.toml");
+    let o = bin()
+        .args([
+            "identify",
+            "--robot",
+            u,
+            "--data",
+            c,
+            "--mapping",
+            m.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("missing column 'times'"));
+}

@@ -80,16 +80,18 @@ impl Dataset {
 }
 
 /// Reads a CSV stream through `mapping` (default: the format's own
-/// names) into a raw log for the robot's `joints`.
+/// names; when it is only the robot's default, a header with `t` and not
+/// the mapping's time column is read with the format's own names) into a
+/// raw log for the robot's `joints`.
 pub(crate) fn read_raw(
     input: impl std::io::Read,
     path: &str,
-    mapping: Option<&Mapping>,
+    (mapping, only_default): (Option<&Mapping>, bool),
     joints: &[&str],
     require_tau: bool,
 ) -> Result<RawLog, DataError> {
     let default = Mapping::csv_default();
-    let mapping = mapping.unwrap_or(&default);
+    let mut mapping = mapping.unwrap_or(&default);
     let mut rdr = ::csv::ReaderBuilder::new()
         .trim(csv::Trim::All)
         .flexible(true)
@@ -107,6 +109,10 @@ pub(crate) fn read_raw(
         .iter()
         .map(str::to_string)
         .collect();
+    let has = |name: &str| header.iter().any(|h| h == name);
+    if only_default && has("t") && !has(mapping.time_name()) {
+        mapping = &default; // the format's own names, not the robot's default mapping
+    }
     let cols = Columns::find(&header, path, mapping, joints, require_tau)?;
     let mut d = RawLog {
         path: path.into(),

@@ -98,18 +98,25 @@ fn transpose(v: &[f64], rows: usize, cols: usize) -> Vec<f64> {
 }
 
 /// Reads an `.npz` archive through `mapping` (`None`: the default names
-/// `t`, `q`, `qd`, `qdd`, `tau`, of which only `t`, `q` are required) for the
-/// robot's `joints`.
+/// `t`, `q`, `qd`, `qdd`, `tau`, of which only `t`, `q` are required; those
+/// too when `only_default` says the mapping is just the robot's default and
+/// the archive has `t` and not the mapping's time array) for the robot's
+/// `joints`.
 pub fn read_npz(
     path: &Path,
     mapping: Option<&Mapping>,
+    only_default: bool,
     joints: &[&str],
 ) -> Result<RawLog, DataError> {
-    let default = default_names();
-    let mapping = mapping.unwrap_or(&default);
-    let by_default = std::ptr::eq(mapping, &default);
     let p = path.display().to_string();
     let (mut zip, names) = open_archive(path, &p)?;
+    let default = default_names();
+    let has = |n: &str| names.iter().any(|x| x == n);
+    let mapping = match mapping {
+        Some(m) if !(only_default && has("t") && !has(m.time_name())) => m,
+        _ => &default,
+    };
+    let by_default = std::ptr::eq(mapping, &default);
     let mut get = |name: &str| -> Result<Array, DataError> {
         let mut f = zip
             .by_name(&format!("{name}.npy"))

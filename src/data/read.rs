@@ -20,6 +20,11 @@ pub struct ReadOptions {
     pub require_tau: bool,
     /// Which array or column is what (default: each format's own names).
     pub mapping: Option<Mapping>,
+    /// Whether `mapping` is only the robot's default (its sidecar's), not
+    /// the user's: a file that has its format's own time name (`t`) and not
+    /// the mapping's is then read with the format's own names (a log that
+    /// `simulate` wrote, say).
+    pub mapping_is_default: bool,
 }
 
 impl Default for ReadOptions {
@@ -29,6 +34,7 @@ impl Default for ReadOptions {
             velocity: Velocity::Differentiate,
             require_tau: true,
             mapping: None,
+            mapping_is_default: false,
         }
     }
 }
@@ -66,7 +72,7 @@ fn read_raw(path: &Path, joints: &[&str], opts: &ReadOptions) -> Result<RawLog, 
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     match ext.as_deref() {
-        Some("npz") => super::npz::read_npz(path, mapping, joints),
+        Some("npz") => super::npz::read_npz(path, mapping, opts.mapping_is_default, joints),
         Some("npy") => super::npz::read_npy(path, joints),
         Some(ext @ ("mcap" | "bag" | "db3" | "parquet")) => Err(DataError::Array {
             path: path.display().to_string(),
@@ -84,7 +90,7 @@ fn read_raw(path: &Path, joints: &[&str], opts: &ReadOptions) -> Result<RawLog, 
             super::csv::read_raw(
                 std::io::BufReader::new(file),
                 &p,
-                mapping,
+                (mapping, opts.mapping_is_default),
                 joints,
                 opts.require_tau,
             )
@@ -140,7 +146,7 @@ impl Dataset {
         let raw = super::csv::read_raw(
             text.as_bytes(),
             path,
-            opts.mapping.as_ref(),
+            (opts.mapping.as_ref(), opts.mapping_is_default),
             joints,
             opts.require_tau,
         )?;

@@ -110,6 +110,7 @@ impl ReadChoice<'_> {
             velocity: self.velocity,
             require_tau,
             mapping,
+            mapping_is_default: self.mapping.is_none(),
         })
     }
 }
