@@ -657,8 +657,11 @@ fn default_archive_names_and_formats_not_read() {
         e.contains("named.npz: t: no such array") && e.contains("Column mappings"),
         "{e}"
     );
-    let bag = d.join("run.mcap");
-    std::fs::write(&bag, b"\x89MCAP0\r\n").unwrap();
+    let bag = d.join("run.bag");
+    std::fs::write(&bag, b"#ROSBAG V2.0\n").unwrap();
     let e = read_logs(&[&bag], &J, &o).unwrap_err().to_string();
-    assert!(e.contains("run.mcap") && e.contains("not read"), "{e}");
+    assert!(
+        e.contains("run.bag") && e.contains("examples/convert_rosbag.py"),
+        "{e}"
+    );
 }

@@ -172,8 +172,11 @@ impl Mapping {
             q.scale()
                 .map_err(|m| bad(format!("[{}]: {m}", k.prefix())))?;
         }
-        if self.q.is_none() {
-            return Err(bad("[q]: the positions are needed".into()));
+        if self.q.is_none() && self.topic.is_none() {
+            return Err(bad(
+                "[q]: the positions are needed (a ROS 2 bag's mapping may give only its topic)"
+                    .into(),
+            ));
         }
         Ok(())
     }

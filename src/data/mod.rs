@@ -5,6 +5,7 @@
 //!
 //! - [`Dataset`]: samples of t, q, q̇, q̈, τ for named joints;
 //! - [`read_logs`]: one or several log files (CSV, NumPy `.npz`/`.npy`),
+//!   ROS 2 bags of `sensor_msgs/msg/JointState` in MCAP ([`ros2`]),
 //!   each its own segment, through one [`Mapping`] (which array or column is
 //!   q, q̇, q̈, τ of which joint, in which unit), [`prepare`]d as a careful
 //!   hand would (repeated rows dropped, split at gaps, resampled, one
@@ -26,8 +27,10 @@ pub mod npz;
 pub mod prepare;
 mod raw;
 mod read;
+pub mod ros2;
 pub mod spectrum;
 mod stats;
+mod warning;
 pub mod write;
 
 pub use dataset::Dataset;
@@ -38,6 +41,7 @@ pub use prepare::{FileReport, Prepare, Velocity};
 pub use raw::RawLog;
 pub use read::{ReadOptions, Reading, read_logs};
 pub use stats::{rms, rms_per_joint};
+pub use warning::ReadWarning;
 pub use write::{
     Staged, record_path, same_file, stage_with_record, write_whole, write_with_record,
 };

@@ -343,5 +343,6 @@ pub fn read_npy(path: &Path, joints: &[&str]) -> Result<RawLog, DataError> {
         } else {
             None
         },
+        warnings: vec![],
     })
 }

@@ -26,6 +26,7 @@ use super::dataset::Dataset;
 use super::error::DataError;
 use super::filter::{differentiate, filtfilt};
 use super::raw::RawLog;
+use super::warning::ReadWarning;
 use serde::Serialize;
 
 /// A step this many times the median step (or longer) is a gap.
@@ -86,6 +87,8 @@ pub struct FileReport {
     pub trimmed_per_end: usize,
     /// Samples given to the identification.
     pub samples: usize,
+    /// What reading the file skipped or substituted.
+    pub warnings: Vec<ReadWarning>,
 }
 
 /// Prepares one raw log into segments of identification data.
@@ -98,6 +101,7 @@ pub fn prepare(
         path: raw.path.clone(),
         rows: raw.len(),
         velocity: opts.velocity,
+        warnings: raw.warnings.clone(),
         ..FileReport::default()
     };
     if raw.is_empty() {
@@ -232,6 +236,7 @@ fn drop_repeats(raw: RawLog, report: &mut FileReport) -> Result<RawLog, DataErro
         qdd: None,
         tau: raw.tau.as_ref().map(pick),
         path: raw.path,
+        warnings: raw.warnings,
     })
 }
 
@@ -303,6 +308,7 @@ fn resample(raw: &RawLog, r: std::ops::Range<usize>, fs: f64) -> RawLog {
         qd: raw.qd.as_ref().map(lerp),
         qdd: None,
         tau: raw.tau.as_ref().map(lerp),
+        warnings: vec![],
     }
 }
 

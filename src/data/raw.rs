@@ -2,6 +2,7 @@
 //! stamps and the joints' values, in SI units and the robot's joint order.
 
 use super::error::DataError;
+use super::warning::ReadWarning;
 
 /// The most data rows a file may have (10 million: about 3 hours at 1 kHz).
 pub const MAX_ROWS: usize = 10_000_000;
@@ -29,6 +30,8 @@ pub struct RawLog {
     pub qdd: Option<Vec<Vec<f64>>>,
     /// Torques, if recorded.
     pub tau: Option<Vec<Vec<f64>>>,
+    /// What reading it skipped or substituted (carried into the report).
+    pub warnings: Vec<ReadWarning>,
 }
 
 impl RawLog {

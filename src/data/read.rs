@@ -50,7 +50,7 @@ pub struct Reading {
     pub files: Vec<FileReport>,
 }
 
-/// Reads `paths` (`.csv`, `.npz`, `.npy`, by extension; anything
+/// Reads `paths` (`.csv`, `.npz`, `.npy`, `.mcap`, by extension; anything
 /// else as CSV) for the robot's `joints`, prepares each and joins them.
 pub fn read_logs(
     paths: &[&Path],
@@ -71,14 +71,27 @@ fn read_raw(path: &Path, joints: &[&str], opts: &ReadOptions) -> Result<RawLog, 
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
+    if ext.as_deref() != Some("mcap") && mapping.is_some_and(|m| m.q.is_none()) {
+        return Err(DataError::Array {
+            path: path.display().to_string(),
+            array: "q".into(),
+            message: "the mapping gives no [q] (a topic alone applies to ROS 2 bags only)".into(),
+        });
+    }
     match ext.as_deref() {
         Some("npz") => super::npz::read_npz(path, mapping, opts.mapping_is_default, joints),
         Some("npy") => super::npz::read_npy(path, joints),
-        Some(ext @ ("mcap" | "bag" | "db3" | "parquet")) => Err(DataError::Array {
+        Some("mcap") => super::ros2::read_mcap(path, mapping, joints),
+        Some(ext @ ("bag" | "db3" | "parquet")) => Err(DataError::Array {
             path: path.display().to_string(),
             array: "(file)".into(),
             message: format!(
-                "a .{ext} file is not read (yet): convert it to CSV or .npz (docs/inputs.md)"
+                "a .{ext} file is not read: convert it (examples/convert_{}.py, docs/inputs.md)",
+                if ext == "parquet" {
+                    "lerobot"
+                } else {
+                    "rosbag"
+                }
             ),
         }),
         _ => {

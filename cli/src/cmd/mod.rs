@@ -147,6 +147,11 @@ pub(crate) fn read_data(
 /// Prints what reading did to each raw log (files taken as prepared say
 /// nothing).
 pub(crate) fn report_reading(what: &str, r: &momentlmi::data::Reading) {
+    for f in &r.files {
+        for w in &f.warnings {
+            eprintln!("warning: {what} {}: {w}", f.path);
+        }
+    }
     for f in r.files.iter().filter(|f| !f.taken_as_prepared) {
         eprintln!(
             "note: {what} {}: {} rows, {} repeated dropped, steps {:.2}–{:.2} ms (median {:.2}), {} gap(s), {} segment(s), resampled at {:.1} Hz, low-pass {:.2} Hz ({}), q̇ {}, {} samples trimmed per segment end, {} samples",

@@ -1,0 +1,325 @@
+//! ROS 2 bags in MCAP (ROS 2's default storage): the
+//! `sensor_msgs/msg/JointState` messages of one topic, CDR-encoded, read
+//! with the `mcap` and `cdr-encoding` crates.
+//!
+//! Each message gives one row: its header's stamp (s; a bag whose stamps
+//! are all zero uses the messages' log times, with a warning), and the
+//! `position`, `velocity` and `effort` of the robot's joints, matched by
+//! name (SI units, as the message defines them). A message that names
+//! none of the robot's joints (another publisher's on the same topic) is
+//! skipped and counted in a warning; one that names some but not all is an
+//! error. Of a [`Mapping`], only `topic` applies (default: the bag's only
+//! JointState topic).
+
+use super::error::DataError;
+use super::mapping::Mapping;
+use super::raw::{MAX_ABS_VALUE, MAX_ROWS, RawLog, check_value};
+use super::warning::ReadWarning;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// The largest bag read (bytes): it is read whole.
+pub const MAX_BAG_BYTES: u64 = 4 << 30;
+
+/// The message type read.
+pub const JOINT_STATE: &str = "sensor_msgs/msg/JointState";
+
+/// `builtin_interfaces/msg/Time`.
+#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq)]
+pub struct Time {
+    /// Seconds.
+    pub sec: i32,
+    /// Nanoseconds, in [0, 1e9).
+    pub nanosec: u32,
+}
+
+/// `std_msgs/msg/Header`.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+pub struct Header {
+    /// When the state was measured.
+    pub stamp: Time,
+    /// The frame (unused).
+    pub frame_id: String,
+}
+
+/// `sensor_msgs/msg/JointState`: per named joint its position (rad or m),
+/// velocity (rad/s or m/s) and effort (N·m or N); `velocity` and `effort`
+/// may be empty.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+pub struct JointState {
+    /// The stamp.
+    pub header: Header,
+    /// The joints' names.
+    pub name: Vec<String>,
+    /// Positions.
+    pub position: Vec<f64>,
+    /// Velocities (or none).
+    pub velocity: Vec<f64>,
+    /// Efforts (or none).
+    pub effort: Vec<f64>,
+}
+
+impl JointState {
+    /// The message CDR-encoded as ROS 2 stores it (little-endian, after the
+    /// 4-byte encapsulation header).
+    pub fn to_cdr(&self) -> Result<Vec<u8>, cdr_encoding::Error> {
+        let mut out = vec![0, 1, 0, 0];
+        out.extend(cdr_encoding::to_vec::<_, byteorder::LittleEndian>(self)?);
+        Ok(out)
+    }
+
+    /// Decodes a CDR message (either byte order, from its header).
+    pub fn from_cdr(data: &[u8]) -> Result<Self, cdr_encoding::Error> {
+        let (head, body) = data.split_at_checked(4).ok_or(cdr_encoding::Error::Eof)?;
+        let r = match head[1] {
+            0 => cdr_encoding::from_bytes::<Self, byteorder::BigEndian>(body),
+            1 => cdr_encoding::from_bytes::<Self, byteorder::LittleEndian>(body),
+            k => {
+                let m = format!("CDR encapsulation {k} is not plain CDR");
+                return Err(cdr_encoding::Error::Message(m));
+            }
+        };
+        r.map(|(m, _)| m)
+    }
+}
+
+/// The samples of one topic, as the messages give them.
+#[derive(Default)]
+struct Rows {
+    log: RawLog,
+    stamps_zero: bool,
+    log_times: Vec<f64>,
+    skipped: usize,
+    qd: Vec<Vec<f64>>,
+    tau: Vec<Vec<f64>>,
+}
+
+/// Reads a bag's JointState messages for the robot's `joints`.
+pub fn read_mcap(
+    path: &Path,
+    mapping: Option<&Mapping>,
+    joints: &[&str],
+) -> Result<RawLog, DataError> {
+    let p = path.display().to_string();
+    let bytes = read_bounded(path, &p)?;
+    let topic = mapping.and_then(|m| m.topic.as_deref());
+    let bad = |array: &str, message: String| DataError::Array {
+        path: p.clone(),
+        array: array.into(),
+        message,
+    };
+    let stream = ::mcap::MessageStream::new(&bytes)
+        .map_err(|e| bad("(bag)", format!("not an MCAP file: {e}")))?;
+    let mut topics: Vec<(String, String)> = vec![];
+    let mut rows = Rows {
+        stamps_zero: true,
+        ..Rows::default()
+    };
+    let mut chosen: Option<String> = None;
+    for (i, m) in stream.enumerate() {
+        let m = m.map_err(|e| {
+            bad(
+                "(bag)",
+                format!("truncated or corrupt after message {i}: {e}"),
+            )
+        })?;
+        let name = m.channel.topic.clone();
+        let schema = m.channel.schema.as_ref().map_or("", |s| s.name.as_str());
+        if !topics.iter().any(|(t, _)| *t == name) {
+            topics.push((name.clone(), schema.to_string()));
+        }
+        let wanted = match topic {
+            Some(t) => t == name,
+            None => schema == JOINT_STATE,
+        };
+        if !wanted {
+            continue;
+        }
+        if schema != JOINT_STATE || m.channel.message_encoding != "cdr" {
+            return Err(bad(
+                &name,
+                format!(
+                    "the topic carries {schema:?} in {:?}, not {JOINT_STATE} in CDR",
+                    m.channel.message_encoding
+                ),
+            ));
+        }
+        match &chosen {
+            Some(c) if *c != name => {
+                return Err(bad(
+                    "(topic)",
+                    format!(
+                        "JointState on several topics ({c}, {name}, ...): name one with the mapping's `topic`"
+                    ),
+                ));
+            }
+            _ => chosen = Some(name.clone()),
+        }
+        let msg = JointState::from_cdr(&m.data).map_err(|e| {
+            bad(
+                &name,
+                format!("message {}: not a JointState: {e}", rows.log.len() + 1),
+            )
+        })?;
+        rows.push(msg, m.log_time, joints, &p, &name)?;
+    }
+    let Some(name) = chosen else {
+        return Err(no_topic(&p, topic, &topics));
+    };
+    rows.finish(&p, &name)
+}
+
+/// The bag's bytes, refused beyond [`MAX_BAG_BYTES`].
+fn read_bounded(path: &Path, p: &str) -> Result<Vec<u8>, DataError> {
+    let io = |source| DataError::Io {
+        path: p.into(),
+        source,
+    };
+    let len = std::fs::metadata(path).map_err(io)?.len();
+    if len > MAX_BAG_BYTES {
+        return Err(DataError::Array {
+            path: p.into(),
+            array: "(bag)".into(),
+            message: format!("{len} bytes; at most {MAX_BAG_BYTES} are read"),
+        });
+    }
+    std::fs::read(path).map_err(io)
+}
+
+/// The error for a bag without the (or any) JointState topic.
+fn no_topic(p: &str, topic: Option<&str>, topics: &[(String, String)]) -> DataError {
+    let listed = if topics.is_empty() {
+        "the bag has no messages".to_string()
+    } else {
+        let t: Vec<String> = topics.iter().map(|(t, s)| format!("{t} ({s})")).collect();
+        format!("its topics: {}", t.join(", "))
+    };
+    let (array, what) = match topic {
+        Some(t) => (t.to_string(), "no messages on this topic"),
+        None => ("(topic)".to_string(), "no sensor_msgs/msg/JointState topic"),
+    };
+    DataError::Array {
+        path: p.into(),
+        array,
+        message: format!("{what}; {listed}"),
+    }
+}
+
+impl Rows {
+    /// Adds one message's row (or counts it skipped).
+    fn push(
+        &mut self,
+        msg: JointState,
+        log_time_ns: u64,
+        joints: &[&str],
+        p: &str,
+        topic: &str,
+    ) -> Result<(), DataError> {
+        let row = self.log.len() + 1;
+        let bad = |message: String| DataError::Array {
+            path: p.into(),
+            array: topic.into(),
+            message: format!("message {row}: {message}"),
+        };
+        let at: Vec<Option<usize>> = (joints.iter())
+            .map(|j| msg.name.iter().position(|n| n == j))
+            .collect();
+        if at.iter().all(Option::is_none) {
+            self.skipped += 1;
+            return Ok(());
+        }
+        if let Some(k) = at.iter().position(Option::is_none) {
+            return Err(bad(format!(
+                "joint '{}' missing (the message names {})",
+                joints[k],
+                msg.name.join(", ")
+            )));
+        }
+        if self.log.len() >= MAX_ROWS {
+            return Err(bad(format!("more than {MAX_ROWS} messages")));
+        }
+        let at: Vec<usize> = at.into_iter().flatten().collect();
+        let n = msg.name.len();
+        let pick = |v: &[f64], field: &str| -> Result<Option<Vec<f64>>, DataError> {
+            match v.len() {
+                0 if field != "position" => Ok(None),
+                l if l == n => at
+                    .iter()
+                    .map(|&i| check_value(v[i], MAX_ABS_VALUE, p, &format!("{topic}.{field}"), row))
+                    .collect::<Result<_, _>>()
+                    .map(Some),
+                l => Err(bad(format!("{l} {field} values for {n} names"))),
+            }
+        };
+        let q = pick(&msg.position, "position")?.expect("position is required");
+        let qd = pick(&msg.velocity, "velocity")?;
+        let tau = pick(&msg.effort, "effort")?;
+        let s = msg.header.stamp;
+        self.stamps_zero &= s.sec == 0 && s.nanosec == 0;
+        self.log
+            .t
+            .push(f64::from(s.sec) + 1e-9 * f64::from(s.nanosec));
+        self.log_times.push(1e-9 * log_time_ns as f64);
+        self.log.q.push(q);
+        self.optional(qd, true, row, p, topic)?;
+        self.optional(tau, false, row, p, topic)
+    }
+
+    /// Adds a row's velocities or efforts: every message has them or none.
+    fn optional(
+        &mut self,
+        v: Option<Vec<f64>>,
+        velocity: bool,
+        row: usize,
+        p: &str,
+        topic: &str,
+    ) -> Result<(), DataError> {
+        let field = if velocity { "velocity" } else { "effort" };
+        let rows = if velocity {
+            &mut self.qd
+        } else {
+            &mut self.tau
+        };
+        match v {
+            Some(v) if rows.len() + 1 == row => rows.push(v),
+            None if rows.is_empty() => {}
+            _ => {
+                return Err(DataError::Array {
+                    path: p.into(),
+                    array: format!("{topic}.{field}"),
+                    message: format!("message {row}: some messages have it and others not"),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The log, with the warnings of what was skipped or substituted.
+    fn finish(mut self, p: &str, topic: &str) -> Result<RawLog, DataError> {
+        let n = self.log.len();
+        if n == 0 {
+            return Err(DataError::Array {
+                path: p.into(),
+                array: topic.into(),
+                message: "no message names the robot's joints".into(),
+            });
+        }
+        self.log.path = p.into();
+        if self.stamps_zero && n > 1 {
+            self.log.t = self.log_times;
+            self.log.warnings.push(ReadWarning::LogTimesUsed {
+                topic: topic.into(),
+            });
+        }
+        if self.skipped > 0 {
+            self.log.warnings.push(ReadWarning::MessagesSkipped {
+                topic: topic.into(),
+                count: self.skipped,
+            });
+        }
+        let full = |v: Vec<Vec<f64>>| (v.len() == n).then_some(v);
+        self.log.qd = full(self.qd);
+        self.log.tau = full(self.tau);
+        Ok(self.log)
+    }
+}
