@@ -251,7 +251,7 @@ fn run_inner(out: &Path) -> Result<(), String> {
     let d = diagnose_real_leg(&robot, best, (out, &mut staged))
         .map_err(|e| format!("diagnosis: {e}"))?;
     print_diagnosis(&d, out);
-    let bar = indicatif::ProgressBar::new(5);
+    let bar = indicatif::ProgressBar::new(10);
     if let Ok(style) = indicatif::ProgressStyle::with_template("   {bar:40} {pos}/{len} {msg}") {
         bar.set_style(style);
     }
@@ -260,8 +260,13 @@ fn run_inner(out: &Path) -> Result<(), String> {
         bar.inc(1);
     };
     let arm = super::demo_arm::run((out, &mut staged), &mut tick);
+    let real = arm.map_err(|e| format!("the arm: {e}")).and_then(|()| {
+        super::demo_real::run((out, &mut staged), &mut tick)
+            .map_err(|e| format!("the real robot: {e}"))
+            .map(|_| ())
+    });
     bar.finish_and_clear();
-    arm.map_err(|e| format!("the arm: {e}"))?;
+    real?;
     staged.commit().map_err(|e| e.to_string())?;
     dir.keep();
     println!(
