@@ -159,9 +159,10 @@ enum Command {
         #[arg(long)]
         params: Option<String>,
         /// Data file (CSV: t, q_<joint>[, qd_<joint>][, qdd_<joint>]; extra columns are
-        /// ignored; or NumPy .npz/.npy, docs/inputs.md).
-        #[arg(long)]
-        data: PathBuf,
+        /// ignored; or NumPy .npz/.npy, or a ROS 2 .mcap bag, docs/inputs.md); repeatable:
+        /// each file is a segment, predicted in order into one output.
+        #[arg(long, required = true)]
+        data: Vec<PathBuf>,
         #[command(flatten)]
         read: ReadArgs,
         /// Output CSV: t, tau_<joint>…
@@ -207,8 +208,8 @@ enum Command {
     Identify {
         #[command(flatten)]
         robot: RobotArgs,
-        /// Training data: a CSV or NumPy .npz/.npy log (repeatable: each file is a segment that no
-        /// filter crosses).
+        /// Training data: a CSV, NumPy .npz/.npy or ROS 2 .mcap log (repeatable: each file is a
+        /// segment that no filter crosses).
         #[arg(long, required = true)]
         data: Vec<PathBuf>,
         #[command(flatten)]
@@ -260,9 +261,10 @@ enum Command {
     Diagnose {
         #[command(flatten)]
         robot: RobotArgs,
-        /// Measured data (a CSV or NumPy .npz/.npy log).
-        #[arg(long)]
-        data: PathBuf,
+        /// Measured data (a CSV, NumPy .npz/.npy or ROS 2 .mcap log); repeatable: each
+        /// file is a segment that no filter, difference or spectrum crosses.
+        #[arg(long, required = true)]
+        data: Vec<PathBuf>,
         #[command(flatten)]
         read: ReadArgs,
         /// Nominal model: cad | true or a parameter file (e.g. from identify --json);

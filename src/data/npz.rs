@@ -126,7 +126,10 @@ pub fn read_npz(
                 message: no_such_array(&names, by_default),
             })?;
         let size = f.size();
-        Array::read(&mut f, size, &p, name)
+        // large reads: the archive's checksum and inflate run on whole blocks,
+        // not on each number npyz asks for
+        let r = std::io::BufReader::with_capacity(1 << 20, &mut f);
+        Array::read(r, size, &p, name)
     };
     let t = get(mapping.time_name())?;
     let scale = mapping.time_scale().unwrap_or(1.0);

@@ -43,15 +43,38 @@ use crate::dynamics::predict::predict_torques;
 use crate::dynamics::{Friction, Model};
 use crate::effects::Context;
 use split::Split;
-use where_::{JointWhere, analyse_joint, summarise};
+use where_::{JointWhere, Sampling, analyse_joint, summarise};
 
 /// The fewest samples a diagnosis takes.
 pub const MIN_SAMPLES: usize = 100;
 
+/// Samples per second within the segments: one over the median step
+/// between samples of one segment (a gap between files is not a step).
+fn sampling_rate(data: &Dataset) -> f64 {
+    let mut steps: Vec<f64> = (data.segment_ranges().into_iter())
+        .flat_map(|s| {
+            data.t[s]
+                .windows(2)
+                .map(|w| w[1] - w[0])
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    if steps.is_empty() {
+        return 1.0;
+    }
+    let mid = steps.len() / 2;
+    let (_, m, _) = steps.select_nth_unstable_by(mid, f64::total_cmp);
+    1.0 / *m
+}
+
 /// The where-analysis of every joint's held-out residual.
 fn where_of(split: &Split, data: &Dataset, r: &[f64]) -> Vec<JointWhere> {
     let val = data.slice(split.first_heldout..split.samples);
-    let fs = (split.samples - 1) as f64 / (data.t[split.samples - 1] - data.t[0]);
+    let segments = val.segment_ranges();
+    let sampling = Sampling {
+        fs: sampling_rate(data),
+        segments: &segments,
+    };
     (0..split.joints)
         .map(|i| {
             let col = |v: &Vec<Vec<f64>>| v.iter().map(|x| x[i]).collect::<Vec<f64>>();
@@ -62,7 +85,7 @@ fn where_of(split: &Split, data: &Dataset, r: &[f64]) -> Vec<JointWhere> {
                 &col(&val.qd),
                 &col(&val.qdd),
                 &col(&val.tau),
-                fs,
+                &sampling,
             )
         })
         .collect()

@@ -94,18 +94,20 @@ pub fn analyse_joint(
     qd: &[f64],
     qdd: &[f64],
     tau: &[f64],
-    fs: f64,
+    sampling: &Sampling,
 ) -> JointWhere {
     let n = r.len();
+    let fs = sampling.fs;
     let all = stats("all".into(), r, 0..n);
-    let spectrum = band_shares(r, all.bias, fs, &[0.0, 1.0, 5.0, 20.0, fs / 2.0]);
+    let edges = [0.0, 1.0, 5.0, 20.0, fs / 2.0];
+    let spectrum = band_shares(r, all.bias, sampling, &edges);
     let autocorrelation = autocorrelation(r, 20);
     JointWhere {
         joint: joint.into(),
         rms: all.rms,
         bias: all.bias,
         torque_rms: crate::data::rms(tau.iter().copied()),
-        noise_floor: noise_floor(r),
+        noise_floor: noise_floor(r, sampling.segments),
         by_velocity: by_velocity(r, qd, fs),
         by_acceleration: by_acceleration(r, qdd),
         by_position: by_position(r, q),
@@ -126,11 +128,29 @@ pub fn analyse_joint(
     }
 }
 
-/// The white-noise level of `r` from its first differences: `√(mean Δr² / 2)`.
-fn noise_floor(r: &[f64]) -> f64 {
-    let n = r.len();
-    if n > 1 {
-        (r.windows(2).map(|w| (w[1] - w[0]).powi(2)).sum::<f64>() / (n - 1) as f64 / 2.0).sqrt()
+/// How the residual was sampled: the rate (Hz) and the segments (sample
+/// ranges, in order, covering the residual) that no difference or spectrum
+/// crosses (a file boundary or a gap in the recording).
+#[derive(Clone, Debug)]
+pub struct Sampling<'a> {
+    /// Samples per second within a segment.
+    pub fs: f64,
+    /// The segments.
+    pub segments: &'a [std::ops::Range<usize>],
+}
+
+/// The white-noise level of `r` from its first differences within each
+/// segment: `√(mean Δr² / 2)`.
+fn noise_floor(r: &[f64], segments: &[std::ops::Range<usize>]) -> f64 {
+    let (mut sum, mut count) = (0.0, 0usize);
+    for s in segments {
+        for w in r[s.clone()].windows(2) {
+            sum += (w[1] - w[0]).powi(2);
+            count += 1;
+        }
+    }
+    if count > 0 {
+        (sum / count as f64 / 2.0).sqrt()
     } else {
         0.0
     }
@@ -291,19 +311,28 @@ pub fn summarise(w: &JointWhere) -> String {
 
 /// The shares of the residual's variance (about `mean`) in the frequency
 /// bands between `edges` (Hz; the last band includes its upper edge), from
-/// its periodogram: by Parseval the shares sum to 1 (all 0 for a constant
-/// residual).
-fn band_shares(r: &[f64], mean: f64, fs: f64, edges: &[f64]) -> Vec<(String, f64)> {
-    let n = r.len();
+/// each segment's periodogram, summed (no spectrum spans a boundary): by
+/// Parseval the shares sum to 1 (all 0 for a constant residual).
+fn band_shares(r: &[f64], mean: f64, sampling: &Sampling, edges: &[f64]) -> Vec<(String, f64)> {
     let bands = edges.len().saturating_sub(1);
     let mut power = vec![0.0; bands];
-    if n >= 2 && bands > 0 {
-        let mut x: Vec<Complex<f64>> = r.iter().map(|v| Complex::new(v - mean, 0.0)).collect();
-        FftPlanner::new().plan_fft_forward(n).process(&mut x);
-        for (k, c) in x.iter().enumerate().skip(1) {
-            let f = k.min(n - k) as f64 * fs / n as f64;
+    let mut planner = FftPlanner::new();
+    for seg in sampling.segments {
+        let n = seg.len();
+        if n < 2 || bands == 0 {
+            continue;
+        }
+        let mut x: Vec<Complex<f64>> = r[seg.clone()]
+            .iter()
+            .map(|v| Complex::new(v - mean, 0.0))
+            .collect();
+        planner.plan_fft_forward(n).process(&mut x);
+        // the DC bin of a segment holds its mean's offset from the whole's:
+        // variance too, at 0 Hz
+        for (k, c) in x.iter().enumerate() {
+            let f = k.min(n - k) as f64 * sampling.fs / n as f64;
             let b = edges[1..bands].iter().filter(|&&e| f >= e).count();
-            power[b] += c.norm_sqr();
+            power[b] += c.norm_sqr() / n as f64;
         }
     }
     let total: f64 = power.iter().sum();
@@ -319,7 +348,11 @@ fn band_shares(r: &[f64], mean: f64, fs: f64, edges: &[f64]) -> Vec<(String, f64
 
 #[cfg(test)]
 mod band_tests {
-    use super::band_shares;
+    use super::{Sampling, band_shares};
+
+    fn one(fs: f64, n: usize) -> (f64, Vec<std::ops::Range<usize>>) {
+        (fs, vec![0..n])
+    }
 
     #[test]
     fn band_shares_are_shares_of_the_variance() {
@@ -333,7 +366,9 @@ mod band_tests {
                     + 0.5 * (std::f64::consts::TAU * 100.0 * t).sin()
             })
             .collect();
-        let s = band_shares(&r, 2.0, fs, &edges);
+        let (fs, seg) = one(fs, r.len());
+        let at = Sampling { fs, segments: &seg };
+        let s = band_shares(&r, 2.0, &at, &edges);
         let total: f64 = s.iter().map(|b| b.1).sum();
         assert!((total - 1.0).abs() < 1e-12, "{s:?}");
         assert!(
@@ -344,9 +379,55 @@ mod band_tests {
         assert_eq!(s[2].0, "5–20 Hz");
         // a constant residual has no variance to share
         assert!(
-            band_shares(&[1.0; 100], 1.0, fs, &edges)
-                .iter()
-                .all(|b| b.1 == 0.0)
+            band_shares(
+                &[1.0; 100],
+                1.0,
+                &Sampling {
+                    fs,
+                    segments: &[0..100]
+                },
+                &edges
+            )
+            .iter()
+            .all(|b| b.1 == 0.0)
+        );
+    }
+}
+
+#[cfg(test)]
+mod segment_tests {
+    use super::{Sampling, band_shares, noise_floor};
+    use std::f64::consts::TAU;
+
+    /// Two recordings of a 10 Hz residual joined with a phase jump: per
+    /// segment, all its variance is at 10 Hz and the noise floor is the
+    /// sine's own; spanning the boundary, the jump leaks into every band
+    /// and raises the floor.
+    #[test]
+    fn no_spectrum_or_difference_crosses_a_segment_boundary() {
+        let fs = 1000.0;
+        let edges = [0.0, 1.0, 5.0, 20.0, 500.0];
+        let sine = |k: usize, phase: f64| (TAU * 10.0 * k as f64 / fs + phase).sin();
+        let r: Vec<f64> = (0..1500)
+            .map(|k| sine(k, 0.0))
+            .chain((0..1500).map(|k| sine(k, 2.0)))
+            .collect();
+        let mean = r.iter().sum::<f64>() / r.len() as f64;
+        let two = [0..1500, 1500..3000];
+        let split = Sampling { fs, segments: &two };
+        let s = band_shares(&r, mean, &split, &edges);
+        assert!((s[2].1 - 1.0).abs() < 1e-9, "{s:?}");
+        let whole = Sampling {
+            fs,
+            segments: &[0..3000],
+        };
+        let joined = band_shares(&r, mean, &whole, &edges);
+        assert!(joined[2].1 < 1.0 - 1e-4, "{joined:?}");
+        let (a, b) = (noise_floor(&r, &two), noise_floor(&r, &[0..3000]));
+        let own = TAU * 10.0 / fs / 2.0; // √(mean Δ² / 2) of a unit sine
+        assert!(
+            (a - own).abs() < 1e-3 * own && b > 1.05 * a,
+            "{a} {b} {own}"
         );
     }
 }

@@ -14,7 +14,7 @@ pub struct DiagnoseArgs<'a> {
     /// Folders of `package://` meshes.
     pub package_paths: &'a [std::path::PathBuf],
     /// Measured data.
-    pub data: &'a Path,
+    pub data: &'a [std::path::PathBuf],
     /// How it is read.
     pub read: super::ReadChoice<'a>,
     /// `cad`, `true` or a parameter file.
@@ -37,7 +37,8 @@ fn diagnosis(a: &DiagnoseArgs) -> Result<Diagnosis, String> {
         super::parameters_for(&robot, "--nominal", a.nominal, ParamChoice::Own)?;
     let names = model.joint_names();
     let read = a.read.options(&robot, true)?;
-    let reading = super::read_data(&[a.data], &names, &read, a.robot, a.sidecar)?;
+    let paths: Vec<&Path> = a.data.iter().map(|p| p.as_path()).collect();
+    let reading = super::read_data(&paths, &names, &read, a.robot, a.sidecar)?;
     super::report_reading("--data", &reading);
     let d = reading.data;
     diagnose(&model, &friction, &d, &opts).map_err(|e| match e {
@@ -93,7 +94,7 @@ pub fn run(a: &DiagnoseArgs) -> i32 {
             return 2;
         }
     };
-    let files: Vec<&Path> = std::iter::once(data).chain(sidecar).collect();
+    let files: Vec<&Path> = (data.iter().map(|p| p.as_path())).chain(sidecar).collect();
     let inputs = super::input_files(&files, &[robot, nominal.unwrap_or("")]);
     if let Some(dir) = out
         && let Err(e) = write_outputs(&dg, &text, dir, &inputs)

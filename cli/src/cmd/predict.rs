@@ -16,8 +16,8 @@ pub struct PredictArgs<'a> {
     pub package_paths: &'a [std::path::PathBuf],
     /// `true`, `cad` or a parameter file.
     pub params: Option<&'a str>,
-    /// Input data.
-    pub data: &'a Path,
+    /// Input data (each file a segment).
+    pub data: &'a [std::path::PathBuf],
     /// How it is read.
     pub read: super::ReadChoice<'a>,
     /// Output CSV.
@@ -39,7 +39,9 @@ pub fn run(a: &PredictArgs) -> i32 {
 
 /// The output, refused early if it is one of the inputs.
 fn staged_output(a: &PredictArgs) -> Result<Staged, String> {
-    let files: Vec<&Path> = std::iter::once(a.data).chain(a.sidecar).collect();
+    let files: Vec<&Path> = (a.data.iter().map(|p| p.as_path()))
+        .chain(a.sidecar)
+        .collect();
     let staged = Staged::protecting(super::input_files(
         &files,
         &[a.robot, a.params.unwrap_or("")],
@@ -57,7 +59,8 @@ fn run_inner(a: &PredictArgs) -> Result<(), String> {
     let (model, friction) = super::parameters_for(&robot, "--params", a.params, ParamChoice::Own)?;
     let names = model.joint_names();
     let opts = a.read.options(&robot, false)?;
-    let reading = super::read_data(&[a.data], &names, &opts, a.robot, a.sidecar)?;
+    let paths: Vec<&Path> = a.data.iter().map(|p| p.as_path()).collect();
+    let reading = super::read_data(&paths, &names, &opts, a.robot, a.sidecar)?;
     super::report_reading("--data", &reading);
     let d = reading.data;
     let tau = predict_torques(&model, &friction, &d.q, &d.qd, &d.qdd).map_err(|e| e.to_string())?;
@@ -98,7 +101,11 @@ fn run_inner(a: &PredictArgs) -> Result<(), String> {
             "{}: {} samples of {} → {}",
             model.name,
             d.len(),
-            a.data.display(),
+            paths
+                .iter()
+                .map(|p| p.display().to_string())
+                .collect::<Vec<_>>()
+                .join(", "),
             a.out.display()
         );
         if let Some(r) = rms {
