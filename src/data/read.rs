@@ -57,11 +57,22 @@ pub fn read_logs(
     joints: &[&str],
     opts: &ReadOptions,
 ) -> Result<Reading, DataError> {
-    let raws = paths
-        .iter()
-        .map(|p| read_raw(p, joints, opts))
+    use rayon::prelude::*;
+    // each file read and prepared on its own (in parallel), then joined in order
+    let each = paths
+        .par_iter()
+        .map(|p| {
+            read_raw(p, joints, opts).and_then(|raw| prepare(raw, &prep_of(opts), opts.require_tau))
+        })
         .collect::<Result<Vec<_>, _>>()?;
-    prepared(raws, joints, opts)
+    joined(each, joints)
+}
+
+fn prep_of(opts: &ReadOptions) -> Prepare {
+    Prepare {
+        cutoff_hz: opts.cutoff_hz,
+        velocity: opts.velocity,
+    }
 }
 
 /// One file, raw.
@@ -111,27 +122,29 @@ fn read_raw(path: &Path, joints: &[&str], opts: &ReadOptions) -> Result<RawLog, 
     }
 }
 
-/// Raw logs prepared and joined: segments in file order; a file whose
-/// time stamps do not follow the previous one's is shifted to start one
-/// step after it (times stay increasing; the segments stay apart).
+/// Raw logs prepared and joined (see [`joined`]).
 pub(crate) fn prepared(
     raws: Vec<RawLog>,
     joints: &[&str],
     opts: &ReadOptions,
 ) -> Result<Reading, DataError> {
-    let prep = Prepare {
-        cutoff_hz: opts.cutoff_hz,
-        velocity: opts.velocity,
-    };
+    let each = (raws.into_iter())
+        .map(|raw| prepare(raw, &prep_of(opts), opts.require_tau))
+        .collect::<Result<Vec<_>, _>>()?;
+    joined(each, joints)
+}
+
+/// Prepared files joined: segments in file order; a file whose time stamps
+/// do not follow the previous one's is shifted to start one step after it
+/// (times stay increasing; the segments stay apart).
+fn joined(each: Vec<(Vec<Dataset>, FileReport)>, joints: &[&str]) -> Result<Reading, DataError> {
     let mut data = Dataset::empty(joints);
     let mut files = vec![];
-    for raw in raws {
-        let path = raw.path.clone();
-        let (segments, report) = prepare(raw, &prep, opts.require_tau)?;
+    for (segments, report) in each {
         for s in segments {
             if !data.is_empty() && data.tau.is_empty() != s.tau.is_empty() {
                 return Err(DataError::Array {
-                    path,
+                    path: report.path,
                     array: "tau".into(),
                     message: "torques in some files and not in others".into(),
                 });

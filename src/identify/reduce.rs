@@ -25,7 +25,16 @@ pub struct Reduced {
     pub samples: usize,
     /// Number of regressor columns p.
     pub p: usize,
+    /// Per joint, the Gram matrix of its rows alone (they sum to `gram`),
+    /// whence each joint's residual without predicting again
+    /// ([`Reduced::joint_rss`]); empty when not kept (a robot whose
+    /// n·(p + 1)² values exceed [`JOINT_GRAMS_BUDGET_BYTES`], or a Gram
+    /// matrix given whole).
+    pub joint_grams: Vec<Mat<f64>>,
 }
+
+/// The most memory per thread the per-joint Gram matrices may take.
+pub const JOINT_GRAMS_BUDGET_BYTES: usize = 8 << 20;
 
 impl Reduced {
     /// Reduced data from a Gram matrix `[A b]ᵀ[A b]` ((p + 1) × (p + 1):
@@ -55,6 +64,7 @@ impl Reduced {
             gram,
             samples,
             p: r - 1,
+            joint_grams: vec![],
         })
     }
 
@@ -81,6 +91,25 @@ impl Reduced {
         Ok(Mat::<f64>::from_fn(p1, p1, |k, j| {
             lam[k].max(0.0).sqrt() * v[(j, k)] * s[j]
         }))
+    }
+
+    /// Per joint, the residual sum of squares `Σ (yᵢ θ − τᵢ)²` over the
+    /// samples, from its Gram matrix (`[θ; −1]ᵀ Gᵢ [θ; −1]`, at least 0);
+    /// `None` when the per-joint matrices were not kept.
+    pub fn joint_rss(&self, theta: &[f64]) -> Option<Vec<f64>> {
+        if self.joint_grams.is_empty() || theta.len() != self.p {
+            return None;
+        }
+        let x = |k: usize| if k < self.p { theta[k] } else { -1.0 };
+        let quad = |g: &Mat<f64>| {
+            let mut sum = 0.0;
+            for j in 0..=self.p {
+                let col: f64 = (0..=self.p).map(|i| g[(i, j)] * x(i)).sum();
+                sum += x(j) * col;
+            }
+            sum.max(0.0)
+        };
+        Some(self.joint_grams.iter().map(quad).collect())
     }
 
     /// `(R, d)`: R = F[:, 0..p] ((p + 1) × p) and d = F[:, p].
@@ -137,7 +166,7 @@ impl Rows {
     /// and each group multiplies only its columns that are not zero
     /// throughout (exact: a dropped column contributes nothing); for the leg
     /// this is a third of the dense product's work.
-    fn add_gram_lower(&mut self, g: &mut Mat<f64>) {
+    fn add_gram_lower(&mut self, g: &mut Mat<f64>, mut joints: Option<&mut [Mat<f64>]>) {
         let (n, p1, samples) = (self.n, self.p1, self.samples);
         let mut block = Vec::new();
         for i in 0..n {
@@ -169,6 +198,13 @@ impl Rows {
             for (b, &cb) in cols.iter().enumerate() {
                 for (a, &ca) in cols.iter().enumerate().skip(b) {
                     g[(ca, cb)] += gi[(a, b)];
+                }
+            }
+            if let Some(j) = joints.as_deref_mut() {
+                for (b, &cb) in cols.iter().enumerate() {
+                    for (a, &ca) in cols.iter().enumerate().skip(b) {
+                        j[i][(ca, cb)] += gi[(a, b)];
+                    }
                 }
             }
         }
@@ -279,29 +315,59 @@ fn chunk_for(chunk: usize, n: usize, p1: usize) -> usize {
     chunk.min(ROWS_BUDGET_BYTES / per_sample).max(1)
 }
 
-/// Adds the Gram matrix of samples `start..end` to `g` (rows built,
-/// multiplied, dropped).
-fn chunk_gram(
-    model: &Model,
-    samples: [&[Vec<f64>]; 4],
-    start: usize,
-    end: usize,
-    g: &mut Mat<f64>,
-) -> Result<(), IdentifyError> {
-    let [q, qd, qdd, tau] = samples;
-    let n = model.dof();
-    let p = model.regressor_columns();
-    let p1 = p + 1;
-    let mut data = crate::dynamics::Data::new(model);
-    let mut rows = Rows::new(n, p1, end - start);
-    for s in start..end {
-        crate::dynamics::regressor(model, &mut data, &q[s], &qd[s], &qdd[s])
-            .map_err(|source| IdentifyError::Regressor { sample: s, source })?;
-        finite_sample(s, data.regressor.as_slice(), &tau[s])?;
-        rows.push(data.regressor.as_slice(), &tau[s]);
+/// One thread's work space: its Gram sum, a chunk of rows and the
+/// dynamics' scratch, made once per thread, not once per chunk.
+struct Acc {
+    gram: Mat<f64>,
+    joints: Vec<Mat<f64>>,
+    rows: Rows,
+    data: crate::dynamics::Data,
+}
+
+impl Acc {
+    fn new(model: &Model, chunk: usize) -> Self {
+        let (n, p1) = (model.dof(), model.regressor_columns() + 1);
+        let keep = n * p1 * p1 * std::mem::size_of::<f64>() <= JOINT_GRAMS_BUDGET_BYTES;
+        Self {
+            gram: Mat::zeros(p1, p1),
+            joints: if keep {
+                vec![Mat::zeros(p1, p1); n]
+            } else {
+                vec![]
+            },
+            rows: Rows::new(n, p1, chunk),
+            data: crate::dynamics::Data::new(model),
+        }
     }
-    rows.add_gram_lower(g);
-    Ok(())
+
+    /// Another thread's sums added to these.
+    fn merge(mut self, other: Self) -> Self {
+        self.gram += other.gram;
+        for (a, b) in self.joints.iter_mut().zip(other.joints) {
+            *a += b;
+        }
+        self
+    }
+
+    /// Adds the Gram matrix of samples `start..end` (rows built,
+    /// multiplied, dropped).
+    fn add(
+        &mut self,
+        model: &Model,
+        samples: [&[Vec<f64>]; 4],
+        range: std::ops::Range<usize>,
+    ) -> Result<(), IdentifyError> {
+        let [q, qd, qdd, tau] = samples;
+        for s in range {
+            crate::dynamics::regressor(model, &mut self.data, &q[s], &qd[s], &qdd[s])
+                .map_err(|source| IdentifyError::Regressor { sample: s, source })?;
+            finite_sample(s, self.data.regressor.as_slice(), &tau[s])?;
+            self.rows.push(self.data.regressor.as_slice(), &tau[s]);
+        }
+        let joints = (!self.joints.is_empty()).then_some(self.joints.as_mut_slice());
+        self.rows.add_gram_lower(&mut self.gram, joints);
+        Ok(())
+    }
 }
 
 /// Reduces samples `q, q̇, q̈` with targets τ (columns: links, rotors,
@@ -322,25 +388,29 @@ pub fn reduce_samples(
     let chunk = chunk_for(chunk, n, p + 1);
     let starts: Vec<usize> = (0..q.len()).step_by(chunk).collect();
     // one Gram accumulator per thread, not one per chunk
-    let per_thread = starts.len().div_ceil(rayon::current_num_threads()).max(1);
-    let zeros = || Mat::<f64>::zeros(p + 1, p + 1);
-    let mut gram = starts
+    // rounded down: a count that does not divide evenly must still split
+    // (rounded up, 39 chunks on 2 threads would need halves of 20 and stay whole)
+    let per_thread = (starts.len() / rayon::current_num_threads()).max(1);
+    let acc = starts
         .par_iter()
         .with_min_len(per_thread)
-        .try_fold(zeros, |mut g, &start| {
-            let end = (start + chunk).min(q.len());
-            chunk_gram(model, [q, qd, qdd, tau], start, end, &mut g).map(|()| g)
-        })
-        .try_reduce(zeros, |mut a, b| {
-            a += b;
-            Ok(a)
-        })?;
+        .try_fold(
+            || Acc::new(model, chunk),
+            |mut acc, &start| {
+                let end = (start + chunk).min(q.len());
+                acc.add(model, [q, qd, qdd, tau], start..end).map(|()| acc)
+            },
+        )
+        .try_reduce(|| Acc::new(model, 1), |a, b| Ok(a.merge(b)))?;
+    let (mut gram, mut joint_grams) = (acc.gram, acc.joints);
     finite_gram(&gram)?;
     symmetrize(&mut gram);
+    joint_grams.iter_mut().for_each(symmetrize);
     Ok(Reduced {
         gram,
         samples: q.len(),
         p,
+        joint_grams,
     })
 }
 
@@ -370,6 +440,7 @@ impl<'m> StreamReducer<'m> {
                 gram: Mat::zeros(p + 1, p + 1),
                 samples: 0,
                 p,
+                joint_grams: vec![],
             },
         }
     }
@@ -398,14 +469,14 @@ impl<'m> StreamReducer<'m> {
         self.rows.push(self.data.regressor.as_slice(), tau);
         self.red.samples += 1;
         if self.rows.samples == self.chunk {
-            self.rows.add_gram_lower(&mut self.red.gram);
+            self.rows.add_gram_lower(&mut self.red.gram, None);
         }
         Ok(())
     }
 
     /// The reduced data; an error if the sums overflowed.
     pub fn finish(mut self) -> Result<Reduced, IdentifyError> {
-        self.rows.add_gram_lower(&mut self.red.gram);
+        self.rows.add_gram_lower(&mut self.red.gram, None);
         finite_gram(&self.red.gram)?;
         symmetrize(&mut self.red.gram);
         Ok(self.red)
@@ -439,8 +510,28 @@ mod tests {
             rows.push(&y, &tau);
         }
         let mut g = Mat::<f64>::zeros(p + 1, p + 1);
-        rows.add_gram_lower(&mut g);
+        let mut joints = vec![Mat::<f64>::zeros(p + 1, p + 1); n];
+        rows.add_gram_lower(&mut g, Some(&mut joints));
         symmetrize(&mut g);
+        joints.iter_mut().for_each(symmetrize);
+        // each joint's residual from its own Gram matrix, for some θ
+        let theta: Vec<f64> = (0..p).map(|c| 0.1 * c as f64 - 0.3).collect();
+        let red = super::Reduced {
+            gram: g.clone(),
+            samples,
+            p,
+            joint_grams: joints,
+        };
+        let rss = red.joint_rss(&theta).unwrap();
+        for (i, got) in rss.iter().enumerate() {
+            let want: f64 = (0..samples)
+                .map(|s| ((0..p).map(|c| x(s, i, c) * theta[c]).sum::<f64>() - x(s, i, p)).powi(2))
+                .sum();
+            assert!(
+                (got - want).abs() < 1e-9 * want,
+                "joint {i}: {got} vs {want}"
+            );
+        }
         for a in 0..=p {
             for b in 0..=p {
                 let want: f64 = (0..samples)

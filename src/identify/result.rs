@@ -242,29 +242,68 @@ pub fn predict_split(
     d: &Dataset,
 ) -> Result<(Vec<Vec<f64>>, Contributions), IdentifyError> {
     let n = model.dof();
-    let nl = 10 * n;
-    let nb = model.num_bodies();
-    let mut data = Data::new(model);
+    let parts = sample_parts(model, theta, d)?;
     let mut total = Vec::with_capacity(d.len());
     let mut c = Contributions::default();
-    for k in 0..d.len() {
-        let y = regressor(model, &mut data, &d.q[k], &d.qd[k], &d.qdd[k])?;
-        let part = |lo: usize, hi: usize| -> Vec<f64> {
-            (0..n)
-                .map(|i| (lo..hi).map(|j| y[(i, j)] * theta[j]).sum())
-                .collect()
-        };
-        let (l, r, f) = (
-            part(0, nl),
-            part(nl, 10 * nb),
-            part(10 * nb, model.regressor_columns()),
-        );
+    for [l, r, f] in parts {
         total.push((0..n).map(|i| l[i] + r[i] + f[i]).collect());
         c.links.push(l);
         c.rotors.push(r);
         c.friction.push(f);
     }
     Ok((total, c))
+}
+
+/// Per sample, `Y θ` split into the links', the rotors' and friction's
+/// columns (n each), in parallel over blocks of samples.
+fn sample_parts(
+    model: &Model,
+    theta: &[f64],
+    d: &Dataset,
+) -> Result<Vec<[Vec<f64>; 3]>, IdentifyError> {
+    use rayon::prelude::*;
+    let n = model.dof();
+    let bounds = [
+        0,
+        10 * n,
+        10 * model.num_bodies(),
+        model.regressor_columns(),
+    ];
+    (0..d.len())
+        .into_par_iter()
+        .with_min_len(512)
+        .map_init(
+            || Data::new(model),
+            |data, k| {
+                let y = regressor(model, data, &d.q[k], &d.qd[k], &d.qdd[k])?;
+                // column-major n × p
+                let y = y.as_slice();
+                Ok(std::array::from_fn(|part| {
+                    let (lo, hi) = (bounds[part], bounds[part + 1]);
+                    (0..n)
+                        .map(|i| (lo..hi).map(|j| y[j * n + i] * theta[j]).sum())
+                        .collect()
+                }))
+            },
+        )
+        .collect()
+}
+
+/// RMS per joint of the training residual: from each joint's Gram matrix
+/// when the reduction kept them (no second pass over the samples), else by
+/// predicting again.
+fn training_rms(
+    model: &Model,
+    theta: &[f64],
+    train: &Dataset,
+    red: &super::reduce::Reduced,
+) -> Result<Vec<f64>, IdentifyError> {
+    Ok(match red.joint_rss(theta) {
+        Some(rss) => (rss.iter())
+            .map(|r| (r / train.len() as f64).sqrt())
+            .collect(),
+        None => rms(&predict_split(model, theta, train)?.0, &train.tau),
+    })
 }
 
 /// The names of the bodies that `keep` accepts.
@@ -398,7 +437,7 @@ impl Identification<'_> {
             with_torques(v)?;
         }
         self.check_memory(train.len())?;
-        let red = reduce_samples(model, &train.q, &train.qd, &train.qdd, &train.tau, 1024)?;
+        let red = reduce_samples(model, &train.q, &train.qd, &train.qdd, &train.tau, 256)?;
         let reduce_time = t0.elapsed().as_secs_f64();
         let solved = self.solve(&red)?;
         let theta = &solved.theta;
@@ -406,8 +445,7 @@ impl Identification<'_> {
         let inconsistent_bodies = names_where(&bodies, |b| !b.consistent);
         let degenerate_bodies = names_where(&bodies, |b| b.degenerate.is_some());
         let friction = solved.friction_law();
-        let (train_pred, _) = predict_split(model, theta, train)?;
-        let training_rms = rms(&train_pred, &train.tau);
+        let training_rms = training_rms(model, theta, train, &red)?;
         let (validation_rms, validation_prediction, contributions, vs) = match validate {
             Some(v) => {
                 let (pred, c) = predict_split(model, theta, v)?;

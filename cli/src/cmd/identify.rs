@@ -226,11 +226,22 @@ fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
         let p: Vec<&Path> = paths.iter().map(|p| p.as_path()).collect();
         super::read_data(&p, &names, &opts, a.robot, a.sidecar)
     };
-    let train = read(a.data)?;
+    // the training and validation files are read at once
+    let (train, val) = std::thread::scope(|s| {
+        let val = s.spawn(|| {
+            (!a.validate.is_empty())
+                .then(|| read(a.validate))
+                .transpose()
+        });
+        let train = read(a.data);
+        let val = val
+            .join()
+            .unwrap_or_else(|_| Err("reading the validation data failed".to_string()));
+        (train, val)
+    });
+    let train = train?;
     super::report_reading("--data", &train);
-    let val = (!a.validate.is_empty())
-        .then(|| read(a.validate))
-        .transpose()?;
+    let val = val?;
     if let Some(v) = &val {
         super::report_reading("--validate", v);
     }
