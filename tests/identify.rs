@@ -107,13 +107,26 @@ fn noisy_identification_satisfies_its_constraints_checked_by_moments() {
         );
         let v = r.validation_rms.unwrap();
         assert!(v.iter().all(|&x| x < 0.6), "{level:?}: {v:?}");
-        // the contributions add up to the prediction
+        // the contributions add up to the prediction, and each (by RNEA on
+        // the model with only its bodies) is its regressor columns times θ
         let (pred, c) = predict_split(&model, &r.theta, &val).unwrap();
+        let mut d = Data::new(&model);
+        let (nl, nb) = (30, 10 * model.num_bodies());
         for k in (0..val.len()).step_by(500) {
+            let y = regressor(&model, &mut d, &val.q[k], &val.qd[k], &val.qdd[k]).unwrap();
+            let cols = |lo: usize, hi: usize, i: usize| -> f64 {
+                (lo..hi).map(|j| y[(i, j)] * r.theta[j]).sum()
+            };
             for i in 0..3 {
-                assert!(
-                    (c.links[k][i] + c.rotors[k][i] + c.friction[k][i] - pred[k][i]).abs() < 1e-9
-                );
+                let parts = [c.links[k][i], c.rotors[k][i], c.friction[k][i]];
+                let want = [cols(0, nl, i), cols(nl, nb, i), cols(nb, r.theta.len(), i)];
+                for (got, want) in parts.iter().zip(want) {
+                    assert!(
+                        (got - want).abs() < 1e-9 * (1.0 + want.abs()),
+                        "{got} {want}"
+                    );
+                }
+                assert!((parts.iter().sum::<f64>() - pred[k][i]).abs() < 1e-9);
             }
         }
     }

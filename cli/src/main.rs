@@ -1,4 +1,11 @@
 //! The `momentlmi` binary: a thin shell over [`momentlmi_cli::main`].
+
+/// mimalloc: the logs' per-sample rows and the reduction's blocks are many
+/// allocations; glibc's malloc maps and faults in every large block anew
+/// (docs/benchmarks.md has the difference).
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 fn main() {
     // Clarabel panics on some numerically hopeless problems; the conic layer
     // catches that and reports a solver error, so the panic's own message

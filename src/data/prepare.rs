@@ -228,13 +228,24 @@ fn drop_repeats(raw: RawLog, report: &mut FileReport) -> Result<RawLog, DataErro
         }
     }
     report.repeated_rows_dropped = raw.len() - keep.len();
-    let pick = |v: &Vec<Vec<f64>>| keep.iter().map(|&k| v[k].clone()).collect::<Vec<_>>();
+    if keep.len() == raw.len() {
+        return Ok(RawLog { qdd: None, ..raw });
+    }
+    // the kept rows moved, not copied
+    let pick = |v: Vec<Vec<f64>>| {
+        let mut it = v.into_iter().enumerate();
+        let mut out = Vec::with_capacity(keep.len());
+        for &k in &keep {
+            out.extend(it.by_ref().find(|(i, _)| *i == k).map(|(_, r)| r));
+        }
+        out
+    };
     Ok(RawLog {
         t: keep.iter().map(|&k| raw.t[k]).collect(),
-        q: pick(&raw.q),
-        qd: raw.qd.as_ref().map(pick),
+        q: pick(raw.q),
+        qd: raw.qd.map(pick),
         qdd: None,
-        tau: raw.tau.as_ref().map(pick),
+        tau: raw.tau.map(pick),
         path: raw.path,
         warnings: raw.warnings,
     })
@@ -328,12 +339,13 @@ fn filtered(u: &RawLog, fs: f64, cutoff: f64, velocity: Velocity, trim: usize) -
     let qdd = columns_map(&qd, |x| differentiate(x, &u.t));
     let tau = u.tau.as_ref().map(lp).unwrap_or_default();
     let keep = trim..n - trim;
-    let cut = |v: Vec<Vec<f64>>| {
-        if v.is_empty() {
-            v
-        } else {
-            v[keep.clone()].to_vec()
+    // the ends dropped in place: rows are moved, not copied
+    let cut = |mut v: Vec<Vec<f64>>| {
+        if !v.is_empty() {
+            v.truncate(keep.end);
+            v.drain(..keep.start);
         }
+        v
     };
     Some(Dataset {
         joints: vec![],

@@ -8,7 +8,7 @@ use super::warning::IdentifyWarning;
 use crate::data::Dataset;
 use crate::dynamics::Friction;
 use crate::dynamics::params_file::{BodyParams, ParamsFile};
-use crate::dynamics::{Data, Model, regressor};
+use crate::dynamics::{Data, FrictionTerm, Model, rnea};
 use crate::moments::{
     ConsistencyReport, DEGENERATE_TOL, DegenerateShape, InertialParams, RealizabilityReport,
     check_consistency, check_realizable, degenerate_shape, entropic_divergence,
@@ -255,35 +255,49 @@ pub fn predict_split(
 }
 
 /// Per sample, `Y θ` split into the links', the rotors' and friction's
-/// columns (n each), in parallel over blocks of samples.
+/// columns (n each), in parallel over blocks of samples: the links' and the
+/// rotors' parts by RNEA on the model with only those bodies' parameters
+/// (τ is linear in them), friction from its basis.
 fn sample_parts(
     model: &Model,
     theta: &[f64],
     d: &Dataset,
 ) -> Result<Vec<[Vec<f64>; 3]>, IdentifyError> {
     use rayon::prelude::*;
-    let n = model.dof();
-    let bounds = [
-        0,
-        10 * n,
-        10 * model.num_bodies(),
-        model.regressor_columns(),
-    ];
+    let (n, nl, nb) = (model.dof(), 10 * model.dof(), 10 * model.num_bodies());
+    let only = |range: std::ops::Range<usize>| -> Result<Model, IdentifyError> {
+        let p: Vec<f64> = (0..nb)
+            .map(|k| if range.contains(&k) { theta[k] } else { 0.0 })
+            .collect();
+        let mut m = model.clone();
+        m.set_params(&p)?;
+        Ok(m)
+    };
+    let (links, rotors) = (only(0..nl)?, only(nl..nb)?);
+    let has_rotors = nb > nl;
+    let friction = |qd: &[f64]| -> Vec<f64> {
+        (0..n)
+            .map(|i| {
+                (FrictionTerm::ALL.iter().enumerate())
+                    .map(|(t, term)| theta[nb + t * n + i] * term.basis(qd[i]))
+                    .sum()
+            })
+            .collect()
+    };
     (0..d.len())
         .into_par_iter()
         .with_min_len(512)
         .map_init(
             || Data::new(model),
             |data, k| {
-                let y = regressor(model, data, &d.q[k], &d.qd[k], &d.qdd[k])?;
-                // column-major n × p
-                let y = y.as_slice();
-                Ok(std::array::from_fn(|part| {
-                    let (lo, hi) = (bounds[part], bounds[part + 1]);
-                    (0..n)
-                        .map(|i| (lo..hi).map(|j| y[j * n + i] * theta[j]).sum())
-                        .collect()
-                }))
+                let (q, qd, qdd) = (&d.q[k], &d.qd[k], &d.qdd[k]);
+                let l = rnea(&links, data, q, qd, qdd)?.as_slice().to_vec();
+                let r = if has_rotors {
+                    rnea(&rotors, data, q, qd, qdd)?.as_slice().to_vec()
+                } else {
+                    vec![0.0; n]
+                };
+                Ok([l, r, friction(qd)])
             },
         )
         .collect()
