@@ -444,12 +444,25 @@ impl Identification<'_> {
         train: &Dataset,
         validate: Option<&Dataset>,
     ) -> Result<IdentifyResult, IdentifyError> {
-        let model = self.model();
         let t0 = std::time::Instant::now();
-        with_torques(train)?;
         if let Some(v) = validate {
             with_torques(v)?;
         }
+        let mut r = self.fit(train)?;
+        if let Some(v) = validate {
+            r.validate(self.model(), v)?;
+        }
+        r.total_time_s = t0.elapsed().as_secs_f64();
+        Ok(r)
+    }
+
+    /// Reduces `train`, solves and checks every body (no validation: see
+    /// [`IdentifyResult::validate`], e.g. once held-out data read meanwhile
+    /// are in).
+    pub fn fit(&self, train: &Dataset) -> Result<IdentifyResult, IdentifyError> {
+        let model = self.model();
+        let t0 = std::time::Instant::now();
+        with_torques(train)?;
         self.check_memory(train.len())?;
         let red = reduce_samples(model, &train.q, &train.qd, &train.qdd, &train.tau, 256)?;
         let reduce_time = t0.elapsed().as_secs_f64();
@@ -460,17 +473,9 @@ impl Identification<'_> {
         let degenerate_bodies = names_where(&bodies, |b| b.degenerate.is_some());
         let friction = solved.friction_law();
         let training_rms = training_rms(model, theta, train, &red)?;
-        let (validation_rms, validation_prediction, contributions, vs) = match validate {
-            Some(v) => {
-                let (pred, c) = predict_split(model, theta, v)?;
-                (Some(rms(&pred, &v.tau)), pred, c, v.len())
-            }
-            None => (None, vec![], Contributions::default(), 0),
-        };
         let status = solved.status;
         let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
-        if !(finite(theta) && finite(&training_rms) && validation_rms.as_deref().is_none_or(finite))
-        {
+        if !(finite(theta) && finite(&training_rms)) {
             return Err(IdentifyError::Overflow {
                 what: "the identified parameters or their RMS errors",
             });
@@ -504,15 +509,41 @@ impl Identification<'_> {
             unidentifiable_directions: solved.unidentifiable.clone(),
             training_samples: train.len(),
             training_rms,
-            validation_rms,
-            validation_samples: vs,
+            validation_rms: None,
+            validation_samples: 0,
             solve_time_s: solved.solve_time_s,
             reduce_time_s: reduce_time,
             total_time_s: t0.elapsed().as_secs_f64(),
             data_preparation: DataPreparation::default(),
-            validation_prediction,
-            contributions,
+            validation_prediction: vec![],
+            contributions: Contributions::default(),
             theta: solved.theta,
         })
+    }
+}
+
+impl IdentifyResult {
+    /// Validates on held-out data `v` (with torques) for the `model` it was
+    /// identified on: the prediction, its parts and the RMS error per joint.
+    pub fn validate(&mut self, model: &Model, v: &Dataset) -> Result<(), IdentifyError> {
+        with_torques(v)?;
+        if self.theta.len() != model.regressor_columns() {
+            return Err(IdentifyError::Columns {
+                expected: model.regressor_columns(),
+                found: self.theta.len(),
+            });
+        }
+        let (pred, c) = predict_split(model, &self.theta, v)?;
+        let r = rms(&pred, &v.tau);
+        if !r.iter().all(|x| x.is_finite()) {
+            return Err(IdentifyError::Overflow {
+                what: "the held-out RMS errors",
+            });
+        }
+        self.validation_rms = Some(r);
+        self.validation_samples = v.len();
+        self.validation_prediction = pred;
+        self.contributions = c;
+        Ok(())
     }
 }

@@ -226,33 +226,37 @@ fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
         let p: Vec<&Path> = paths.iter().map(|p| p.as_path()).collect();
         super::read_data(&p, &names, &opts, a.robot, a.sidecar)
     };
-    // the training and validation files are read at once
-    let (train, val) = std::thread::scope(|s| {
+    // the validation files are read while the training data are reduced
+    // and the SDP solved (on the core the solver leaves idle)
+    std::thread::scope(|s| {
         let val = s.spawn(|| {
             (!a.validate.is_empty())
                 .then(|| read(a.validate))
                 .transpose()
         });
-        let train = read(a.data);
+        let train = read(a.data)?;
+        super::report_reading("--data", &train);
+        let id = identification(a, &robot)?.max_memory(super::gib(a.max_memory_gib)?);
+        super::warn_cost(momentlmi::identify::cost(&robot.model, train.data.len()).flops);
+        let mut r = id.fit(&train.data).map_err(explain)?;
         let val = val
             .join()
-            .unwrap_or_else(|_| Err("reading the validation data failed".to_string()));
-        (train, val)
-    });
-    let train = train?;
-    super::report_reading("--data", &train);
-    let val = val?;
-    if let Some(v) = &val {
-        super::report_reading("--validate", v);
-    }
-    let preparation = momentlmi::identify::DataPreparation {
-        training: train.files.clone(),
-        validation: val.as_ref().map(|v| v.files.clone()).unwrap_or_default(),
-    };
-    let (train, val) = (train.data, val.map(|v| v.data));
-    let id = identification(a, &robot)?.max_memory(super::gib(a.max_memory_gib)?);
-    super::warn_cost(momentlmi::identify::cost(&robot.model, train.len()).flops);
-    let mut r = id.identify(&train, val.as_ref()).map_err(|e| match e {
+            .unwrap_or_else(|_| Err("reading the validation data failed".to_string()))?;
+        if let Some(v) = &val {
+            super::report_reading("--validate", v);
+            r.validate(&robot.model, &v.data).map_err(explain)?;
+        }
+        r.data_preparation = momentlmi::identify::DataPreparation {
+            training: train.files,
+            validation: val.map(|v| v.files).unwrap_or_default(),
+        };
+        Ok(r)
+    })
+}
+
+/// An identification error, with the option it concerns and what to do.
+fn explain(e: IdentifyError) -> String {
+    match e {
         IdentifyError::NoEllipsoid { .. } | IdentifyError::EllipsoidCount { .. } => {
             format!("--constraints ellipsoid: {e}")
         }
@@ -265,9 +269,7 @@ fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
         | IdentifyError::Prior { .. } => format!("--prior / --regularizer: {e}"),
         IdentifyError::TooLarge { .. } => format!("{e}\nhint: --max-memory-gib raises the limit"),
         e => e.to_string(),
-    })?;
-    r.data_preparation = preparation;
-    Ok(r)
+    }
 }
 
 /// A short human report.
