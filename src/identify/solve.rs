@@ -42,7 +42,6 @@ impl Identification<'_> {
     /// Solves on reduced data.
     pub fn solve(&self, red: &Reduced) -> Result<Solved, IdentifyError> {
         let model = self.model;
-        let nb = model.num_bodies();
         let p = model.regressor_columns();
         if red.p != p {
             return Err(IdentifyError::Columns {
@@ -58,8 +57,34 @@ impl Identification<'_> {
         }
         self.check()?;
         let (r, d) = red.r_d()?;
-        let (rank, unidentifiable) = identifiability(&r, &parameter_names(model))?;
-        let ns = red.samples as f64;
+        // the identifiability analysis (an SVD) runs beside the solve
+        std::thread::scope(|s| {
+            let ident = s.spawn(|| identifiability(&r, &parameter_names(model)));
+            let solved = self.solve_factored(&r, &d, red.samples);
+            let (rank, unidentifiable) =
+                ident.join().unwrap_or(Err(IdentifyError::Factorisation {
+                    what: "the identifiability analysis (its thread panicked)",
+                }))?;
+            solved.map(|s| Solved {
+                rank,
+                unidentifiable,
+                ..s
+            })
+        })
+    }
+
+    /// Solves on the factor `(R, d)` of `samples` samples; the rank and the
+    /// unidentifiable directions are left for the caller.
+    fn solve_factored(
+        &self,
+        r: &Mat<f64>,
+        d: &[f64],
+        samples: usize,
+    ) -> Result<Solved, IdentifyError> {
+        let model = self.model;
+        let nb = model.num_bodies();
+        let (rank, unidentifiable) = (0, vec![]);
+        let ns = samples as f64;
         let t0 = std::time::Instant::now();
         let reg = Prior {
             weight: self.weight,
