@@ -315,6 +315,47 @@ fn truncated_and_corrupt_bags_are_errors_naming_the_file() {
     );
 }
 
+/// Records whose headers claim more than a bag could hold (a hostile or
+/// corrupt file) are errors, not allocations: a 1 TiB record, and a small
+/// zstd chunk claiming 1 TiB once decompressed.
+#[test]
+fn records_claiming_huge_lengths_are_errors() {
+    let d = dir("huge");
+    let magic = b"\x89MCAP0\r\n";
+    let mut header = vec![0x01];
+    header.extend(10u64.to_le_bytes());
+    header.extend(0u32.to_le_bytes()); // profile ""
+    header.extend(2u32.to_le_bytes());
+    header.extend(b"rs"); // library "rs"
+    let mut huge = magic.to_vec();
+    huge.extend([0x01]);
+    huge.extend((1u64 << 40).to_le_bytes());
+    huge.extend([0u8; 64]);
+    let mut chunk = magic.to_vec();
+    chunk.extend(&header);
+    let body: Vec<u8> = [
+        &0u64.to_le_bytes()[..],         // message start time
+        &0u64.to_le_bytes()[..],         // message end time
+        &(1u64 << 40).to_le_bytes()[..], // uncompressed size
+        &0u32.to_le_bytes()[..],         // uncompressed crc
+        &4u32.to_le_bytes()[..],
+        b"zstd",
+        &16u64.to_le_bytes()[..], // records
+        &[0x28, 0xb5, 0x2f, 0xfd, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0],
+    ]
+    .concat();
+    chunk.push(0x06);
+    chunk.extend((body.len() as u64).to_le_bytes());
+    chunk.extend(body);
+    chunk.extend(magic);
+    for (name, bytes) in [("huge.mcap", huge), ("chunk.mcap", chunk)] {
+        let p = d.join(name);
+        std::fs::write(&p, bytes).unwrap();
+        let e = read_logs(&[&p], &J, &opts()).unwrap_err().to_string();
+        assert!(e.contains(name) && e.contains("(bag)"), "{e}");
+    }
+}
+
 #[test]
 fn a_message_round_trips_through_cdr() {
     let m = state(1.25, true);

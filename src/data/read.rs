@@ -64,7 +64,9 @@ pub fn read_logs(
         .map(|p| {
             read_raw(p, joints, opts).and_then(|raw| prepare(raw, &prep_of(opts), opts.require_tau))
         })
-        .collect::<Result<Vec<_>, _>>()?;
+        .collect::<Vec<_>>()
+        .into_iter()
+        .collect::<Result<Vec<_>, _>>()?; // the first file's error, whichever thread met it first
     joined(each, joints)
 }
 

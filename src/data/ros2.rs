@@ -90,8 +90,80 @@ struct Rows {
     stamps_zero: bool,
     log_times: Vec<f64>,
     skipped: usize,
+    /// Messages on the topic so far (the number errors give).
+    seen: usize,
     qd: Vec<Vec<f64>>,
     tau: Vec<Vec<f64>>,
+}
+
+/// The longest MCAP record read (bytes), compressed or not: a record
+/// header claiming more (a corrupt or hostile chunk) is an error before
+/// anything is allocated for it.
+pub const MAX_RECORD_BYTES: usize = 256 << 20;
+
+/// A channel as its records declare it: topic, schema name, encoding.
+struct ChannelInfo {
+    topic: String,
+    schema: String,
+    encoding: String,
+}
+
+/// Calls `f(channel, log time (ns), data)` for every message of the bag
+/// `bytes`, in file order (chunks decompressed, records longer than
+/// [`MAX_RECORD_BYTES`] refused); `Err(Ok(message))` for a bag that cannot be
+/// read, `Err(Err(e))` for `f`'s error.
+fn for_each_message(
+    bytes: &[u8],
+    mut f: impl FnMut(&ChannelInfo, u64, &[u8]) -> Result<(), DataError>,
+) -> Result<(), Result<String, DataError>> {
+    use ::mcap::records::Record;
+    use ::mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
+    use std::collections::HashMap;
+    let opts = LinearReaderOptions::default()
+        .with_record_length_limit(MAX_RECORD_BYTES)
+        .with_prevalidate_chunk_crcs(true);
+    let mut reader = LinearReader::new_with_options(opts);
+    let (mut buf, mut schemas, mut channels) = (bytes, HashMap::new(), HashMap::new());
+    let (mut records, corrupt) = (0usize, |e: String| Err(Ok(e)));
+    while let Some(event) = reader.next_event() {
+        match event.map_err(|e| Ok(format!("truncated or corrupt after record {records}: {e}")))? {
+            LinearReadEvent::ReadRequest(need) => {
+                let n = need.min(buf.len());
+                reader.insert(n).copy_from_slice(&buf[..n]);
+                reader.notify_read(n);
+                buf = &buf[n..];
+            }
+            LinearReadEvent::Record { data, opcode } => {
+                records += 1;
+                match ::mcap::parse_record(opcode, data) {
+                    Err(e) => return corrupt(format!("record {records}: {e}")),
+                    Ok(Record::Schema { header, .. }) => {
+                        schemas.insert(header.id, header.name);
+                    }
+                    Ok(Record::Channel(c)) => {
+                        let schema = schemas.get(&c.schema_id).cloned().unwrap_or_default();
+                        let info = ChannelInfo {
+                            topic: c.topic,
+                            schema,
+                            encoding: c.message_encoding,
+                        };
+                        channels.insert(c.id, info);
+                    }
+                    Ok(Record::Message { header, data }) => {
+                        let Some(c) = channels.get(&header.channel_id) else {
+                            return corrupt(format!(
+                                "record {records}: a message on channel {}, which no record declares",
+                                header.channel_id
+                            ));
+                        };
+                        f(c, header.log_time, &data).map_err(Err)?;
+                    }
+                    Ok(_) => {}
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Reads a bag's JointState messages for the robot's `joints`.
@@ -108,24 +180,15 @@ pub fn read_mcap(
         array: array.into(),
         message,
     };
-    let stream = ::mcap::MessageStream::new(&bytes)
-        .map_err(|e| bad("(bag)", format!("not an MCAP file: {e}")))?;
     let mut topics: Vec<(String, String)> = vec![];
     let mut rows = Rows {
         stamps_zero: true,
         ..Rows::default()
     };
     let mut chosen: Option<String> = None;
-    for (i, m) in stream.enumerate() {
-        let m = m.map_err(|e| {
-            bad(
-                "(bag)",
-                format!("truncated or corrupt after message {i}: {e}"),
-            )
-        })?;
-        let name = m.channel.topic.clone();
-        let schema = m.channel.schema.as_ref().map_or("", |s| s.name.as_str());
-        if !topics.iter().any(|(t, _)| *t == name) {
+    let read = for_each_message(&bytes, |c, log_time, data| {
+        let (name, schema) = (&c.topic, c.schema.as_str());
+        if !topics.iter().any(|(t, _)| t == name) {
             topics.push((name.clone(), schema.to_string()));
         }
         let wanted = match topic {
@@ -133,35 +196,41 @@ pub fn read_mcap(
             None => schema == JOINT_STATE,
         };
         if !wanted {
-            continue;
+            return Ok(());
         }
-        if schema != JOINT_STATE || m.channel.message_encoding != "cdr" {
+        if schema != JOINT_STATE || c.encoding != "cdr" {
             return Err(bad(
-                &name,
+                name,
                 format!(
                     "the topic carries {schema:?} in {:?}, not {JOINT_STATE} in CDR",
-                    m.channel.message_encoding
+                    c.encoding
                 ),
             ));
         }
         match &chosen {
-            Some(c) if *c != name => {
+            Some(other) if other != name => {
                 return Err(bad(
                     "(topic)",
                     format!(
-                        "JointState on several topics ({c}, {name}, ...): name one with the mapping's `topic`"
+                        "JointState on several topics ({other}, {name}, ...): name one with the mapping's `topic`"
                     ),
                 ));
             }
             _ => chosen = Some(name.clone()),
         }
-        let msg = JointState::from_cdr(&m.data).map_err(|e| {
+        rows.seen += 1;
+        let msg = JointState::from_cdr(data).map_err(|e| {
             bad(
-                &name,
-                format!("message {}: not a JointState: {e}", rows.log.len() + 1),
+                name,
+                format!("message {}: not a JointState: {e}", rows.seen),
             )
         })?;
-        rows.push(msg, m.log_time, joints, &p, &name)?;
+        rows.push(msg, log_time, joints, &p, name)
+    });
+    match read {
+        Ok(()) => {}
+        Err(Ok(m)) => return Err(bad("(bag)", format!("not a readable MCAP file: {m}"))),
+        Err(Err(e)) => return Err(e),
     }
     let Some(name) = chosen else {
         return Err(no_topic(&p, topic, &topics));
@@ -216,10 +285,11 @@ impl Rows {
         topic: &str,
     ) -> Result<(), DataError> {
         let row = self.log.len() + 1;
+        let seen = self.seen;
         let bad = |message: String| DataError::Array {
             path: p.into(),
             array: topic.into(),
-            message: format!("message {row}: {message}"),
+            message: format!("message {seen}: {message}"),
         };
         let at: Vec<Option<usize>> = (joints.iter())
             .map(|j| msg.name.iter().position(|n| n == j))
@@ -245,7 +315,9 @@ impl Rows {
                 0 if field != "position" => Ok(None),
                 l if l == n => at
                     .iter()
-                    .map(|&i| check_value(v[i], MAX_ABS_VALUE, p, &format!("{topic}.{field}"), row))
+                    .map(|&i| {
+                        check_value(v[i], MAX_ABS_VALUE, p, &format!("{topic}.{field}"), seen)
+                    })
                     .collect::<Result<_, _>>()
                     .map(Some),
                 l => Err(bad(format!("{l} {field} values for {n} names"))),

@@ -118,8 +118,16 @@ fn compute(
         let (e, r) = (f.placement.e.transpose(), f.placement.r);
         parts[b].extend(es.iter().map(|x| x.transformed(&e, &r)));
     }
-    for (b, p) in parts.iter().enumerate().filter(|(_, p)| !p.is_empty()) {
-        match Ellipsoid::enclosing(p) {
+    // one covering ellipsoid (an SDP) per body, in parallel
+    let covers: Vec<_> = {
+        use rayon::prelude::*;
+        (parts.par_iter().enumerate())
+            .filter(|(_, p)| !p.is_empty())
+            .map(|(b, p)| (b, Ellipsoid::enclosing(p)))
+            .collect()
+    };
+    for (b, cover) in covers {
+        match cover {
             Ok(e) => per_body[b] = vec![e],
             Err(m) => warnings.push(DescriptionWarning::NoBoundingEllipsoid {
                 body: model.joints[b].body.clone(),

@@ -212,14 +212,8 @@ fn identification<'r>(
 fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
     parse_level(a.constraints, "--constraints")?;
     let robot = super::load_robot(a.robot, a.sidecar, a.package_paths)?;
-    if a.constraints == "ellipsoid" || a.levels.iter().any(|l| l.trim_end().ends_with("ellipsoid"))
-    {
-        // the bounding volumes come from the geometry these warnings are about
-        super::warn_robot(&robot);
-        for w in robot.bounding_warnings() {
-            eprintln!("warning: {}: {w}", robot.source);
-        }
-    }
+    let ellipsoid = a.constraints == "ellipsoid"
+        || a.levels.iter().any(|l| l.trim_end().ends_with("ellipsoid"));
     let names = robot.model.joint_names();
     let opts = a.read.options(&robot, true)?;
     let read = |paths: &[std::path::PathBuf]| {
@@ -229,19 +223,37 @@ fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
     // the validation files are read while the training data are reduced
     // and the SDP solved (on the core the solver leaves idle)
     std::thread::scope(|s| {
+        // the bounding volumes (meshes read, ellipsoids fitted) are computed
+        // while the logs are read
+        let bounds = ellipsoid.then(|| s.spawn(|| robot.bounding_warnings().len()));
         let val = s.spawn(|| {
             (!a.validate.is_empty())
                 .then(|| read(a.validate))
                 .transpose()
         });
-        let train = read(a.data)?;
-        super::report_reading("--data", &train);
-        let id = identification(a, &robot)?.max_memory(super::gib(a.max_memory_gib)?);
-        super::warn_cost(momentlmi::identify::cost(&robot.model, train.data.len()).flops);
-        let mut r = id.fit(&train.data).map_err(explain)?;
+        let train = read(a.data);
+        if let Some(b) = bounds {
+            b.join()
+                .map_err(|_| "computing the bounding volumes failed")?;
+            // the bounding volumes come from the geometry these warnings are about
+            super::warn_robot(&robot);
+            for w in robot.bounding_warnings() {
+                eprintln!("warning: {}: {w}", robot.source);
+            }
+        }
+        // fitted while the held-out files are read; that thread is always
+        // joined, and a held-out file that cannot be read is the error shown
+        // first (it is the one a user can fix without waiting for a fit)
+        let fitted = train.and_then(|train| {
+            super::report_reading("--data", &train);
+            let id = identification(a, &robot)?.max_memory(super::gib(a.max_memory_gib)?);
+            super::warn_cost(momentlmi::identify::cost(&robot.model, train.data.len()).flops);
+            Ok((id.fit(&train.data).map_err(explain)?, train))
+        });
         let val = val
             .join()
             .unwrap_or_else(|_| Err("reading the validation data failed".to_string()))?;
+        let (mut r, train) = fitted?;
         if let Some(v) = &val {
             super::report_reading("--validate", v);
             r.validate(&robot.model, &v.data).map_err(explain)?;
