@@ -240,19 +240,17 @@ pub fn read_mcap(
 
 /// The bag's bytes, refused beyond [`MAX_BAG_BYTES`].
 fn read_bounded(path: &Path, p: &str) -> Result<Vec<u8>, DataError> {
-    let io = |source| DataError::Io {
-        path: p.into(),
-        source,
-    };
-    let len = std::fs::metadata(path).map_err(io)?.len();
-    if len > MAX_BAG_BYTES {
-        return Err(DataError::Array {
+    crate::io::read_capped(path, MAX_BAG_BYTES).map_err(|e| match e {
+        crate::io::Capped::Io(source) => DataError::Io {
+            path: p.into(),
+            source,
+        },
+        crate::io::Capped::TooLarge(len) => DataError::Array {
             path: p.into(),
             array: "(bag)".into(),
             message: format!("{len} bytes; at most {MAX_BAG_BYTES} are read"),
-        });
-    }
-    std::fs::read(path).map_err(io)
+        },
+    })
 }
 
 /// The error for a bag without the (or any) JointState topic.

@@ -48,8 +48,14 @@ pub fn run(
     let sidecar = dir.join("kuka_lwr4.toml");
     let robot = load_kuka(&dir.join("kuka_lwr4.urdf"), Some(&sidecar))?;
     let run = |k: usize| dir.join(format!("data/measurements_{k}.npz"));
-    let train = read(&robot, &[&run(1), &run(2)])?;
-    let val = read(&robot, &[&run(3)])?;
+    let opts = super::ReadChoice {
+        mapping: None,
+        cutoff_hz: None,
+        velocity: momentlmi::data::Velocity::Differentiate,
+    }
+    .options(&robot, true)?;
+    let train = read(&robot, &opts, &[&run(1), &run(2)])?;
+    let val = read(&robot, &opts, &[&run(3)])?;
     print_reading(&train, &val);
     let mut rows = vec![];
     let mut best: Option<(&str, IdentifyResult)> = None;
@@ -109,18 +115,10 @@ fn load_kuka(urdf: &Path, sidecar: Option<&Path>) -> Result<RobotDescription, St
     load_robot(spec, sidecar).map_err(|e| e.to_string())
 }
 
-/// Runs read as the sidecar's mapping says (the demo adds no option).
-fn read(robot: &RobotDescription, paths: &[&Path]) -> Result<Reading, String> {
-    let mapping = (robot.data_mapping.as_deref())
-        .map(momentlmi::data::Mapping::read)
-        .transpose()
-        .map_err(|e| e.to_string())?;
-    let opts = ReadOptions {
-        mapping,
-        mapping_is_default: true,
-        ..ReadOptions::default()
-    };
-    read_logs(paths, &robot.model.joint_names(), &opts).map_err(|e| e.to_string())
+/// Runs read as the command line reads them with no option (the sidecar's
+/// mapping as the default).
+fn read(robot: &RobotDescription, opts: &ReadOptions, paths: &[&Path]) -> Result<Reading, String> {
+    read_logs(paths, &robot.model.joint_names(), opts).map_err(|e| e.to_string())
 }
 
 fn print_reading(train: &Reading, val: &Reading) {
