@@ -39,10 +39,8 @@ fn main() {
     let taus: Vec<Vec<f64>> = states
         .iter()
         .map(|(q, qd, qdd)| {
-            robot
-                .torques(&[q.clone()], &[qd.clone()], &[qdd.clone()])
-                .unwrap()
-                .remove(0)
+            let one = |v: &Vec<f64>| momentlmi::data::Samples::from_rows(&[v]);
+            robot.torques(&one(q), &one(qd), &one(qdd)).unwrap()[0].to_vec()
         })
         .collect();
     println!(

@@ -2,6 +2,7 @@
 //! bounding ellipsoids, friction and tool point from the sidecar through the
 //! same function as the built-in leg, and every later layer uses them.
 
+use momentlmi::data::Samples;
 use momentlmi::dynamics::robots::load_robot;
 use momentlmi::dynamics::{Data, ParamChoice, RobotDescription, cheetah3, rnea};
 use momentlmi::effects::Library;
@@ -220,7 +221,11 @@ fn simulation_and_identification_use_the_description() {
         Library::builtin()
             .true_robot(&r, &Effects::new(e.iter().copied()))
             .unwrap()
-            .torques(&q, &qd, &qdd)
+            .torques(
+                &Samples::from_rows(&q),
+                &Samples::from_rows(&qd),
+                &Samples::from_rows(&qdd),
+            )
             .unwrap()
     };
     let none = torques(&[]);

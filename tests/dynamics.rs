@@ -614,4 +614,54 @@ fn prismatic_joint_and_branching_tree() {
         assert_eq!(m[(1, 2)], 0.0);
         assert_eq!(m[(1, 3)], 0.0);
     }
+    structure_holds(&model, 4);
+    // the branch: 'left' moves only itself, 'slide' everything
+    let cols = momentlmi::dynamics::regressor_row_columns(&model);
+    assert_eq!(cols[1], (10..20).chain([41, 45]).collect::<Vec<_>>());
+    assert_eq!(cols[0].len(), 40 + 2);
+}
+
+/// Every regressor row is zero outside the columns
+/// `regressor_row_columns` gives it, and each of those is non-zero at
+/// some random state (the structure is neither too small nor padded).
+fn structure_holds(model: &Model, n: usize) {
+    let cols = momentlmi::dynamics::regressor_row_columns(model);
+    let p = model.regressor_columns();
+    let mut seen = vec![vec![false; p]; n];
+    let (mut d, mut rng) = (Data::new(model), Rng(5));
+    for _ in 0..20 {
+        let v = |r: &mut Rng, s: f64| (0..n).map(|_| s * r.f()).collect::<Vec<f64>>();
+        let (q, qd, qdd) = (v(&mut rng, 1.0), v(&mut rng, 3.0), v(&mut rng, 10.0));
+        let y = regressor(model, &mut d, &q, &qd, &qdd).unwrap();
+        for (i, s) in seen.iter_mut().enumerate() {
+            for (c, z) in s.iter_mut().enumerate() {
+                if y[(i, c)] != 0.0 {
+                    assert!(cols[i].contains(&c), "row {i} column {c}");
+                    *z = true;
+                }
+            }
+        }
+    }
+    for i in 0..n {
+        // a body's inertia columns may vanish in a row by its axis (the
+        // row sees only the moments about it), but never a whole body
+        for chunk in cols[i].chunks(10).filter(|c| c.len() == 10) {
+            assert!(
+                chunk.iter().any(|&c| seen[i][c]),
+                "row {i}: {chunk:?} all zero"
+            );
+        }
+    }
+}
+
+#[test]
+fn the_leg_regressor_has_the_row_structure_given() {
+    let model = cheetah3::model();
+    structure_holds(&model, 3);
+    let cols = momentlmi::dynamics::regressor_row_columns(&model);
+    // the knee (joint 2) moves the shank and drives its rotor, carried by the thigh
+    assert_eq!(
+        cols[2],
+        (20..30).chain(50..60).chain([62, 65]).collect::<Vec<_>>()
+    );
 }

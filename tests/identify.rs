@@ -147,7 +147,7 @@ fn too_few_samples_warn_and_stay_consistent() {
     let e = identify(
         &model,
         &Dataset {
-            tau: vec![],
+            tau: momentlmi::data::Samples::new(3),
             ..all.clone()
         },
         None,

@@ -419,7 +419,7 @@ fn by_hand(raw: &momentlmi::data::RawLog, cutoff: f64) -> momentlmi::data::Datas
         .collect();
     let nj = raw.q[0].len();
     let tau = raw.tau.as_ref().unwrap();
-    let column = |v: &Vec<Vec<f64>>, j: usize| -> Vec<f64> {
+    let column = |v: &momentlmi::data::Samples, j: usize| -> Vec<f64> {
         let mut k = 0;
         t.iter()
             .map(|&x| {
@@ -443,7 +443,7 @@ fn by_hand(raw: &momentlmi::data::RawLog, cutoff: f64) -> momentlmi::data::Datas
     }
     let rows = |c: &Vec<Vec<f64>>| {
         (40..t.len() - 40)
-            .map(|k| c.iter().map(|x| x[k]).collect())
+            .map(|k| c.iter().map(|x| x[k]).collect::<Vec<f64>>())
             .collect()
     };
     d.t = t[40..t.len() - 40].to_vec();

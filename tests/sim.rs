@@ -1,6 +1,7 @@
 //! The simulator: inverse kinematics, the shell excitation, each effect
 //! against its formula, and the processed data.
 
+use momentlmi::data::Samples;
 use momentlmi::dynamics::{Data, cheetah3, rnea};
 use momentlmi::effects::Library;
 use momentlmi::effects::simulate;
@@ -60,14 +61,14 @@ fn shell_motion_is_reproduced_and_stays_in_limits() {
     }
 }
 
-fn states() -> (Vec<Vec<f64>>, Vec<Vec<f64>>, Vec<Vec<f64>>) {
+fn states() -> (Samples, Samples, Samples) {
     let tr = Trajectory::Shell(Shell::default());
-    let mut out = (vec![], vec![], vec![]);
+    let mut out = (Samples::new(3), Samples::new(3), Samples::new(3));
     for k in 0..200 {
         let (q, qd, qdd) = tr.state(k as f64 * 0.05).unwrap();
-        out.0.push(q);
-        out.1.push(qd);
-        out.2.push(qdd);
+        out.0.push(&q);
+        out.1.push(&qd);
+        out.2.push(&qdd);
     }
     out
 }
@@ -232,7 +233,8 @@ fn time_delay_uses_the_earlier_state() {
         .unwrap();
     for k in [100usize, 250, 400] {
         let (q, qd, qdd) = tr.state(d.t[k] - 0.01).unwrap();
-        let want = robot.torques(&[q], &[qd], &[qdd]).unwrap();
+        let one = |v: Vec<f64>| Samples::from_rows(&[v]);
+        let want = robot.torques(&one(q), &one(qd), &one(qdd)).unwrap();
         assert!((0..3).all(|i| (want[0][i] - d.tau[k][i]).abs() < 1e-12));
     }
 }

@@ -16,6 +16,7 @@ use super::mapping::{Kind, Mapping};
 pub use super::raw::{MAX_ABS_TIME, MAX_ABS_VALUE, MAX_ROWS};
 use super::raw::{RawLog, joint_positions};
 use super::write::write_whole;
+use crate::dynamics::Samples;
 use std::path::Path;
 /// The most columns a header may have.
 pub const MAX_COLUMNS: usize = 100_000;
@@ -116,6 +117,7 @@ pub(crate) fn read_raw(
     let cols = Columns::find(&header, path, mapping, joints, require_tau)?;
     let mut d = RawLog {
         path: path.into(),
+        q: Samples::new(joints.len()),
         ..RawLog::default()
     };
     for (r, rec) in rdr.records().enumerate() {
@@ -248,20 +250,17 @@ impl Columns {
             }
             Ok(v)
         };
-        let many = |(ix, s): &(Vec<usize>, f64)| {
-            ix.iter()
-                .map(|&c| get(c, *s))
-                .collect::<Result<Vec<f64>, _>>()
-        };
+        let many =
+            |(ix, s): &(Vec<usize>, f64), dst: &mut Samples| dst.try_push_with(|j| get(ix[j], *s));
         d.t.push(get(self.t.0, self.t.1)?);
-        d.q.push(many(&self.q)?);
+        many(&self.q, &mut d.q)?;
         for (src, dst) in [
             (&self.qd, &mut d.qd),
             (&self.qdd, &mut d.qdd),
             (&self.tau, &mut d.tau),
         ] {
             if let Some(c) = src {
-                dst.get_or_insert_with(Vec::new).push(many(c)?);
+                many(c, dst.get_or_insert_with(|| Samples::new(c.0.len())))?;
             }
         }
         Ok(())

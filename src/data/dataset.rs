@@ -1,5 +1,7 @@
 //! A robot log in memory: samples of t, q, q̇, q̈, τ for named joints.
 
+use crate::dynamics::Samples;
+
 /// Samples of joint positions, velocities, accelerations and torques.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Dataset {
@@ -7,14 +9,14 @@ pub struct Dataset {
     pub joints: Vec<String>,
     /// Sample times (s), strictly increasing.
     pub t: Vec<f64>,
-    /// Positions, one `Vec` of length n per sample.
-    pub q: Vec<Vec<f64>>,
+    /// Positions, one row of n per sample.
+    pub q: Samples,
     /// Velocities.
-    pub qd: Vec<Vec<f64>>,
+    pub qd: Samples,
     /// Accelerations.
-    pub qdd: Vec<Vec<f64>>,
-    /// Torques (empty when the file has none, e.g. a trajectory to predict on).
-    pub tau: Vec<Vec<f64>>,
+    pub qdd: Samples,
+    /// Torques (no rows when the file has none, e.g. a trajectory to predict on).
+    pub tau: Samples,
     /// Where each segment starts (sample indices, the first 0), when the
     /// data are several files or a log split at its gaps: no filter or
     /// derivative crossed a boundary. Empty: one segment.
@@ -24,13 +26,14 @@ pub struct Dataset {
 impl Dataset {
     /// No samples, for `joints`.
     pub fn empty(joints: &[&str]) -> Self {
+        let n = joints.len();
         Self {
             joints: joints.iter().map(|j| j.to_string()).collect(),
             t: vec![],
-            q: vec![],
-            qd: vec![],
-            qdd: vec![],
-            tau: vec![],
+            q: Samples::new(n),
+            qd: Samples::new(n),
+            qdd: Samples::new(n),
+            tau: Samples::new(n),
             segments: vec![],
         }
     }
@@ -78,25 +81,24 @@ impl Dataset {
         self.t.is_empty()
     }
 
-    /// Keeps only the samples in `range`, in place (no copy); empty series
-    /// (no torques) stay empty.
+    /// Keeps only the samples in `range`, in place (no copy); series with
+    /// no rows (no torques) stay so.
     pub fn keep(&mut self, range: std::ops::Range<usize>) {
         self.t.truncate(range.end);
         self.t.drain(..range.start.min(self.t.len()));
         for v in [&mut self.q, &mut self.qd, &mut self.qdd, &mut self.tau] {
-            v.truncate(range.end);
-            v.drain(..range.start.min(v.len()));
+            v.keep(range.clone());
         }
         self.segments = segments_within(&self.segments, &range);
     }
 
     /// The samples `range` as a new data set.
     pub fn slice(&self, range: std::ops::Range<usize>) -> Dataset {
-        let cut = |v: &Vec<Vec<f64>>| {
+        let cut = |v: &Samples| {
             if v.is_empty() {
-                vec![]
+                v.clone()
             } else {
-                v[range.clone()].to_vec()
+                v.slice(range.clone())
             }
         };
         Dataset {

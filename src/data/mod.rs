@@ -33,6 +33,7 @@ mod stats;
 mod warning;
 pub mod write;
 
+pub use crate::dynamics::Samples;
 pub use dataset::Dataset;
 pub use error::DataError;
 pub use filter::estimate_qdd;

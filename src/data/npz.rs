@@ -6,6 +6,7 @@
 use super::error::DataError;
 use super::mapping::{Kind, Mapping};
 use super::raw::{MAX_ABS_TIME, MAX_ABS_VALUE, MAX_ROWS, RawLog, check_value, joint_positions};
+use crate::dynamics::Samples;
 use std::io::Read;
 use std::path::Path;
 
@@ -284,15 +285,15 @@ fn rows_of(
     scale: f64,
     path: &str,
     name: &str,
-) -> Result<Vec<Vec<f64>>, DataError> {
-    m.chunks_exact(cols.max(1))
-        .enumerate()
-        .map(|(r, row)| {
-            pos.iter()
-                .map(|&c| check_value(row[c] * scale, MAX_ABS_VALUE, path, name, r + 1))
-                .collect()
-        })
-        .collect()
+) -> Result<Samples, DataError> {
+    let mut out = Samples::with_capacity(pos.len(), m.len() / cols.max(1));
+    for (r, row) in m.chunks_exact(cols.max(1)).enumerate() {
+        for &c in pos {
+            check_value(row[c] * scale, MAX_ABS_VALUE, path, name, r + 1)?;
+        }
+        out.push_with(|j| row[pos[j]] * scale);
+    }
+    Ok(out)
 }
 
 /// Reads a `.npy` file: one 2-D array whose columns are the CSV format's
@@ -325,7 +326,7 @@ pub fn read_npy(path: &Path, joints: &[&str]) -> Result<RawLog, DataError> {
         });
     }
     let c = 1 + blocks * j;
-    let col = |b: usize| -> Result<Vec<Vec<f64>>, DataError> {
+    let col = |b: usize| -> Result<Samples, DataError> {
         let pos: Vec<usize> = (0..j).map(|k| 1 + b * j + k).collect();
         rows_of(&a.values, c, &pos, 1.0, &p, "(array)")
     };

@@ -24,9 +24,10 @@
 
 use super::dataset::Dataset;
 use super::error::DataError;
-use super::filter::{differentiate, filtfilt};
+use super::filter::{differentiate_columns, filtfilt_columns};
 use super::raw::RawLog;
 use super::warning::ReadWarning;
+use crate::dynamics::Samples;
 use serde::Serialize;
 
 /// A step this many times the median step (or longer) is a gap.
@@ -231,13 +232,9 @@ fn drop_repeats(raw: RawLog, report: &mut FileReport) -> Result<RawLog, DataErro
     if keep.len() == raw.len() {
         return Ok(RawLog { qdd: None, ..raw });
     }
-    // the kept rows moved, not copied
-    let pick = |v: Vec<Vec<f64>>| {
-        let mut it = v.into_iter().enumerate();
-        let mut out = Vec::with_capacity(keep.len());
-        for &k in &keep {
-            out.extend(it.by_ref().find(|(i, _)| *i == k).map(|(_, r)| r));
-        }
+    let pick = |v: Samples| {
+        let mut out = Samples::with_capacity(v.width(), keep.len());
+        keep.iter().for_each(|&k| out.push(&v[k]));
         out
     };
     Ok(RawLog {
@@ -302,15 +299,13 @@ fn resample(raw: &RawLog, r: std::ops::Range<usize>, fs: f64) -> RawLog {
         let w = ((t - raw.t[k]) / (raw.t[k + 1] - raw.t[k])).clamp(0.0, 1.0);
         at.push((t, k, w));
     }
-    let lerp = |v: &Vec<Vec<f64>>| -> Vec<Vec<f64>> {
-        at.iter()
-            .map(|&(_, k, w)| {
-                v[k].iter()
-                    .zip(&v[k + 1])
-                    .map(|(a, b)| a + w * (b - a))
-                    .collect()
-            })
-            .collect()
+    let lerp = |v: &Samples| {
+        let mut out = Samples::with_capacity(v.width(), at.len());
+        for &(_, k, w) in &at {
+            let (a, b) = (&v[k], &v[k + 1]);
+            out.push_with(|j| a[j] + w * (b[j] - a[j]));
+        }
+        out
     };
     RawLog {
         path: raw.path.clone(),
@@ -330,43 +325,28 @@ fn filtered(u: &RawLog, fs: f64, cutoff: f64, velocity: Velocity, trim: usize) -
     if n < MIN_SEGMENT.max(2 * trim + 3) {
         return None;
     }
-    let lp = |v: &Vec<Vec<f64>>| columns_map(v, |x| filtfilt(x, cutoff, fs));
-    let q = lp(&u.q);
-    let qd = match (velocity, &u.qd) {
+    let lp = |v: &Samples| filtfilt_columns(v, cutoff, fs);
+    let mut q = lp(&u.q);
+    let mut qd = match (velocity, &u.qd) {
         (Velocity::File, Some(v)) => lp(v),
-        _ => columns_map(&q, |x| differentiate(x, &u.t)),
+        _ => differentiate_columns(&q, &u.t),
     };
-    let qdd = columns_map(&qd, |x| differentiate(x, &u.t));
-    let tau = u.tau.as_ref().map(lp).unwrap_or_default();
+    let mut qdd = differentiate_columns(&qd, &u.t);
+    let mut tau = u.tau.as_ref().map(lp).unwrap_or_default();
     let keep = trim..n - trim;
-    // the ends dropped in place: rows are moved, not copied
-    let cut = |mut v: Vec<Vec<f64>>| {
+    // the ends dropped in place
+    for v in [&mut q, &mut qd, &mut qdd, &mut tau] {
         if !v.is_empty() {
-            v.truncate(keep.end);
-            v.drain(..keep.start);
-        }
-        v
-    };
-    Some(Dataset {
-        joints: vec![],
-        t: u.t[keep.clone()].to_vec(),
-        q: cut(q),
-        qd: cut(qd),
-        qdd: cut(qdd),
-        tau: cut(tau),
-        segments: vec![],
-    })
-}
-
-/// `f` applied to each joint's series of the per-sample rows `v`.
-fn columns_map(v: &[Vec<f64>], f: impl Fn(&[f64]) -> Vec<f64>) -> Vec<Vec<f64>> {
-    let n = v.first().map_or(0, Vec::len);
-    let mut out = vec![vec![0.0; n]; v.len()];
-    for j in 0..n {
-        let x: Vec<f64> = v.iter().map(|r| r[j]).collect();
-        for (k, y) in f(&x).into_iter().enumerate() {
-            out[k][j] = y;
+            v.keep(keep.clone());
         }
     }
-    out
+    Some(Dataset {
+        joints: vec![],
+        t: u.t[keep].to_vec(),
+        q,
+        qd,
+        qdd,
+        tau,
+        segments: vec![],
+    })
 }

@@ -3,6 +3,7 @@
 
 use super::error::DataError;
 use super::warning::ReadWarning;
+use crate::dynamics::Samples;
 
 /// The most data rows a file may have (10 million: about 3 hours at 1 kHz).
 pub const MAX_ROWS: usize = 10_000_000;
@@ -23,13 +24,13 @@ pub struct RawLog {
     /// Time stamps (s), as recorded (absolute or not, possibly irregular).
     pub t: Vec<f64>,
     /// Positions (rad or m).
-    pub q: Vec<Vec<f64>>,
+    pub q: Samples,
     /// Velocities, if recorded.
-    pub qd: Option<Vec<Vec<f64>>>,
+    pub qd: Option<Samples>,
     /// Accelerations, if recorded.
-    pub qdd: Option<Vec<Vec<f64>>>,
+    pub qdd: Option<Samples>,
     /// Torques, if recorded.
-    pub tau: Option<Vec<Vec<f64>>>,
+    pub tau: Option<Samples>,
     /// What reading it skipped or substituted (carried into the report).
     pub warnings: Vec<ReadWarning>,
 }

@@ -15,6 +15,7 @@ use super::error::DataError;
 use super::mapping::Mapping;
 use super::raw::{MAX_ABS_VALUE, MAX_ROWS, RawLog, check_value};
 use super::warning::ReadWarning;
+use crate::dynamics::Samples;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -92,8 +93,8 @@ struct Rows {
     skipped: usize,
     /// Messages on the topic so far (the number errors give).
     seen: usize,
-    qd: Vec<Vec<f64>>,
-    tau: Vec<Vec<f64>>,
+    qd: Samples,
+    tau: Samples,
 }
 
 /// The longest MCAP record read (bytes), compressed or not: a record
@@ -183,6 +184,12 @@ pub fn read_mcap(
     let mut topics: Vec<(String, String)> = vec![];
     let mut rows = Rows {
         stamps_zero: true,
+        log: RawLog {
+            q: Samples::new(joints.len()),
+            ..RawLog::default()
+        },
+        qd: Samples::new(joints.len()),
+        tau: Samples::new(joints.len()),
         ..Rows::default()
     };
     let mut chosen: Option<String> = None;
@@ -330,7 +337,7 @@ impl Rows {
             .t
             .push(f64::from(s.sec) + 1e-9 * f64::from(s.nanosec));
         self.log_times.push(1e-9 * log_time_ns as f64);
-        self.log.q.push(q);
+        self.log.q.push(&q);
         self.optional(qd, true, row, p, topic)?;
         self.optional(tau, false, row, p, topic)
     }
@@ -351,7 +358,7 @@ impl Rows {
             &mut self.tau
         };
         match v {
-            Some(v) if rows.len() + 1 == row => rows.push(v),
+            Some(v) if rows.len() + 1 == row => rows.push(&v),
             None if rows.is_empty() => {}
             _ => {
                 return Err(DataError::Array {
@@ -387,7 +394,7 @@ impl Rows {
                 count: self.skipped,
             });
         }
-        let full = |v: Vec<Vec<f64>>| (v.len() == n).then_some(v);
+        let full = |v: Samples| (v.len() == n).then_some(v);
         self.log.qd = full(self.qd);
         self.log.tau = full(self.tau);
         Ok(self.log)

@@ -35,10 +35,7 @@ pub fn choose_cutoff(segments: &[RawLog], fs: f64) -> (f64, String) {
     if l < 64 {
         return fallback;
     }
-    let nj = segments
-        .first()
-        .and_then(|s| s.q.first())
-        .map_or(0, Vec::len);
+    let nj = segments.first().map_or(0, |s| s.q.width());
     let fft = FftPlanner::new().plan_fft_forward(l);
     let mut edge: f64 = 0.0;
     for j in 0..nj {
@@ -93,7 +90,7 @@ fn welch(segments: &[RawLog], j: usize, l: usize, fft: &dyn Fft<f64>) -> Vec<f64
     let w: Vec<f64> = (0..l).map(|k| blackman_harris(k, l)).collect();
     let mut psd = vec![0.0; l / 2 + 1];
     for s in segments.iter().filter(|s| s.len() >= l) {
-        let x: Vec<f64> = s.q.iter().map(|r| r[j]).collect();
+        let x: Vec<f64> = s.q.column(j);
         for start in (0..=x.len() - l).step_by(l / 2) {
             let seg = detrended(&x[start..start + l]);
             let mut buf: Vec<Complex<f64>> = seg

@@ -77,7 +77,7 @@ fn where_of(split: &Split, data: &Dataset, r: &[f64]) -> Vec<JointWhere> {
     };
     (0..split.joints)
         .map(|i| {
-            let col = |v: &Vec<Vec<f64>>| v.iter().map(|x| x[i]).collect::<Vec<f64>>();
+            let col = |v: &crate::dynamics::Samples| v.column(i);
             analyse_joint(
                 &data.joints[i],
                 &split.heldout_of(r, i),

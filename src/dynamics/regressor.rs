@@ -138,6 +138,36 @@ pub(crate) fn regressor_unchecked(
     }
 }
 
+/// Per joint j, the regressor columns its row can be non-zero in, in
+/// increasing order: the links j moves (j and its descendants), the rotors
+/// it carries or drives, and its own friction terms; every other column of
+/// row j is zero at every state (the structure of [`regressor`]).
+pub fn regressor_row_columns(model: &Model) -> Vec<Vec<usize>> {
+    let n = model.dof();
+    // moves[j][i]: joint j is joint i or one of its ancestors
+    let mut moves = vec![vec![false; n]; n];
+    for i in 0..n {
+        let mut a = Some(i);
+        while let Some(j) = a {
+            moves[j][i] = true;
+            a = model.joints[j].parent;
+        }
+    }
+    let nb = model.num_bodies();
+    (0..n)
+        .map(|j| {
+            let links = (0..n).filter(|&i| moves[j][i]);
+            let rotors = model.rotors.iter().enumerate().filter(|(_, r)| {
+                r.joint == j || model.joints[r.joint].parent.is_some_and(|p| moves[j][p])
+            });
+            let bodies = links.chain(rotors.map(|(k, _)| n + k));
+            let mut cols: Vec<usize> = bodies.flat_map(|b| 10 * b..10 * b + 10).collect();
+            cols.extend((0..FrictionTerm::ALL.len()).map(|t| 10 * nb + t * n + j));
+            cols
+        })
+        .collect()
+}
+
 /// Regressor rows for many samples, stacked sample by sample into a
 /// `(samples · n) ×` [`Model::regressor_columns`] row-major buffer, in parallel over
 /// chunks of samples (rayon). Each state slice holds `samples · n` numbers,

@@ -7,7 +7,7 @@ use super::compliance::Linearisation;
 use super::error::EffectError;
 use crate::data::Dataset;
 use crate::dynamics::predict::predict_torques;
-use crate::dynamics::{Data, Friction, Model, regressor};
+use crate::dynamics::{Data, Friction, Model, Samples, regressor};
 use nalgebra::DMatrix;
 use std::sync::{Arc, OnceLock};
 
@@ -25,7 +25,7 @@ pub struct Context<'a> {
     /// Samples `0..train` are the training part: a search for nonlinear
     /// parameters may fit them only.
     pub train: usize,
-    nominal: OnceLock<Result<Vec<Vec<f64>>, Arc<EffectError>>>,
+    nominal: OnceLock<Result<Samples, Arc<EffectError>>>,
     linearisation: OnceLock<Result<Linearisation, Arc<EffectError>>>,
 }
 
@@ -102,15 +102,15 @@ impl<'a> Context<'a> {
         Ok(cols)
     }
 
-    /// The nominal model's torques τ̂ at every sample.
-    pub fn nominal_torques(&self) -> Result<&[Vec<f64>], EffectError> {
+    /// The nominal model's torques τ̂ at every sample (a row of n each).
+    pub fn nominal_torques(&self) -> Result<&Samples, EffectError> {
         let d = self.data;
         self.nominal
             .get_or_init(|| {
                 predict_torques(self.model, self.friction, &d.q, &d.qd, &d.qdd)
                     .map_err(|e| Arc::new(EffectError::Dynamics(e)))
             })
-            .as_deref()
+            .as_ref()
             .map_err(|e| EffectError::Shared(e.clone()))
     }
 

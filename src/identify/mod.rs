@@ -14,6 +14,7 @@
 
 mod builder;
 mod error;
+mod gram;
 mod options;
 pub mod reduce;
 pub mod result;

@@ -11,9 +11,9 @@
 //! about `ε·κ` relative accuracy in the fitted torques, far below any noise.
 
 use super::error::{GramProblem, IdentifyError};
-use crate::dynamics::Model;
-use faer::linalg::matmul::triangular::{self, BlockStructure};
-use faer::{Mat, MatRef};
+use super::gram::GramAcc;
+use crate::dynamics::{Model, Samples};
+use faer::Mat;
 use rayon::prelude::*;
 
 /// The reduced least-squares data.
@@ -121,98 +121,6 @@ impl Reduced {
     }
 }
 
-/// A chunk of stacked regressor rows `[Y τ]` (row-major, n rows per sample,
-/// p + 1 columns) and, per joint, which columns are not zero in it.
-struct Rows {
-    n: usize,
-    p1: usize,
-    buf: Vec<f64>,
-    samples: usize,
-    /// `nonzero[i·p1 + c]`: column c of joint i's rows is not zero throughout.
-    nonzero: Vec<bool>,
-}
-
-impl Rows {
-    fn new(n: usize, p1: usize, capacity: usize) -> Self {
-        Self {
-            n,
-            p1,
-            buf: vec![0.0; capacity * n * p1],
-            samples: 0,
-            nonzero: vec![false; n * p1],
-        }
-    }
-
-    /// Appends one sample: `y` the regressor (column-major n × p), `tau` its torques.
-    fn push(&mut self, y: &[f64], tau: &[f64]) {
-        let (n, p1) = (self.n, self.p1);
-        for i in 0..n {
-            let at = (self.samples * n + i) * p1;
-            let row = &mut self.buf[at..at + p1];
-            let nz = &mut self.nonzero[i * p1..(i + 1) * p1];
-            for c in 0..p1 - 1 {
-                row[c] = y[c * n + i];
-                nz[c] |= row[c] != 0.0;
-            }
-            row[p1 - 1] = tau[i];
-            nz[p1 - 1] |= tau[i] != 0.0;
-        }
-        self.samples += 1;
-    }
-
-    /// Adds the rows' `XᵀX` to the lower triangle of `g` and empties the
-    /// chunk. A regressor row of joint i is zero in the columns of bodies and
-    /// friction terms joint i does not move, so the rows are grouped by joint
-    /// and each group multiplies only its columns that are not zero
-    /// throughout (exact: a dropped column contributes nothing); for the leg
-    /// this is a third of the dense product's work.
-    fn add_gram_lower(&mut self, g: &mut Mat<f64>, mut joints: Option<&mut [Mat<f64>]>) {
-        let (n, p1, samples) = (self.n, self.p1, self.samples);
-        let mut block = Vec::new();
-        for i in 0..n {
-            let cols: Vec<usize> = (0..p1).filter(|&c| self.nonzero[i * p1 + c]).collect();
-            let k = cols.len();
-            if k == 0 {
-                continue;
-            }
-            // the group's nonzero columns, row-major (samples × k), written in order
-            block.clear();
-            block.reserve(samples * k);
-            for s in 0..samples {
-                let r = &self.buf[(s * n + i) * p1..(s * n + i + 1) * p1];
-                block.extend(cols.iter().map(|&c| r[c]));
-            }
-            let x = MatRef::from_row_major_slice(&block, samples, k);
-            let mut gi = Mat::<f64>::zeros(k, k);
-            triangular::matmul(
-                gi.as_mut(),
-                BlockStructure::TriangularLower,
-                faer::Accum::Replace,
-                x.transpose(),
-                BlockStructure::Rectangular,
-                x,
-                BlockStructure::Rectangular,
-                1.0,
-                faer::Par::Seq,
-            );
-            for (b, &cb) in cols.iter().enumerate() {
-                for (a, &ca) in cols.iter().enumerate().skip(b) {
-                    g[(ca, cb)] += gi[(a, b)];
-                }
-            }
-            if let Some(j) = joints.as_deref_mut() {
-                for (b, &cb) in cols.iter().enumerate() {
-                    for (a, &ca) in cols.iter().enumerate().skip(b) {
-                        j[i][(ca, cb)] += gi[(a, b)];
-                    }
-                }
-            }
-        }
-        self.samples = 0;
-        self.nonzero.fill(false);
-    }
-}
-
 /// Copies the lower triangle of `g` to its upper triangle.
 fn symmetrize(g: &mut Mat<f64>) {
     for j in 0..g.ncols() {
@@ -248,13 +156,13 @@ fn finite_gram(g: &Mat<f64>) -> Result<(), IdentifyError> {
     }
 }
 
-/// Checks that every sample has n values in each of q, q̇, q̈, τ.
+/// Checks that q, q̇, q̈, τ have as many samples, of n values each.
 fn check_lengths(
     n: usize,
-    q: &[Vec<f64>],
-    qd: &[Vec<f64>],
-    qdd: &[Vec<f64>],
-    tau: &[Vec<f64>],
+    q: &Samples,
+    qd: &Samples,
+    qdd: &Samples,
+    tau: &Samples,
 ) -> Result<(), IdentifyError> {
     for (what, v) in [("q", q), ("qd", qd), ("qdd", qdd), ("tau", tau)] {
         if v.len() != q.len() {
@@ -264,12 +172,12 @@ fn check_lengths(
                 found: v.len(),
             });
         }
-        if let Some(k) = v.iter().position(|x| x.len() != n) {
+        if v.width() != n && !v.is_empty() {
             return Err(IdentifyError::SampleLength {
-                sample: k,
+                sample: 0,
                 what,
                 expected: n,
-                found: v[k].len(),
+                found: v.width(),
             });
         }
     }
@@ -304,6 +212,11 @@ pub fn cost(model: &Model, samples: usize) -> Cost {
     }
 }
 
+/// Whether the per-joint Gram matrices fit [`JOINT_GRAMS_BUDGET_BYTES`].
+fn keep_joint_grams(n: usize, p1: usize) -> bool {
+    n * p1 * p1 * std::mem::size_of::<f64>() <= JOINT_GRAMS_BUDGET_BYTES
+}
+
 /// Regressor rows one task may hold at once (bytes): the chunk of samples
 /// shrinks for robots with many joints, so memory does not grow as
 /// chunk × n × p.
@@ -315,38 +228,27 @@ fn chunk_for(chunk: usize, n: usize, p1: usize) -> usize {
     chunk.min(ROWS_BUDGET_BYTES / per_sample).max(1)
 }
 
-/// One thread's work space: its Gram sum, a chunk of rows and the
+/// One thread's work space: its Gram sums, a chunk of rows and the
 /// dynamics' scratch, made once per thread, not once per chunk.
 struct Acc {
-    gram: Mat<f64>,
-    joints: Vec<Mat<f64>>,
-    rows: Rows,
+    gram: GramAcc,
     data: crate::dynamics::Data,
 }
 
 impl Acc {
     fn new(model: &Model, chunk: usize) -> Self {
-        let (n, p1) = (model.dof(), model.regressor_columns() + 1);
-        let keep = n * p1 * p1 * std::mem::size_of::<f64>() <= JOINT_GRAMS_BUDGET_BYTES;
         Self {
-            gram: Mat::zeros(p1, p1),
-            joints: if keep {
-                vec![Mat::zeros(p1, p1); n]
-            } else {
-                vec![]
-            },
-            rows: Rows::new(n, p1, chunk),
+            gram: GramAcc::new(model, chunk),
             data: crate::dynamics::Data::new(model),
         }
     }
 
     /// Another thread's sums added to these.
-    fn merge(mut self, other: Self) -> Self {
-        self.gram += other.gram;
-        for (a, b) in self.joints.iter_mut().zip(other.joints) {
-            *a += b;
+    fn merge(self, other: Self) -> Self {
+        Self {
+            gram: self.gram.merge(other.gram),
+            data: self.data,
         }
-        self
     }
 
     /// Adds the Gram matrix of samples `start..end` (rows built,
@@ -354,7 +256,7 @@ impl Acc {
     fn add(
         &mut self,
         model: &Model,
-        samples: [&[Vec<f64>]; 4],
+        samples: [&Samples; 4],
         range: std::ops::Range<usize>,
     ) -> Result<(), IdentifyError> {
         let [q, qd, qdd, tau] = samples;
@@ -362,10 +264,9 @@ impl Acc {
             crate::dynamics::regressor(model, &mut self.data, &q[s], &qd[s], &qdd[s])
                 .map_err(|source| IdentifyError::Regressor { sample: s, source })?;
             finite_sample(s, self.data.regressor.as_slice(), &tau[s])?;
-            self.rows.push(self.data.regressor.as_slice(), &tau[s]);
+            self.gram.push(self.data.regressor.as_slice(), &tau[s]);
         }
-        let joints = (!self.joints.is_empty()).then_some(self.joints.as_mut_slice());
-        self.rows.add_gram_lower(&mut self.gram, joints);
+        self.gram.flush();
         Ok(())
     }
 }
@@ -376,10 +277,10 @@ impl Acc {
 /// naming it.
 pub fn reduce_samples(
     model: &Model,
-    q: &[Vec<f64>],
-    qd: &[Vec<f64>],
-    qdd: &[Vec<f64>],
-    tau: &[Vec<f64>],
+    q: &Samples,
+    qd: &Samples,
+    qdd: &Samples,
+    tau: &Samples,
     chunk: usize,
 ) -> Result<Reduced, IdentifyError> {
     let n = model.dof();
@@ -402,7 +303,7 @@ pub fn reduce_samples(
             },
         )
         .try_reduce(|| Acc::new(model, 1), |a, b| Ok(a.merge(b)))?;
-    let (mut gram, mut joint_grams) = (acc.gram, acc.joints);
+    let (mut gram, mut joint_grams) = acc.gram.finish(keep_joint_grams(n, p + 1));
     finite_gram(&gram)?;
     symmetrize(&mut gram);
     joint_grams.iter_mut().for_each(symmetrize);
@@ -420,9 +321,9 @@ pub fn reduce_samples(
 pub struct StreamReducer<'m> {
     model: &'m Model,
     data: crate::dynamics::Data,
-    rows: Rows,
+    gram: GramAcc,
     chunk: usize,
-    red: Reduced,
+    samples: usize,
 }
 
 impl<'m> StreamReducer<'m> {
@@ -434,14 +335,9 @@ impl<'m> StreamReducer<'m> {
         Self {
             model,
             data: crate::dynamics::Data::new(model),
-            rows: Rows::new(n, p + 1, chunk),
+            gram: GramAcc::new(model, chunk),
             chunk,
-            red: Reduced {
-                gram: Mat::zeros(p + 1, p + 1),
-                samples: 0,
-                p,
-                joint_grams: vec![],
-            },
+            samples: 0,
         }
     }
 
@@ -454,7 +350,7 @@ impl<'m> StreamReducer<'m> {
         tau: &[f64],
     ) -> Result<(), IdentifyError> {
         let n = self.model.dof();
-        let sample = self.red.samples;
+        let sample = self.samples;
         if tau.len() != n {
             return Err(IdentifyError::SampleLength {
                 sample,
@@ -466,27 +362,32 @@ impl<'m> StreamReducer<'m> {
         crate::dynamics::regressor(self.model, &mut self.data, q, qd, qdd)
             .map_err(|source| IdentifyError::Regressor { sample, source })?;
         finite_sample(sample, self.data.regressor.as_slice(), tau)?;
-        self.rows.push(self.data.regressor.as_slice(), tau);
-        self.red.samples += 1;
-        if self.rows.samples == self.chunk {
-            self.rows.add_gram_lower(&mut self.red.gram, None);
+        self.gram.push(self.data.regressor.as_slice(), tau);
+        self.samples += 1;
+        if self.gram.samples == self.chunk {
+            self.gram.flush();
         }
         Ok(())
     }
 
     /// The reduced data; an error if the sums overflowed.
-    pub fn finish(mut self) -> Result<Reduced, IdentifyError> {
-        self.rows.add_gram_lower(&mut self.red.gram, None);
-        finite_gram(&self.red.gram)?;
-        symmetrize(&mut self.red.gram);
-        Ok(self.red)
+    pub fn finish(self) -> Result<Reduced, IdentifyError> {
+        let (mut gram, _) = self.gram.finish(false);
+        finite_gram(&gram)?;
+        symmetrize(&mut gram);
+        Ok(Reduced {
+            gram,
+            samples: self.samples,
+            p: self.model.regressor_columns(),
+            joint_grams: vec![],
+        })
     }
 }
 
 #[cfg(test)]
 mod tests {
-    use super::{Rows, symmetrize};
-    use faer::Mat;
+    use super::symmetrize;
+    use crate::identify::gram::GramAcc;
 
     /// The grouped, structure-exploiting Gram equals the dense `XᵀX`.
     #[test]
@@ -500,7 +401,15 @@ mod tests {
                 ((s * 31 + i * 7 + c * 13) % 17) as f64 - 8.0
             }
         };
-        let mut rows = Rows::new(n, p + 1, samples);
+        // the columns each joint's rows may be non-zero in (τ added by GramAcc)
+        let cols = (0..n)
+            .map(|i| {
+                (0..p)
+                    .filter(|&c| x(0, i, c) != 0.0 || x(1, i, c) != 0.0)
+                    .collect()
+            })
+            .collect();
+        let mut rows = GramAcc::with_columns(p + 1, cols, 8);
         for s in 0..samples {
             // column-major n × p regressor, then the torques (column p)
             let y: Vec<f64> = (0..p)
@@ -508,10 +417,11 @@ mod tests {
                 .collect();
             let tau: Vec<f64> = (0..n).map(|i| x(s, i, p)).collect();
             rows.push(&y, &tau);
+            if s % 8 == 7 {
+                rows.flush(); // several chunks add up
+            }
         }
-        let mut g = Mat::<f64>::zeros(p + 1, p + 1);
-        let mut joints = vec![Mat::<f64>::zeros(p + 1, p + 1); n];
-        rows.add_gram_lower(&mut g, Some(&mut joints));
+        let (mut g, mut joints) = rows.finish(true);
         symmetrize(&mut g);
         joints.iter_mut().for_each(symmetrize);
         // each joint's residual from its own Gram matrix, for some θ
@@ -544,8 +454,5 @@ mod tests {
                 );
             }
         }
-        // the chunk is empty again
-        assert_eq!(rows.samples, 0);
-        assert!(rows.nonzero.iter().all(|z| !z));
     }
 }

@@ -8,7 +8,7 @@ use super::warning::IdentifyWarning;
 use crate::data::Dataset;
 use crate::dynamics::Friction;
 use crate::dynamics::params_file::{BodyParams, ParamsFile};
-use crate::dynamics::{Data, FrictionTerm, Model, rnea};
+use crate::dynamics::{Data, FrictionTerm, Model, Samples, rnea};
 use crate::moments::{
     ConsistencyReport, DEGENERATE_TOL, DegenerateShape, InertialParams, RealizabilityReport,
     check_consistency, check_realizable, degenerate_shape, entropic_divergence,
@@ -72,11 +72,11 @@ pub const DEGENERATE_ADVICE: &str = "the data do not determine this body's sprea
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct Contributions {
     /// Link inertia (incl. gravity) per sample per joint (N·m).
-    pub links: Vec<Vec<f64>>,
+    pub links: Samples,
     /// Rotor inertia per sample per joint.
-    pub rotors: Vec<Vec<f64>>,
+    pub rotors: Samples,
     /// Friction per sample per joint.
-    pub friction: Vec<Vec<f64>>,
+    pub friction: Samples,
 }
 
 /// What reading did to the files of an identification.
@@ -159,7 +159,7 @@ pub struct IdentifyResult {
     pub data_preparation: DataPreparation,
     /// Validation predictions per sample (not serialised).
     #[serde(skip)]
-    pub validation_prediction: Vec<Vec<f64>>,
+    pub validation_prediction: Samples,
     /// Contributions on the validation data (not serialised).
     #[serde(skip)]
     pub contributions: Contributions,
@@ -240,16 +240,13 @@ pub fn predict_split(
     model: &Model,
     theta: &[f64],
     d: &Dataset,
-) -> Result<(Vec<Vec<f64>>, Contributions), IdentifyError> {
-    let n = model.dof();
-    let parts = sample_parts(model, theta, d)?;
-    let mut total = Vec::with_capacity(d.len());
-    let mut c = Contributions::default();
-    for [l, r, f] in parts {
-        total.push((0..n).map(|i| l[i] + r[i] + f[i]).collect());
-        c.links.push(l);
-        c.rotors.push(r);
-        c.friction.push(f);
+) -> Result<(Samples, Contributions), IdentifyError> {
+    let c = sample_parts(model, theta, d)?;
+    let mut total = c.links.clone();
+    for (k, t) in total.iter_mut().enumerate() {
+        for (i, v) in t.iter_mut().enumerate() {
+            *v += c.rotors[k][i] + c.friction[k][i];
+        }
     }
     Ok((total, c))
 }
@@ -258,12 +255,9 @@ pub fn predict_split(
 /// columns (n each), in parallel over blocks of samples: the links' and the
 /// rotors' parts by RNEA on the model with only those bodies' parameters
 /// (τ is linear in them), friction from its basis.
-fn sample_parts(
-    model: &Model,
-    theta: &[f64],
-    d: &Dataset,
-) -> Result<Vec<[Vec<f64>; 3]>, IdentifyError> {
+fn sample_parts(model: &Model, theta: &[f64], d: &Dataset) -> Result<Contributions, IdentifyError> {
     use rayon::prelude::*;
+    const BLOCK: usize = 512;
     let (n, nl, nb) = (model.dof(), 10 * model.dof(), 10 * model.num_bodies());
     let only = |range: std::ops::Range<usize>| -> Result<Model, IdentifyError> {
         let p: Vec<f64> = (0..nb)
@@ -275,32 +269,39 @@ fn sample_parts(
     };
     let (links, rotors) = (only(0..nl)?, only(nl..nb)?);
     let has_rotors = nb > nl;
-    let friction = |qd: &[f64]| -> Vec<f64> {
-        (0..n)
-            .map(|i| {
-                (FrictionTerm::ALL.iter().enumerate())
-                    .map(|(t, term)| theta[nb + t * n + i] * term.basis(qd[i]))
-                    .sum()
-            })
-            .collect()
+    let friction = |qd: &[f64], i: usize| -> f64 {
+        (FrictionTerm::ALL.iter().enumerate())
+            .map(|(t, term)| theta[nb + t * n + i] * term.basis(qd[i]))
+            .sum()
     };
-    (0..d.len())
-        .into_par_iter()
-        .with_min_len(512)
-        .map_init(
+    let mut c = Contributions {
+        links: Samples::zeros(d.len(), n),
+        rotors: Samples::zeros(d.len(), n),
+        friction: Samples::zeros(d.len(), n),
+    };
+    let block = (BLOCK * n).max(1);
+    (c.links.as_flat_mut().par_chunks_mut(block))
+        .zip(c.rotors.as_flat_mut().par_chunks_mut(block))
+        .zip(c.friction.as_flat_mut().par_chunks_mut(block))
+        .enumerate()
+        .try_for_each_init(
             || Data::new(model),
-            |data, k| {
-                let (q, qd, qdd) = (&d.q[k], &d.qd[k], &d.qdd[k]);
-                let l = rnea(&links, data, q, qd, qdd)?.as_slice().to_vec();
-                let r = if has_rotors {
-                    rnea(&rotors, data, q, qd, qdd)?.as_slice().to_vec()
-                } else {
-                    vec![0.0; n]
-                };
-                Ok([l, r, friction(qd)])
+            |data, (b, ((l, r), f))| -> Result<(), IdentifyError> {
+                for (j, k) in (b * BLOCK..).take(l.len() / n.max(1)).enumerate() {
+                    let (q, qd, qdd) = (&d.q[k], &d.qd[k], &d.qdd[k]);
+                    let at = j * n..(j + 1) * n;
+                    l[at.clone()].copy_from_slice(rnea(&links, data, q, qd, qdd)?.as_slice());
+                    if has_rotors {
+                        r[at.clone()].copy_from_slice(rnea(&rotors, data, q, qd, qdd)?.as_slice());
+                    }
+                    for (i, v) in f[at].iter_mut().enumerate() {
+                        *v = friction(qd, i);
+                    }
+                }
+                Ok(())
             },
-        )
-        .collect()
+        )?;
+    Ok(c)
 }
 
 /// RMS per joint of the training residual: from each joint's Gram matrix
@@ -329,9 +330,9 @@ fn names_where(bodies: &[BodyResult], keep: impl Fn(&BodyResult) -> bool) -> Vec
         .collect()
 }
 
-/// RMS per joint of `a − b`.
-pub fn rms(a: &[Vec<f64>], b: &[Vec<f64>]) -> Vec<f64> {
-    let n = a.first().map_or(0, |r| r.len());
+/// RMS per joint of `a − b` (rows: samples).
+pub fn rms(a: &Samples, b: &Samples) -> Vec<f64> {
+    let n = a.width();
     (0..n)
         .map(|j| crate::data::rms(a.iter().zip(b).map(|(x, y)| x[j] - y[j])))
         .collect()
@@ -515,7 +516,7 @@ impl Identification<'_> {
             reduce_time_s: reduce_time,
             total_time_s: t0.elapsed().as_secs_f64(),
             data_preparation: DataPreparation::default(),
-            validation_prediction: vec![],
+            validation_prediction: Samples::default(),
             contributions: Contributions::default(),
             theta: solved.theta,
         })

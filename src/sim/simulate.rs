@@ -10,7 +10,7 @@ use crate::data::filter::{differentiate, filtfilt};
 use crate::data::{Dataset, estimate_qdd};
 use crate::dynamics::Friction;
 use crate::dynamics::predict::predict_torques;
-use crate::dynamics::{Model, RobotDescription};
+use crate::dynamics::{Model, RobotDescription, Samples};
 use rand::SeedableRng;
 use rand_distr::{Distribution, Normal};
 use serde::{Deserialize, Serialize};
@@ -267,8 +267,8 @@ impl SimConfig {
 /// (the ones the torque is measured at).
 struct States {
     t: Vec<f64>,
-    exact: [Vec<Vec<f64>>; 3],
-    delayed: [Vec<Vec<f64>>; 3],
+    exact: [Samples; 3],
+    delayed: [Samples; 3],
 }
 
 fn sample_states(
@@ -280,10 +280,11 @@ fn sample_states(
 ) -> Result<States, SimError> {
     let dt = 1.0 / cfg.rate_hz;
     let state = |t: f64| cfg.trajectory.state(t).ok_or(SimError::Workspace { t });
+    let rows = || Samples::with_capacity(model.dof(), samples);
     let mut s = States {
         t: Vec::with_capacity(samples),
-        exact: Default::default(),
-        delayed: Default::default(),
+        exact: [rows(), rows(), rows()],
+        delayed: [rows(), rows(), rows()],
     };
     for k in 0..samples {
         let t = (first + k as isize) as f64 * dt;
@@ -307,10 +308,10 @@ fn sample_states(
         }
         s.t.push(t);
         for (v, x) in s.exact.iter_mut().zip([q, qd, qdd]) {
-            v.push(x);
+            v.push(&x);
         }
         for (v, x) in s.delayed.iter_mut().zip([qx, qdx, qddx]) {
-            v.push(x);
+            v.push(&x);
         }
         if k % 1000 == 999 {
             progress(k + 1, samples);
@@ -325,7 +326,7 @@ fn add_compliance(
     robot: &TrueRobot,
     cfg: &SimConfig,
     s: &States,
-    tau: &mut [Vec<f64>],
+    tau: &mut Samples,
 ) -> Result<(), SimError> {
     let Some(c) = robot.compliance() else {
         return Ok(());
@@ -345,7 +346,7 @@ fn add_compliance(
     Ok(())
 }
 
-fn add_noise(cfg: &SimConfig, tau: &mut [Vec<f64>]) {
+fn add_noise(cfg: &SimConfig, tau: &mut Samples) {
     let mut rng = rand::rngs::StdRng::seed_from_u64(cfg.seed);
     if cfg.noise_sigma > 0.0 {
         let normal = Normal::new(0.0, cfg.noise_sigma).expect("σ checked by validate");

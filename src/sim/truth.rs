@@ -16,7 +16,7 @@ use super::effects::Effects;
 use super::error::SimError;
 use super::warning::SimWarning;
 use crate::dynamics::predict::predict_torques;
-use crate::dynamics::{Friction, Joint, Model, RobotDescription};
+use crate::dynamics::{Friction, Joint, Model, RobotDescription, Samples};
 use crate::moments::InertialParams;
 use std::sync::Arc;
 
@@ -227,26 +227,19 @@ impl TrueRobot {
     /// Torques at the given states (already shifted by the delay if any):
     /// the rigid-body torque at the true positions plus the friction, then
     /// every torque term in order, times the gain.
-    pub fn torques(
-        &self,
-        q: &[Vec<f64>],
-        qd: &[Vec<f64>],
-        qdd: &[Vec<f64>],
-    ) -> Result<Vec<Vec<f64>>, SimError> {
+    pub fn torques(&self, q: &Samples, qd: &Samples, qdd: &Samples) -> Result<Samples, SimError> {
         let (n, p) = (self.model.dof(), &self.parts);
-        let shifted: Vec<Vec<f64>>;
+        let shifted: Samples;
         let q = if p.position_offset.iter().any(|d| *d != 0.0) {
             // the encoders read q − δ: the robot is really at q + δ
-            shifted = q
-                .iter()
-                .map(|r| {
-                    r.iter()
-                        .zip(&p.position_offset)
-                        .map(|(x, d)| x + d)
-                        .collect()
-                })
-                .collect();
-            &shifted[..]
+            let mut s = q.clone();
+            for r in s.iter_mut() {
+                r.iter_mut()
+                    .zip(&p.position_offset)
+                    .for_each(|(x, d)| *x += d);
+            }
+            shifted = s;
+            &shifted
         } else {
             q
         };

@@ -156,14 +156,14 @@ fn validation_figure(r: &IdentifyResult, val: &Dataset) -> Result<String, String
     let predicted = format!("predicted ({} level)", r.constraints.as_str());
     let panels: Vec<Vec<Series>> = (0..val.joints.len())
         .map(|i| {
-            let s = |label, v: &[Vec<f64>], color| Series {
+            let s = |label, v: &momentlmi::data::Samples, color| Series {
                 label,
                 points: t.iter().zip(v).map(|(t, x)| (*t, x[i])).collect(),
                 color,
             };
             vec![
-                s("measured", &val.tau[..k], 0),
-                s(&predicted, &r.validation_prediction[..k], 1),
+                s("measured", &val.tau, 0),
+                s(&predicted, &r.validation_prediction, 1),
             ]
         })
         .collect();

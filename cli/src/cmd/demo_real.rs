@@ -195,7 +195,7 @@ fn validation_figure(r: &IdentifyResult, label: &str, val: &Dataset) -> Result<S
     let predicted = format!("predicted (momentlmi, {label})");
     let panels: Vec<Vec<Series>> = (0..val.joints.len())
         .map(|i| {
-            let s = |label, v: &[Vec<f64>], color| Series {
+            let s = |label, v: &momentlmi::data::Samples, color| Series {
                 label,
                 points: val.t.iter().zip(v).map(|(t, x)| (t - t0, x[i])).collect(),
                 color,

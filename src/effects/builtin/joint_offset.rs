@@ -46,14 +46,10 @@ impl Effect for JointOffset {
         let d = cx.data;
         let cols = (0..cx.joints())
             .map(|j| {
-                let at = |s: f64| -> Vec<Vec<f64>> {
-                    d.q.iter()
-                        .map(|q| {
-                            let mut q = q.clone();
-                            q[j] += s;
-                            q
-                        })
-                        .collect()
+                let at = |s: f64| {
+                    let mut q = d.q.clone();
+                    q.iter_mut().for_each(|q| q[j] += s);
+                    q
                 };
                 let plus = predict_torques(cx.model, cx.friction, &at(H), &d.qd, &d.qdd)?;
                 let minus = predict_torques(cx.model, cx.friction, &at(-H), &d.qd, &d.qdd)?;

@@ -1,0 +1,129 @@
+//! The Gram matrix `[Y τ]ᵀ[Y τ]` of stacked regressor rows, joint by joint.
+//!
+//! Joint j's regressor row is zero outside the columns of the bodies and
+//! friction terms j moves ([`regressor_row_columns`]): for a 7-joint arm,
+//! joint 7's row has 12 non-zero columns of 84. The rows of each joint are
+//! gathered, in a chunk of samples, into a dense block of only its columns
+//! (and τ), and each block's `XᵀX` is added to that joint's compact Gram
+//! matrix (faer's triangular product, the lower half). The full Gram matrix
+//! is the joints' compact ones scattered into place, once at the end; each
+//! joint's own is kept too (its residual without a second pass).
+
+use crate::dynamics::{Model, regressor_row_columns};
+use faer::linalg::matmul::triangular::{self, BlockStructure};
+use faer::{Mat, MatRef};
+
+/// A chunk of regressor rows grouped by joint, and the per-joint sums of
+/// their Gram matrices.
+pub(crate) struct GramAcc {
+    n: usize,
+    p1: usize,
+    /// Per joint, its columns in increasing order, the last `p1 − 1` (τ).
+    cols: Vec<Vec<usize>>,
+    /// Per joint, the chunk's rows: `samples × cols[j].len()`, row-major.
+    blocks: Vec<Vec<f64>>,
+    /// Samples in the chunk.
+    pub(crate) samples: usize,
+    /// Per joint, the lower triangle of its compact Gram matrix.
+    grams: Vec<Mat<f64>>,
+}
+
+impl GramAcc {
+    /// For `model`'s regressor, room for `chunk` samples a chunk.
+    pub(crate) fn new(model: &Model, chunk: usize) -> Self {
+        let p = model.regressor_columns();
+        Self::with_columns(p + 1, regressor_row_columns(model), chunk)
+    }
+
+    /// Rows of `p1` columns (the last τ), joint j's non-zero in `cols[j]`
+    /// only (increasing, each `< p1 − 1`).
+    pub(crate) fn with_columns(p1: usize, mut cols: Vec<Vec<usize>>, chunk: usize) -> Self {
+        cols.iter_mut().for_each(|c| c.push(p1 - 1));
+        let blocks = cols
+            .iter()
+            .map(|c| Vec::with_capacity(chunk * c.len()))
+            .collect();
+        let grams = cols.iter().map(|c| Mat::zeros(c.len(), c.len())).collect();
+        Self {
+            n: cols.len(),
+            p1,
+            cols,
+            blocks,
+            samples: 0,
+            grams,
+        }
+    }
+
+    /// Appends one sample: `y` the regressor (column-major n × (p1 − 1)),
+    /// `tau` its n torques.
+    pub(crate) fn push(&mut self, y: &[f64], tau: &[f64]) {
+        let n = self.n;
+        for (j, (cols, block)) in self.cols.iter().zip(&mut self.blocks).enumerate() {
+            let (last, regressor) = cols.split_last().expect("τ is a column");
+            block.extend(regressor.iter().map(|&c| y[c * n + j]));
+            debug_assert_eq!(*last, self.p1 - 1);
+            block.push(tau[j]);
+        }
+        self.samples += 1;
+    }
+
+    /// Adds the chunk's `XᵀX` to the per-joint sums and empties it.
+    pub(crate) fn flush(&mut self) {
+        if self.samples == 0 {
+            return;
+        }
+        for (block, g) in self.blocks.iter_mut().zip(&mut self.grams) {
+            let k = g.ncols();
+            let x = MatRef::from_row_major_slice(block, self.samples, k);
+            triangular::matmul(
+                g.as_mut(),
+                BlockStructure::TriangularLower,
+                faer::Accum::Add,
+                x.transpose(),
+                BlockStructure::Rectangular,
+                x,
+                BlockStructure::Rectangular,
+                1.0,
+                faer::Par::Seq,
+            );
+            block.clear();
+        }
+        self.samples = 0;
+    }
+
+    /// Another accumulator's sums (flushed) added to these.
+    pub(crate) fn merge(mut self, other: Self) -> Self {
+        for (a, b) in self.grams.iter_mut().zip(other.grams) {
+            *a += b;
+        }
+        self
+    }
+
+    /// The full Gram matrix (lower triangle) and, when `per_joint`, each
+    /// joint's (lower triangle; empty otherwise), after a last flush.
+    pub(crate) fn finish(mut self, per_joint: bool) -> (Mat<f64>, Vec<Mat<f64>>) {
+        self.flush();
+        let p1 = self.p1;
+        let mut full = Mat::<f64>::zeros(p1, p1);
+        let mut joints = vec![];
+        for (cols, g) in self.cols.iter().zip(&self.grams) {
+            scatter_lower(&mut full, cols, g);
+            if per_joint {
+                let mut m = Mat::<f64>::zeros(p1, p1);
+                scatter_lower(&mut m, cols, g);
+                joints.push(m);
+            }
+        }
+        (full, joints)
+    }
+}
+
+/// Adds the lower triangle of the compact `g` (rows and columns `cols` of
+/// the full matrix) to the lower triangle of `full`.
+fn scatter_lower(full: &mut Mat<f64>, cols: &[usize], g: &Mat<f64>) {
+    for (b, &cb) in cols.iter().enumerate() {
+        for (a, &ca) in cols.iter().enumerate().skip(b) {
+            full[(ca, cb)] += g[(a, b)];
+        }
+    }
+}
