@@ -407,7 +407,7 @@ impl Compiled {
                 &self.a,
                 &self.b,
                 &self.cones,
-                self.settings.to_clarabel(decompose),
+                self.settings.to_clarabel(decompose, self.a.n + self.a.m),
             )
             .map_err(|e| ConicError::Solver(e.to_string()))?;
             let setup = t0.elapsed().as_secs_f64();

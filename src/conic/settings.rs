@@ -45,6 +45,10 @@ pub enum Decomposition {
     Off,
 }
 
+/// KKT systems smaller than this (variables + constraints) are factorised
+/// on one thread; larger ones on as many as Clarabel chooses.
+pub const SERIAL_KKT_DIM: usize = 1000;
+
 /// Settings of the conic layer and of Clarabel.
 ///
 /// ```
@@ -192,8 +196,15 @@ impl Settings {
         Ok(())
     }
 
-    /// Clarabel's settings, with the decomposition on or off.
-    pub(crate) fn to_clarabel(&self, decompose: bool) -> clarabel::solver::DefaultSettings<f64> {
+    /// Clarabel's settings, with the decomposition on or off, for a KKT
+    /// system of dimension `kkt` (variables + constraints): below
+    /// [`SERIAL_KKT_DIM`] the factorisation runs on one thread (for a small
+    /// system, waking a second costs more than it saves).
+    pub(crate) fn to_clarabel(
+        &self,
+        decompose: bool,
+        kkt: usize,
+    ) -> clarabel::solver::DefaultSettings<f64> {
         clarabel::solver::DefaultSettings {
             max_iter: self.max_iter,
             time_limit: self.time_limit,
@@ -212,6 +223,7 @@ impl Settings {
                 KktSolver::Faer => "faer".to_string(),
                 KktSolver::Qdldl => "qdldl".to_string(),
             },
+            max_threads: if kkt < SERIAL_KKT_DIM { 1 } else { 0 },
             ..Default::default()
         }
     }

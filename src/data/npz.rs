@@ -56,34 +56,30 @@ impl Array {
 
 /// The array's values as f64 (from f8, f4, i8 or i4).
 fn numbers<R: Read>(npy: npyz::NpyFile<R>) -> Result<Vec<f64>, String> {
-    let io = |e: std::io::Error| format!("truncated or unreadable: {e}");
+    // room made once for all a log usually has (a hostile header claiming
+    // more grows the vector only as values really come)
+    let n = (npy.len() as usize).min(1 << 22);
+    let all = |it: &mut dyn Iterator<Item = std::io::Result<f64>>| {
+        let mut v = Vec::with_capacity(n);
+        for x in it {
+            v.push(x.map_err(|e| format!("truncated or unreadable: {e}"))?);
+        }
+        Ok(v)
+    };
     let npy = match npy.try_data::<f64>() {
-        Ok(r) => return r.collect::<Result<_, _>>().map_err(io),
+        Ok(r) => return all(&mut r.into_iter()),
         Err(n) => n,
     };
     let npy = match npy.try_data::<f32>() {
-        Ok(r) => {
-            return r
-                .map(|x| x.map(f64::from))
-                .collect::<Result<_, _>>()
-                .map_err(io);
-        }
+        Ok(r) => return all(&mut r.into_iter().map(|x| x.map(f64::from))),
         Err(n) => n,
     };
     let npy = match npy.try_data::<i64>() {
-        Ok(r) => {
-            return r
-                .map(|x| x.map(|v| v as f64))
-                .collect::<Result<_, _>>()
-                .map_err(io);
-        }
+        Ok(r) => return all(&mut r.into_iter().map(|x| x.map(|v| v as f64))),
         Err(n) => n,
     };
     match npy.try_data::<i32>() {
-        Ok(r) => r
-            .map(|x| x.map(f64::from))
-            .collect::<Result<_, _>>()
-            .map_err(io),
+        Ok(r) => all(&mut r.into_iter().map(|x| x.map(f64::from))),
         Err(n) => Err(format!(
             "dtype {} is not float64, float32, int64 or int32",
             n.dtype().descr()
@@ -129,7 +125,7 @@ pub fn read_npz(
         let size = f.size();
         // large reads: the archive's checksum and inflate run on whole blocks,
         // not on each number npyz asks for
-        let r = std::io::BufReader::with_capacity(1 << 20, &mut f);
+        let r = std::io::BufReader::with_capacity((size as usize).clamp(8 << 10, 1 << 20), &mut f);
         Array::read(r, size, &p, name)
     };
     let t = get(mapping.time_name())?;

@@ -50,17 +50,20 @@ pub fn body_regressor(v: &Vector6<f64>, a: &Vector6<f64>) -> BodyRegressor {
 /// `sᵀ B` (a row of 10), B column-major.
 #[inline(always)]
 fn project(s: &Vector6<f64>, b: &BodyRegressor) -> [f64; 10] {
-    let d = b.as_slice();
-    let s = s.as_slice();
-    std::array::from_fn(|c| {
+    // fixed sizes: no bounds checks, the ten dot products side by side
+    let d: &[f64; 60] = b.as_slice().try_into().expect("6 × 10");
+    let s: &[f64; 6] = s.as_slice().try_into().expect("6");
+    let mut out = [0.0; 10];
+    for (c, o) in out.iter_mut().enumerate() {
         let col = &d[6 * c..6 * c + 6];
-        s[0] * col[0]
+        *o = s[0] * col[0]
             + s[1] * col[1]
             + s[2] * col[2]
             + s[3] * col[3]
             + s[4] * col[4]
-            + s[5] * col[5]
-    })
+            + s[5] * col[5];
+    }
+    out
 }
 
 /// Adds a row of 10 into the regressor at (row, col0..col0+10).

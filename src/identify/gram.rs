@@ -13,6 +13,14 @@ use crate::dynamics::{Model, regressor_row_columns};
 use faer::linalg::matmul::triangular::{self, BlockStructure};
 use faer::{Mat, MatRef};
 
+/// A value of a chunk that is not finite: its sample in the chunk, and
+/// whether it is a torque (else a regressor value).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct NotFinite {
+    pub(crate) sample: usize,
+    pub(crate) torque: bool,
+}
+
 /// A chunk of regressor rows grouped by joint, and the per-joint sums of
 /// their Gram matrices.
 pub(crate) struct GramAcc {
@@ -67,12 +75,15 @@ impl GramAcc {
         self.samples += 1;
     }
 
-    /// Adds the chunk's `XᵀX` to the per-joint sums and empties it.
-    pub(crate) fn flush(&mut self) {
+    /// Adds the chunk's `XᵀX` to the per-joint sums and empties it; a
+    /// value that is not finite is an error naming its sample in the chunk.
+    /// (Such a value makes its column's diagonal entry, a sum of squares,
+    /// not finite: the diagonals are checked, the chunk only then.)
+    pub(crate) fn flush(&mut self) -> Result<(), NotFinite> {
         if self.samples == 0 {
-            return;
+            return Ok(());
         }
-        for (block, g) in self.blocks.iter_mut().zip(&mut self.grams) {
+        for (block, g) in self.blocks.iter().zip(&mut self.grams) {
             let k = g.ncols();
             let x = MatRef::from_row_major_slice(block, self.samples, k);
             triangular::matmul(
@@ -86,9 +97,39 @@ impl GramAcc {
                 1.0,
                 faer::Par::Seq,
             );
-            block.clear();
         }
+        let diagonal = |g: &Mat<f64>| (0..g.ncols()).all(|i| g[(i, i)].is_finite());
+        if !self.grams.iter().all(diagonal)
+            && let Some(e) = self.first_not_finite()
+        {
+            return Err(e);
+        }
+        // (no bad value: the sums overflowed, which the caller's check of
+        // the whole Gram matrix names)
+        self.blocks.iter_mut().for_each(Vec::clear);
         self.samples = 0;
+        Ok(())
+    }
+
+    /// The chunk's first sample with a value that is not finite, if any.
+    fn first_not_finite(&self) -> Option<NotFinite> {
+        let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        for s in 0..self.samples {
+            let (mut y_bad, mut tau_bad) = (false, false);
+            for b in &self.blocks {
+                let k = b.len() / self.samples;
+                let (tau, y) = b[s * k..(s + 1) * k].split_last().expect("τ is a column");
+                y_bad |= !finite(y);
+                tau_bad |= !tau.is_finite();
+            }
+            if y_bad || tau_bad {
+                return Some(NotFinite {
+                    sample: s,
+                    torque: !y_bad,
+                });
+            }
+        }
+        None
     }
 
     /// Another accumulator's sums (flushed) added to these.
@@ -101,8 +142,11 @@ impl GramAcc {
 
     /// The full Gram matrix (lower triangle) and, when `per_joint`, each
     /// joint's (lower triangle; empty otherwise), after a last flush.
-    pub(crate) fn finish(mut self, per_joint: bool) -> (Mat<f64>, Vec<Mat<f64>>) {
-        self.flush();
+    pub(crate) fn finish(
+        mut self,
+        per_joint: bool,
+    ) -> Result<(Mat<f64>, Vec<Mat<f64>>), NotFinite> {
+        self.flush()?;
         let p1 = self.p1;
         let mut full = Mat::<f64>::zeros(p1, p1);
         let mut joints = vec![];
@@ -114,7 +158,7 @@ impl GramAcc {
                 joints.push(m);
             }
         }
-        (full, joints)
+        Ok((full, joints))
     }
 }
 

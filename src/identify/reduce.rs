@@ -11,7 +11,7 @@
 //! about `ε·κ` relative accuracy in the fitted torques, far below any noise.
 
 use super::error::{GramProblem, IdentifyError};
-use super::gram::GramAcc;
+use super::gram::{GramAcc, NotFinite};
 use crate::dynamics::{Model, Samples};
 use faer::Mat;
 use rayon::prelude::*;
@@ -131,17 +131,17 @@ fn symmetrize(g: &mut Mat<f64>) {
 }
 
 /// A sample's regressor row and torque must be finite: an overflow (a huge
-/// velocity squared, say) is named here, where it happens, not left to
-/// turn the Gram matrix into NaN.
-fn finite_sample(sample: usize, y: &[f64], tau: &[f64]) -> Result<(), IdentifyError> {
-    let what = if !y.iter().all(|x| x.is_finite()) {
-        "its regressor overflowed (q, q̇ or q̈ too large)"
-    } else if !tau.iter().all(|x| x.is_finite()) {
-        "its torque is not finite"
-    } else {
-        return Ok(());
-    };
-    Err(IdentifyError::NonFinite { sample, what })
+/// velocity squared, say) is named where it happens, not left to turn the
+/// Gram matrix into NaN; `first` is the chunk's first sample.
+fn not_finite(first: usize, e: NotFinite) -> IdentifyError {
+    IdentifyError::NonFinite {
+        sample: first + e.sample,
+        what: if e.torque {
+            "its torque is not finite"
+        } else {
+            "its regressor overflowed (q, q̇ or q̈ too large)"
+        },
+    }
 }
 
 /// The Gram matrix must be finite after the sums.
@@ -260,14 +260,13 @@ impl Acc {
         range: std::ops::Range<usize>,
     ) -> Result<(), IdentifyError> {
         let [q, qd, qdd, tau] = samples;
+        let first = range.start;
         for s in range {
             crate::dynamics::regressor(model, &mut self.data, &q[s], &qd[s], &qdd[s])
                 .map_err(|source| IdentifyError::Regressor { sample: s, source })?;
-            finite_sample(s, self.data.regressor.as_slice(), &tau[s])?;
             self.gram.push(self.data.regressor.as_slice(), &tau[s]);
         }
-        self.gram.flush();
-        Ok(())
+        self.gram.flush().map_err(|e| not_finite(first, e))
     }
 }
 
@@ -303,7 +302,9 @@ pub fn reduce_samples(
             },
         )
         .try_reduce(|| Acc::new(model, 1), |a, b| Ok(a.merge(b)))?;
-    let (mut gram, mut joint_grams) = acc.gram.finish(keep_joint_grams(n, p + 1));
+    let (mut gram, mut joint_grams) = (acc.gram)
+        .finish(keep_joint_grams(n, p + 1))
+        .map_err(|e| not_finite(0, e))?; // every chunk was flushed: nothing is left to fail
     finite_gram(&gram)?;
     symmetrize(&mut gram);
     joint_grams.iter_mut().for_each(symmetrize);
@@ -361,18 +362,19 @@ impl<'m> StreamReducer<'m> {
         }
         crate::dynamics::regressor(self.model, &mut self.data, q, qd, qdd)
             .map_err(|source| IdentifyError::Regressor { sample, source })?;
-        finite_sample(sample, self.data.regressor.as_slice(), tau)?;
         self.gram.push(self.data.regressor.as_slice(), tau);
         self.samples += 1;
         if self.gram.samples == self.chunk {
-            self.gram.flush();
+            let first = self.samples - self.chunk;
+            self.gram.flush().map_err(|e| not_finite(first, e))?;
         }
         Ok(())
     }
 
     /// The reduced data; an error if the sums overflowed.
     pub fn finish(self) -> Result<Reduced, IdentifyError> {
-        let (mut gram, _) = self.gram.finish(false);
+        let first = self.samples - self.gram.samples;
+        let (mut gram, _) = self.gram.finish(false).map_err(|e| not_finite(first, e))?;
         finite_gram(&gram)?;
         symmetrize(&mut gram);
         Ok(Reduced {
@@ -418,10 +420,10 @@ mod tests {
             let tau: Vec<f64> = (0..n).map(|i| x(s, i, p)).collect();
             rows.push(&y, &tau);
             if s % 8 == 7 {
-                rows.flush(); // several chunks add up
+                rows.flush().unwrap(); // several chunks add up
             }
         }
-        let (mut g, mut joints) = rows.finish(true);
+        let (mut g, mut joints) = rows.finish(true).unwrap();
         symmetrize(&mut g);
         joints.iter_mut().for_each(symmetrize);
         // each joint's residual from its own Gram matrix, for some θ
@@ -454,5 +456,33 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// A value that is not finite is named by its sample, a regressor
+    /// value before a torque of the same sample.
+    #[test]
+    fn the_first_value_that_is_not_finite_is_named() {
+        let (n, p) = (2, 3);
+        let run = |nan_torque_at: usize| {
+            let mut rows = GramAcc::with_columns(p + 1, vec![vec![0, 1, 2], vec![1, 2]], 8);
+            for s in 0..6 {
+                let mut y = vec![1.0; n * p];
+                let mut tau = vec![0.5; n];
+                if s == nan_torque_at {
+                    tau[1] = f64::NAN;
+                }
+                if s == 4 {
+                    y[2 * n + 1] = f64::INFINITY; // joint 1, column 2
+                    tau[0] = f64::NAN;
+                }
+                rows.push(&y, &tau);
+            }
+            rows.flush().unwrap_err()
+        };
+        let e = run(3);
+        assert_eq!((e.sample, e.torque), (3, true));
+        assert!(super::not_finite(100, e).to_string().contains("sample 103"));
+        let e = run(5);
+        assert_eq!((e.sample, e.torque), (4, false));
     }
 }
