@@ -536,3 +536,93 @@ fn two_link_arm(geometry: &str, extra: &str) -> String {
 <axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="20" velocity="5"/></joint></robot>"#
     )
 }
+
+/// A URDF naming `mesh` for its one link, in `dir`, and the check's
+/// warnings and verdict for it with `package_paths`.
+fn check_with(dir: &Path, mesh: &str, package_paths: &[PathBuf]) -> (Option<bool>, String) {
+    let u = dir.join("r.urdf");
+    let inertial = solid_box(1.0, [0.4, 0.2, 0.1], [0.0, 0.0, 0.0]);
+    std::fs::write(&u, urdf(mesh, "1 1 1", "0 0 0", &inertial)).unwrap();
+    let (_, rep) = check_urdf_file(&u, package_paths).unwrap();
+    let w: Vec<String> = rep.warnings.iter().map(|w| w.to_string()).collect();
+    (rep.links[0].realizable_in_geometry, w.join("\n"))
+}
+
+/// A mesh path that climbs out of its package or the URDF's folder, or an
+/// absolute one elsewhere, is not read (the link is left unbounded, with a
+/// warning naming the path) unless a package folder given holds it.
+#[test]
+fn a_mesh_path_outside_its_package_or_folder_is_not_read() {
+    let d = dir("outside");
+    let outside = d.join("outside");
+    let share = d.join("share");
+    let robot = d.join("robot");
+    for f in [&outside, &share.join("my_robot"), &robot] {
+        std::fs::create_dir_all(f).unwrap();
+    }
+    let (bv, bf) = box_mesh([0.4, 0.2, 0.1]);
+    std::fs::write(outside.join("secret.stl"), stl_binary(&bv, &bf)).unwrap();
+    let secret = outside.join("secret.stl").display().to_string();
+    let cases = [
+        "package://my_robot/../../outside/secret.stl".to_string(),
+        "../outside/secret.stl".to_string(),
+        secret.clone(),
+        format!("file://{secret}"),
+    ];
+    for mesh in &cases {
+        let (bounded, warnings) = check_with(&robot, mesh, std::slice::from_ref(&share));
+        assert_eq!(bounded, None, "{mesh}: {warnings}");
+        assert!(
+            warnings.contains("leads outside") && warnings.contains("link 'body'"),
+            "{mesh}: {warnings}"
+        );
+    }
+    // a package folder that holds it allows an absolute or relative path to it
+    for mesh in &cases[1..] {
+        let (bounded, warnings) = check_with(&robot, mesh, std::slice::from_ref(&outside));
+        assert_eq!(bounded, Some(true), "{mesh}: {warnings}");
+    }
+    let paths = MeshPaths {
+        urdf_dir: robot.clone(),
+        package_paths: vec![share.clone()],
+        ros_package_path: false,
+    };
+    let e = paths.resolve(&cases[0]).unwrap_err();
+    assert!(
+        matches!(e, momentlmi::urdf::mesh::MeshError::Outside { .. }),
+        "{e}"
+    );
+    // inside the package, `..` that stays in it is fine
+    std::fs::create_dir_all(share.join("my_robot").join("meshes")).unwrap();
+    std::fs::write(share.join("my_robot").join("b.stl"), stl_binary(&bv, &bf)).unwrap();
+    assert!(paths.resolve("package://my_robot/meshes/../b.stl").is_ok());
+}
+
+/// A mesh path that names a folder or a FIFO says so (not "not found"),
+/// and nothing waits on the FIFO.
+#[test]
+fn a_mesh_that_is_not_a_file_says_what_it_is() {
+    let d = dir("notafile");
+    std::fs::create_dir_all(d.join("folder.stl")).unwrap();
+    let (bounded, warnings) = check_with(&d, "folder.stl", &[]);
+    assert_eq!(bounded, None);
+    assert!(warnings.contains("is a folder"), "{warnings}");
+    #[cfg(unix)]
+    {
+        let fifo = d.join("fifo.stl");
+        let c = std::ffi::CString::new(fifo.display().to_string()).unwrap();
+        // SAFETY: a valid NUL-terminated path; mkfifo only creates the node.
+        assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0);
+        let (bounded, warnings) = check_with(&d, "fifo.stl", &[]);
+        assert_eq!(bounded, None);
+        assert!(warnings.contains("is a FIFO"), "{warnings}");
+        // a package's candidate that is a FIFO is named too
+        let pkg = d.join("pkg");
+        std::fs::create_dir_all(&pkg).unwrap();
+        let f2 = std::ffi::CString::new(pkg.join("m.stl").display().to_string()).unwrap();
+        // SAFETY: as above.
+        assert_eq!(unsafe { libc::mkfifo(f2.as_ptr(), 0o600) }, 0);
+        let (_, warnings) = check_with(&d, "package://pkg/m.stl", &[]);
+        assert!(warnings.contains("is a FIFO"), "{warnings}");
+    }
+}

@@ -25,7 +25,8 @@ struct RobotArgs {
     #[arg(long)]
     no_sidecar: bool,
     /// A folder where a URDF's `package://NAME/…` meshes are found (repeatable; searched after
-    /// the folders above the URDF, before ROS_PACKAGE_PATH).
+    /// the folders above the URDF, before ROS_PACKAGE_PATH); meshes outside the URDF's folder
+    /// and these folders are not read.
     #[arg(long = "package-path", value_name = "DIR")]
     package_path: Vec<PathBuf>,
 }
@@ -141,7 +142,8 @@ enum Command {
         #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
         /// A folder where `package://NAME/…` meshes are found: a package itself or a folder of
-        /// packages (repeatable; searched after the folders above the URDF, before ROS_PACKAGE_PATH).
+        /// packages (repeatable; searched after the folders above the URDF, before ROS_PACKAGE_PATH);
+        /// meshes outside the URDF's folder and these folders are not read.
         #[arg(long = "package-path", value_name = "DIR")]
         package_path: Vec<PathBuf>,
         /// Degenerate links (consistent, but J singular: a point mass, rod or thin plate) make

@@ -396,3 +396,64 @@ fn a_robot_beyond_the_memory_limit_is_refused_before_it_starts() {
     assert!(o.status.success());
     no_nan(&pred);
 }
+
+/// Options out of range name the flag and its range: `--repair-margin`
+/// NaN or too large (once "invalid option eps = NaN" and "solver ended with
+/// status primal_infeasible"), and a memory limit beyond any machine is a
+/// limit, not a broken read (`--max-memory-gib 1e20` once read nothing and
+/// said "unexpected end of file").
+#[test]
+fn options_out_of_range_name_the_flag() {
+    let d = dir("options");
+    let urdf = d.join("r.urdf");
+    std::fs::write(
+        &urdf,
+        r#"<robot name="r"><link name="base"/><link name="b"><inertial><mass value="1"/>
+<inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="5"/></inertial></link>
+<joint name="j" type="revolute"><parent link="base"/><child link="b"/><axis xyz="0 0 1"/>
+<limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>"#,
+    )
+    .unwrap();
+    let out = d.join("fixed.urdf");
+    for m in ["nan", "2", "-1e-3", "inf"] {
+        let o = run(&[
+            "check",
+            urdf.to_str().unwrap(),
+            "--repair",
+            out.to_str().unwrap(),
+            &format!("--repair-margin={m}"),
+        ]);
+        refused(&o, "--repair-margin", m);
+        refused(&o, "[0, 0.1)", m);
+        assert!(!out.exists(), "{m}: nothing is written");
+    }
+    // in range, the inconsistent inertia (izz > ixx + iyy) is repaired
+    let o = run(&[
+        "check",
+        urdf.to_str().unwrap(),
+        "--repair",
+        out.to_str().unwrap(),
+        "--repair-margin",
+        "1e-3",
+    ]);
+    assert_eq!(
+        o.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(out.exists());
+    let sdpa = d.join("small.dat-s");
+    std::fs::write(
+        &sdpa,
+        "2\n2\n{2, -1}\n1.0 1.0\n0 1 1 2 -1.0\n1 1 1 1 1.0\n2 1 2 2 1.0\n1 2 1 1 1.0\n0 2 1 1 0.5\n",
+    )
+    .unwrap();
+    let o = run(&["sdpa", sdpa.to_str().unwrap(), "--max-memory-gib", "1e20"]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}

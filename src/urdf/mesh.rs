@@ -41,11 +41,16 @@ impl MeshPaths {
         }
     }
 
-    /// The file `filename` (as written in the URDF) names, if it exists; the
-    /// error says where it was looked for.
+    /// The file `filename` (as written in the URDF) names, if it is a
+    /// regular file inside the URDF's folder or a package folder; the error
+    /// says where it was looked for, what was found instead, or that the
+    /// path leads outside those folders (a `..` that climbs out of the
+    /// package or the URDF's folder, an absolute path elsewhere): such a
+    /// file is not opened. Paths are compared as written, after `.` and
+    /// `..` (symbolic links are followed as the system does).
     pub fn resolve(&self, filename: &str) -> Result<PathBuf, MeshError> {
         if let Some(rest) = filename.strip_prefix("package://") {
-            return self.resolve_package(rest);
+            return self.resolve_package(filename, rest);
         }
         let p = Path::new(filename.strip_prefix("file://").unwrap_or(filename));
         let p = if p.is_absolute() {
@@ -53,35 +58,128 @@ impl MeshPaths {
         } else {
             self.urdf_dir.join(p)
         };
-        if p.is_file() {
-            Ok(p)
-        } else {
-            Err(MeshError::NotFound(p))
+        let inside = |root: &Path| match (absolute_lexical(&p), absolute_lexical(root)) {
+            (Some(a), Some(r)) => a.starts_with(r),
+            _ => false,
+        };
+        if !self.roots_given().iter().any(|r| inside(r)) {
+            return Err(MeshError::Outside {
+                filename: filename.into(),
+                path: p,
+            });
         }
+        regular_file(p)
     }
 
-    fn resolve_package(&self, rest: &str) -> Result<PathBuf, MeshError> {
-        let (name, inner) = rest.split_once('/').unwrap_or((rest, ""));
-        let mut roots: Vec<PathBuf> = self.urdf_dir.ancestors().map(Path::to_path_buf).collect();
+    /// The URDF's folder, the package folders given and (when searched)
+    /// those of `ROS_PACKAGE_PATH`.
+    fn roots_given(&self) -> Vec<PathBuf> {
+        let urdf_dir = if self.urdf_dir.as_os_str().is_empty() {
+            PathBuf::from(".") // a URDF named without a folder
+        } else {
+            self.urdf_dir.clone()
+        };
+        let mut roots = vec![urdf_dir];
         roots.extend(self.package_paths.iter().cloned());
         if self.ros_package_path
             && let Some(v) = std::env::var_os("ROS_PACKAGE_PATH")
         {
             roots.extend(std::env::split_paths(&v));
         }
+        roots
+    }
+
+    fn resolve_package(&self, filename: &str, rest: &str) -> Result<PathBuf, MeshError> {
+        let (name, inner) = rest.split_once('/').unwrap_or((rest, ""));
+        if Path::new(inner).is_absolute() || lexical(Path::new(inner)).is_none() {
+            return Err(MeshError::Outside {
+                filename: filename.into(),
+                path: PathBuf::from(inner),
+            });
+        }
+        let mut roots: Vec<PathBuf> = self.urdf_dir.ancestors().map(Path::to_path_buf).collect();
+        roots.extend(self.roots_given().into_iter().skip(1));
+        let mut not_a_file = None;
         for root in &roots {
             let is_pkg = root.file_name().is_some_and(|n| n == name);
             let candidates = [root.join(name).join(inner), root.join(inner)];
             for c in candidates.iter().take(if is_pkg { 2 } else { 1 }) {
-                if c.is_file() {
-                    return Ok(c.clone());
+                match regular_file(c.clone()) {
+                    Ok(p) => return Ok(p),
+                    Err(MeshError::NotFound(_)) => {}
+                    Err(e) => not_a_file = not_a_file.or(Some(e)),
                 }
             }
         }
-        Err(MeshError::PackageNotFound {
+        Err(not_a_file.unwrap_or_else(|| MeshError::PackageNotFound {
             package: name.to_string(),
             file: inner.to_string(),
-        })
+        }))
+    }
+}
+
+/// `p` made absolute (against the working folder), then [`lexical`].
+fn absolute_lexical(p: &Path) -> Option<PathBuf> {
+    lexical(&std::path::absolute(p).ok()?)
+}
+
+/// `p` with `.` dropped and each `..` taking off the component before it;
+/// `None` when a `..` climbs above the start.
+fn lexical(p: &Path) -> Option<PathBuf> {
+    use std::path::Component;
+    let mut out = PathBuf::new();
+    let mut depth = 0usize;
+    for c in p.components() {
+        match c {
+            Component::CurDir => {}
+            Component::ParentDir if depth == 0 => return None,
+            Component::ParentDir => {
+                out.pop();
+                depth -= 1;
+            }
+            Component::Normal(n) => {
+                out.push(n);
+                depth += 1;
+            }
+            other => out.push(other.as_os_str()),
+        }
+    }
+    Some(out)
+}
+
+/// `p` if it is a regular file; else what it is (not there, a folder, a
+/// FIFO, a device, …) or why it cannot be looked at.
+fn regular_file(p: PathBuf) -> Result<PathBuf, MeshError> {
+    match std::fs::metadata(&p) {
+        Ok(m) if m.is_file() => Ok(p),
+        Ok(m) => Err(MeshError::NotAFile {
+            kind: file_kind(&m.file_type()),
+            path: p,
+        }),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Err(MeshError::NotFound(p)),
+        Err(source) => Err(MeshError::Io { path: p, source }),
+    }
+}
+
+/// What a file that is not a regular file is.
+fn file_kind(t: &std::fs::FileType) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if t.is_fifo() {
+            return "a FIFO";
+        }
+        if t.is_char_device() || t.is_block_device() {
+            return "a device";
+        }
+        if t.is_socket() {
+            return "a socket";
+        }
+    }
+    if t.is_dir() {
+        "a folder"
+    } else {
+        "not a regular file"
     }
 }
 
@@ -158,6 +256,26 @@ pub enum MeshError {
     /// A relative or absolute mesh path that is not a file.
     #[error("no such file ({})", .0.display())]
     NotFound(PathBuf),
+    /// A path that leads outside the URDF's folder and the package folders
+    /// (not opened).
+    #[error(
+        "'{filename}' leads outside the URDF's folder and the package folders ({}): not read; a package folder that holds it allows it",
+        path.display()
+    )]
+    Outside {
+        /// The path as the URDF writes it.
+        filename: String,
+        /// Where it leads.
+        path: PathBuf,
+    },
+    /// The path names something that is not a regular file.
+    #[error("{} is {kind}, not a mesh file", path.display())]
+    NotAFile {
+        /// The path.
+        path: PathBuf,
+        /// What it is.
+        kind: &'static str,
+    },
     /// A `package://` mesh found nowhere.
     #[error(
         "'{package}/{file}' not found above the URDF, in the package folders given or in ROS_PACKAGE_PATH"

@@ -100,8 +100,20 @@ pub fn run(file: &Path, opts: &CheckArgs) -> i32 {
     }
 }
 
+/// The largest `--repair-margin`: the thinnest direction of a repaired body
+/// at about √ε of its length scale, a third of it here.
+const MAX_REPAIR_MARGIN: f64 = 0.1;
+
 /// [`run`] with every failure an error message (exit 2).
 fn checked(file: &Path, opts: &CheckArgs) -> Result<i32, String> {
+    if let Some((_, how)) = &opts.repair
+        && !(how.margin.is_finite() && (0.0..MAX_REPAIR_MARGIN).contains(&how.margin))
+    {
+        return Err(format!(
+            "--repair-margin {}: must be a number in [0, {MAX_REPAIR_MARGIN}) (a relative margin; 1e-6 to 1e-3 is usual)",
+            how.margin
+        ));
+    }
     let named: Vec<&Path> = std::iter::once(file).chain(opts.sidecar).collect();
     let inputs = super::input_files(&named, &[]);
     for out in opts.repair.iter().map(|r| &r.0).chain(&opts.out) {
@@ -230,8 +242,13 @@ fn write_repair(
     (out, how): (&Path, &RepairOptions),
     json: bool,
 ) -> Result<(), String> {
-    let (fixed, names) =
-        repair_urdf(text, report, &file.display().to_string(), how).map_err(|e| e.to_string())?;
+    let margin = how.margin;
+    let (fixed, names) = repair_urdf(text, report, &file.display().to_string(), how).map_err(|e| {
+        format!(
+            "{e}\nhint: --repair-margin {margin:e} asks every repaired body to keep its thinnest direction at about {:.1} % of its length scale; a smaller margin (1e-6 to 1e-3) leaves more room",
+            100.0 * margin.sqrt()
+        )
+    })?;
     // the repaired file must itself check clean before it is written
     match check_urdf_str(&fixed, &out.display().to_string()) {
         Ok(r)
