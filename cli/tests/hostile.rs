@@ -37,6 +37,20 @@ fn refused(o: &Output, needle: &str, case: &str) {
     );
 }
 
+/// A one-link pendulum URDF (1 kg, `ixx = iyy = side`, `izz`) at `path`.
+fn pendulum(path: &Path, side: &str, izz: &str) {
+    std::fs::write(
+        path,
+        format!(
+            r#"<robot name="pend"><link name="base"/><link name="arm"><inertial><mass value="1"/>
+<inertia ixx="{side}" ixy="0" ixz="0" iyy="{side}" iyz="0" izz="{izz}"/></inertial></link>
+<joint name="j1" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 1 0"/>
+<limit lower="-2" upper="2" effort="10" velocity="5"/></joint></robot>"#
+        ),
+    )
+    .unwrap();
+}
+
 fn no_nan(path: &Path) {
     let t = std::fs::read_to_string(path).unwrap();
     let lower = t.to_lowercase();
@@ -214,14 +228,7 @@ fn no_command_overwrites_its_input_or_leaves_a_partial_output() {
     ]);
     refused(&o, "the same file", "simulate --out x.json");
     let urdf = d.join("pend.urdf");
-    std::fs::write(
-        &urdf,
-        r#"<robot name="pend"><link name="base"/><link name="arm"><inertial><mass value="1"/>
-<inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
-<joint name="j1" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 1 0"/>
-<limit lower="-2" upper="2" effort="10" velocity="5"/></joint></robot>"#,
-    )
-    .unwrap();
+    pendulum(&urdf, "0.01", "0.01");
     let urdf_before = std::fs::read(&urdf).unwrap();
     let o = run(&[
         "simulate",
@@ -262,14 +269,7 @@ fn hostile_sidecars_and_settings_are_refused() {
     let d = dir("sidecar");
     let s = |p: &Path| p.to_str().unwrap().to_string();
     let urdf = d.join("pend.urdf");
-    std::fs::write(
-        &urdf,
-        r#"<robot name="pend"><link name="base"/><link name="arm"><inertial><mass value="1"/>
-<inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
-<joint name="j1" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 1 0"/>
-<limit lower="-2" upper="2" effort="10" velocity="5"/></joint></robot>"#,
-    )
-    .unwrap();
+    pendulum(&urdf, "0.01", "0.01");
     let rotor = |extra: &str| {
         format!(
             "[[rotor]]\njoint = \"j1\"\n{extra}\n[[joint]]\nname = \"j1\"\ncoulomb = 0.1\nviscous = 0.01\n"
@@ -406,14 +406,7 @@ fn a_robot_beyond_the_memory_limit_is_refused_before_it_starts() {
 fn options_out_of_range_name_the_flag() {
     let d = dir("options");
     let urdf = d.join("r.urdf");
-    std::fs::write(
-        &urdf,
-        r#"<robot name="r"><link name="base"/><link name="b"><inertial><mass value="1"/>
-<inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="5"/></inertial></link>
-<joint name="j" type="revolute"><parent link="base"/><child link="b"/><axis xyz="0 0 1"/>
-<limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>"#,
-    )
-    .unwrap();
+    pendulum(&urdf, "1", "5"); // izz > ixx + iyy: not consistent
     let out = d.join("fixed.urdf");
     for m in ["nan", "2", "-1e-3", "inf"] {
         let o = run(&[

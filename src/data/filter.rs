@@ -91,16 +91,22 @@ pub fn differentiate(x: &[f64], t: &[f64]) -> Vec<f64> {
     }
     (0..n)
         .map(|i| {
-            let (a, b) = if i == 0 {
-                (0, 1)
-            } else if i == n - 1 {
-                (n - 2, n - 1)
-            } else {
-                (i - 1, i + 1)
-            };
+            let (a, b) = stencil(i, n);
             (x[b] - x[a]) / (t[b] - t[a])
         })
         .collect()
+}
+
+/// The samples the derivative at `i` of `n` (≥ 2) differences: central
+/// inside, one-sided at the ends.
+fn stencil(i: usize, n: usize) -> (usize, usize) {
+    if i == 0 {
+        (0, 1)
+    } else if i == n - 1 {
+        (n - 2, n - 1)
+    } else {
+        (i - 1, i + 1)
+    }
 }
 
 /// [`filtfilt`] of every column of `x` (rows: samples at `fs` Hz), all
@@ -163,13 +169,7 @@ pub fn differentiate_columns(x: &Samples, t: &[f64]) -> Samples {
     }
     let mut out = Samples::with_capacity(x.width(), n);
     for i in 0..n {
-        let (a, b) = if i == 0 {
-            (0, 1)
-        } else if i == n - 1 {
-            (n - 2, n - 1)
-        } else {
-            (i - 1, i + 1)
-        };
+        let (a, b) = stencil(i, n);
         let dt = t[b] - t[a];
         out.push_with(|j| (x[b][j] - x[a][j]) / dt);
     }
