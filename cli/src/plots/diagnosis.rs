@@ -88,38 +88,17 @@ fn residual_plot(svg: &mut String, d: &Diagnosis, i: usize) -> Svg {
             .map_err(e)?;
         }
         let spec = &d.where_[i].spectrum;
-        let mut c = ChartBuilder::on(&areas[3])
-            .margin(10)
-            .x_label_area_size(35)
-            .y_label_area_size(55)
-            .caption(
-                "share of the nominal residual's variance per band",
-                ("sans-serif", 14),
-            )
-            .build_cartesian_2d((0..spec.len().max(1) - 1).into_segmented(), 0.0..1.0)
-            .map_err(e)?;
-        // one label under each band's bar
-        c.configure_mesh()
-            .disable_x_mesh()
-            .x_labels(spec.len().max(1))
-            .x_label_formatter(&|v| match v {
-                SegmentValue::CenterOf(k) => spec.get(*k).map(|s| s.0.clone()).unwrap_or_default(),
-                _ => String::new(),
-            })
-            .draw()
-            .map_err(e)?;
-        c.draw_series(spec.iter().enumerate().map(|(k, (_, v))| {
-            let mut bar = Rectangle::new(
-                [
-                    (SegmentValue::Exact(k), 0.0),
-                    (SegmentValue::Exact(k + 1), *v),
-                ],
-                RGBColor(214, 39, 40).filled(),
-            );
-            bar.set_margin(0, 0, 12, 12);
-            bar
-        }))
-        .map_err(e)?;
+        let labels: Vec<String> = spec.iter().map(|s| s.0.clone()).collect();
+        let values: Vec<f64> = spec.iter().map(|s| s.1).collect();
+        let bars = super::bars::Bars {
+            caption: "share of the nominal residual's variance per band",
+            labels: &labels,
+            values: &values,
+            y: 0.0..1.0,
+            y_desc: "",
+            color: RGBColor(214, 39, 40),
+        };
+        super::bars::draw_bars(&areas[3], &bars).map_err(e)?;
         root.present().map_err(e)?;
     }
     Ok(())
@@ -140,39 +119,14 @@ fn effects_plot(svg: &mut String, d: &Diagnosis) -> Svg {
         .collect();
     let top = vals.iter().fold(1e-9f64, |a, v| a.max(*v)) * 1.15;
     let names: Vec<String> = acc.iter().map(|r| r.effect.clone()).collect();
-    let n = names.len().max(1);
-    let mut c = ChartBuilder::on(&root)
-        .margin(15)
-        .x_label_area_size(35)
-        .y_label_area_size(70)
-        .caption(
-            "held-out mean-square torque error removed by each accepted effect (sum over joints)",
-            ("sans-serif", 15),
-        )
-        .build_cartesian_2d((0..n - 1).into_segmented(), 0.0..top)
-        .map_err(e)?;
-    // one label under each bar, at its centre
-    c.configure_mesh()
-        .disable_x_mesh()
-        .x_labels(n)
-        .x_label_formatter(&|v| match v {
-            SegmentValue::CenterOf(k) => names.get(*k).cloned().unwrap_or_default(),
-            _ => String::new(),
-        })
-        .y_desc("[N²·m²]")
-        .draw()
-        .map_err(e)?;
-    c.draw_series(vals.iter().enumerate().map(|(k, v)| {
-        let mut bar = Rectangle::new(
-            [
-                (SegmentValue::Exact(k), 0.0),
-                (SegmentValue::Exact(k + 1), *v),
-            ],
-            RGBColor(31, 119, 180).filled(),
-        );
-        bar.set_margin(0, 0, 20, 20);
-        bar
-    }))
-    .map_err(e)?;
+    let bars = super::bars::Bars {
+        caption: "held-out mean-square torque error removed by each accepted effect (sum over joints)",
+        labels: &names,
+        values: &vals,
+        y: 0.0..top,
+        y_desc: "[N²·m²]",
+        color: RGBColor(31, 119, 180),
+    };
+    super::bars::draw_bars(&root, &bars).map_err(e)?;
     root.present()
 }
