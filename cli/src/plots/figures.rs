@@ -34,6 +34,28 @@ fn tick(v: f64) -> String {
     }
 }
 
+/// Tick values for a log axis over `lo..hi` (both > 0): 1, 2, 5 × 10ᵏ
+/// inside it; powers of ten alone when those are more than 12; 1 … 9 × 10ᵏ
+/// when they are fewer than 3 (plotters' own log key points are the powers
+/// of ten, so a range within a decade had one tick label or none).
+fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
+    let pick = |mantissas: &[f64]| -> Vec<f64> {
+        let (k0, k1) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+        (k0..=k1)
+            .flat_map(|k| mantissas.iter().map(move |m| m * 10f64.powi(k)))
+            .filter(|v| (lo..=hi).contains(v))
+            .collect()
+    };
+    let t = pick(&[1.0, 2.0, 5.0]);
+    if t.len() > 12 {
+        pick(&[1.0])
+    } else if t.len() < 3 {
+        pick(&[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0])
+    } else {
+        t
+    }
+}
+
 fn bounds(panels: &[Vec<Series>]) -> Vec<(f64, f64, f64, f64)> {
     panels
         .iter()
@@ -123,7 +145,11 @@ pub fn line_panels(
                 // headroom above the data for the legend in the upper right:
                 // a third of the data's decades
                 let top = hi * 10f64.powf(0.35 * (hi / lo).log10().max(0.1));
-                draw!(cb.build_cartesian_2d((b.0..b.1).log_scale(), (0.8 * lo..top).log_scale()));
+                let (x, y) = ((b.0, b.1), (0.8 * lo, top));
+                draw!(cb.build_cartesian_2d(
+                    (x.0..x.1).log_scale().with_key_points(log_ticks(x.0, x.1)),
+                    (y.0..y.1).log_scale().with_key_points(log_ticks(y.0, y.1))
+                ));
             } else {
                 draw!(cb.build_cartesian_2d(b.0..b.1, b.2..b.3));
             }
@@ -131,4 +157,46 @@ pub fn line_panels(
         root.present().map_err(|e| e.to_string())?;
     }
     Ok(svg)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::log_ticks;
+
+    /// A log axis has at least three ticks whatever its span, and not a
+    /// crowd over many decades.
+    #[test]
+    fn log_axes_have_readable_ticks() {
+        for (lo, hi) in [
+            (1e5, 3e5),
+            (8e4, 1.2e5),
+            (0.8, 120.0),
+            (1e3, 1e6),
+            (1e-3, 1e9),
+        ] {
+            let t = log_ticks(lo, hi);
+            assert!(t.len() >= 3 && t.len() <= 13, "{lo}..{hi}: {t:?}");
+            assert!(t.iter().all(|v| (lo..=hi).contains(v)), "{lo}..{hi}: {t:?}");
+            assert!(t.windows(2).all(|w| w[0] < w[1]), "{t:?}");
+        }
+        assert_eq!(log_ticks(1e5, 3e5), vec![1e5, 2e5, 3e5]);
+    }
+
+    /// A log panel whose values lie within a decade shows several value
+    /// labels (fig7's middle panel once showed only "100000").
+    #[test]
+    fn a_log_panel_within_a_decade_is_labelled() {
+        let series = vec![super::Series {
+            label: "entropic",
+            points: vec![(100.0, 1.9e5), (300.0, 1.4e5), (1000.0, 1.1e5)],
+            color: 0,
+        }];
+        let svg = super::line_panels("t", "samples", &["p".into()], "y", &[series], true).unwrap();
+        for label in ["90000", "100000", "200000", "100", "1000"] {
+            assert!(
+                svg.contains(&format!("\n{label}\n")),
+                "no tick label {label}"
+            );
+        }
+    }
 }
