@@ -284,10 +284,7 @@ fn rows_of(
 ) -> Result<Samples, DataError> {
     let mut out = Samples::with_capacity(pos.len(), m.len() / cols.max(1));
     for (r, row) in m.chunks_exact(cols.max(1)).enumerate() {
-        for &c in pos {
-            check_value(row[c] * scale, MAX_ABS_VALUE, path, name, r + 1)?;
-        }
-        out.push_with(|j| row[pos[j]] * scale);
+        out.try_push_with(|j| check_value(row[pos[j]] * scale, MAX_ABS_VALUE, path, name, r + 1))?;
     }
     Ok(out)
 }

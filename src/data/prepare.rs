@@ -326,27 +326,21 @@ fn filtered(u: &RawLog, fs: f64, cutoff: f64, velocity: Velocity, trim: usize) -
         return None;
     }
     let lp = |v: &Samples| filtfilt_columns(v, cutoff, fs);
-    let mut q = lp(&u.q);
-    let mut qd = match (velocity, &u.qd) {
+    let q = lp(&u.q);
+    let qd = match (velocity, &u.qd) {
         (Velocity::File, Some(v)) => lp(v),
         _ => differentiate_columns(&q, &u.t),
     };
-    let mut qdd = differentiate_columns(&qd, &u.t);
-    let mut tau = u.tau.as_ref().map(lp).unwrap_or_default();
-    let keep = trim..n - trim;
-    // the ends dropped in place
-    for v in [&mut q, &mut qd, &mut qdd, &mut tau] {
-        if !v.is_empty() {
-            v.keep(keep.clone());
-        }
-    }
-    Some(Dataset {
+    let qdd = differentiate_columns(&qd, &u.t);
+    let mut d = Dataset {
         joints: vec![],
-        t: u.t[keep].to_vec(),
+        t: u.t.clone(),
         q,
         qd,
         qdd,
-        tau,
+        tau: u.tau.as_ref().map(lp).unwrap_or_default(),
         segments: vec![],
-    })
+    };
+    d.keep(trim..n - trim); // the ends dropped in place
+    Some(d)
 }

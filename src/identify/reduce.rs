@@ -33,7 +33,7 @@ pub struct Reduced {
     pub joint_grams: Vec<Mat<f64>>,
 }
 
-/// The most memory per thread the per-joint Gram matrices may take.
+/// The most memory the per-joint Gram matrices kept in [`Reduced`] may take.
 pub const JOINT_GRAMS_BUDGET_BYTES: usize = 8 << 20;
 
 impl Reduced {

@@ -8,7 +8,7 @@ use super::warning::IdentifyWarning;
 use crate::data::Dataset;
 use crate::dynamics::Friction;
 use crate::dynamics::params_file::{BodyParams, ParamsFile};
-use crate::dynamics::{Data, FrictionTerm, Model, Samples, rnea};
+use crate::dynamics::{Data, Model, Samples, rnea};
 use crate::moments::{
     ConsistencyReport, DEGENERATE_TOL, DegenerateShape, InertialParams, RealizabilityReport,
     check_consistency, check_realizable, degenerate_shape, entropic_divergence,
@@ -269,11 +269,7 @@ fn sample_parts(model: &Model, theta: &[f64], d: &Dataset) -> Result<Contributio
     };
     let (links, rotors) = (only(0..nl)?, only(nl..nb)?);
     let has_rotors = nb > nl;
-    let friction = |qd: &[f64], i: usize| -> f64 {
-        (FrictionTerm::ALL.iter().enumerate())
-            .map(|(t, term)| theta[nb + t * n + i] * term.basis(qd[i]))
-            .sum()
-    };
+    let law = Friction::from_terms(n, |t, i| theta[nb + t.index() * n + i]);
     let mut c = Contributions {
         links: Samples::zeros(d.len(), n),
         rotors: Samples::zeros(d.len(), n),
@@ -295,7 +291,7 @@ fn sample_parts(model: &Model, theta: &[f64], d: &Dataset) -> Result<Contributio
                         r[at.clone()].copy_from_slice(rnea(&rotors, data, q, qd, qdd)?.as_slice());
                     }
                     for (i, v) in f[at].iter_mut().enumerate() {
-                        *v = friction(qd, i);
+                        *v = law.add_to(0.0, i, qd[i]);
                     }
                 }
                 Ok(())

@@ -58,11 +58,14 @@ impl MeshPaths {
         } else {
             self.urdf_dir.join(p)
         };
-        let inside = |root: &Path| match (absolute_lexical(&p), absolute_lexical(root)) {
+        let at = absolute_lexical(&p);
+        let inside = |root: &Path| match (&at, absolute_lexical(root)) {
             (Some(a), Some(r)) => a.starts_with(r),
             _ => false,
         };
-        if !self.roots_given().iter().any(|r| inside(r)) {
+        let urdf_root = self.urdf_root();
+        let roots = self.package_roots();
+        if !std::iter::once(&urdf_root).chain(&roots).any(|r| inside(r)) {
             return Err(MeshError::Outside {
                 filename: filename.into(),
                 path: p,
@@ -71,16 +74,19 @@ impl MeshPaths {
         regular_file(p)
     }
 
-    /// The URDF's folder, the package folders given and (when searched)
-    /// those of `ROS_PACKAGE_PATH`.
-    fn roots_given(&self) -> Vec<PathBuf> {
-        let urdf_dir = if self.urdf_dir.as_os_str().is_empty() {
-            PathBuf::from(".") // a URDF named without a folder
+    /// The URDF's folder (`.` for a URDF named without one).
+    fn urdf_root(&self) -> PathBuf {
+        if self.urdf_dir.as_os_str().is_empty() {
+            PathBuf::from(".")
         } else {
             self.urdf_dir.clone()
-        };
-        let mut roots = vec![urdf_dir];
-        roots.extend(self.package_paths.iter().cloned());
+        }
+    }
+
+    /// The package folders given and (when searched) those of
+    /// `ROS_PACKAGE_PATH`.
+    fn package_roots(&self) -> Vec<PathBuf> {
+        let mut roots = self.package_paths.clone();
         if self.ros_package_path
             && let Some(v) = std::env::var_os("ROS_PACKAGE_PATH")
         {
@@ -98,7 +104,7 @@ impl MeshPaths {
             });
         }
         let mut roots: Vec<PathBuf> = self.urdf_dir.ancestors().map(Path::to_path_buf).collect();
-        roots.extend(self.roots_given().into_iter().skip(1));
+        roots.extend(self.package_roots());
         let mut not_a_file = None;
         for root in &roots {
             let is_pkg = root.file_name().is_some_and(|n| n == name);
