@@ -299,18 +299,23 @@ fn a_repair_refuses_a_report_of_another_text() {
     assert!(repair_urdf(&other, &report, "c.urdf", &RepairOptions::default()).is_err());
 }
 
-/// Clarabel panics inside its SVD on numbers that span ~200 orders of
-/// magnitude; the conic layer turns that into a solver error, so no caller
-/// (the checker's repair, identification, a library user) can be taken
-/// down by it.
+/// Numbers that span ~200 orders of magnitude: Clarabel 0.11 panicked
+/// inside its PSD cone's SVD on them (faer's SVD did not converge), which
+/// the conic layer turns into a solver error; with the one-sided Jacobi SVD
+/// of small blocks (`faer_lapack::small`) the solve runs and ends with a
+/// numerical error. Either way the caller gets an error naming the solver,
+/// never a crash.
 #[test]
-fn a_solver_panic_is_an_error_not_a_crash() {
+fn a_hopeless_solve_is_an_error_not_a_crash() {
     use momentlmi::moments::{InertialParams, NearestOptions, nearest_consistent};
-    // hx = 1e200 beside inertias of 0.02: Clarabel 0.11's PSD cone SVD fails
     let pi = InertialParams([1.0, 1e200, 0.0, 0.0, 0.02, 0.0, 0.0, 0.02, 0.0, 0.02]);
     let r = std::panic::catch_unwind(|| nearest_consistent(&pi, &NearestOptions::default()));
     let e = r
         .expect("the solver's panic escaped the conic layer")
-        .unwrap_err();
-    assert!(e.to_string().contains("Clarabel failed"), "{e}");
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("Clarabel failed") || e.contains("solver ended with status numerical_error"),
+        "{e}"
+    );
 }

@@ -626,3 +626,93 @@ fn a_mesh_that_is_not_a_file_says_what_it_is() {
         assert!(warnings.contains("is a FIFO"), "{warnings}");
     }
 }
+
+/// Bounding volumes kept in a cache folder: the first load writes one
+/// entry per mesh and per covering solve, a second load gives the same
+/// ellipsoids bit for bit without new entries, takes what the entries hold
+/// (an entry replaced by another ellipsoid is what the next load returns),
+/// and a damaged entry is solved again and rewritten.
+#[test]
+fn bounding_volumes_come_from_the_cache_when_it_holds_them() {
+    use momentlmi::dynamics::robots::load_robot;
+    use momentlmi::moments::Ellipsoid;
+    use momentlmi::moments::cache::{CacheKey, SolveCache};
+    let d = dir("cache");
+    let (v, f) = box_mesh([0.3, 0.06, 0.06]);
+    std::fs::write(d.join("upper.stl"), stl_binary(&v, &f)).unwrap();
+    let extra = r#"<collision><origin xyz="0.2 0 0"/><geometry><sphere radius="0.05"/></geometry></collision>"#;
+    let u = d.join("arm.urdf");
+    std::fs::write(&u, two_link_arm(r#"<mesh filename="upper.stl"/>"#, extra)).unwrap();
+    let cache = SolveCache::new(d.join("cache"));
+    let load = || {
+        let r = load_robot(u.to_str().unwrap(), None).unwrap();
+        let r = r.with_bounding_cache(cache.clone());
+        assert!(
+            r.bounding_warnings().is_empty(),
+            "{:?}",
+            r.bounding_warnings()
+        );
+        r.bounding().to_vec()
+    };
+    let entries = || {
+        let mut e: Vec<PathBuf> = std::fs::read_dir(cache.dir())
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .collect();
+        e.sort();
+        e
+    };
+    let uncached = load_robot(u.to_str().unwrap(), None)
+        .unwrap()
+        .bounding()
+        .to_vec();
+    let first = load();
+    assert_eq!(first, uncached);
+    // the mesh's ellipsoid and the upper body's cover (the fore box is one shape)
+    assert_eq!(entries().len(), 2, "{:?}", entries());
+    assert_eq!(load(), first);
+    assert_eq!(entries().len(), 2);
+    // damaged entries: solved again, rewritten as they were
+    let kept: Vec<Vec<u8>> = entries()
+        .iter()
+        .map(|p| std::fs::read(p).unwrap())
+        .collect();
+    for p in entries() {
+        std::fs::write(&p, b"not an entry").unwrap();
+    }
+    assert_eq!(load(), first);
+    let rewritten: Vec<Vec<u8>> = entries()
+        .iter()
+        .map(|p| std::fs::read(p).unwrap())
+        .collect();
+    assert_eq!(rewritten, kept);
+    // the entries are what a load takes: the mesh's replaced by a ball
+    // (which covers the sphere) makes the cover that ball, newly solved
+    let ball = |r: f64| {
+        Ellipsoid::new(
+            nalgebra::Vector3::new(0.1, 0.0, 0.0),
+            nalgebra::Vector3::repeat(r),
+        )
+        .unwrap()
+    };
+    let put = |p: &Path, e: &Ellipsoid| {
+        let stem = p.file_stem().unwrap().to_str().unwrap();
+        cache.put(&CacheKey::from_hex(stem).unwrap(), e).unwrap();
+    };
+    let before = entries();
+    before.iter().for_each(|p| put(p, &ball(0.5)));
+    let upper = load()[0].clone();
+    assert_eq!(upper.len(), 1);
+    assert!(
+        (upper[0].semi_axes - ball(0.5).semi_axes).abs().max() < 1e-5,
+        "{upper:?}"
+    );
+    // and the new cover's entry, replaced, is what the next load returns
+    let new: Vec<PathBuf> = entries()
+        .into_iter()
+        .filter(|p| !before.contains(p))
+        .collect();
+    assert_eq!(new.len(), 1);
+    put(&new[0], &ball(0.7));
+    assert_eq!(load()[0], vec![ball(0.7)]);
+}

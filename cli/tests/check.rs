@@ -617,3 +617,52 @@ fn a_closed_pipe_is_not_a_panic() {
     assert!(!err.contains("panicked"), "{err}");
     assert!(!err.contains("Broken pipe"), "{err}");
 }
+
+/// The bounding-volume cache folder: `MOMENTLMI_CACHE_DIR` names it (an
+/// entry per mesh appears there, and a second run gives the same report),
+/// `off` turns it off, and one that cannot be written is a warning that
+/// leaves the report as it was.
+#[test]
+fn the_cache_folder_is_used_turned_off_or_warned_about() {
+    let dir = TempDir::new("cache-dir");
+    let mut obj = String::new();
+    for k in 0..8 {
+        let c = |i: usize| if k >> i & 1 == 1 { 0.1 } else { -0.1 };
+        obj.push_str(&format!("v {} {} {}\n", c(0), 2.0 * c(1), 3.0 * c(2)));
+    }
+    obj.push_str("f 1 2 4\nf 1 4 3\nf 5 7 8\nf 5 8 6\nf 1 5 6\nf 1 6 2\nf 3 4 8\nf 3 8 7\nf 1 3 7\nf 1 7 5\nf 2 6 8\nf 2 8 4\n");
+    dir.write("box.obj", &obj);
+    let urdf = dir.write(
+        "r.urdf",
+        r#"<robot name="r"><link name="body"><inertial><mass value="2"/>
+<inertia ixx="0.03" iyy="0.02" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>
+<collision><geometry><mesh filename="box.obj"/></geometry></collision></link></robot>"#,
+    );
+    let run = |cache: &str| {
+        let o = bin()
+            .env("MOMENTLMI_CACHE_DIR", cache)
+            .args(["check", "--json", urdf.to_str().unwrap()])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        (o.stdout, String::from_utf8_lossy(&o.stderr).into_owned())
+    };
+    let cache = dir.0.join("cache");
+    let (first, err) = run(cache.to_str().unwrap());
+    assert!(!err.contains("warning"), "{err}");
+    let entries = std::fs::read_dir(&cache).unwrap().count();
+    assert_eq!(entries, 1);
+    let (again, _) = run(cache.to_str().unwrap());
+    assert_eq!(again, first);
+    std::fs::remove_dir_all(&cache).unwrap();
+    let (off, _) = run("off");
+    assert_eq!(off, first);
+    assert!(!cache.exists() && !std::path::Path::new("off").exists());
+    let not_a_folder = dir.write("file", "x");
+    let (blocked, err) = run(not_a_folder.to_str().unwrap());
+    assert_eq!(blocked, first);
+    assert!(
+        err.contains("bounding ellipsoids not cached") && err.contains("file"),
+        "{err}"
+    );
+}

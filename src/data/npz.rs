@@ -59,6 +59,14 @@ fn numbers<R: Read>(npy: npyz::NpyFile<R>) -> Result<Vec<f64>, String> {
     // room made once for all a log usually has (a hostile header claiming
     // more grows the vector only as values really come)
     let n = (npy.len() as usize).min(1 << 22);
+    if let npyz::DType::Plain(t) = npy.dtype() {
+        use npyz::{Endianness, TypeChar};
+        if (t.type_char(), t.size_field(), t.endianness())
+            == (TypeChar::Float, 8, Endianness::Little)
+        {
+            return little_f64(npy.len(), n, npy.into_inner());
+        }
+    }
     let all = |it: &mut dyn Iterator<Item = std::io::Result<f64>>| {
         let mut v = Vec::with_capacity(n);
         for x in it {
@@ -85,6 +93,26 @@ fn numbers<R: Read>(npy: npyz::NpyFile<R>) -> Result<Vec<f64>, String> {
             n.dtype().descr()
         )),
     }
+}
+
+/// `len` little-endian float64 values read in bulk (the common case: what
+/// NumPy writes on every usual machine), `room` of them allocated at first.
+fn little_f64(len: u64, room: usize, mut r: impl Read) -> Result<Vec<f64>, String> {
+    let mut bytes = Vec::with_capacity(room * 8);
+    (&mut r)
+        .take(len.saturating_mul(8))
+        .read_to_end(&mut bytes)
+        .map_err(|e| format!("truncated or unreadable: {e}"))?;
+    if (bytes.len() as u64) < len.saturating_mul(8) {
+        return Err(format!(
+            "truncated or unreadable: {} of {len} values",
+            bytes.len() / 8
+        ));
+    }
+    Ok(bytes
+        .chunks_exact(8)
+        .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
+        .collect())
 }
 
 /// Column-major `v` (`rows × cols`) in row-major order.

@@ -7,6 +7,7 @@
 use super::model::Model;
 use super::warning::DescriptionWarning;
 use crate::moments::Ellipsoid;
+use crate::moments::cache::{CacheKey, SolveCache};
 use crate::moments::geometry::{Meshes, geometry_ellipsoids};
 use crate::urdf::mesh::MeshPaths;
 use std::collections::HashMap;
@@ -19,6 +20,7 @@ use std::sync::{Arc, OnceLock};
 pub struct Bounding {
     given: Vec<Vec<Ellipsoid>>,
     geometry: Option<Arc<(crate::urdf::Robot, MeshPaths)>>,
+    cache: Option<SolveCache>,
     computed: Arc<OnceLock<Computed>>,
 }
 
@@ -35,7 +37,18 @@ impl Bounding {
         Self {
             given,
             geometry: None,
+            cache: None,
             computed: Arc::new(OnceLock::new()),
+        }
+    }
+
+    /// The geometry's ellipsoids are kept in, and taken from, `cache`
+    /// across runs ([`crate::moments::cache`]); before they are computed.
+    pub fn with_cache(self, cache: SolveCache) -> Self {
+        Self {
+            cache: Some(cache),
+            computed: Arc::new(OnceLock::new()),
+            ..self
         }
     }
 
@@ -77,7 +90,11 @@ impl Bounding {
     fn computed(&self, model: &Model) -> &Computed {
         self.computed.get_or_init(|| {
             let (robot, paths) = &**self.geometry.as_ref().expect("called with geometry");
-            compute(&self.given, model, robot, &mut Meshes::new(paths.clone()))
+            let mut meshes = Meshes::new(paths.clone());
+            if let Some(c) = &self.cache {
+                meshes = meshes.with_cache(c.clone());
+            }
+            compute(&self.given, model, robot, &mut meshes)
         })
     }
 }
@@ -123,19 +140,41 @@ fn compute(
         use rayon::prelude::*;
         (parts.par_iter().enumerate())
             .filter(|(_, p)| !p.is_empty())
-            .map(|(b, p)| (b, Ellipsoid::enclosing(p)))
+            .map(|(b, p)| (b, cover(p, meshes.cache())))
             .collect()
     };
     for (b, cover) in covers {
         match cover {
-            Ok(e) => per_body[b] = vec![e],
+            Ok((e, stored)) => {
+                per_body[b] = vec![e];
+                stored.into_iter().for_each(|e| meshes.note_cache_error(e));
+            }
             Err(m) => warnings.push(DescriptionWarning::NoBoundingEllipsoid {
                 body: model.joints[b].body.clone(),
                 reason: m.to_string(),
             }),
         }
     }
+    if let Some(reason) = meshes.cache_error() {
+        let reason = reason.to_string();
+        warnings.push(DescriptionWarning::Cache { reason });
+    }
     Computed { per_body, warnings }
+}
+
+/// The ellipsoid enclosing a body's `parts`, from `cache` when it holds
+/// them (several parts: a conic solve), and a failure to store it.
+fn cover(
+    parts: &[Ellipsoid],
+    cache: Option<&SolveCache>,
+) -> Result<(Ellipsoid, Option<std::io::Error>), crate::moments::MomentsError> {
+    match (parts, cache) {
+        ([_, _, ..], Some(c)) => {
+            let key = CacheKey::of_ellipsoids("cover", parts);
+            c.get_or_solve(&key, || Ellipsoid::enclosing(parts))
+        }
+        _ => Ellipsoid::enclosing(parts).map(|e| (e, None)),
+    }
 }
 
 impl fmt::Debug for Bounding {

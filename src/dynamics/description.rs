@@ -181,6 +181,14 @@ impl RobotDescription {
         self
     }
 
+    /// The URDF geometry's bounding ellipsoids are kept in, and taken
+    /// from, `cache` across runs ([`crate::moments::cache`]: keyed by the
+    /// meshes' and shapes' content).
+    pub fn with_bounding_cache(mut self, cache: crate::moments::cache::SolveCache) -> Self {
+        self.bounds = self.bounds.with_cache(cache);
+        self
+    }
+
     /// Bounding ellipsoids per body (links then rotors, body frames;
     /// several: their union; none: unknown): the sidecar's, and the URDF
     /// geometry's, computed on the first call (meshes read, minimum-volume

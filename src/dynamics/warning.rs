@@ -43,6 +43,12 @@ pub enum DescriptionWarning {
         /// Why.
         reason: String,
     },
+    /// Solved bounding ellipsoids could not be stored in the cache (they
+    /// are right; the next run solves them again).
+    Cache {
+        /// The cache's folder and the reason.
+        reason: String,
+    },
 }
 
 impl fmt::Display for DescriptionWarning {
@@ -69,6 +75,10 @@ impl fmt::Display for DescriptionWarning {
                     "body '{body}': no bounding ellipsoid from its geometry: {reason}"
                 )
             }
+            DescriptionWarning::Cache { reason } => write!(
+                f,
+                "bounding ellipsoids not cached ({reason}): they are solved again on every run"
+            ),
         }
     }
 }

@@ -30,6 +30,7 @@
 
 pub mod blas3;
 pub mod cholesky;
+mod small;
 pub mod svd;
 pub mod syevr;
 mod view;

@@ -1,7 +1,8 @@
 //! Singular value decomposition: `dgesdd_` and `dgesvd_`.
 //!
-//! Both compute `A = U Σ Vᵀ` of the `m × n` matrix A with faer's SVD (the
-//! algorithm differs from LAPACK's, the contract does not): singular values in
+//! Both compute `A = U Σ Vᵀ` of the `m × n` matrix A with faer's SVD, or by
+//! one-sided Jacobi for a small square one ([`super::small`]) (the algorithms
+//! differ from LAPACK's, the contract does not): singular values in
 //! descending order in `s`, U and Vᵀ written as the job flags ask:
 //! - `'A'`: all columns of U (`m × m`) / all rows of Vᵀ (`n × n`);
 //! - `'S'`: the first `min(m, n)` columns of U / rows of Vᵀ;
@@ -69,33 +70,12 @@ unsafe fn compute(
         let (cu, cv) = (want(ju), want(jv));
         let ucols = if ju == Job::All { m } else { k };
         let vcols = if jv == Job::All { n } else { k };
-        let mut uo = (cu != ComputeSvdVectors::No).then(|| Mat::<f64>::zeros(m, ucols));
-        let mut vo = (cv != ComputeSvdVectors::No).then(|| Mat::<f64>::zeros(n, vcols));
-        let mut sd = Diag::<f64>::zeros(k);
-        let mut buf = MemBuffer::new(svd_scratch::<f64>(
-            m,
-            n,
-            cu,
-            cv,
-            Par::Seq,
-            Default::default(),
-        ));
         let av = mat_ref(a, m, n, lda);
-        let ok = svd(
-            av,
-            sd.as_mut(),
-            uo.as_mut().map(|x| x.as_mut()),
-            vo.as_mut().map(|x| x.as_mut()),
-            Par::Seq,
-            MemStack::new(&mut buf),
-            Default::default(),
-        )
-        .is_ok();
-        if !ok {
+        let Some((sd, uo, vo)) = factor(av, cu, cv, (ucols, vcols)) else {
             return false;
-        }
-        for i in 0..k {
-            *s.add(i) = sd[i];
+        };
+        for (i, x) in sd.into_iter().enumerate() {
+            *s.add(i) = x;
         }
         if let Some(uo) = uo {
             let dst: MatMut<'_, f64> = if ju == Job::Overwrite {
@@ -280,4 +260,48 @@ pub unsafe extern "C" fn dgesvd_(
             *info = 1;
         }
     }
+}
+
+/// Singular values, U and V where asked.
+type Factors = (Vec<f64>, Option<Mat<f64>>, Option<Mat<f64>>);
+
+/// The singular values (descending), U (`m × ucols`) and V (`n × vcols`)
+/// where asked, of `av`: a small square matrix by one-sided Jacobi
+/// ([`super::small`]), others through faer. `None`: no convergence.
+fn factor(
+    av: faer::MatRef<'_, f64>,
+    cu: ComputeSvdVectors,
+    cv: ComputeSvdVectors,
+    (ucols, vcols): (usize, usize),
+) -> Option<Factors> {
+    let (m, n) = (av.nrows(), av.ncols());
+    let (want_u, want_v) = (cu != ComputeSvdVectors::No, cv != ComputeSvdVectors::No);
+    if m == n && n <= super::small::SMALL {
+        let a = (0..n * n).map(|k| av[(k % n, k / n)]).collect();
+        let (s, u, v) = super::small::square_svd(a, n)?;
+        let to_faer = |x: Vec<f64>| Mat::from_fn(n, n, |i, j| x[j * n + i]);
+        return Some((s, want_u.then(|| to_faer(u)), want_v.then(|| to_faer(v))));
+    }
+    let mut uo = want_u.then(|| Mat::<f64>::zeros(m, ucols));
+    let mut vo = want_v.then(|| Mat::<f64>::zeros(n, vcols));
+    let mut sd = Diag::<f64>::zeros(m.min(n));
+    let mut buf = MemBuffer::new(svd_scratch::<f64>(
+        m,
+        n,
+        cu,
+        cv,
+        Par::Seq,
+        Default::default(),
+    ));
+    svd(
+        av,
+        sd.as_mut(),
+        uo.as_mut().map(|x| x.as_mut()),
+        vo.as_mut().map(|x| x.as_mut()),
+        Par::Seq,
+        MemStack::new(&mut buf),
+        Default::default(),
+    )
+    .ok()?;
+    Some(((0..m.min(n)).map(|i| sd[i]).collect(), uo, vo))
 }

@@ -1,7 +1,7 @@
 //! Symmetric eigen-decomposition: `dsyevr_`.
 //!
 //! Computes all eigenvalues (and optionally eigenvectors) with faer's
-//! self-adjoint EVD, then selects the requested ones (`range = 'A'` all,
+//! self-adjoint EVD (by Jacobi rotations for a small matrix: [`super::small`]), then selects the requested ones (`range = 'A'` all,
 //! `'V'` those in the half-open interval (vl, vu], `'I'` the il-th through
 //! iu-th in ascending order, 1-based). `abstol` is accepted and ignored: the
 //! eigenvalues are always computed to full working accuracy. The caller's
@@ -102,36 +102,10 @@ pub unsafe extern "C" fn dsyevr_(
         let n = n as usize;
         let av = mat_ref(a, n, n, lda as usize);
         let lower = if uplo == b'U' { av.transpose() } else { av };
-        let compute = if wantz {
-            ComputeEigenvectors::Yes
-        } else {
-            ComputeEigenvectors::No
-        };
-        let mut s = Diag::<f64>::zeros(n);
-        let mut u = if wantz {
-            Some(Mat::<f64>::zeros(n, n))
-        } else {
-            None
-        };
-        let mut buf = MemBuffer::new(self_adjoint_evd_scratch::<f64>(
-            n,
-            compute,
-            Par::Seq,
-            Default::default(),
-        ));
-        let res = self_adjoint_evd(
-            lower,
-            s.as_mut(),
-            u.as_mut().map(|u| u.as_mut()),
-            Par::Seq,
-            MemStack::new(&mut buf),
-            Default::default(),
-        );
-        if res.is_err() {
+        let Some((vals, u)) = eigen(lower, wantz) else {
             *info = 1;
             return;
-        }
-        let vals: Vec<f64> = (0..n).map(|i| s[i]).collect();
+        };
         let selected: Vec<usize> = match range {
             b'A' => (0..n).collect(),
             b'V' => (0..n)
@@ -169,4 +143,40 @@ pub unsafe extern "C" fn dsyevr_(
             }
         }
     }
+}
+
+/// All eigenvalues (ascending) of the symmetric matrix whose lower triangle
+/// is `lower`, and with `wantz` its eigenvectors; small orders by Jacobi
+/// ([`super::small`]), others through faer. `None`: no convergence.
+fn eigen(lower: faer::MatRef<'_, f64>, wantz: bool) -> Option<(Vec<f64>, Option<Mat<f64>>)> {
+    let n = lower.nrows();
+    if n <= super::small::SMALL {
+        let a = (0..n * n).map(|k| lower[((k % n).max(k / n), (k % n).min(k / n))]);
+        let (vals, v) = super::small::symmetric_eigen(a.collect(), n)?;
+        let u = wantz.then(|| Mat::from_fn(n, n, |i, j| v[j * n + i]));
+        return Some((vals, u));
+    }
+    let compute = if wantz {
+        ComputeEigenvectors::Yes
+    } else {
+        ComputeEigenvectors::No
+    };
+    let mut s = Diag::<f64>::zeros(n);
+    let mut u = wantz.then(|| Mat::<f64>::zeros(n, n));
+    let mut buf = MemBuffer::new(self_adjoint_evd_scratch::<f64>(
+        n,
+        compute,
+        Par::Seq,
+        Default::default(),
+    ));
+    self_adjoint_evd(
+        lower,
+        s.as_mut(),
+        u.as_mut().map(|u| u.as_mut()),
+        Par::Seq,
+        MemStack::new(&mut buf),
+        Default::default(),
+    )
+    .ok()?;
+    Some(((0..n).map(|i| s[i]).collect(), u))
 }

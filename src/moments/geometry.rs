@@ -4,6 +4,7 @@
 //! bounding ellipsoids of its shapes ([`geometry_ellipsoids`]) and points on
 //! them ([`geometry_points`], for `momentlmi check --out`).
 
+use super::cache::{CacheKey, SolveCache};
 use super::ellipsoid::{Ellipsoid, rpy_rotation};
 use crate::urdf::mesh::{MeshPaths, read_vertices};
 use crate::urdf::{Geometry, Link, Pose, Shape};
@@ -26,17 +27,27 @@ pub struct Meshes {
     given: HashMap<String, Vec<Ellipsoid>>,
     /// Mesh ellipsoids by content (the distinct vertices' and the scale's
     /// bits, hashed): a mesh several links or files share is solved once.
-    solved: HashMap<u64, Ellipsoid>,
+    solved: HashMap<CacheKey, Ellipsoid>,
+    /// Where solved ellipsoids are kept between runs, if anywhere.
+    cache: Option<SolveCache>,
+    /// The first failure to store in [`Self::cache`] (the results stand).
+    cache_error: Option<String>,
 }
 
 impl Meshes {
     /// Meshes found through `paths`.
     pub fn new(paths: MeshPaths) -> Self {
+        Self::found_through(Some(paths))
+    }
+
+    fn found_through(paths: Option<MeshPaths>) -> Self {
         Self {
-            paths: Some(paths),
+            paths,
             read: HashMap::new(),
             given: HashMap::new(),
             solved: HashMap::new(),
+            cache: None,
+            cache_error: None,
         }
     }
 
@@ -47,6 +58,33 @@ impl Meshes {
         self
     }
 
+    /// Solved ellipsoids are kept in, and taken from, `cache`
+    /// ([`crate::moments::cache`]).
+    pub fn with_cache(mut self, cache: SolveCache) -> Self {
+        self.cache = Some(cache);
+        self
+    }
+
+    /// The cache given with [`Meshes::with_cache`].
+    pub fn cache(&self) -> Option<&SolveCache> {
+        self.cache.as_ref()
+    }
+
+    /// The first failure to store a solved ellipsoid in the cache (folder
+    /// and reason), if any: the ellipsoids are right, the next run solves
+    /// them again.
+    pub fn cache_error(&self) -> Option<&str> {
+        self.cache_error.as_deref()
+    }
+
+    /// Notes a failure to store in the cache (the first one is kept).
+    pub fn note_cache_error(&mut self, e: std::io::Error) {
+        if self.cache_error.is_none() {
+            let dir = self.cache.as_ref().map(|c| c.dir().display().to_string());
+            self.cache_error = Some(format!("{}: {e}", dir.unwrap_or_default()));
+        }
+    }
+
     /// The links given a bounding volume with [`Meshes::with_bounding`].
     pub fn given_links(&self) -> impl Iterator<Item = &str> {
         self.given.keys().map(String::as_str)
@@ -54,12 +92,7 @@ impl Meshes {
 
     /// No mesh is read (a URDF given as text has no folder).
     pub fn none() -> Self {
-        Self {
-            paths: None,
-            read: HashMap::new(),
-            given: HashMap::new(),
-            solved: HashMap::new(),
-        }
+        Self::found_through(None)
     }
 
     /// The distinct vertices of the mesh `filename` names.
@@ -81,17 +114,27 @@ impl Meshes {
 
 impl Meshes {
     /// The minimum-volume ellipsoid enclosing the mesh `filename`'s
-    /// vertices, scaled; solved once per content.
+    /// vertices, scaled; solved once per content (and kept in the cache,
+    /// if one is given, across runs).
     fn mesh_ellipsoid(&mut self, filename: &str, scale: [f64; 3]) -> Result<Ellipsoid, String> {
-        use std::hash::{Hash, Hasher};
-        let mut h = std::collections::hash_map::DefaultHasher::new();
-        scale.map(f64::to_bits).hash(&mut h);
-        (self.vertices(filename)?.iter()).for_each(|p| p.map(f64::to_bits).as_slice().hash(&mut h));
-        let key = h.finish();
+        let v = self.vertices(filename)?;
+        let inputs = scale
+            .into_iter()
+            .chain(v.iter().flat_map(|p| [p.x, p.y, p.z]));
+        let key = CacheKey::new(&format!("mesh-mvee tol={MESH_MVEE_TOL:e}"), inputs);
         if let Some(e) = self.solved.get(&key) {
             return Ok(*e);
         }
-        let e = mesh_ellipsoid(self.vertices(filename)?, scale)?;
+        let cache = self.cache.clone();
+        let v = self.vertices(filename)?;
+        let e = match cache {
+            None => mesh_ellipsoid(v, scale)?,
+            Some(c) => {
+                let (e, err) = c.get_or_solve(&key, || mesh_ellipsoid(v, scale))?;
+                err.into_iter().for_each(|e| self.note_cache_error(e));
+                e
+            }
+        };
         self.solved.insert(key, e);
         Ok(e)
     }
@@ -107,11 +150,14 @@ fn distinct(v: Vec<[f64; 3]>) -> Vec<Vector3<f64>> {
         .collect()
 }
 
+/// The relative tolerance of a mesh's minimum-volume ellipsoid.
+pub const MESH_MVEE_TOL: f64 = 1e-7;
+
 /// The minimum-volume ellipsoid enclosing a mesh's vertices, scaled.
 fn mesh_ellipsoid(points: &[Vector3<f64>], scale: [f64; 3]) -> Result<Ellipsoid, String> {
     let s = Vector3::from(scale);
     let scaled: Vec<Vector3<f64>> = points.iter().map(|p| p.component_mul(&s)).collect();
-    Ellipsoid::minimum_volume_enclosing(&scaled, 1e-7).map_err(|e| e.to_string())
+    Ellipsoid::minimum_volume_enclosing(&scaled, MESH_MVEE_TOL).map_err(|e| e.to_string())
 }
 
 /// Why one shape gave no bounding ellipsoid.

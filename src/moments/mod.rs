@@ -28,6 +28,7 @@
 //! - [`geometry`]: a URDF link's geometry — meshes, the bounding ellipsoids
 //!   of its shapes, points on them (for plots).
 
+pub mod cache;
 mod check;
 mod cover;
 mod divergence;

@@ -143,6 +143,11 @@ fn checked(file: &Path, opts: &CheckArgs) -> Result<i32, String> {
     for w in &report.warnings {
         eprintln!("warning: {}: {w}", file.display());
     }
+    if let Some(reason) = meshes.cache_error() {
+        let reason = reason.to_string();
+        let w = momentlmi::dynamics::DescriptionWarning::Cache { reason };
+        eprintln!("warning: {w}");
+    }
     if opts.json {
         println!(
             "{}",
@@ -169,6 +174,9 @@ fn checked(file: &Path, opts: &CheckArgs) -> Result<i32, String> {
 /// (each must name a link of the file).
 fn geometry_source(file: &Path, opts: &CheckArgs) -> Result<Meshes, String> {
     let mut meshes = Meshes::new(MeshPaths::for_urdf(file, opts.package_paths));
+    if let Some(cache) = super::solve_cache() {
+        meshes = meshes.with_cache(cache);
+    }
     let Some(path) = opts.sidecar else {
         return Ok(meshes);
     };

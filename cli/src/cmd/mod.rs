@@ -29,12 +29,30 @@ pub(crate) fn load_robot(
     sidecar: Option<&Path>,
     package_paths: &[std::path::PathBuf],
 ) -> Result<momentlmi::dynamics::RobotDescription, String> {
-    let robot = momentlmi::dynamics::robots::load_robot_with(spec, sidecar, package_paths)
+    let mut robot = momentlmi::dynamics::robots::load_robot_with(spec, sidecar, package_paths)
         .map_err(|e| e.to_string())?;
+    if let Some(cache) = solve_cache() {
+        robot = robot.with_bounding_cache(cache);
+    }
     momentlmi::effects::Library::builtin()
         .check_defaults(&robot)
         .map_err(|e| e.to_string())?;
     Ok(robot)
+}
+
+/// Where solved bounding ellipsoids are kept between runs: the folder
+/// `MOMENTLMI_CACHE_DIR` names (empty or `off`: nowhere), else
+/// `$XDG_CACHE_HOME/momentlmi`, else `$HOME/.cache/momentlmi`.
+pub(crate) fn solve_cache() -> Option<momentlmi::moments::cache::SolveCache> {
+    use momentlmi::moments::cache::SolveCache;
+    let var = |k: &str| std::env::var_os(k).filter(|v| !v.is_empty());
+    if let Some(dir) = std::env::var_os("MOMENTLMI_CACHE_DIR") {
+        return (!dir.is_empty() && dir != "off").then(|| SolveCache::new(dir));
+    }
+    let base = var("XDG_CACHE_HOME")
+        .map(std::path::PathBuf::from)
+        .or_else(|| var("HOME").map(|h| Path::new(&h).join(".cache")))?;
+    Some(SolveCache::new(base.join("momentlmi")))
 }
 
 /// A URDF's own sidecar: `NAME.toml` beside `NAME.urdf`, if there is one.
