@@ -32,6 +32,7 @@ pub mod moments;
 mod numfmt;
 pub mod sdpa;
 pub mod sim;
+pub mod tempfiles;
 pub mod urdf;
 mod warning;
 

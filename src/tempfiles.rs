@@ -51,13 +51,18 @@ impl TempFile {
     }
 
     fn inner(&self) -> &tempfile::NamedTempFile {
-        self.file.as_ref().expect("present until persisted or dropped")
+        self.file
+            .as_ref()
+            .expect("present until persisted or dropped")
     }
 
     /// Renames the file to `target` (replacing it) and unregisters it.
     pub fn persist(mut self, target: &Path) -> io::Result<()> {
         let mut set = live();
-        let file = self.file.take().expect("present until persisted or dropped");
+        let file = self
+            .file
+            .take()
+            .expect("present until persisted or dropped");
         let path = file.path().to_path_buf();
         match file.persist(target) {
             Ok(_) => {
@@ -97,6 +102,37 @@ fn unregister(set: &mut Option<HashSet<PathBuf>>, path: &Path) {
     }
 }
 
+/// Renames each file onto its target, in order, all under the registry's
+/// lock: a signal handler sees the whole set renamed or none of it. On a
+/// failure, the files before it are in place, it and the rest are deleted,
+/// and its target and error are returned.
+pub fn persist_all(files: Vec<(TempFile, PathBuf)>) -> Result<(), (PathBuf, io::Error)> {
+    let mut set = live();
+    let mut rest = files.into_iter();
+    for (mut temp, target) in rest.by_ref() {
+        let file = temp
+            .file
+            .take()
+            .expect("present until persisted or dropped");
+        let path = file.path().to_path_buf();
+        match file.persist(&target) {
+            Ok(_) => unregister(&mut set, &path),
+            Err(e) => {
+                unregister(&mut set, &path);
+                let _ = e.file.close();
+                for (mut t, _) in rest {
+                    if let Some(f) = t.file.take() {
+                        unregister(&mut set, f.path());
+                        let _ = f.close();
+                    }
+                }
+                return Err((target, e.error));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Removes every registered temporary file; returns how many were removed.
 /// For a signal handler about to exit the process: the lock is left held
 /// (no file can be created or renamed afterwards).
@@ -113,7 +149,9 @@ pub fn remove_all() -> usize {
 
 /// The registered temporary files now (for tests and diagnostics).
 pub fn registered() -> Vec<PathBuf> {
-    live().as_ref().map_or(vec![], |s| s.iter().cloned().collect())
+    live()
+        .as_ref()
+        .map_or(vec![], |s| s.iter().cloned().collect())
 }
 
 #[cfg(test)]

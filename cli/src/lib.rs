@@ -8,6 +8,7 @@
 mod cli;
 pub mod cmd;
 pub mod experiment;
+pub mod interrupt;
 pub mod plots;
 pub mod regularizer_study;
 

@@ -28,5 +28,8 @@ fn main() {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
+    // SIGINT and SIGTERM remove the staged outputs' temporary files and
+    // end the process with 130 or 143
+    momentlmi_cli::interrupt::remove_staged_files_on_signals();
     std::process::exit(momentlmi_cli::main());
 }

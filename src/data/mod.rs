@@ -15,6 +15,8 @@
 //! - [`filter`]: the zero-phase Butterworth low-pass and the differentiator
 //!   that give q̈ (and, for raw encoders, q̇) offline;
 //! - [`rms`], [`rms_per_joint`]: the one RMS helper;
+//! - [`target`]: what an output path names (a file, standard output, a device) and so
+//!   how it is written;
 //! - [`write`](mod@write): outputs written whole or not at all, and the JSON record
 //!   written beside a CSV (how the data were made).
 
@@ -30,6 +32,7 @@ mod read;
 pub mod ros2;
 pub mod spectrum;
 mod stats;
+pub mod target;
 mod warning;
 pub mod write;
 
@@ -42,6 +45,7 @@ pub use prepare::{FileReport, Prepare, Velocity};
 pub use raw::RawLog;
 pub use read::{ReadOptions, Reading, read_logs};
 pub use stats::{rms, rms_per_joint};
+pub use target::Target;
 pub use warning::ReadWarning;
 pub use write::{
     Staged, record_path, same_file, stage_with_record, write_whole, write_with_record,

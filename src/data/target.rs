@@ -36,7 +36,10 @@ impl Target {
         if resolved.iter().any(|p| is_stdout_name(p)) {
             return Ok(Self::Stdout);
         }
-        let last = resolved.last().cloned().unwrap_or_else(|| path.to_path_buf());
+        let last = resolved
+            .last()
+            .cloned()
+            .unwrap_or_else(|| path.to_path_buf());
         let meta = match std::fs::metadata(&last) {
             Ok(m) => m,
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Self::File(last)),
@@ -110,7 +113,10 @@ fn special(kind: &std::fs::FileType, path: &Path) -> Result<Target, String> {
     } else if kind.is_block_device() {
         Err("is a block device (a disk or a partition); refusing to write to it".into())
     } else if kind.is_socket() {
-        Err("is a socket; an output is a file, a FIFO, a character device or - (standard output)".into())
+        Err(
+            "is a socket; an output is a file, a FIFO, a character device or - (standard output)"
+                .into(),
+        )
     } else {
         Err("is neither a file nor a device this command can write to".into())
     }
@@ -149,7 +155,10 @@ mod tests {
                 Target::File(sub.join("../new.csv"))
             );
             std::os::unix::fs::symlink(d.join("later.csv"), d.join("dangling")).unwrap();
-            assert_eq!(Target::of(&d.join("dangling")).unwrap(), Target::File(d.join("later.csv")));
+            assert_eq!(
+                Target::of(&d.join("dangling")).unwrap(),
+                Target::File(d.join("later.csv"))
+            );
             std::os::unix::fs::symlink("/dev/stdout", d.join("out")).unwrap();
             assert_eq!(Target::of(&d.join("out")).unwrap(), Target::Stdout);
             assert_eq!(

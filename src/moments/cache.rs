@@ -11,8 +11,9 @@
 //! magic, the ellipsoid's 15 numbers (centre, semi-axes, rotation by
 //! columns, little-endian `f64` bits) and the SHA-256 of the key and those
 //! numbers, so a truncated or altered entry is a miss (and is rewritten),
-//! never a wrong ellipsoid. Entries are written to a temporary file and
-//! renamed into place: concurrent runs read whole entries or none.
+//! never a wrong ellipsoid. Entries are written to a temporary file
+//! ([`crate::tempfiles`]) and renamed into place: concurrent runs read
+//! whole entries or none.
 
 use super::ellipsoid::Ellipsoid;
 use nalgebra::{Matrix3, Vector3};
@@ -102,13 +103,9 @@ impl SolveCache {
     pub fn put(&self, key: &CacheKey, e: &Ellipsoid) -> std::io::Result<()> {
         use std::io::Write;
         std::fs::create_dir_all(&self.dir)?;
-        let mut tmp = tempfile::Builder::new()
-            .prefix(".momentlmi-cache-")
-            .suffix(".tmp")
-            .tempfile_in(&self.dir)?;
+        let mut tmp = crate::tempfiles::TempFile::new_in(&self.dir, ".momentlmi-cache-")?;
         tmp.write_all(&encode(key, e))?;
-        tmp.persist(self.path(key)).map_err(|e| e.error)?;
-        Ok(())
+        tmp.persist(&self.path(key))
     }
 
     /// The ellipsoid under `key`, else `solve`'s, stored for next time.

@@ -114,6 +114,15 @@ fn checked(file: &Path, opts: &CheckArgs) -> Result<i32, String> {
             how.margin
         ));
     }
+    if let Some((out, _)) = &opts.repair
+        && momentlmi::data::Target::of(out).map_err(|e| e.to_string())?
+            == momentlmi::data::Target::Stdout
+    {
+        return Err(format!(
+            "--repair {}: the check's report takes standard output; give the repaired URDF a file",
+            out.display()
+        ));
+    }
     let named: Vec<&Path> = std::iter::once(file).chain(opts.sidecar).collect();
     let inputs = super::input_files(&named, &[]);
     for out in opts.repair.iter().map(|r| &r.0).chain(&opts.out) {

@@ -77,6 +77,8 @@ fn run_inner(a: &PredictArgs) -> Result<(), String> {
         s.push('\n');
     }
     staged.add_text(a.out, &s).map_err(|e| e.to_string())?;
+    // with the predictions on standard output, the summary goes to standard error
+    let to_stdout = staged.writes_stdout();
     staged.commit().map_err(|e| e.to_string())?;
     // RMS against measured torques when the file has them
     let rms: Option<Vec<f64>> = (!d.tau.is_empty()).then(|| {
@@ -91,13 +93,18 @@ fn run_inner(a: &PredictArgs) -> Result<(), String> {
             })
             .collect()
     });
+    use std::fmt::Write as _;
+    let mut summary = String::new();
     if a.json {
-        println!(
+        writeln!(
+            summary,
             "{}",
             json!({ "robot": model.name, "joints": names, "samples": d.len(), "out": a.out.display().to_string(), "rms_vs_measured": rms })
-        );
+        )
+        .expect("a String");
     } else {
-        println!(
+        writeln!(
+            summary,
             "{}: {} samples of {} → {}",
             model.name,
             d.len(),
@@ -107,12 +114,18 @@ fn run_inner(a: &PredictArgs) -> Result<(), String> {
                 .collect::<Vec<_>>()
                 .join(", "),
             a.out.display()
-        );
+        )
+        .expect("a String");
         if let Some(r) = rms {
             for (j, v) in names.iter().zip(r) {
-                println!("  RMS(predicted − measured) {j:<12} {v:.4}");
+                writeln!(summary, "  RMS(predicted − measured) {j:<12} {v:.4}").expect("a String");
             }
         }
+    }
+    if to_stdout {
+        eprint!("{summary}");
+    } else {
+        print!("{summary}");
     }
     Ok(())
 }
