@@ -271,14 +271,20 @@ impl SdpaProblem {
         s
     }
 
-    /// Writes the file whole (to a temporary beside it, then renamed).
+    /// Writes the file whole (to a uniquely named temporary file beside it,
+    /// registered with [`crate::tempfiles`], then renamed).
     pub fn write(&self, path: &Path) -> Result<(), SdpaError> {
+        use std::io::Write;
         let io = |e| SdpaError::Io {
             path: path.to_path_buf(),
             source: e,
         };
-        let tmp = path.with_extension("dat-s.tmp");
-        std::fs::write(&tmp, self.to_text()).map_err(io)?;
-        std::fs::rename(&tmp, path).map_err(io)
+        let dir = match path.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d,
+            _ => Path::new("."),
+        };
+        let mut tmp = crate::tempfiles::TempFile::new_in(dir, ".momentlmi-").map_err(io)?;
+        tmp.write_all(self.to_text().as_bytes()).map_err(io)?;
+        tmp.persist(path).map_err(io)
     }
 }
