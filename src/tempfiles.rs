@@ -56,24 +56,10 @@ impl TempFile {
             .expect("present until persisted or dropped")
     }
 
-    /// Renames the file to `target` (replacing it) and unregisters it.
-    pub fn persist(mut self, target: &Path) -> io::Result<()> {
-        let mut set = live();
-        let file = self
-            .file
-            .take()
-            .expect("present until persisted or dropped");
-        let path = file.path().to_path_buf();
-        match file.persist(target) {
-            Ok(_) => {
-                unregister(&mut set, &path);
-                Ok(())
-            }
-            Err(e) => {
-                self.file = Some(e.file); // deleted by drop, as the other errors' files
-                Err(e.error)
-            }
-        }
+    /// Renames the file to `target` (replacing it) and unregisters it
+    /// ([`persist_all`] of one).
+    pub fn persist(self, target: &Path) -> io::Result<()> {
+        persist_all(vec![(self, target.to_path_buf())]).map_err(|(_, e)| e)
     }
 }
 

@@ -13,21 +13,25 @@ fn s(p: &Path) -> &str {
     p.to_str().unwrap()
 }
 
-/// A leg log of `seconds` (1 kHz) in `dir`.
+/// `simulate` of the leg for `seconds` (1 kHz) into `out`.
+fn simulate(seconds: &str, out: &str) -> Command {
+    let mut c = bin();
+    c.args([
+        "simulate",
+        "--robot",
+        "cheetah3-leg",
+        "--seconds",
+        seconds,
+        "--out",
+        out,
+    ]);
+    c
+}
+
+/// A leg log of `seconds` in `dir`.
 fn leg_log(dir: &TempDir, name: &str, seconds: &str) -> PathBuf {
     let p = dir.0.join(name);
-    let o = bin()
-        .args([
-            "simulate",
-            "--robot",
-            "cheetah3-leg",
-            "--seconds",
-            seconds,
-            "--out",
-            s(&p),
-        ])
-        .output()
-        .unwrap();
+    let o = simulate(seconds, s(&p)).output().unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     p
 }
@@ -139,18 +143,7 @@ fn special_outputs_are_written_to_never_replaced() {
     let o = predict(&data, s(&sock)).output().unwrap();
     assert!(!o.status.success() && sock.exists());
     assert!(String::from_utf8_lossy(&o.stderr).contains("is a socket"));
-    let o = bin()
-        .args([
-            "simulate",
-            "--robot",
-            "cheetah3-leg",
-            "--seconds",
-            "0.1",
-            "--out",
-            "-",
-        ])
-        .output()
-        .unwrap();
+    let o = simulate("0.1", "-").output().unwrap();
     assert!(!o.status.success() && o.stdout.is_empty());
     let e = String::from_utf8_lossy(&o.stderr);
     assert!(
@@ -169,20 +162,10 @@ fn special_outputs_are_written_to_never_replaced() {
 fn concurrent_runs_leave_one_runs_set_whole() {
     let dir = TempDir::new("concurrent-out");
     let run = |seed: &str, out: &Path| {
-        let mut c = bin();
-        c.args([
-            "simulate",
-            "--robot",
-            "cheetah3-leg",
-            "--seconds",
-            "0.3",
-            "--seed",
-            seed,
-            "--out",
-            s(out),
-        ])
-        .stdout(Stdio::null())
-        .stderr(Stdio::null());
+        let mut c = simulate("0.3", s(out));
+        c.args(["--seed", seed])
+            .stdout(Stdio::null())
+            .stderr(Stdio::null());
         c
     };
     let csv_of = |seed: &str| {
@@ -234,22 +217,7 @@ fn interrupted_runs_leave_no_temporary_files() {
     let out = dir.0.join("out.csv");
     type Maker<'a> = Box<dyn Fn() -> Command + 'a>;
     let commands: [(&str, Maker); 2] = [
-        (
-            "simulate",
-            Box::new(|| {
-                let mut c = bin();
-                c.args([
-                    "simulate",
-                    "--robot",
-                    "cheetah3-leg",
-                    "--seconds",
-                    "40",
-                    "--out",
-                    s(&out),
-                ]);
-                c
-            }),
-        ),
+        ("simulate", Box::new(|| simulate("40", s(&out)))),
         ("predict", Box::new(|| predict(&data, s(&out)))),
     ];
     for (name, cmd) in &commands {

@@ -16,11 +16,17 @@ fn io(path: &Path) -> impl FnOnce(std::io::Error) -> DataError + '_ {
 }
 
 /// One staged output: a named temporary file beside a regular target, or
-/// an unnamed one (nothing on disk to leave behind) for standard output, a
-/// character device or a FIFO.
+/// an unnamed one (nothing on disk to leave behind) for standard output
+/// (`to: None`), a character device or a FIFO.
 enum Entry {
-    File { temp: TempFile, to: PathBuf },
-    Stream { temp: std::fs::File, to: Target },
+    File {
+        temp: TempFile,
+        to: PathBuf,
+    },
+    Stream {
+        temp: std::fs::File,
+        to: Option<PathBuf>,
+    },
 }
 
 /// Outputs staged in temporary files and put in place together by
@@ -96,13 +102,11 @@ impl Staged {
     /// refused.
     pub fn add(&mut self, path: &Path, bytes: &[u8]) -> Result<(), DataError> {
         let entry = match self.claim(path)? {
-            Target::File(to) => stage_file(&to, bytes).map_err(io(path))?,
-            to => {
-                let mut temp = tempfile::tempfile().map_err(io(path))?;
-                temp.write_all(bytes).map_err(io(path))?;
-                Entry::Stream { temp, to }
-            }
-        };
+            Target::File(to) => stage_file(&to, bytes),
+            Target::Stdout => stage_stream(None, bytes),
+            Target::Stream(to) => stage_stream(Some(to), bytes),
+        }
+        .map_err(io(path))?;
         self.files.push((entry, path.to_path_buf()));
         Ok(())
     }
@@ -124,7 +128,7 @@ impl Staged {
         let _locks = lock_folders(renames.iter().map(|(_, to)| to.as_path()))?;
         crate::tempfiles::persist_all(renames).map_err(|(to, e)| io(&to)(e))?;
         for (temp, to, named) in streams {
-            write_stream(temp, &to).map_err(io(&named))?;
+            write_stream(temp, to.as_deref()).map_err(io(&named))?;
         }
         Ok(done)
     }
@@ -134,7 +138,8 @@ impl Entry {
     fn target(&self) -> Target {
         match self {
             Entry::File { to, .. } => Target::File(to.clone()),
-            Entry::Stream { to, .. } => to.clone(),
+            Entry::Stream { to: None, .. } => Target::Stdout,
+            Entry::Stream { to: Some(p), .. } => Target::Stream(p.clone()),
         }
     }
 }
@@ -159,6 +164,14 @@ fn stage_file(to: &Path, bytes: &[u8]) -> std::io::Result<Entry> {
         temp,
         to: to.to_path_buf(),
     })
+}
+
+/// `bytes` in an unnamed temporary file, for standard output (`to: None`)
+/// or the device or FIFO `to`.
+fn stage_stream(to: Option<PathBuf>, bytes: &[u8]) -> std::io::Result<Entry> {
+    let mut temp = tempfile::tempfile()?;
+    temp.write_all(bytes)?;
+    Ok(Entry::Stream { temp, to })
 }
 
 /// Exclusive locks on the folders of `targets` (each once, in one order,
@@ -190,22 +203,17 @@ fn lock_folders<'a>(
     Ok(locks)
 }
 
-/// The staged bytes in `temp` written to standard output or to the device
-/// or FIFO `to` (opened for writing, never created or replaced).
-fn write_stream(mut temp: std::fs::File, to: &Target) -> std::io::Result<()> {
+/// The staged bytes in `temp` written to standard output (`to: None`) or
+/// to the device or FIFO `to` (opened for writing, never created or
+/// replaced).
+fn write_stream(mut temp: std::fs::File, to: Option<&Path>) -> std::io::Result<()> {
     temp.rewind()?;
-    match to {
-        Target::Stdout => {
-            let mut out = std::io::stdout().lock();
-            std::io::copy(&mut temp, &mut out)?;
-            out.flush()
-        }
-        Target::Stream(p) | Target::File(p) => {
-            let mut f = std::fs::OpenOptions::new().write(true).open(p)?;
-            std::io::copy(&mut temp, &mut f)?;
-            f.flush()
-        }
-    }
+    let mut out: Box<dyn Write> = match to {
+        None => Box::new(std::io::stdout().lock()),
+        Some(p) => Box::new(std::fs::OpenOptions::new().write(true).open(p)?),
+    };
+    std::io::copy(&mut temp, &mut out)?;
+    out.flush()
 }
 
 /// Whether the output `target` is the file `input` (standard output is

@@ -68,25 +68,19 @@ pub(super) fn symmetric_eigen(mut a: Square, n: usize) -> Option<(Vec<f64>, Squa
     // couplings below the rounding of the whole matrix are noise that
     // rotations among null directions regenerate: LAPACK's accuracy
     let floor = tolerance(n) * norm(&a);
-    let converged = (0..MAX_SWEEPS).any(|_| {
-        let mut rotated = false;
-        for p in 0..n {
-            for q in p + 1..n {
-                let (app, aqq, apq) = (a[p * n + p], a[q * n + q], a[q * n + p]);
-                let relative = tolerance(n) * app.abs().sqrt() * aqq.abs().sqrt();
-                if apq.abs() <= relative.max(floor) {
-                    continue;
-                }
-                let Some(cs) = rotation(app, aqq, apq) else {
-                    continue;
-                };
-                rotate_columns(&mut a, n, (p, q), cs);
-                rotate_rows(&mut a, n, (p, q), cs);
-                rotate_columns(&mut v, n, (p, q), cs);
-                rotated = true;
-            }
+    let converged = sweeps(n, |p, q| {
+        let (app, aqq, apq) = (a[p * n + p], a[q * n + q], a[q * n + p]);
+        let relative = tolerance(n) * app.abs().sqrt() * aqq.abs().sqrt();
+        if apq.abs() <= relative.max(floor) {
+            return false;
         }
-        !rotated
+        let Some(cs) = rotation(app, aqq, apq) else {
+            return false;
+        };
+        rotate_columns(&mut a, n, (p, q), cs);
+        rotate_rows(&mut a, n, (p, q), cs);
+        rotate_columns(&mut v, n, (p, q), cs);
+        true
     });
     if !converged {
         return None;
@@ -95,6 +89,21 @@ pub(super) fn symmetric_eigen(mut a: Square, n: usize) -> Option<(Vec<f64>, Squa
     order.sort_by(|&i, &j| a[i * n + i].total_cmp(&a[j * n + j]));
     let values = order.iter().map(|&i| a[i * n + i]).collect();
     Some((values, permuted_columns(&v, n, &order)))
+}
+
+/// Cyclic sweeps over the pairs `p < q` of `n`, `rotate(p, q)` saying
+/// whether it turned the pair, until a sweep turns none (`true`) or
+/// [`MAX_SWEEPS`] run out (`false`).
+fn sweeps(n: usize, mut rotate: impl FnMut(usize, usize) -> bool) -> bool {
+    (0..MAX_SWEEPS).any(|_| {
+        let mut rotated = false;
+        for p in 0..n {
+            for q in p + 1..n {
+                rotated |= rotate(p, q);
+            }
+        }
+        !rotated
+    })
 }
 
 /// Rows `p`, `q` of the `n × n` column-major `m` turned by `(c, s)`.
@@ -126,28 +135,20 @@ pub(super) fn square_svd(mut a: Square, n: usize) -> Option<(Vec<f64>, Square, S
     let dot = |a: &[f64], i: usize, j: usize| -> f64 {
         (0..n).map(|r| a[i * n + r] * a[j * n + r]).sum()
     };
-    let converged = (0..MAX_SWEEPS).any(|_| {
-        let mut rotated = false;
-        for p in 0..n {
-            for q in p + 1..n {
-                let (alpha, beta, gamma) = (dot(&a, p, p), dot(&a, q, q), dot(&a, p, q));
-                let (small, big) = (alpha.min(beta).sqrt(), alpha.max(beta).sqrt());
-                // a column below the other's rounding is null already
-                if gamma == 0.0
-                    || gamma.abs() <= tolerance(n) * small * big
-                    || small <= tolerance(n) * big
-                {
-                    continue;
-                }
-                let Some(cs) = rotation(alpha, beta, gamma) else {
-                    continue;
-                };
-                rotate_columns(&mut a, n, (p, q), cs);
-                rotate_columns(&mut v, n, (p, q), cs);
-                rotated = true;
-            }
+    let converged = sweeps(n, |p, q| {
+        let (alpha, beta, gamma) = (dot(&a, p, p), dot(&a, q, q), dot(&a, p, q));
+        let (small, big) = (alpha.min(beta).sqrt(), alpha.max(beta).sqrt());
+        // a column below the other's rounding is null already
+        if gamma == 0.0 || gamma.abs() <= tolerance(n) * small * big || small <= tolerance(n) * big
+        {
+            return false;
         }
-        !rotated
+        let Some(cs) = rotation(alpha, beta, gamma) else {
+            return false;
+        };
+        rotate_columns(&mut a, n, (p, q), cs);
+        rotate_columns(&mut v, n, (p, q), cs);
+        true
     });
     if !converged {
         return None;

@@ -97,19 +97,30 @@ impl Meshes {
 
     /// The distinct vertices of the mesh `filename` names.
     pub(crate) fn vertices(&mut self, filename: &str) -> Result<&[Vector3<f64>], String> {
-        let Some(paths) = &self.paths else {
-            return Err(format!(
-                "mesh '{filename}': no folder to look in (URDF text)"
-            ));
-        };
-        let file = paths.resolve(filename).map_err(|e| e.to_string())?;
-        let v = self.read.entry(file.clone()).or_insert_with(|| {
-            read_vertices(&file)
-                .map(distinct)
-                .map_err(|e| e.to_string())
-        });
-        v.as_deref().map_err(Clone::clone)
+        read_through(self.paths.as_ref(), &mut self.read, filename)
     }
+}
+
+/// The distinct vertices of the mesh `filename` names, found through
+/// `paths` and read once into `read` (a function of those fields alone, so
+/// that a caller can hold the vertices and use the other fields).
+fn read_through<'a>(
+    paths: Option<&MeshPaths>,
+    read: &'a mut HashMap<PathBuf, Result<Vec<Vector3<f64>>, String>>,
+    filename: &str,
+) -> Result<&'a [Vector3<f64>], String> {
+    let Some(paths) = paths else {
+        return Err(format!(
+            "mesh '{filename}': no folder to look in (URDF text)"
+        ));
+    };
+    let file = paths.resolve(filename).map_err(|e| e.to_string())?;
+    let v = read.entry(file.clone()).or_insert_with(|| {
+        read_vertices(&file)
+            .map(distinct)
+            .map_err(|e| e.to_string())
+    });
+    v.as_deref().map_err(Clone::clone)
 }
 
 impl Meshes {
@@ -117,7 +128,7 @@ impl Meshes {
     /// vertices, scaled; solved once per content (and kept in the cache,
     /// if one is given, across runs).
     fn mesh_ellipsoid(&mut self, filename: &str, scale: [f64; 3]) -> Result<Ellipsoid, String> {
-        let v = self.vertices(filename)?;
+        let v = read_through(self.paths.as_ref(), &mut self.read, filename)?;
         let inputs = scale
             .into_iter()
             .chain(v.iter().flat_map(|p| [p.x, p.y, p.z]));
@@ -125,16 +136,11 @@ impl Meshes {
         if let Some(e) = self.solved.get(&key) {
             return Ok(*e);
         }
-        let cache = self.cache.clone();
-        let v = self.vertices(filename)?;
-        let e = match cache {
-            None => mesh_ellipsoid(v, scale)?,
-            Some(c) => {
-                let (e, err) = c.get_or_solve(&key, || mesh_ellipsoid(v, scale))?;
-                err.into_iter().for_each(|e| self.note_cache_error(e));
-                e
-            }
+        let (e, unstored) = match &self.cache {
+            None => (mesh_ellipsoid(v, scale)?, None),
+            Some(c) => c.get_or_solve(&key, || mesh_ellipsoid(v, scale))?,
         };
+        unstored.into_iter().for_each(|e| self.note_cache_error(e));
         self.solved.insert(key, e);
         Ok(e)
     }
