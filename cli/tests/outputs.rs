@@ -193,6 +193,31 @@ fn concurrent_runs_leave_one_runs_set_whole() {
     assert!(temporaries(&dir.0).is_empty());
 }
 
+/// The same guarantee made deterministic: while another process holds the
+/// output folder's lock, a run's commit waits (its outputs do not appear),
+/// and it completes once the lock is released.
+#[test]
+fn a_commit_waits_for_the_folder_another_run_holds() {
+    let dir = TempDir::new("held-folder");
+    let out = dir.0.join("c.csv");
+    let held = std::fs::File::open(&dir.0).unwrap();
+    held.lock().unwrap();
+    let mut child = simulate("0.1", s(&out))
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    assert!(
+        child.try_wait().unwrap().is_none(),
+        "the run did not wait for the folder"
+    );
+    assert!(!out.exists() && !dir.0.join("c.json").exists());
+    held.unlock().unwrap();
+    assert!(child.wait().unwrap().success());
+    assert!(out.exists() && dir.0.join("c.json").exists());
+}
+
 /// Starts `cmd`, sends `signal` after `after`, and returns its exit code
 /// (`None`: ended by a signal, which a handled interrupt never does).
 fn interrupt(mut cmd: Command, after: std::time::Duration, signal: i32) -> Option<i32> {
