@@ -102,6 +102,10 @@ impl SolveCache {
     /// Stores `e` under `key` (written whole, then renamed into place).
     pub fn put(&self, key: &CacheKey, e: &Ellipsoid) -> std::io::Result<()> {
         use std::io::Write;
+        if self.dir.exists() && !self.dir.is_dir() {
+            let kind = std::io::ErrorKind::NotADirectory;
+            return Err(std::io::Error::new(kind, "not a folder"));
+        }
         std::fs::create_dir_all(&self.dir)?;
         let mut tmp = crate::tempfiles::TempFile::new_in(&self.dir, ".momentlmi-cache-")?;
         tmp.write_all(&encode(key, e))?;
@@ -240,6 +244,6 @@ mod tests {
             .get_or_solve(&CacheKey::new("a", [1.0]), || Ok::<_, ()>(sample()))
             .unwrap();
         assert_eq!(e, sample());
-        assert!(err.is_some());
+        assert!(err.unwrap().to_string().contains("not a folder"));
     }
 }
