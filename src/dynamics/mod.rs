@@ -48,7 +48,9 @@ pub use error::DynamicsError;
 pub use fault::ModelFault;
 pub use friction::{Friction, FrictionTerm, sign};
 pub use model::{Frame, Joint, JointKind, Model, Rotor, ToolPoint};
-pub use regressor::{body_regressor, regressor, regressor_batch, regressor_row_columns};
+pub use regressor::{
+    body_regressor, regressor, regressor_batch, regressor_blocks, regressor_row_columns,
+};
 pub use rnea::rnea;
 pub use robots::cheetah3;
 pub use samples::{RowIter, Samples};

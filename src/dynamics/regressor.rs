@@ -66,13 +66,13 @@ fn project(s: &Vector6<f64>, b: &BodyRegressor) -> [f64; 10] {
     out
 }
 
-/// Adds a row of 10 into the regressor at (row, col0..col0+10).
+/// Adds a piece of a row into the regressor at (row, col0..col0 + len).
 #[inline]
-fn add_row(y: &mut nalgebra::DMatrix<f64>, row: usize, col0: usize, r: &[f64; 10]) {
+fn add_row(y: &mut nalgebra::DMatrix<f64>, row: usize, col0: usize, r: &[f64]) {
     let n = y.nrows();
-    let data = &mut y.as_mut_slice()[col0 * n..(col0 + 10) * n];
-    for c in 0..10 {
-        data[c * n + row] += r[c];
+    let data = &mut y.as_mut_slice()[col0 * n..(col0 + r.len()) * n];
+    for (c, v) in r.iter().enumerate() {
+        data[c * n + row] += v;
     }
 }
 
@@ -99,12 +99,48 @@ pub(crate) fn regressor_unchecked(
     qd: &[f64],
     qdd: &[f64],
 ) {
+    let mut y = std::mem::take(&mut data.regressor);
+    y.as_mut_slice().fill(0.0);
+    regressor_blocks_unchecked(model, data, q, qd, qdd, |row, col0, values| {
+        add_row(&mut y, row, col0, values)
+    });
+    data.regressor = y;
+}
+
+/// The regressor's non-zero entries at one state, without the zeros:
+/// `put(row, col0, values)` is called once for each body (10 values, its
+/// columns `col0..col0 + 10`) in each row the body enters, and once for
+/// each friction column of each row (1 value); the columns a row gets are
+/// exactly [`regressor_row_columns`]'s, each once. The checked form of
+/// what [`regressor`] writes densely, for callers that gather the rows
+/// joint by joint.
+pub fn regressor_blocks(
+    model: &Model,
+    data: &mut Data,
+    [q, qd, qdd]: [&[f64]; 3],
+    put: impl FnMut(usize, usize, &[f64]),
+) -> Result<(), DynamicsError> {
+    let n = model.dof();
+    check_len("q", q, n)?;
+    check_len("qd", qd, n)?;
+    check_len("qdd", qdd, n)?;
+    regressor_blocks_unchecked(model, data, q, qd, qdd, put);
+    Ok(())
+}
+
+fn regressor_blocks_unchecked(
+    model: &Model,
+    data: &mut Data,
+    q: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+    mut put: impl FnMut(usize, usize, &[f64]),
+) {
     // τⱼ = Σ_k (X_{k←j} Sⱼ)ᵀ A_k π_k over the bodies k that joint j moves:
     // instead of carrying each 6×10 block A_k up the tree, carry the joint
     // axes down to every body (6-vectors are cheap to transform).
     let n = model.dof();
     forward_pass(model, data, q, qd, qdd, true);
-    data.regressor.as_mut_slice().fill(0.0);
     for i in 0..n {
         let (done, rest) = data.axes.split_at_mut(i);
         let mine = &mut rest[0];
@@ -117,26 +153,26 @@ pub(crate) fn regressor_unchecked(
         mine.push((i, model.subspace(i)));
         let a = body_regressor(&data.v[i], &data.a[i]);
         for &(j, s) in mine.iter() {
-            add_row(&mut data.regressor, j, 10 * i, &project(&s, &a));
+            put(j, 10 * i, &project(&s, &a));
         }
     }
     for (k, r) in model.rotors.iter().enumerate() {
         let a = body_regressor(&data.v_rotor[k], &data.a_rotor[k]);
         let col0 = 10 * (n + k);
         let sr = Vector6::new(r.axis.x, r.axis.y, r.axis.z, 0.0, 0.0, 0.0) * r.gear_ratio;
-        add_row(&mut data.regressor, r.joint, col0, &project(&sr, &a));
+        put(r.joint, col0, &project(&sr, &a));
         if let Some(p) = model.joints[r.joint].parent {
             for idx in 0..data.axes[p].len() {
                 let (j, s) = data.axes[p][idx];
                 let sk = data.x_rotor[k].apply_motion(&s);
-                add_row(&mut data.regressor, j, col0, &project(&sk, &a));
+                put(j, col0, &project(&sk, &a));
             }
         }
     }
     let nb = model.num_bodies();
     for (t, term) in FrictionTerm::ALL.iter().enumerate() {
         for i in 0..n {
-            data.regressor[(i, 10 * nb + t * n + i)] = term.basis(qd[i]);
+            put(i, 10 * nb + t * n + i, &[term.basis(qd[i])]);
         }
     }
 }

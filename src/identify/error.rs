@@ -181,8 +181,8 @@ pub enum IdentifyError {
         /// The limit (GiB).
         limit_gib: f64,
     },
-    /// A dense factorisation did not converge.
-    #[error("the {what} did not converge")]
+    /// A dense factorisation failed (a value that is not finite, or no convergence).
+    #[error("the {what} failed (a value that is not finite, or no convergence)")]
     Factorisation {
         /// Which (the eigen-decomposition of the Gram matrix, the SVD, …).
         what: &'static str,

@@ -9,9 +9,12 @@
 //! is the joints' compact ones scattered into place, once at the end; each
 //! joint's own is kept too (its residual without a second pass).
 
-use crate::dynamics::{Model, regressor_row_columns};
+use crate::dynamics::{Data, DynamicsError, Model, regressor_blocks, regressor_row_columns};
 use faer::linalg::matmul::triangular::{self, BlockStructure};
 use faer::{Mat, MatRef};
+
+/// A column that is not one of a joint's.
+const ABSENT: usize = usize::MAX;
 
 /// A value of a chunk that is not finite: its sample in the chunk, and
 /// whether it is a torque (else a regressor value).
@@ -24,10 +27,12 @@ pub(crate) struct NotFinite {
 /// A chunk of regressor rows grouped by joint, and the per-joint sums of
 /// their Gram matrices.
 pub(crate) struct GramAcc {
-    n: usize,
     p1: usize,
     /// Per joint, its columns in increasing order, the last `p1 − 1` (τ).
     cols: Vec<Vec<usize>>,
+    /// Per joint, each column's place in its rows ([`ABSENT`]: not one of
+    /// its columns).
+    place: Vec<Vec<usize>>,
     /// Per joint, the chunk's rows: `samples × cols[j].len()`, row-major.
     blocks: Vec<Vec<f64>>,
     /// Samples in the chunk.
@@ -52,20 +57,29 @@ impl GramAcc {
             .map(|c| Vec::with_capacity(chunk * c.len()))
             .collect();
         let grams = cols.iter().map(|c| Mat::zeros(c.len(), c.len())).collect();
+        let place = (cols.iter())
+            .map(|c| {
+                let mut at = vec![ABSENT; p1];
+                c.iter().enumerate().for_each(|(k, &col)| at[col] = k);
+                at
+            })
+            .collect();
         Self {
-            n: cols.len(),
             p1,
             cols,
+            place,
             blocks,
             samples: 0,
             grams,
         }
     }
 
-    /// Appends one sample: `y` the regressor (column-major n × (p1 − 1)),
-    /// `tau` its n torques.
+    /// Appends one sample: `y` the dense regressor (column-major
+    /// n × (p1 − 1)), `tau` its n torques (the tests' reference for
+    /// [`push_state`](Self::push_state)).
+    #[cfg(test)]
     pub(crate) fn push(&mut self, y: &[f64], tau: &[f64]) {
-        let n = self.n;
+        let n = self.cols.len();
         for (j, (cols, block)) in self.cols.iter().zip(&mut self.blocks).enumerate() {
             let (last, regressor) = cols.split_last().expect("τ is a column");
             block.extend(regressor.iter().map(|&c| y[c * n + j]));
@@ -73,6 +87,40 @@ impl GramAcc {
             block.push(tau[j]);
         }
         self.samples += 1;
+    }
+
+    /// Appends one sample from its state `[q, q̇, q̈]` and torques `tau`
+    /// (n each): the regressor's non-zero entries are written straight into
+    /// each joint's row ([`regressor_blocks`]), with no dense row between.
+    pub(crate) fn push_state(
+        &mut self,
+        model: &Model,
+        data: &mut Data,
+        state: [&[f64]; 3],
+        tau: &[f64],
+    ) -> Result<(), DynamicsError> {
+        for (block, cols) in self.blocks.iter_mut().zip(&self.cols) {
+            block.resize(block.len() + cols.len(), 0.0);
+        }
+        for (block, &t) in self.blocks.iter_mut().zip(tau) {
+            *block.last_mut().expect("τ is a column") = t;
+        }
+        let (blocks, cols, place, row) = (&mut self.blocks, &self.cols, &self.place, self.samples);
+        let result = regressor_blocks(model, data, state, |j, col0, values| {
+            // consecutive columns of joint j's (regressor_row_columns)
+            let at = place[j][col0];
+            let start = row * cols[j].len() + at;
+            blocks[j][start..start + values.len()].copy_from_slice(values);
+        });
+        if result.is_err() {
+            // the sample is not kept
+            for (block, cols) in self.blocks.iter_mut().zip(&self.cols) {
+                block.truncate(block.len() - cols.len());
+            }
+        } else {
+            self.samples += 1;
+        }
+        result
     }
 
     /// Adds the chunk's `XᵀX` to the per-joint sums and empties it; a

@@ -4,9 +4,9 @@
 //! `FᵀF = G = [A b]ᵀ[A b]`. G is accumulated over chunks of samples in
 //! parallel (each chunk's rows are built, multiplied into its own Gram
 //! matrix and dropped), so memory is O(p²) whatever the number of samples;
-//! F comes from the eigen-decomposition of G after scaling its columns to
-//! unit diagonal (a symmetric square root, which also works when the data
-//! do not excite every parameter). Forming G squares the condition number
+//! F comes from a Cholesky factorisation of G with diagonal pivoting after
+//! scaling its columns to unit diagonal (it stops at G's numerical rank, so
+//! it also works when the data do not excite every parameter). Forming G squares the condition number
 //! of the column-scaled regressor; with the unit-diagonal scaling that costs
 //! about `ε·κ` relative accuracy in the fitted torques, far below any noise.
 
@@ -31,6 +31,9 @@ pub struct Reduced {
     /// n·(p + 1)² values exceed [`JOINT_GRAMS_BUDGET_BYTES`], or a Gram
     /// matrix given whole).
     pub joint_grams: Vec<Mat<f64>>,
+    /// Wall-clock seconds the reduction took (0 for a Gram matrix given
+    /// whole or accumulated by the caller's stream).
+    pub reduce_time_s: f64,
 }
 
 /// The most memory the per-joint Gram matrices kept in [`Reduced`] may take.
@@ -65,11 +68,14 @@ impl Reduced {
             samples,
             p: r - 1,
             joint_grams: vec![],
+            reduce_time_s: 0.0,
         })
     }
 
-    /// The factor F with `FᵀF = G` ((p + 1) × (p + 1)); an error if the
-    /// eigen-decomposition does not converge (a non-finite Gram matrix).
+    /// A factor F with `FᵀF = G` (r × (p + 1), r ≤ p + 1 the numerical rank
+    /// of G): pivoted Cholesky of G with its columns scaled to unit diagonal
+    /// (directions below `(p + 1)·ε` of that scale, unexcited by the data,
+    /// are dropped), the scale put back; an error if G is not finite.
     pub fn factor(&self) -> Result<Mat<f64>, IdentifyError> {
         let p1 = self.p + 1;
         let s: Vec<f64> = (0..p1).map(|i| self.gram[(i, i)].max(0.0).sqrt()).collect();
@@ -77,20 +83,19 @@ impl Reduced {
             .iter()
             .map(|&v| if v > 0.0 { 1.0 / v } else { 0.0 })
             .collect();
-        let gs = Mat::<f64>::from_fn(p1, p1, |i, j| self.gram[(i, j)] * inv[i] * inv[j]);
-        let fail = IdentifyError::Factorisation {
-            what: "eigen-decomposition of the reduced regressor's Gram matrix",
-        };
-        if !(0..p1).all(|j| (0..p1).all(|i| gs[(i, j)].is_finite())) {
-            return Err(fail);
-        }
-        let evd = gs.self_adjoint_eigen(faer::Side::Lower).map_err(|_| fail)?;
-        let lam = evd.S().column_vector();
-        let v = evd.U();
-        // F = Λ^{1/2} Vᵀ D  (rows scaled by √λ, columns by the diagonal scale)
-        Ok(Mat::<f64>::from_fn(p1, p1, |k, j| {
-            lam[k].max(0.0).sqrt() * v[(j, k)] * s[j]
-        }))
+        let mut gs: Vec<f64> = (0..p1 * p1)
+            .map(|ij| {
+                let (i, j) = (ij / p1, ij % p1);
+                self.gram[(i, j)] * inv[i] * inv[j]
+            })
+            .collect();
+        let tol = p1 as f64 * f64::EPSILON;
+        let (f, rank) = crate::linalg::pivoted_cholesky(&mut gs, p1, tol).ok_or(
+            IdentifyError::Factorisation {
+                what: "Cholesky factorisation of the reduced regressor's Gram matrix",
+            },
+        )?;
+        Ok(Mat::<f64>::from_fn(rank, p1, |k, j| f[k * p1 + j] * s[j]))
     }
 
     /// Per joint, the residual sum of squares `Σ (yᵢ θ − τᵢ)²` over the
@@ -112,11 +117,12 @@ impl Reduced {
         Some(self.joint_grams.iter().map(quad).collect())
     }
 
-    /// `(R, d)`: R = F[:, 0..p] ((p + 1) × p) and d = F[:, p].
+    /// `(R, d)`: R = F[:, 0..p] (r × p) and d = F[:, p] (r), F the
+    /// [`factor`](Self::factor).
     pub fn r_d(&self) -> Result<(Mat<f64>, Vec<f64>), IdentifyError> {
         let f = self.factor()?;
-        let r = f.as_ref().submatrix(0, 0, self.p + 1, self.p).to_owned();
-        let d = (0..=self.p).map(|i| f[(i, self.p)]).collect();
+        let r = f.as_ref().submatrix(0, 0, f.nrows(), self.p).to_owned();
+        let d = (0..f.nrows()).map(|i| f[(i, self.p)]).collect();
         Ok((r, d))
     }
 }
@@ -262,9 +268,10 @@ impl Acc {
         let [q, qd, qdd, tau] = samples;
         let first = range.start;
         for s in range {
-            crate::dynamics::regressor(model, &mut self.data, &q[s], &qd[s], &qdd[s])
+            let state = [&q[s], &qd[s], &qdd[s]];
+            (self.gram)
+                .push_state(model, &mut self.data, state, &tau[s])
                 .map_err(|source| IdentifyError::Regressor { sample: s, source })?;
-            self.gram.push(self.data.regressor.as_slice(), &tau[s]);
         }
         self.gram.flush().map_err(|e| not_finite(first, e))
     }
@@ -282,6 +289,7 @@ pub fn reduce_samples(
     tau: &Samples,
     chunk: usize,
 ) -> Result<Reduced, IdentifyError> {
+    let t0 = std::time::Instant::now();
     let n = model.dof();
     check_lengths(n, q, qd, qdd, tau)?;
     let p = model.regressor_columns();
@@ -313,6 +321,7 @@ pub fn reduce_samples(
         samples: q.len(),
         p,
         joint_grams,
+        reduce_time_s: t0.elapsed().as_secs_f64(),
     })
 }
 
@@ -360,9 +369,9 @@ impl<'m> StreamReducer<'m> {
                 found: tau.len(),
             });
         }
-        crate::dynamics::regressor(self.model, &mut self.data, q, qd, qdd)
+        (self.gram)
+            .push_state(self.model, &mut self.data, [q, qd, qdd], tau)
             .map_err(|source| IdentifyError::Regressor { sample, source })?;
-        self.gram.push(self.data.regressor.as_slice(), tau);
         self.samples += 1;
         if self.gram.samples == self.chunk {
             let first = self.samples - self.chunk;
@@ -382,6 +391,7 @@ impl<'m> StreamReducer<'m> {
             samples: self.samples,
             p: self.model.regressor_columns(),
             joint_grams: vec![],
+            reduce_time_s: 0.0,
         })
     }
 }
@@ -433,6 +443,7 @@ mod tests {
             samples,
             p,
             joint_grams: joints,
+            reduce_time_s: 0.0,
         };
         let rss = red.joint_rss(&theta).unwrap();
         for (i, got) in rss.iter().enumerate() {
@@ -456,6 +467,54 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// The regressor's rows written straight into each joint's block
+    /// (`push_state`) give the Gram matrices of the dense regressor's rows,
+    /// on the leg (rotors carried and driven by other joints) at states
+    /// spread over its range.
+    #[test]
+    fn rows_written_by_blocks_equal_the_dense_regressors() {
+        let model = crate::dynamics::cheetah3::model();
+        let mut data = crate::dynamics::Data::new(&model);
+        let n = model.dof();
+        let (mut dense, mut direct) = (GramAcc::new(&model, 64), GramAcc::new(&model, 64));
+        for s in 0..50 {
+            let v = |k: usize| (0.37 * (s * n + k) as f64).sin() * (1.0 + k as f64);
+            let (q, qd, qdd): (Vec<f64>, Vec<f64>, Vec<f64>) =
+                (0..n).map(|i| (v(i), v(i + 7), v(i + 13))).collect();
+            let tau: Vec<f64> = (0..n).map(|i| v(i + 19)).collect();
+            let y = crate::dynamics::regressor(&model, &mut data, &q, &qd, &qdd).unwrap();
+            dense.push(y.as_slice(), &tau);
+            direct
+                .push_state(&model, &mut data, [&q, &qd, &qdd], &tau)
+                .unwrap();
+        }
+        let (a, ja) = dense.finish(true).unwrap();
+        let (b, jb) = direct.finish(true).unwrap();
+        let scale = (0..a.nrows()).map(|i| a[(i, i)]).fold(0.0, f64::max);
+        for (x, y) in std::iter::once((&a, &b)).chain(ja.iter().zip(&jb)) {
+            for j in 0..x.ncols() {
+                for i in 0..x.nrows() {
+                    assert!((x[(i, j)] - y[(i, j)]).abs() <= 1e-12 * scale, "({i}, {j})");
+                }
+            }
+        }
+        // a state of the wrong length is refused and the sample not kept
+        let mut one = GramAcc::new(&model, 4);
+        let (ok, short) = ([0.1; 3], [0.0; 1]);
+        one.push_state(&model, &mut data, [&ok, &ok, &ok], &ok)
+            .unwrap();
+        assert!(
+            one.push_state(&model, &mut data, [&ok, &short, &ok], &ok)
+                .is_err()
+        );
+        assert_eq!(one.samples, 1);
+        let (g, _) = one.finish(false).unwrap();
+        let y = crate::dynamics::regressor(&model, &mut data, &ok, &ok, &ok).unwrap();
+        let squares = y.iter().map(|v| v * v).sum::<f64>() + 3.0 * 0.1 * 0.1; // and τ's
+        let trace = (0..g.nrows()).map(|i| g[(i, i)]).sum::<f64>();
+        assert!(squares > 0.0 && (trace - squares).abs() <= 1e-12 * squares);
     }
 
     /// A value that is not finite is named by its sample, a regressor

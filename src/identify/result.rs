@@ -3,7 +3,7 @@
 use super::builder::Identification;
 use super::error::IdentifyError;
 use super::options::{CHECK_TOL, IdentifyOptions, Level, Regularizer};
-use super::reduce::reduce_samples;
+use super::reduce::{Reduced, reduce_samples};
 use super::warning::IdentifyWarning;
 use crate::data::Dataset;
 use crate::dynamics::Friction;
@@ -455,21 +455,52 @@ impl Identification<'_> {
 
     /// Reduces `train`, solves and checks every body (no validation: see
     /// [`IdentifyResult::validate`], e.g. once held-out data read meanwhile
-    /// are in).
+    /// are in). [`reduce`](Self::reduce) then [`fit_reduced`](Self::fit_reduced).
     pub fn fit(&self, train: &Dataset) -> Result<IdentifyResult, IdentifyError> {
-        let model = self.model();
-        let t0 = std::time::Instant::now();
+        self.fit_reduced(train, &self.reduce(train)?)
+    }
+
+    /// The first half of [`fit`](Self::fit): `train`'s regressor reduced to
+    /// its Gram matrix (in parallel; the memory limit checked first).
+    pub fn reduce(&self, train: &Dataset) -> Result<Reduced, IdentifyError> {
         with_torques(train)?;
         self.check_memory(train.len())?;
-        let red = reduce_samples(model, &train.q, &train.qd, &train.qdd, &train.tau, 256)?;
-        let reduce_time = t0.elapsed().as_secs_f64();
-        let solved = self.solve(&red)?;
+        reduce_samples(
+            self.model(),
+            &train.q,
+            &train.qd,
+            &train.qdd,
+            &train.tau,
+            256,
+        )
+    }
+
+    /// The second half of [`fit`](Self::fit): solves on `red`, the
+    /// [`reduce`](Self::reduce) of `train` (the training RMS comes from its
+    /// per-joint Gram matrices, else from `train` predicted again), and
+    /// checks every body. The solve uses one core: a caller can read its
+    /// held-out data meanwhile.
+    pub fn fit_reduced(
+        &self,
+        train: &Dataset,
+        red: &Reduced,
+    ) -> Result<IdentifyResult, IdentifyError> {
+        let model = self.model();
+        let t0 = std::time::Instant::now();
+        if red.samples != train.len() {
+            return Err(IdentifyError::SampleCount {
+                what: "the reduction",
+                expected: train.len(),
+                found: red.samples,
+            });
+        }
+        let solved = self.solve(red)?;
         let theta = &solved.theta;
         let (bodies, ok) = body_results(self, theta);
         let inconsistent_bodies = names_where(&bodies, |b| !b.consistent);
         let degenerate_bodies = names_where(&bodies, |b| b.degenerate.is_some());
         let friction = solved.friction_law();
-        let training_rms = training_rms(model, theta, train, &red)?;
+        let training_rms = training_rms(model, theta, train, red)?;
         let status = solved.status;
         let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
         if !(finite(theta) && finite(&training_rms)) {
@@ -509,8 +540,8 @@ impl Identification<'_> {
             validation_rms: None,
             validation_samples: 0,
             solve_time_s: solved.solve_time_s,
-            reduce_time_s: reduce_time,
-            total_time_s: t0.elapsed().as_secs_f64(),
+            reduce_time_s: red.reduce_time_s,
+            total_time_s: red.reduce_time_s + t0.elapsed().as_secs_f64(),
             data_preparation: DataPreparation::default(),
             validation_prediction: Samples::default(),
             contributions: Contributions::default(),

@@ -220,17 +220,10 @@ fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
         let p: Vec<&Path> = paths.iter().map(|p| p.as_path()).collect();
         super::read_data(&p, &names, &opts, a.robot, a.sidecar)
     };
-    // the validation files are read while the training data are reduced
-    // and the SDP solved (on the core the solver leaves idle)
     std::thread::scope(|s| {
         // the bounding volumes (meshes read, ellipsoids fitted) are computed
         // while the logs are read
         let bounds = ellipsoid.then(|| s.spawn(|| robot.bounding_warnings().len()));
-        let val = s.spawn(|| {
-            (!a.validate.is_empty())
-                .then(|| read(a.validate))
-                .transpose()
-        });
         let train = read(a.data);
         if let Some(b) = bounds {
             b.join()
@@ -241,19 +234,25 @@ fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
                 eprintln!("warning: {}: {w}", robot.source);
             }
         }
-        // fitted while the held-out files are read; that thread is always
-        // joined, and a held-out file that cannot be read is the error shown
-        // first (it is the one a user can fix without waiting for a fit)
-        let fitted = train.and_then(|train| {
-            super::report_reading("--data", &train);
-            let id = identification(a, &robot)?.max_memory(super::gib(a.max_memory_gib)?);
-            super::warn_cost(momentlmi::identify::cost(&robot.model, train.data.len()).flops);
-            Ok((id.fit(&train.data).map_err(explain)?, train))
+        let train = train?;
+        super::report_reading("--data", &train);
+        let id = identification(a, &robot)?.max_memory(super::gib(a.max_memory_gib)?);
+        super::warn_cost(momentlmi::identify::cost(&robot.model, train.data.len()).flops);
+        let red = id.reduce(&train.data).map_err(explain)?;
+        // the held-out files are read while the SDP is solved (on the core
+        // the solver leaves idle); that thread is always joined, and a
+        // held-out file that cannot be read is the error shown first (it is
+        // the one a user can fix without waiting for a fit)
+        let val = s.spawn(|| {
+            (!a.validate.is_empty())
+                .then(|| read(a.validate))
+                .transpose()
         });
+        let fitted = id.fit_reduced(&train.data, &red).map_err(explain);
         let val = val
             .join()
             .unwrap_or_else(|_| Err("reading the validation data failed".to_string()))?;
-        let (mut r, train) = fitted?;
+        let mut r = fitted?;
         if let Some(v) = &val {
             super::report_reading("--validate", v);
             r.validate(&robot.model, &v.data).map_err(explain)?;
