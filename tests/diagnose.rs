@@ -224,10 +224,7 @@ fn linearised_compliance_matches_the_full_simulation() {
         cfg.encoder_counts = 0.0;
         cfg.processed = false;
         let d = simulate(&leg, &cfg, |_, _| {}).unwrap();
-        let zero = Friction {
-            viscous: vec![0.0; 3],
-            coulomb: vec![0.0; 3],
-        };
+        let zero = Friction::zeros(3);
         let rigid = predict_torques(&model, &zero, &d.q, &d.qd, &d.qdd).unwrap();
         let lin = Linearisation::new(&model, &d).unwrap();
         let p = Transmission {

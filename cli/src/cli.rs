@@ -239,6 +239,11 @@ enum Command {
         /// 1e-6; a weight under 100 × --weight holds nothing and is warned about).
         #[arg(long, allow_negative_numbers = true)]
         prior_mass_weight: Option<f64>,
+        /// Friction terms identified per joint, comma-separated: viscous, coulomb, offset (a
+        /// torque sensor's bias, either sign), or none (links and rotors only)
+        /// [default: viscous,coulomb]. A real arm's torque sensors usually need offset.
+        #[arg(long, value_name = "LIST")]
+        friction: Option<String>,
         /// Held-out validation data (repeatable, like --data).
         #[arg(long)]
         validate: Vec<PathBuf>,
@@ -422,6 +427,7 @@ pub fn main() -> i32 {
             weight,
             regularizer,
             prior_mass_weight,
+            friction,
             validate,
             json,
             levels,
@@ -439,6 +445,7 @@ pub fn main() -> i32 {
             weight,
             regularizer,
             prior_mass_weight,
+            friction: friction.as_deref(),
             validate: &validate,
             json,
             levels: &levels,

@@ -63,6 +63,14 @@ pub enum DynamicsError {
         /// The valid names.
         valid: String,
     },
+    /// A name given twice in a list that takes each once.
+    #[error("{what} '{name}' is listed twice")]
+    Repeated {
+        /// What kind of name.
+        what: &'static str,
+        /// The name given twice.
+        name: String,
+    },
     /// A sidecar body's bounding ellipsoid that is not one.
     #[error("[[body]] '{body}': bounding: {source}")]
     Bounding {

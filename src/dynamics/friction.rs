@@ -13,14 +13,18 @@
 //! |---|---|---|---|
 //! | `viscous` | q̇ | B | N·m·s/rad (N·s/m) |
 //! | `coulomb` | sign(q̇) | B_c | N·m (N) |
+//! | `offset` | 1 | c | N·m (N) |
 //!
-//! Every coefficient is ≥ 0. The regressor's friction columns are the
-//! terms in this order, one column per joint each
-//! ([`crate::dynamics::regressor`]); the model file has one array per term
-//! (`"friction": {"viscous": […], "coulomb": […]}`). A new friction law is
-//! one more [`FrictionTerm`] here (its name, basis and unit) and one more
-//! field of [`Friction`]: every user above takes the terms from
-//! [`FrictionTerm::ALL`].
+//! The coefficients of viscous and Coulomb friction are ≥ 0; an offset (a
+//! torque sensor's bias, a cable's preload) has either sign. A model
+//! identifies the terms [`crate::dynamics::Model::friction_terms`] lists
+//! ([`FrictionTerm::DEFAULT`]: viscous and Coulomb): the regressor's
+//! friction columns are those terms in that order, one column per joint
+//! each ([`crate::dynamics::regressor`]); the model file has one array per
+//! term (`"friction": {"viscous": […], "coulomb": […], "offset": […]}`, the
+//! offset left out when it is zero). A new friction law is one more
+//! [`FrictionTerm`] here (its name, basis, unit and sign) and one more
+//! field of [`Friction`].
 
 use super::error::DynamicsError;
 use serde::{Deserialize, Serialize};
@@ -32,19 +36,64 @@ pub enum FrictionTerm {
     Viscous,
     /// Coulomb friction `B_c sign(q̇)`.
     Coulomb,
+    /// A constant torque `c` (a torque sensor's offset).
+    Offset,
 }
 
 impl FrictionTerm {
-    /// Every term, in the order of the regressor's columns and of the
-    /// identified parameters.
-    pub const ALL: [FrictionTerm; 2] = [FrictionTerm::Viscous, FrictionTerm::Coulomb];
+    /// Every term, in the order a list of terms is kept in.
+    pub const ALL: [FrictionTerm; 3] = [
+        FrictionTerm::Viscous,
+        FrictionTerm::Coulomb,
+        FrictionTerm::Offset,
+    ];
+
+    /// The terms a model identifies unless told otherwise.
+    pub const DEFAULT: [FrictionTerm; 2] = [FrictionTerm::Viscous, FrictionTerm::Coulomb];
 
     /// The name in files and parameter names (`viscous.<joint>`).
     pub fn name(self) -> &'static str {
         match self {
             FrictionTerm::Viscous => "viscous",
             FrictionTerm::Coulomb => "coulomb",
+            FrictionTerm::Offset => "offset",
         }
+    }
+
+    /// The term named `name` ([`Self::name`]).
+    pub fn parse(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|t| t.name() == name)
+    }
+
+    /// Terms from a comma-separated list of names (`none`: no term), kept
+    /// in [`Self::ALL`]'s order; an unknown or repeated name is an error
+    /// naming it.
+    pub fn parse_list(list: &str) -> Result<Vec<Self>, DynamicsError> {
+        if list.trim() == "none" {
+            return Ok(vec![]);
+        }
+        let mut terms = vec![];
+        for name in list.split(',').map(str::trim) {
+            let t = Self::parse(name).ok_or_else(|| DynamicsError::UnknownName {
+                what: "friction term",
+                name: name.to_string(),
+                valid: Self::ALL.map(|t| t.name()).join(", ") + ", or none",
+            })?;
+            if terms.contains(&t) {
+                return Err(DynamicsError::Repeated {
+                    what: "friction term",
+                    name: name.to_string(),
+                });
+            }
+            terms.push(t);
+        }
+        terms.sort();
+        Ok(terms)
+    }
+
+    /// Whether its coefficient may have either sign (else it is ≥ 0).
+    pub fn signed(self) -> bool {
+        self == FrictionTerm::Offset
     }
 
     /// The coefficient's unit for a revolute joint (a prismatic joint's:
@@ -52,7 +101,7 @@ impl FrictionTerm {
     pub fn unit(self) -> &'static str {
         match self {
             FrictionTerm::Viscous => "N·m·s/rad",
-            FrictionTerm::Coulomb => "N·m",
+            FrictionTerm::Coulomb | FrictionTerm::Offset => "N·m",
         }
     }
 
@@ -62,12 +111,8 @@ impl FrictionTerm {
         match self {
             FrictionTerm::Viscous => qd,
             FrictionTerm::Coulomb => sign(qd),
+            FrictionTerm::Offset => 1.0,
         }
-    }
-
-    /// Its position in [`Self::ALL`].
-    pub fn index(self) -> usize {
-        self as usize
     }
 }
 
@@ -91,6 +136,13 @@ pub struct Friction {
     pub viscous: Vec<f64>,
     /// Coulomb coefficients B_c (N·m).
     pub coulomb: Vec<f64>,
+    /// Torque offsets c (N·m); empty (a file without them) counts as zeros.
+    #[serde(default, skip_serializing_if = "all_zero")]
+    pub offset: Vec<f64>,
+}
+
+fn all_zero(v: &[f64]) -> bool {
+    v.iter().all(|&x| x == 0.0)
 }
 
 impl Friction {
@@ -99,6 +151,7 @@ impl Friction {
         Self {
             viscous: vec![0.0; n],
             coulomb: vec![0.0; n],
+            offset: vec![0.0; n],
         }
     }
 
@@ -107,6 +160,7 @@ impl Friction {
         match term {
             FrictionTerm::Viscous => &self.viscous,
             FrictionTerm::Coulomb => &self.coulomb,
+            FrictionTerm::Offset => &self.offset,
         }
     }
 
@@ -115,26 +169,33 @@ impl Friction {
         match term {
             FrictionTerm::Viscous => &mut self.viscous,
             FrictionTerm::Coulomb => &mut self.coulomb,
+            FrictionTerm::Offset => &mut self.offset,
         }
     }
 
-    /// From one vector of coefficients per term, in [`FrictionTerm::ALL`]'s
-    /// order (the layout of identified parameters: `θ[t·n + i]`).
-    pub fn from_terms(n: usize, value: impl Fn(FrictionTerm, usize) -> f64) -> Self {
+    /// From one vector of coefficients per term of `terms` (the layout of
+    /// identified parameters: `θ[k·n + i]` for the k-th term); the other
+    /// terms are zero.
+    pub fn from_terms(
+        n: usize,
+        terms: &[FrictionTerm],
+        value: impl Fn(usize, usize) -> f64,
+    ) -> Self {
         let mut f = Self::zeros(n);
-        for t in FrictionTerm::ALL {
+        for (k, &t) in terms.iter().enumerate() {
             for (i, c) in f.coefficients_mut(t).iter_mut().enumerate() {
-                *c = value(t, i);
+                *c = value(k, i);
             }
         }
         f
     }
 
-    /// Checks that every term has one coefficient per joint of `n`.
+    /// Checks that every term has one coefficient per joint of `n` (an
+    /// offset may also have none).
     pub fn check_joints(&self, n: usize) -> Result<(), DynamicsError> {
         for t in FrictionTerm::ALL {
             let found = self.coefficients(t).len();
-            if found != n {
+            if found != n && !(t.signed() && found == 0) {
                 return Err(DynamicsError::Dimension {
                     what: format!("{} friction coefficients", t.name()),
                     expected: n,
@@ -150,7 +211,10 @@ impl Friction {
     #[inline]
     pub fn add_to(&self, tau: f64, i: usize, qd: f64) -> f64 {
         FrictionTerm::ALL.iter().fold(tau, |t, &term| {
-            t + self.coefficients(term)[i] * term.basis(qd)
+            // an offset may be absent (empty)
+            self.coefficients(term)
+                .get(i)
+                .map_or(t, |c| t + c * term.basis(qd))
         })
     }
 }
@@ -166,12 +230,28 @@ mod tests {
         let f = Friction {
             viscous: vec![0.5, 2.0],
             coulomb: vec![3.0, 0.0],
+            offset: vec![],
         };
         assert_eq!(f.add_to(1.0, 0, -2.0), 1.0 + 0.5 * -2.0 + 3.0 * -1.0);
         assert_eq!(f.add_to(0.0, 1, 0.0), 0.0);
-        let g = Friction::from_terms(2, |t, i| f.coefficients(t)[i]);
-        assert_eq!(g, f);
-        assert_eq!(FrictionTerm::Coulomb.index(), 1);
+        let terms = FrictionTerm::DEFAULT;
+        let g = Friction::from_terms(2, &terms, |k, i| f.coefficients(terms[k])[i]);
+        assert_eq!(g.viscous, f.viscous);
+        assert_eq!((g.coulomb, g.offset), (f.coulomb.clone(), vec![0.0; 2]));
+        let o = Friction {
+            offset: vec![-0.25, 0.0],
+            ..f.clone()
+        };
+        assert_eq!(o.add_to(1.0, 0, -2.0), f.add_to(1.0, 0, -2.0) - 0.25);
+        assert!(o.check_joints(2).is_ok());
+        let list = FrictionTerm::parse_list("offset, viscous").unwrap();
+        assert_eq!(list, vec![FrictionTerm::Viscous, FrictionTerm::Offset]);
+        assert!(FrictionTerm::parse_list("none").unwrap().is_empty());
+        let e = FrictionTerm::parse_list("viscous,stiction")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("'stiction'") && e.contains("offset"), "{e}");
+        assert!(FrictionTerm::parse_list("coulomb,coulomb").is_err());
         assert_eq!(sign(-0.0), 0.0);
         assert!(f.check_joints(2).is_ok());
         let e = f.check_joints(3).unwrap_err().to_string();

@@ -142,6 +142,9 @@ pub struct Model {
     pub tool: Option<ToolPoint>,
     /// Rotor index per joint (at most one rotor per joint), derived.
     pub(crate) rotor_of: Vec<Option<usize>>,
+    /// The friction terms the regressor has columns for, in
+    /// [`FrictionTerm::ALL`](super::FrictionTerm::ALL)'s order.
+    pub(crate) friction_terms: Vec<super::FrictionTerm>,
 }
 
 impl Model {
@@ -188,6 +191,7 @@ impl Model {
             frames,
             tool,
             rotor_of,
+            friction_terms: super::FrictionTerm::DEFAULT.to_vec(),
         })
     }
 
@@ -337,7 +341,32 @@ impl Model {
             frames: self.frames.clone(),
             tool: self.tool,
             rotor_of: vec![None; self.joints.len()],
+            friction_terms: self.friction_terms.clone(),
         }
+    }
+
+    /// The friction terms the regressor has columns for (default
+    /// [`FrictionTerm::DEFAULT`](super::FrictionTerm::DEFAULT)).
+    pub fn friction_terms(&self) -> &[super::FrictionTerm] {
+        &self.friction_terms
+    }
+
+    /// The model with regressor columns for the friction `terms` instead
+    /// (none: links and rotors only), kept in
+    /// [`FrictionTerm::ALL`](super::FrictionTerm::ALL)'s order, each once.
+    pub fn with_friction_terms(mut self, terms: &[super::FrictionTerm]) -> Self {
+        let mut t = terms.to_vec();
+        t.sort();
+        t.dedup();
+        self.friction_terms = t;
+        self
+    }
+
+    /// The regressor column of joint i's coefficient of `term`, if the
+    /// model has that term.
+    pub fn friction_column(&self, term: super::FrictionTerm, i: usize) -> Option<usize> {
+        let k = self.friction_terms.iter().position(|&t| t == term)?;
+        Some(10 * self.num_bodies() + k * self.dof() + i)
     }
 
     /// Index of the joint named `name`.
@@ -348,7 +377,7 @@ impl Model {
     /// The regressor's column count ([`crate::dynamics::regressor`]): 10 per
     /// body, then one per joint and friction term.
     pub fn regressor_columns(&self) -> usize {
-        10 * self.num_bodies() + super::friction::FrictionTerm::ALL.len() * self.dof()
+        10 * self.num_bodies() + self.friction_terms.len() * self.dof()
     }
 
     /// The rotor driven by joint i, if any.

@@ -106,7 +106,7 @@ impl ParamsFile {
         let mut f = Friction::zeros(joints.len());
         for t in FrictionTerm::ALL {
             *f.coefficients_mut(t) = self
-                .joint_values(self.friction.coefficients(t), t.name(), &joints)
+                .joint_values(self.friction.coefficients(t), t, &joints)
                 .map_err(err)?;
         }
         Ok(f)
@@ -142,7 +142,15 @@ impl ParamsFile {
 
     /// One friction coefficient per model joint, matched by the file's
     /// joint names (absent: zeros).
-    fn joint_values(&self, v: &[f64], what: &str, joints: &[&str]) -> Result<Vec<f64>, String> {
+    fn joint_values(
+        &self,
+        v: &[f64],
+        term: FrictionTerm,
+        joints: &[&str],
+    ) -> Result<Vec<f64>, String> {
+        let what = term.name();
+        // an offset has either sign; the other coefficients are ≥ 0
+        let low = if term.signed() { -MAX_ABS_PARAM } else { 0.0 };
         if v.is_empty() {
             return Ok(vec![0.0; joints.len()]);
         }
@@ -157,10 +165,11 @@ impl ParamsFile {
             .joints
             .iter()
             .zip(v)
-            .find(|(_, x)| !(x.is_finite() && (0.0..=MAX_ABS_PARAM).contains(*x)))
+            .find(|(_, x)| !(x.is_finite() && (low..=MAX_ABS_PARAM).contains(*x)))
         {
+            let range = if term.signed() { "|x|" } else { "≥ 0 and" };
             return Err(format!(
-                "friction.{what} of joint '{j}' = {x}: must be finite, ≥ 0 and ≤ {MAX_ABS_PARAM:e}"
+                "friction.{what} of joint '{j}' = {x}: must be finite, {range} ≤ {MAX_ABS_PARAM:e}"
             ));
         }
         joints

@@ -3,13 +3,12 @@
 //! Column layout of `data.regressor` (n rows):
 //! `[π of link 1 … link n | π of rotor 1 … | term 1, joints 1..n | term 2, …]`,
 //! 10 columns per body in the paper's order, then one column per joint for
-//! each term of the friction law ([`super::friction`], in
-//! [`FrictionTerm::ALL`]'s order: viscous, then Coulomb); term t's column
-//! of joint i holds φ_t(q̇ᵢ) in row i (q̇ᵢ, then sign(q̇ᵢ)).
+//! each term of the friction law the model has ([`Model::friction_terms`],
+//! by default viscous, then Coulomb); term t's column of joint i holds
+//! φ_t(q̇ᵢ) in row i (q̇ᵢ, sign(q̇ᵢ), 1: [`super::friction`]).
 
 use super::data::{BodyRegressor, Data};
 use super::error::DynamicsError;
-use super::friction::FrictionTerm;
 use super::model::Model;
 use super::rnea::{check_len, forward_pass};
 use crate::moments::skew;
@@ -170,7 +169,7 @@ fn regressor_blocks_unchecked(
         }
     }
     let nb = model.num_bodies();
-    for (t, term) in FrictionTerm::ALL.iter().enumerate() {
+    for (t, term) in model.friction_terms().iter().enumerate() {
         for i in 0..n {
             put(i, 10 * nb + t * n + i, &[term.basis(qd[i])]);
         }
@@ -201,7 +200,7 @@ pub fn regressor_row_columns(model: &Model) -> Vec<Vec<usize>> {
             });
             let bodies = links.chain(rotors.map(|(k, _)| n + k));
             let mut cols: Vec<usize> = bodies.flat_map(|b| 10 * b..10 * b + 10).collect();
-            cols.extend((0..FrictionTerm::ALL.len()).map(|t| 10 * nb + t * n + j));
+            cols.extend((0..model.friction_terms().len()).map(|t| 10 * nb + t * n + j));
             cols
         })
         .collect()

@@ -47,8 +47,11 @@ pub(super) type Hook<'h> = Box<dyn Fn(&mut Problem, &Vars) -> Result<(), Identif
 pub struct Vars {
     pub(super) bodies: Vec<(String, BodyVars)>,
     pub(super) joints: Vec<String>,
-    /// Friction coefficients, `friction[t·n + i]`: term t, joint i.
+    /// Friction coefficients, `friction[k·n + i]`: the k-th term of
+    /// `terms`, joint i.
     pub(super) friction: Vec<AffExpr>,
+    /// The friction terms identified.
+    pub(super) terms: Vec<FrictionTerm>,
 }
 
 impl Vars {
@@ -67,14 +70,18 @@ impl Vars {
     }
 
     /// Joint `joint`'s coefficient of the friction term `term`
-    /// ([`FrictionTerm::unit`]).
+    /// ([`FrictionTerm::unit`]); an error for a term the model does not
+    /// identify.
     pub fn friction(&self, term: FrictionTerm, joint: &str) -> Result<AffExpr, IdentifyError> {
         let i = self
             .joints
             .iter()
             .position(|n| n == joint)
             .ok_or_else(|| unknown("joint", joint, self.joints.iter().map(String::as_str)))?;
-        Ok(self.friction[term.index() * self.joints.len() + i].clone())
+        let names = self.terms.iter().map(|t| t.name());
+        let k = (self.terms.iter().position(|&t| t == term))
+            .ok_or_else(|| unknown("identified friction term", term.name(), names))?;
+        Ok(self.friction[k * self.joints.len() + i].clone())
     }
 
     /// Joint `joint`'s viscous coefficient B (N·m·s/rad).

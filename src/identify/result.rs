@@ -269,7 +269,7 @@ fn sample_parts(model: &Model, theta: &[f64], d: &Dataset) -> Result<Contributio
     };
     let (links, rotors) = (only(0..nl)?, only(nl..nb)?);
     let has_rotors = nb > nl;
-    let law = Friction::from_terms(n, |t, i| theta[nb + t.index() * n + i]);
+    let law = Friction::from_terms(n, model.friction_terms(), |k, i| theta[nb + k * n + i]);
     let mut c = Contributions {
         links: Samples::zeros(d.len(), n),
         rotors: Samples::zeros(d.len(), n),

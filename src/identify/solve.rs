@@ -95,6 +95,7 @@ impl Identification<'_> {
         if direct && self.bodies.iter().all(|b| b.level == Level::None) {
             return Ok(Solved {
                 theta: solve_direct(&r, &d, ns, reg, nb)?,
+                terms: model.friction_terms().to_vec(),
                 bodies: model.body_names(),
                 joints: model.joint_names().iter().map(|s| s.to_string()).collect(),
                 status: Status::Solved,
@@ -111,7 +112,13 @@ impl Identification<'_> {
         if self.entropic() {
             self.add_entropic(&mut prob, &bodies, &model.body_names())?;
         }
-        prob.add_nonneg(theta[10 * nb..].to_vec())?; // every friction coefficient ≥ 0
+        // every friction coefficient ≥ 0 but an offset's
+        let n = model.dof();
+        for (k, t) in model.friction_terms().iter().enumerate() {
+            if !t.signed() {
+                prob.add_nonneg(theta[10 * nb + k * n..10 * nb + (k + 1) * n].to_vec())?;
+            }
+        }
         for h in &self.hooks {
             h(&mut prob, &vars)?;
         }
@@ -119,6 +126,7 @@ impl Identification<'_> {
         match sol.status {
             s if s.is_solved() => Ok(Solved {
                 theta: sol.eval_all(&theta)?,
+                terms: model.friction_terms().to_vec(),
                 bodies: model.body_names(),
                 joints: model.joint_names().iter().map(|s| s.to_string()).collect(),
                 status: sol.status,
@@ -150,6 +158,7 @@ impl Identification<'_> {
                 .collect(),
             joints: model.joint_names().iter().map(|j| j.to_string()).collect(),
             friction: theta[10 * nb..].to_vec(),
+            terms: model.friction_terms().to_vec(),
         }
     }
 

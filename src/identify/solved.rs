@@ -8,10 +8,13 @@ use crate::dynamics::{Friction, FrictionTerm, Model};
 /// The solver's answer.
 #[derive(Clone, Debug)]
 pub struct Solved {
-    /// θ = [π (links, rotors) | one block of n per friction term, in
-    /// [`FrictionTerm::ALL`]'s order]; read it by name with
-    /// [`Solved::body`] and [`Solved::friction_coefficient`].
+    /// θ = [π (links, rotors) | one block of n per friction term of
+    /// `terms`]; read it by name with [`Solved::body`] and
+    /// [`Solved::friction_coefficient`].
     pub theta: Vec<f64>,
+    /// The friction terms identified (the model's
+    /// [`Model::friction_terms`]).
+    pub terms: Vec<FrictionTerm>,
     /// Body names, in parameter order.
     pub bodies: Vec<String>,
     /// Joint names.
@@ -29,7 +32,7 @@ pub struct Solved {
 }
 
 /// Parameter names: `<body>.<m|hx|…>`, then `<term>.<joint>` for each
-/// friction term (`viscous.<joint>`, `coulomb.<joint>`).
+/// friction term of the model (`viscous.<joint>`, `coulomb.<joint>`, …).
 pub fn parameter_names(model: &Model) -> Vec<String> {
     const P: [&str; 10] = [
         "m", "hx", "hy", "hz", "Ixx", "Ixy", "Ixz", "Iyy", "Iyz", "Izz",
@@ -39,7 +42,7 @@ pub fn parameter_names(model: &Model) -> Vec<String> {
         .iter()
         .flat_map(|b| P.iter().map(move |p| format!("{b}.{p}")))
         .collect();
-    for t in FrictionTerm::ALL {
+    for t in model.friction_terms() {
         v.extend(
             model
                 .joint_names()
@@ -63,7 +66,8 @@ impl Solved {
         })))
     }
 
-    /// Joint `joint`'s coefficient of the friction term `term`.
+    /// Joint `joint`'s coefficient of the friction term `term` (0 for a
+    /// term not identified).
     pub fn friction_coefficient(
         &self,
         term: FrictionTerm,
@@ -75,7 +79,10 @@ impl Solved {
             .position(|n| n == joint)
             .ok_or_else(|| unknown("joint", joint, self.joints.iter().map(String::as_str)))?;
         let (nb, n) = (self.bodies.len(), self.joints.len());
-        Ok(self.theta[10 * nb + term.index() * n + i])
+        Ok(match self.terms.iter().position(|&t| t == term) {
+            Some(k) => self.theta[10 * nb + k * n + i],
+            None => 0.0,
+        })
     }
 
     /// Joint `joint`'s friction `(viscous B, Coulomb B_c)`.
@@ -89,6 +96,6 @@ impl Solved {
     /// The identified friction of every joint.
     pub fn friction_law(&self) -> Friction {
         let (nb, n) = (self.bodies.len(), self.joints.len());
-        Friction::from_terms(n, |t, i| self.theta[10 * nb + t.index() * n + i])
+        Friction::from_terms(n, &self.terms, |k, i| self.theta[10 * nb + k * n + i])
     }
 }

@@ -2,8 +2,8 @@
 //! [--prior cad|true|FILE] [--weight W] [--regularizer euclidean|entropic]
 //! [--prior-mass-weight W] [--validate FILE.csv] [--json]`.
 
-use momentlmi::dynamics::ParamChoice;
 use momentlmi::dynamics::RobotDescription;
+use momentlmi::dynamics::{FrictionTerm, ParamChoice};
 use momentlmi::identify::{Identification, IdentifyError, IdentifyResult, Level, Regularizer};
 use std::path::Path;
 
@@ -30,6 +30,8 @@ pub struct IdentifyArgs<'a> {
     /// Extra weight on the masses' distance from the prior's (None: the
     /// robot's, `Identification::for_robot`).
     pub prior_mass_weight: Option<f64>,
+    /// The friction terms identified (None: the model's default).
+    pub friction: Option<&'a str>,
     /// Validation data (each file a segment; none: no validation).
     pub validate: &'a [std::path::PathBuf],
     /// JSON output.
@@ -211,7 +213,11 @@ fn identification<'r>(
 
 fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
     parse_level(a.constraints, "--constraints")?;
-    let robot = super::load_robot(a.robot, a.sidecar, a.package_paths)?;
+    let mut robot = super::load_robot(a.robot, a.sidecar, a.package_paths)?;
+    if let Some(list) = a.friction {
+        let terms = FrictionTerm::parse_list(list).map_err(|e| format!("--friction: {e}"))?;
+        robot.model = robot.model.with_friction_terms(&terms);
+    }
     let ellipsoid = a.constraints == "ellipsoid"
         || a.levels.iter().any(|l| l.trim_end().ends_with("ellipsoid"));
     let names = robot.model.joint_names();
@@ -332,6 +338,9 @@ pub fn print_report(r: &IdentifyResult) {
     println!("joints         {joints}");
     println!("viscous        {} N·m·s/rad", list(&r.friction.viscous));
     println!("Coulomb        {} N·m", list(&r.friction.coulomb));
+    if r.friction.offset.iter().any(|&c| c != 0.0) {
+        println!("offset         {} N·m", list(&r.friction.offset));
+    }
     println!("training RMS   {} N·m", list(&r.training_rms));
     if let Some(v) = &r.validation_rms {
         println!(
