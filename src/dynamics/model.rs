@@ -362,13 +362,6 @@ impl Model {
         self
     }
 
-    /// The regressor column of joint i's coefficient of `term`, if the
-    /// model has that term.
-    pub fn friction_column(&self, term: super::FrictionTerm, i: usize) -> Option<usize> {
-        let k = self.friction_terms.iter().position(|&t| t == term)?;
-        Some(10 * self.num_bodies() + k * self.dof() + i)
-    }
-
     /// Index of the joint named `name`.
     pub fn joint_index(&self, name: &str) -> Option<usize> {
         self.joints.iter().position(|j| j.name == name)

@@ -6,9 +6,10 @@
 //! matrix and dropped), so memory is O(p²) whatever the number of samples;
 //! F comes from a Cholesky factorisation of G with diagonal pivoting after
 //! scaling its columns to unit diagonal (it stops at G's numerical rank, so
-//! it also works when the data do not excite every parameter). Forming G squares the condition number
-//! of the column-scaled regressor; with the unit-diagonal scaling that costs
-//! about `ε·κ` relative accuracy in the fitted torques, far below any noise.
+//! it also works when the data do not excite every parameter). Forming G
+//! squares the condition number of the column-scaled regressor; with the
+//! unit-diagonal scaling that costs about `ε·κ` relative accuracy in the
+//! fitted torques, far below any noise.
 
 use super::error::{GramProblem, IdentifyError};
 use super::gram::{GramAcc, NotFinite};
