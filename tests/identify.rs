@@ -252,3 +252,61 @@ fn a_torque_offset_is_identified_with_the_offset_term() {
         );
     }
 }
+
+/// Each friction term beyond the default is recovered from noise-free
+/// torques the friction law itself generates (the leg's own links and
+/// rotors, its nominal viscous and Coulomb friction plus that term), with
+/// the term in the model and not without it: asymmetric Coulomb friction,
+/// load-dependent friction (which `identify` first scales by the measured
+/// torque, then by the first solution's rigid torque) and Stribeck
+/// friction at a Stribeck velocity that is not the default.
+#[test]
+fn each_friction_term_is_recovered_from_the_law_it_names() {
+    use momentlmi::dynamics::predict::predict_torques;
+    use momentlmi::dynamics::{Friction, FrictionTerm};
+    let all = data(8.0, 0.0, "rotor_inertia,coulomb,viscous", 1);
+    let (q, qd, qdd) = (&all.q, &all.qd, &all.qdd);
+    let cases = [
+        (FrictionTerm::Asymmetric, vec![0.4, -0.3, 0.2], 1e-6),
+        (FrictionTerm::Load, vec![0.05, 0.02, 0.08], 1e-2),
+        (FrictionTerm::Stribeck, vec![1.5, 0.8, -0.5], 1e-6),
+    ];
+    for (term, truth, tol) in cases {
+        let mut f = Friction::zeros(3);
+        f.viscous = cheetah3::VISCOUS.to_vec();
+        f.coulomb = cheetah3::COULOMB.to_vec();
+        *f.coefficients_mut(term) = truth.clone();
+        f.stribeck_velocity = Some(0.2);
+        let model = cheetah3::model().with_stribeck_velocity(0.2).unwrap();
+        let mut d = all.clone();
+        d.tau = predict_torques(&model, &f, q, qd, qdd).unwrap();
+        let (train, val) = (d.slice(0..4000), d.slice(4000..8000));
+        let fit = |m: &momentlmi::dynamics::Model| {
+            identify(m, &train, Some(&val), &opts(Level::Consistent, 0.0)).unwrap()
+        };
+        let terms = [FrictionTerm::Viscous, FrictionTerm::Coulomb, term];
+        let r = fit(&model.clone().with_friction_terms(&terms));
+        let got = r.friction.coefficients(term);
+        for (g, t) in got.iter().zip(&truth) {
+            assert!(
+                (g - t).abs() < tol * t.abs().max(1.0),
+                "{term:?}: {got:?} vs {truth:?}"
+            );
+        }
+        let worst = |r: &momentlmi::identify::IdentifyResult| {
+            r.validation_rms
+                .as_ref()
+                .unwrap()
+                .iter()
+                .cloned()
+                .fold(0.0, f64::max)
+        };
+        let without = fit(&model);
+        assert!(
+            worst(&r) < 1e-2 * worst(&without),
+            "{term:?}: {} vs {}",
+            worst(&r),
+            worst(&without)
+        );
+    }
+}

@@ -240,10 +240,17 @@ enum Command {
         #[arg(long, allow_negative_numbers = true)]
         prior_mass_weight: Option<f64>,
         /// Friction terms identified per joint, comma-separated: viscous, coulomb, offset (a
-        /// torque sensor's bias, either sign), or none (links and rotors only)
-        /// [default: viscous,coulomb]. A real arm's torque sensors usually need offset.
+        /// torque sensor's bias, either sign), asymmetric (Coulomb stronger one way), load
+        /// (Coulomb ∝ |τ| of the rigid model: a harmonic drive's), stribeck (breakaway
+        /// friction near rest, exp(−(q̇/v_s)²) sign(q̇)), or none (links and rotors only)
+        /// [default: viscous,coulomb]. A real arm's torque sensors usually need offset
+        /// (docs/identification.md, "Friction terms").
         #[arg(long, value_name = "LIST")]
         friction: Option<String>,
+        /// The Stribeck velocity v_s of the stribeck term (rad/s).
+        #[arg(long, value_name = "RAD_PER_S", allow_negative_numbers = true,
+              default_value_t = momentlmi::dynamics::DEFAULT_STRIBECK_VELOCITY)]
+        stribeck_velocity: f64,
         /// Held-out validation data (repeatable, like --data).
         #[arg(long)]
         validate: Vec<PathBuf>,
@@ -428,6 +435,7 @@ pub fn main() -> i32 {
             regularizer,
             prior_mass_weight,
             friction,
+            stribeck_velocity,
             validate,
             json,
             levels,
@@ -446,6 +454,7 @@ pub fn main() -> i32 {
             regularizer,
             prior_mass_weight,
             friction: friction.as_deref(),
+            stribeck_velocity,
             validate: &validate,
             json,
             levels: &levels,

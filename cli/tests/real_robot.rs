@@ -206,11 +206,12 @@ fn a_simulated_kuka_log_reads_past_the_robots_default_mapping() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("missing column 'times'"));
 }
 
-/// `--friction viscous,coulomb,offset` on the KUKA (issue 35): the torque
-/// sensors' offsets are identified (either sign) and cut joint 0's held-out
-/// error (1.06 N·m without them at the ellipsoid level); the model file
-/// goes back into `predict`, which reproduces identify's held-out RMS; an
-/// unknown term is refused by name.
+/// `--friction viscous,coulomb,offset,load,stribeck` on the KUKA (issue
+/// 35): the torque sensors' offsets are identified (either sign) and cut
+/// joint 0's held-out error (1.06 N·m without them at the ellipsoid level);
+/// the model file, with every term and a Stribeck velocity that is not the
+/// default, goes back into `predict`, which reproduces identify's held-out
+/// RMS on every joint; an unknown term is refused by name.
 #[test]
 fn the_kukas_torque_offsets_are_identified_and_predicted() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../robots/kuka-lwr4");
@@ -226,11 +227,13 @@ fn the_kukas_torque_offsets_are_identified_and_predicted() {
                 "--json",
                 "--friction",
                 friction,
+                "--stribeck-velocity",
+                "0.1",
             ])
             .output()
             .unwrap()
     };
-    let o = identify("viscous,coulomb,offset");
+    let o = identify("viscous,coulomb,offset,load,stribeck");
     assert_eq!(
         o.status.code(),
         Some(0),
@@ -243,6 +246,11 @@ fn the_kukas_torque_offsets_are_identified_and_predicted() {
         offset.iter().any(|&c| c < -0.05) && offset.iter().any(|&c| c > 0.05),
         "{offset:?}"
     );
+    assert_eq!(v["friction"]["stribeck_velocity"], 0.1, "{}", v["friction"]);
+    for term in ["load", "stribeck"] {
+        let c: Vec<f64> = serde_json::from_value(v["friction"][term].clone()).unwrap();
+        assert!(c.iter().any(|&c| c != 0.0), "{term}: {c:?}");
+    }
     let rms: Vec<f64> = serde_json::from_value(v["validation_rms"].clone()).unwrap();
     assert!(rms[0] < 0.9, "{rms:?}");
     let dir = tempfile::tempdir().unwrap();
@@ -257,9 +265,12 @@ fn the_kukas_torque_offsets_are_identified_and_predicted() {
         .unwrap();
     let out = String::from_utf8_lossy(&p.stdout).to_string() + &String::from_utf8_lossy(&p.stderr);
     assert_eq!(p.status.code(), Some(0), "{out}");
-    let line = out.lines().find(|l| l.contains("lwr_0_joint")).expect(&out);
-    let got: f64 = line.split_whitespace().last().unwrap().parse().unwrap();
-    assert!((got - rms[0]).abs() < 1e-3, "{got} vs {}", rms[0]);
+    for (i, want) in rms.iter().enumerate() {
+        let joint = format!("lwr_{i}_joint");
+        let line = out.lines().find(|l| l.contains(&joint)).expect(&out);
+        let got: f64 = line.split_whitespace().last().unwrap().parse().unwrap();
+        assert!((got - want).abs() < 1e-3, "{joint}: {got} vs {want}");
+    }
     let bad = identify("viscous,stiction");
     let err = String::from_utf8_lossy(&bad.stderr);
     assert_eq!(bad.status.code(), Some(2));

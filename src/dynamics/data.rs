@@ -35,6 +35,12 @@ pub struct Data {
     pub ic: Vec<Matrix6<f64>>,
     /// Regressor (n × (10·bodies + 2n)) from [`regressor`](super::regressor).
     pub regressor: DMatrix<f64>,
+    /// Per joint, the load (N·m) the regressor's `load` friction column
+    /// is scaled by ([`FrictionTerm::Load`](super::FrictionTerm::Load)):
+    /// the caller sets it before [`regressor`](super::regressor) (the
+    /// identification: the measured torques). NaN until set, so that a
+    /// regressor of a model with that term is not finite until it is.
+    pub load: Vec<f64>,
     /// Per body: the axes of the joints that move it, in its frame.
     pub(crate) axes: Vec<Vec<(usize, Vector6<f64>)>>,
 }
@@ -58,6 +64,7 @@ impl Data {
             mass_matrix: DMatrix::zeros(n, n),
             ic: vec![Matrix6::zeros(); n],
             regressor: DMatrix::zeros(n, model.regressor_columns()),
+            load: vec![f64::NAN; n],
             axes: (0..n).map(|_| Vec::with_capacity(n)).collect(),
         }
     }

@@ -11,6 +11,8 @@ pub enum ModelFault {
     NoJoint,
     /// Gravity not finite or beyond ±1000 m/s².
     Gravity([f64; 3]),
+    /// A Stribeck velocity (rad/s) that is not positive and finite.
+    StribeckVelocity(f64),
     /// A movable joint without a name.
     UnnamedJoint,
     /// A joint name with a character a CSV column cannot hold.
@@ -106,6 +108,12 @@ impl fmt::Display for ModelFault {
         match self {
             NoJoint => f.write_str("no movable joint: nothing to simulate, identify or diagnose"),
             Gravity(g) => write!(f, "gravity {g:?} must be finite and within ±1000 m/s²"),
+            StribeckVelocity(v) => {
+                write!(
+                    f,
+                    "the Stribeck velocity {v:e} rad/s must be positive and finite"
+                )
+            }
             UnnamedJoint => f.write_str("a movable joint without a name"),
             JointName { joint, bad } => write!(
                 f,

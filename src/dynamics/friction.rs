@@ -14,9 +14,25 @@
 //! | `viscous` | q̇ | B | N·m·s/rad (N·s/m) |
 //! | `coulomb` | sign(q̇) | B_c | N·m (N) |
 //! | `offset` | 1 | c | N·m (N) |
+//! | `asymmetric` | \|sign(q̇)\| | a | N·m (N) |
+//! | `load` | \|τ_rigid,i\| sign(q̇) | μ | 1 (N·m per N·m) |
+//! | `stribeck` | exp(−(q̇/v_s)²) sign(q̇) | F_s | N·m (N) |
 //!
-//! The coefficients of viscous and Coulomb friction are ≥ 0; an offset (a
-//! torque sensor's bias, a cable's preload) has either sign. A model
+//! The Stribeck velocity v_s is one number of the law (rad/s, default
+//! [`DEFAULT_STRIBECK_VELOCITY`]), not identified: the term is linear in
+//! F_s only. F_s > 0 is friction that breaks away above its sliding
+//! level; the sign is left free.
+//! The coefficients of viscous, Coulomb and load friction are ≥ 0; an
+//! offset (a torque sensor's bias, a cable's preload) and an asymmetry
+//! (Coulomb friction stronger one way: B_c ± a) have either sign. The
+//! offset and the asymmetry differ only at rest (q̇ = 0): on data that never
+//! rest they are one column. Load friction is a harmonic drive's:
+//! Coulomb friction growing with the torque the joint transmits, here the
+//! rigid model's torque τ_rigid,i (links and rotors, before friction) in
+//! `predict` and the simulator; `identify`, which does not know τ_rigid
+//! before it solves, scales the column by the measured torque
+//! ([`crate::dynamics::Data::load`]) — the two differ by the friction and
+//! the noise, a small bias when friction is a small part of the torque. A model
 //! identifies the terms [`crate::dynamics::Model::friction_terms`] lists
 //! ([`FrictionTerm::DEFAULT`]: viscous and Coulomb): the regressor's
 //! friction columns are those terms in that order, one column per joint
@@ -38,14 +54,24 @@ pub enum FrictionTerm {
     Coulomb,
     /// A constant torque `c` (a torque sensor's offset).
     Offset,
+    /// Asymmetric Coulomb friction `a |sign(q̇)|` (with Coulomb friction
+    /// B_c: B_c + a moving forward, B_c − a backward).
+    Asymmetric,
+    /// Load-dependent Coulomb friction `μ |τ_rigid| sign(q̇)`.
+    Load,
+    /// Stribeck friction `F_s exp(−(q̇/v_s)²) sign(q̇)`.
+    Stribeck,
 }
 
 impl FrictionTerm {
     /// Every term, in the order a list of terms is kept in.
-    pub const ALL: [FrictionTerm; 3] = [
+    pub const ALL: [FrictionTerm; 6] = [
         FrictionTerm::Viscous,
         FrictionTerm::Coulomb,
         FrictionTerm::Offset,
+        FrictionTerm::Asymmetric,
+        FrictionTerm::Load,
+        FrictionTerm::Stribeck,
     ];
 
     /// The terms a model identifies unless told otherwise.
@@ -57,6 +83,9 @@ impl FrictionTerm {
             FrictionTerm::Viscous => "viscous",
             FrictionTerm::Coulomb => "coulomb",
             FrictionTerm::Offset => "offset",
+            FrictionTerm::Asymmetric => "asymmetric",
+            FrictionTerm::Load => "load",
+            FrictionTerm::Stribeck => "stribeck",
         }
     }
 
@@ -93,7 +122,10 @@ impl FrictionTerm {
 
     /// Whether its coefficient may have either sign (else it is ≥ 0).
     pub fn signed(self) -> bool {
-        self == FrictionTerm::Offset
+        matches!(
+            self,
+            FrictionTerm::Offset | FrictionTerm::Asymmetric | FrictionTerm::Stribeck
+        )
     }
 
     /// The coefficient's unit for a revolute joint (a prismatic joint's:
@@ -101,20 +133,41 @@ impl FrictionTerm {
     pub fn unit(self) -> &'static str {
         match self {
             FrictionTerm::Viscous => "N·m·s/rad",
-            FrictionTerm::Coulomb | FrictionTerm::Offset => "N·m",
+            FrictionTerm::Coulomb
+            | FrictionTerm::Offset
+            | FrictionTerm::Asymmetric
+            | FrictionTerm::Stribeck => "N·m",
+            FrictionTerm::Load => "1",
         }
     }
 
-    /// The basis function φ(q̇) its coefficient multiplies.
+    /// The basis function φ its coefficient multiplies, at joint velocity
+    /// `qd`, joint load `load` (the torque the joint transmits, N·m; only
+    /// [`FrictionTerm::Load`] reads it) and Stribeck velocity
+    /// `stribeck_velocity` (rad/s; only [`FrictionTerm::Stribeck`] reads
+    /// it).
     #[inline]
-    pub fn basis(self, qd: f64) -> f64 {
+    pub fn basis(self, qd: f64, load: f64, stribeck_velocity: f64) -> f64 {
         match self {
             FrictionTerm::Viscous => qd,
             FrictionTerm::Coulomb => sign(qd),
             FrictionTerm::Offset => 1.0,
+            FrictionTerm::Asymmetric => sign(qd).abs(),
+            FrictionTerm::Load => load.abs() * sign(qd),
+            FrictionTerm::Stribeck => (-(qd / stribeck_velocity).powi(2)).exp() * sign(qd),
         }
     }
+
+    /// Whether files and models from before the term existed may leave it
+    /// out (its coefficients then count as zeros).
+    fn optional(self) -> bool {
+        !Self::DEFAULT.contains(&self)
+    }
 }
+
+/// The Stribeck velocity v_s (rad/s) a law has unless told otherwise: a
+/// harmonic drive's breakaway region is a few hundredths of a rad/s wide.
+pub const DEFAULT_STRIBECK_VELOCITY: f64 = 0.05;
 
 /// `sign(x)` with `sign(0) = 0`.
 #[inline]
@@ -139,6 +192,20 @@ pub struct Friction {
     /// Torque offsets c (N·m); empty (a file without them) counts as zeros.
     #[serde(default, skip_serializing_if = "all_zero")]
     pub offset: Vec<f64>,
+    /// Coulomb asymmetries a (N·m); empty counts as zeros.
+    #[serde(default, skip_serializing_if = "all_zero")]
+    pub asymmetric: Vec<f64>,
+    /// Load-friction coefficients μ (N·m per N·m of load); empty counts as
+    /// zeros.
+    #[serde(default, skip_serializing_if = "all_zero")]
+    pub load: Vec<f64>,
+    /// Stribeck peaks F_s (N·m); empty counts as zeros.
+    #[serde(default, skip_serializing_if = "all_zero")]
+    pub stribeck: Vec<f64>,
+    /// The Stribeck velocity v_s (rad/s); absent:
+    /// [`DEFAULT_STRIBECK_VELOCITY`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stribeck_velocity: Option<f64>,
 }
 
 fn all_zero(v: &[f64]) -> bool {
@@ -152,6 +219,10 @@ impl Friction {
             viscous: vec![0.0; n],
             coulomb: vec![0.0; n],
             offset: vec![0.0; n],
+            asymmetric: vec![0.0; n],
+            load: vec![0.0; n],
+            stribeck: vec![0.0; n],
+            stribeck_velocity: None,
         }
     }
 
@@ -161,6 +232,9 @@ impl Friction {
             FrictionTerm::Viscous => &self.viscous,
             FrictionTerm::Coulomb => &self.coulomb,
             FrictionTerm::Offset => &self.offset,
+            FrictionTerm::Asymmetric => &self.asymmetric,
+            FrictionTerm::Load => &self.load,
+            FrictionTerm::Stribeck => &self.stribeck,
         }
     }
 
@@ -170,18 +244,25 @@ impl Friction {
             FrictionTerm::Viscous => &mut self.viscous,
             FrictionTerm::Coulomb => &mut self.coulomb,
             FrictionTerm::Offset => &mut self.offset,
+            FrictionTerm::Asymmetric => &mut self.asymmetric,
+            FrictionTerm::Load => &mut self.load,
+            FrictionTerm::Stribeck => &mut self.stribeck,
         }
     }
 
     /// From one vector of coefficients per term of `terms` (the layout of
     /// identified parameters: `θ[k·n + i]` for the k-th term); the other
-    /// terms are zero.
+    /// terms are zero. With a Stribeck term the law's Stribeck velocity is
+    /// `stribeck_velocity`.
     pub fn from_terms(
         n: usize,
-        terms: &[FrictionTerm],
+        (terms, stribeck_velocity): (&[FrictionTerm], f64),
         value: impl Fn(usize, usize) -> f64,
     ) -> Self {
         let mut f = Self::zeros(n);
+        f.stribeck_velocity = terms
+            .contains(&FrictionTerm::Stribeck)
+            .then_some(stribeck_velocity);
         for (k, &t) in terms.iter().enumerate() {
             for (i, c) in f.coefficients_mut(t).iter_mut().enumerate() {
                 *c = value(k, i);
@@ -190,12 +271,12 @@ impl Friction {
         f
     }
 
-    /// Checks that every term has one coefficient per joint of `n` (an
-    /// offset may also have none).
+    /// Checks that every term has one coefficient per joint of `n` (a
+    /// term beyond [`FrictionTerm::DEFAULT`] may also have none).
     pub fn check_joints(&self, n: usize) -> Result<(), DynamicsError> {
         for t in FrictionTerm::ALL {
             let found = self.coefficients(t).len();
-            if found != n && !(t.signed() && found == 0) {
+            if found != n && !(t.optional() && found == 0) {
                 return Err(DynamicsError::Dimension {
                     what: format!("{} friction coefficients", t.name()),
                     expected: n,
@@ -206,16 +287,30 @@ impl Friction {
         Ok(())
     }
 
-    /// `tau` plus joint i's friction at velocity `qd`, the terms added one
-    /// after the other in [`FrictionTerm::ALL`]'s order.
+    /// The rigid model's torque `tau` of joint i plus the joint's friction
+    /// at velocity `qd` (its load: |tau|).
     #[inline]
     pub fn add_to(&self, tau: f64, i: usize, qd: f64) -> f64 {
-        FrictionTerm::ALL.iter().fold(tau, |t, &term| {
-            // an offset may be absent (empty)
+        tau + self.torque(i, qd, tau)
+    }
+
+    /// Joint i's friction torque at velocity `qd` and load `load` (the
+    /// rigid model's torque of the joint, N·m), the terms added one after
+    /// the other in [`FrictionTerm::ALL`]'s order.
+    #[inline]
+    pub fn torque(&self, i: usize, qd: f64, load: f64) -> f64 {
+        let vs = self.stribeck_velocity();
+        FrictionTerm::ALL.iter().fold(0.0, |t, &term| {
+            // a term beyond the default may be absent (empty)
             self.coefficients(term)
                 .get(i)
-                .map_or(t, |c| t + c * term.basis(qd))
+                .map_or(t, |c| t + c * term.basis(qd, load, vs))
         })
+    }
+
+    /// The law's Stribeck velocity v_s (rad/s).
+    pub fn stribeck_velocity(&self) -> f64 {
+        self.stribeck_velocity.unwrap_or(DEFAULT_STRIBECK_VELOCITY)
     }
 }
 
@@ -231,11 +326,15 @@ mod tests {
             viscous: vec![0.5, 2.0],
             coulomb: vec![3.0, 0.0],
             offset: vec![],
+            asymmetric: vec![],
+            load: vec![],
+            stribeck: vec![],
+            stribeck_velocity: None,
         };
         assert_eq!(f.add_to(1.0, 0, -2.0), 1.0 + 0.5 * -2.0 + 3.0 * -1.0);
         assert_eq!(f.add_to(0.0, 1, 0.0), 0.0);
         let terms = FrictionTerm::DEFAULT;
-        let g = Friction::from_terms(2, &terms, |k, i| f.coefficients(terms[k])[i]);
+        let g = Friction::from_terms(2, (&terms, 1.0), |k, i| f.coefficients(terms[k])[i]);
         assert_eq!(g.viscous, f.viscous);
         assert_eq!((g.coulomb, g.offset), (f.coulomb.clone(), vec![0.0; 2]));
         let o = Friction {

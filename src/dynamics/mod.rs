@@ -46,7 +46,7 @@ pub use data::{BodyRegressor, Data};
 pub use description::{IdentificationFacts, ParamChoice, RobotDescription};
 pub use error::DynamicsError;
 pub use fault::ModelFault;
-pub use friction::{Friction, FrictionTerm, sign};
+pub use friction::{DEFAULT_STRIBECK_VELOCITY, Friction, FrictionTerm, sign};
 pub use model::{Frame, Joint, JointKind, Model, Rotor, ToolPoint};
 pub use regressor::{
     body_regressor, regressor, regressor_batch, regressor_blocks, regressor_row_columns,

@@ -145,6 +145,8 @@ pub struct Model {
     /// The friction terms the regressor has columns for, in
     /// [`FrictionTerm::ALL`](super::FrictionTerm::ALL)'s order.
     pub(crate) friction_terms: Vec<super::FrictionTerm>,
+    /// The Stribeck velocity (rad/s) of the regressor's Stribeck column.
+    pub(crate) stribeck_velocity: f64,
 }
 
 impl Model {
@@ -192,6 +194,7 @@ impl Model {
             tool,
             rotor_of,
             friction_terms: super::FrictionTerm::DEFAULT.to_vec(),
+            stribeck_velocity: super::friction::DEFAULT_STRIBECK_VELOCITY,
         })
     }
 
@@ -342,6 +345,7 @@ impl Model {
             tool: self.tool,
             rotor_of: vec![None; self.joints.len()],
             friction_terms: self.friction_terms.clone(),
+            stribeck_velocity: self.stribeck_velocity,
         }
     }
 
@@ -360,6 +364,26 @@ impl Model {
         t.dedup();
         self.friction_terms = t;
         self
+    }
+
+    /// The Stribeck velocity v_s (rad/s) of the regressor's Stribeck
+    /// column (default
+    /// [`DEFAULT_STRIBECK_VELOCITY`](super::friction::DEFAULT_STRIBECK_VELOCITY)).
+    pub fn stribeck_velocity(&self) -> f64 {
+        self.stribeck_velocity
+    }
+
+    /// The model with Stribeck velocity `v` (rad/s; positive and finite,
+    /// else an error naming it).
+    pub fn with_stribeck_velocity(mut self, v: f64) -> Result<Self, super::DynamicsError> {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(super::DynamicsError::InvalidModel {
+                model: self.name.clone(),
+                fault: super::fault::ModelFault::StribeckVelocity(v),
+            });
+        }
+        self.stribeck_velocity = v;
+        Ok(self)
     }
 
     /// Index of the joint named `name`.

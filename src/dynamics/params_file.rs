@@ -109,6 +109,14 @@ impl ParamsFile {
                 .joint_values(self.friction.coefficients(t), t, &joints)
                 .map_err(err)?;
         }
+        if let Some(v) = self.friction.stribeck_velocity {
+            if !(v.is_finite() && v > 0.0 && v <= MAX_ABS_PARAM) {
+                return Err(err(format!(
+                    "friction.stribeck_velocity = {v:e}: must be positive, ≤ {MAX_ABS_PARAM:e} rad/s"
+                )));
+            }
+            f.stribeck_velocity = Some(v);
+        }
         Ok(f)
     }
 

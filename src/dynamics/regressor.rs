@@ -168,10 +168,14 @@ fn regressor_blocks_unchecked(
             }
         }
     }
-    let nb = model.num_bodies();
+    let (nb, vs) = (model.num_bodies(), model.stribeck_velocity());
     for (t, term) in model.friction_terms().iter().enumerate() {
         for i in 0..n {
-            put(i, 10 * nb + t * n + i, &[term.basis(qd[i])]);
+            put(
+                i,
+                10 * nb + t * n + i,
+                &[term.basis(qd[i], data.load[i], vs)],
+            );
         }
     }
 }

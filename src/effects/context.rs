@@ -91,6 +91,10 @@ impl<'a> Context<'a> {
         let mut cols = vec![vec![0.0; d.len() * n]; count];
         let mut data = Data::new(self.model);
         for k in 0..d.len() {
+            data.load
+                .iter_mut()
+                .zip(&d.tau[k])
+                .for_each(|(l, t)| *l = *t);
             let y = regressor(self.model, &mut data, &d.q[k], &d.qd[k], &d.qdd[k])
                 .map_err(|source| EffectError::Regressor { sample: k, source })?;
             for i in 0..n {

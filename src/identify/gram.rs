@@ -89,15 +89,16 @@ impl GramAcc {
         self.samples += 1;
     }
 
-    /// Appends one sample from its state `[q, q̇, q̈]` and torques `tau`
-    /// (n each): the regressor's non-zero entries are written straight into
-    /// each joint's row ([`regressor_blocks`]), with no dense row between.
+    /// Appends one sample from its state `[q, q̇, q̈]`, torques `tau` and
+    /// the load friction column's `load` (n each): the regressor's non-zero
+    /// entries are written straight into each joint's row
+    /// ([`regressor_blocks`]), with no dense row between.
     pub(crate) fn push_state(
         &mut self,
         model: &Model,
         data: &mut Data,
         state: [&[f64]; 3],
-        tau: &[f64],
+        [tau, load]: [&[f64]; 2],
     ) -> Result<(), DynamicsError> {
         for (block, cols) in self.blocks.iter_mut().zip(&self.cols) {
             block.resize(block.len() + cols.len(), 0.0);
@@ -105,6 +106,7 @@ impl GramAcc {
         for (block, &t) in self.blocks.iter_mut().zip(tau) {
             *block.last_mut().expect("τ is a column") = t;
         }
+        data.load.iter_mut().zip(load).for_each(|(l, t)| *l = *t);
         let (blocks, cols, place, row) = (&mut self.blocks, &self.cols, &self.place, self.samples);
         let result = regressor_blocks(model, data, state, |j, col0, values| {
             // consecutive columns of joint j's (regressor_row_columns)

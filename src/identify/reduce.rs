@@ -263,15 +263,15 @@ impl Acc {
     fn add(
         &mut self,
         model: &Model,
-        samples: [&Samples; 4],
+        samples: [&Samples; 5],
         range: std::ops::Range<usize>,
     ) -> Result<(), IdentifyError> {
-        let [q, qd, qdd, tau] = samples;
+        let [q, qd, qdd, tau, load] = samples;
         let first = range.start;
         for s in range {
             let state = [&q[s], &qd[s], &qdd[s]];
             (self.gram)
-                .push_state(model, &mut self.data, state, &tau[s])
+                .push_state(model, &mut self.data, state, [&tau[s], &load[s]])
                 .map_err(|source| IdentifyError::Regressor { sample: s, source })?;
         }
         self.gram.flush().map_err(|e| not_finite(first, e))
@@ -279,9 +279,9 @@ impl Acc {
 }
 
 /// Reduces samples `q, q̇, q̈` with targets τ (columns: links, rotors,
-/// viscous, Coulomb, see [`crate::dynamics::regressor`]), `chunk` samples
-/// per parallel task. A sample the regressor cannot evaluate is an error
-/// naming it.
+/// friction terms, see [`crate::dynamics::regressor`]), `chunk` samples
+/// per parallel task; the load friction column's load is τ. A sample the
+/// regressor cannot evaluate is an error naming it.
 pub fn reduce_samples(
     model: &Model,
     q: &Samples,
@@ -290,9 +290,21 @@ pub fn reduce_samples(
     tau: &Samples,
     chunk: usize,
 ) -> Result<Reduced, IdentifyError> {
+    reduce_with_load(model, [q, qd, qdd, tau], tau, chunk)
+}
+
+/// [`reduce_samples`] with the load friction column's load (N·m, a row of
+/// n per sample) given apart from the targets τ.
+pub(crate) fn reduce_with_load(
+    model: &Model,
+    [q, qd, qdd, tau]: [&Samples; 4],
+    load: &Samples,
+    chunk: usize,
+) -> Result<Reduced, IdentifyError> {
     let t0 = std::time::Instant::now();
     let n = model.dof();
     check_lengths(n, q, qd, qdd, tau)?;
+    check_lengths(n, q, qd, qdd, load)?;
     let p = model.regressor_columns();
     let chunk = chunk_for(chunk, n, p + 1);
     let starts: Vec<usize> = (0..q.len()).step_by(chunk).collect();
@@ -307,7 +319,8 @@ pub fn reduce_samples(
             || Acc::new(model, chunk),
             |mut acc, &start| {
                 let end = (start + chunk).min(q.len());
-                acc.add(model, [q, qd, qdd, tau], start..end).map(|()| acc)
+                acc.add(model, [q, qd, qdd, tau, load], start..end)
+                    .map(|()| acc)
             },
         )
         .try_reduce(|| Acc::new(model, 1), |a, b| Ok(a.merge(b)))?;
@@ -371,7 +384,7 @@ impl<'m> StreamReducer<'m> {
             });
         }
         (self.gram)
-            .push_state(self.model, &mut self.data, [q, qd, qdd], tau)
+            .push_state(self.model, &mut self.data, [q, qd, qdd], [tau, tau])
             .map_err(|source| IdentifyError::Regressor { sample, source })?;
         self.samples += 1;
         if self.gram.samples == self.chunk {
@@ -488,7 +501,7 @@ mod tests {
             let y = crate::dynamics::regressor(&model, &mut data, &q, &qd, &qdd).unwrap();
             dense.push(y.as_slice(), &tau);
             direct
-                .push_state(&model, &mut data, [&q, &qd, &qdd], &tau)
+                .push_state(&model, &mut data, [&q, &qd, &qdd], [&tau, &tau])
                 .unwrap();
         }
         let (a, ja) = dense.finish(true).unwrap();
@@ -504,10 +517,10 @@ mod tests {
         // a state of the wrong length is refused and the sample not kept
         let mut one = GramAcc::new(&model, 4);
         let (ok, short) = ([0.1; 3], [0.0; 1]);
-        one.push_state(&model, &mut data, [&ok, &ok, &ok], &ok)
+        one.push_state(&model, &mut data, [&ok, &ok, &ok], [&ok, &ok])
             .unwrap();
         assert!(
-            one.push_state(&model, &mut data, [&ok, &short, &ok], &ok)
+            one.push_state(&model, &mut data, [&ok, &short, &ok], [&ok, &ok])
                 .is_err()
         );
         assert_eq!(one.samples, 1);

@@ -3,12 +3,12 @@
 use super::builder::Identification;
 use super::error::IdentifyError;
 use super::options::{CHECK_TOL, IdentifyOptions, Level, Regularizer};
-use super::reduce::{Reduced, reduce_samples};
+use super::reduce::{Reduced, reduce_samples, reduce_with_load};
 use super::warning::IdentifyWarning;
 use crate::data::Dataset;
-use crate::dynamics::Friction;
 use crate::dynamics::params_file::{BodyParams, ParamsFile};
 use crate::dynamics::{Data, Model, Samples, rnea};
+use crate::dynamics::{Friction, FrictionTerm};
 use crate::moments::{
     ConsistencyReport, DEGENERATE_TOL, DegenerateShape, InertialParams, RealizabilityReport,
     check_consistency, check_realizable, degenerate_shape, entropic_divergence,
@@ -269,7 +269,8 @@ fn sample_parts(model: &Model, theta: &[f64], d: &Dataset) -> Result<Contributio
     };
     let (links, rotors) = (only(0..nl)?, only(nl..nb)?);
     let has_rotors = nb > nl;
-    let law = Friction::from_terms(n, model.friction_terms(), |k, i| theta[nb + k * n + i]);
+    let basis = (model.friction_terms(), model.stribeck_velocity());
+    let law = Friction::from_terms(n, basis, |k, i| theta[nb + k * n + i]);
     let mut c = Contributions {
         links: Samples::zeros(d.len(), n),
         rotors: Samples::zeros(d.len(), n),
@@ -290,8 +291,8 @@ fn sample_parts(model: &Model, theta: &[f64], d: &Dataset) -> Result<Contributio
                     if has_rotors {
                         r[at.clone()].copy_from_slice(rnea(&rotors, data, q, qd, qdd)?.as_slice());
                     }
-                    for (i, v) in f[at].iter_mut().enumerate() {
-                        *v = law.add_to(0.0, i, qd[i]);
+                    for (i, v) in f[at.clone()].iter_mut().enumerate() {
+                        *v = law.torque(i, qd[i], l[at.start + i] + r[at.start + i]);
                     }
                 }
                 Ok(())
@@ -460,6 +461,62 @@ impl Identification<'_> {
         self.fit_reduced(train, &self.reduce(train)?)
     }
 
+    /// Solves on `red`; with a load friction term
+    /// ([`FrictionTerm::Load`]), whose first reduction scales the column by
+    /// the measured torque, solves again on `train` reduced with the load
+    /// the law means (the previous solution's rigid torque), until that
+    /// load settles (relative RMS change ≤ 1e-6, at most
+    /// [`LOAD_PASSES`] passes; else a warning). The last reduction is
+    /// returned.
+    fn solve_loaded(
+        &self,
+        train: &Dataset,
+        red: &Reduced,
+    ) -> Result<
+        (
+            super::solved::Solved,
+            Option<Reduced>,
+            Option<IdentifyWarning>,
+        ),
+        IdentifyError,
+    > {
+        let mut solved = self.solve(red)?;
+        let model = self.model();
+        if !model.friction_terms().contains(&FrictionTerm::Load) {
+            return Ok((solved, None, None));
+        }
+        let (mut last, mut reduced, mut change) = (train.tau.clone(), None, f64::INFINITY);
+        for passes in 1..=LOAD_PASSES {
+            let load = self.rigid_torques(&solved.theta, train)?;
+            change = relative_change(&last, &load);
+            if change <= 1e-6 {
+                return Ok((solved, reduced, None));
+            }
+            let (q, qd, qdd) = (&train.q, &train.qd, &train.qdd);
+            let red = reduce_with_load(model, [q, qd, qdd, &train.tau], &load, 256)?;
+            solved = self.solve(&red)?;
+            (last, reduced) = (load, Some(red));
+            let _ = passes;
+        }
+        let warning = IdentifyWarning::LoadNotSettled {
+            passes: LOAD_PASSES,
+            change,
+        };
+        Ok((solved, reduced, Some(warning)))
+    }
+
+    /// The rigid model's torques (links and rotors at `theta`'s bodies, no
+    /// friction) at every sample of `d`.
+    fn rigid_torques(&self, theta: &[f64], d: &Dataset) -> Result<Samples, IdentifyError> {
+        let model = self.model();
+        let mut rigid = model.clone();
+        rigid.set_params(&theta[..10 * model.num_bodies()])?;
+        let none = Friction::zeros(model.dof());
+        Ok(crate::dynamics::predict::predict_torques(
+            &rigid, &none, &d.q, &d.qd, &d.qdd,
+        )?)
+    }
+
     /// The first half of [`fit`](Self::fit): `train`'s regressor reduced to
     /// its Gram matrix (in parallel; the memory limit checked first).
     pub fn reduce(&self, train: &Dataset) -> Result<Reduced, IdentifyError> {
@@ -494,12 +551,13 @@ impl Identification<'_> {
                 found: red.samples,
             });
         }
-        let solved = self.solve(red)?;
+        let (solved, reloaded, load_warning) = self.solve_loaded(train, red)?;
+        let red = reloaded.as_ref().unwrap_or(red);
         let theta = &solved.theta;
         let (bodies, ok) = body_results(self, theta);
         let inconsistent_bodies = names_where(&bodies, |b| !b.consistent);
         let degenerate_bodies = names_where(&bodies, |b| b.degenerate.is_some());
-        let friction = solved.friction_law();
+        let friction = solved.friction_law(model.stribeck_velocity());
         let training_rms = training_rms(model, theta, train, red)?;
         let status = solved.status;
         let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
@@ -530,6 +588,7 @@ impl Identification<'_> {
                 .into_iter()
                 .chain(self.mass_weight_warning())
                 .chain(self.prior_outside_warning())
+                .chain(load_warning)
                 .collect(),
             iterations: solved.iterations,
             rank: solved.rank,
@@ -574,4 +633,16 @@ impl IdentifyResult {
         self.contributions = c;
         Ok(())
     }
+}
+
+/// The most passes of a load friction term's identification
+/// ([`Identification::fit_reduced`]).
+pub const LOAD_PASSES: usize = 20;
+
+/// RMS(b − a) / RMS(b) over every value (0 when both are zero).
+fn relative_change(a: &Samples, b: &Samples) -> f64 {
+    let (a, b) = (a.as_flat(), b.as_flat());
+    let d: f64 = a.iter().zip(b).map(|(x, y)| (y - x).powi(2)).sum();
+    let s: f64 = b.iter().map(|y| y * y).sum();
+    if d == 0.0 { 0.0 } else { (d / s).sqrt() }
 }

@@ -93,9 +93,11 @@ impl Solved {
         ))
     }
 
-    /// The identified friction of every joint.
-    pub fn friction_law(&self) -> Friction {
+    /// The identified friction of every joint (a Stribeck term's velocity:
+    /// `stribeck_velocity`, the model's).
+    pub fn friction_law(&self, stribeck_velocity: f64) -> Friction {
         let (nb, n) = (self.bodies.len(), self.joints.len());
-        Friction::from_terms(n, &self.terms, |k, i| self.theta[10 * nb + k * n + i])
+        let basis = (self.terms.as_slice(), stribeck_velocity);
+        Friction::from_terms(n, basis, |k, i| self.theta[10 * nb + k * n + i])
     }
 }

@@ -28,6 +28,15 @@ pub enum IdentifyWarning {
         /// The bodies.
         bodies: Vec<String>,
     },
+    /// The load friction term's passes (each reduced with the previous
+    /// solution's rigid torques as the load) stopped before the load
+    /// settled.
+    LoadNotSettled {
+        /// Passes made.
+        passes: usize,
+        /// The last pass's change of the load, relative (RMS).
+        change: f64,
+    },
 }
 
 impl fmt::Display for IdentifyWarning {
@@ -49,6 +58,10 @@ impl fmt::Display for IdentifyWarning {
                 f,
                 "the prior is not density realizable in the bounding ellipsoid of {} (tr(J(π̂) Q) < 0): the identified bodies cannot stay at the prior there (a check of the robot's URDF shows its CAD inertias against the geometry)",
                 bodies.join(", ")
+            ),
+            IdentifyWarning::LoadNotSettled { passes, change } => write!(
+                f,
+                "the load friction's load (the rigid model's torque) still changed by {change:.1e} (relative RMS) after {passes} passes: its coefficients are approximate"
             ),
         }
     }

@@ -32,6 +32,8 @@ pub struct IdentifyArgs<'a> {
     pub prior_mass_weight: Option<f64>,
     /// The friction terms identified (None: the model's default).
     pub friction: Option<&'a str>,
+    /// The Stribeck term's velocity (rad/s).
+    pub stribeck_velocity: f64,
     /// Validation data (each file a segment; none: no validation).
     pub validate: &'a [std::path::PathBuf],
     /// JSON output.
@@ -218,6 +220,9 @@ fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
         let terms = FrictionTerm::parse_list(list).map_err(|e| format!("--friction: {e}"))?;
         robot.model = robot.model.with_friction_terms(&terms);
     }
+    robot.model = (robot.model.clone())
+        .with_stribeck_velocity(a.stribeck_velocity)
+        .map_err(|e| format!("--stribeck-velocity: {e}"))?;
     let ellipsoid = a.constraints == "ellipsoid"
         || a.levels.iter().any(|l| l.trim_end().ends_with("ellipsoid"));
     let names = robot.model.joint_names();
@@ -338,8 +343,12 @@ pub fn print_report(r: &IdentifyResult) {
     println!("joints         {joints}");
     println!("viscous        {} N·m·s/rad", list(&r.friction.viscous));
     println!("Coulomb        {} N·m", list(&r.friction.coulomb));
-    if r.friction.offset.iter().any(|&c| c != 0.0) {
-        println!("offset         {} N·m", list(&r.friction.offset));
+    // the terms beyond the default, when identified (non-zero)
+    for t in &FrictionTerm::ALL[2..] {
+        let c = r.friction.coefficients(*t);
+        if c.iter().any(|&c| c != 0.0) {
+            println!("{:<15}{} {}", t.name(), list(c), t.unit());
+        }
     }
     println!("training RMS   {} N·m", list(&r.training_rms));
     if let Some(v) = &r.validation_rms {

@@ -20,8 +20,10 @@ pub fn scaled_nominal(truth: &mut Truth, term: FrictionTerm, scale: f64, effect:
     c
 }
 
-/// One column per joint: the basis φ(q̇ᵢ) of `term`.
+/// One column per joint: the basis φ of `term` at q̇ᵢ (the load: the
+/// measured torque τᵢ).
 pub fn basis_hypothesis(cx: &Context, term: FrictionTerm) -> Hypothesis {
     let d = cx.data;
-    Hypothesis::linear(cx.per_joint(|k, i| term.basis(d.qd[k][i])))
+    let vs = cx.friction.stribeck_velocity();
+    Hypothesis::linear(cx.per_joint(|k, i| term.basis(d.qd[k][i], d.tau[k][i], vs)))
 }
