@@ -118,6 +118,7 @@ pub struct Identification<'m> {
     pub(super) mass_weight: MassWeight,
     pub(super) prior: Vec<f64>,
     pub(super) regularizer: Regularizer,
+    pub(super) joint_weighting: super::JointWeighting,
     pub(super) com_lmi: bool,
     pub(super) eps: f64,
     pub(super) settings: Settings,
@@ -145,6 +146,7 @@ impl<'m> Identification<'m> {
             mass_weight: MassWeight::default(),
             prior: vec![],
             regularizer: Regularizer::Euclidean,
+            joint_weighting: super::JointWeighting::Equal,
             com_lmi: false,
             eps: 0.0,
             settings: default_settings(),
@@ -347,6 +349,14 @@ impl<'m> Identification<'m> {
     /// The regulariser set.
     pub fn regularizer_kind(&self) -> Regularizer {
         self.regularizer
+    }
+
+    /// How the joints' rows are weighted in the fit (default
+    /// [`JointWeighting::Equal`](super::JointWeighting::Equal); `Noise`:
+    /// weighted least squares, [`super::weighting`]).
+    pub fn joint_weighting(mut self, w: super::JointWeighting) -> Self {
+        self.joint_weighting = w;
+        self
     }
 
     /// Body `b`'s prior π̂, when the regulariser is on (`weight > 0`).

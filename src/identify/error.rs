@@ -187,6 +187,35 @@ pub enum IdentifyError {
         /// Which (the eigen-decomposition of the Gram matrix, the SVD, …).
         what: &'static str,
     },
+    /// A per-joint weighting of a reduction that did not keep each
+    /// joint's Gram matrix.
+    #[error(
+        "weighting the joints needs each joint's Gram matrix of the reduction, which kept {kept} of {joints} (too large a robot, or a Gram matrix given whole)"
+    )]
+    JointGramsMissing {
+        /// The model's joints.
+        joints: usize,
+        /// The per-joint matrices kept.
+        kept: usize,
+    },
+    /// A grid of weights to choose from that is empty or has a weight
+    /// that is not positive and finite.
+    #[error("the weights to choose from: {what}")]
+    WeightGrid {
+        /// What is wrong.
+        what: String,
+    },
+    /// A cross-validation fit that failed, with its weight and fold.
+    #[error("choosing the weight: the fit at weight {weight:e} on fold {fold} failed: {source}")]
+    Fold {
+        /// The weight.
+        weight: f64,
+        /// The fold (0-based).
+        fold: usize,
+        /// What failed.
+        #[source]
+        source: Box<IdentifyError>,
+    },
     /// A body whose constraint set is empty.
     #[error("the constraint set of body '{body}' is infeasible")]
     InfeasibleBody {

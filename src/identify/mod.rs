@@ -10,9 +10,12 @@
 //! Files: `options` (levels, regulariser, options, tolerances), `error`,
 //! `warning`, `reduce`, `builder` (assembling), `robot_facts` (a robot's
 //! set-up), `solved` (the answer, by name), `solve` (solving), `result`
-//! (the end-to-end identification and its report).
+//! (the end-to-end identification and its report), `weighting` (per-joint
+//! weighted least squares), `choose_weight` (the prior's weight by
+//! cross-validation).
 
 mod builder;
+pub mod choose_weight;
 mod error;
 mod gram;
 mod options;
@@ -22,8 +25,10 @@ mod robot_facts;
 mod solve;
 mod solved;
 mod warning;
+pub mod weighting;
 
 pub use builder::{Identification, Vars};
+pub use choose_weight::{WEIGHT_GRID, WeightChoice};
 pub use error::{GramProblem, IdentifyError};
 pub use options::{CHECK_TOL, IdentifyOptions, Level, Regularizer, default_settings};
 pub use reduce::{Cost, Reduced, StreamReducer, cost, reduce_samples};
@@ -34,3 +39,4 @@ pub use result::{
 pub use solve::solve_identification;
 pub use solved::{Solved, parameter_names};
 pub use warning::IdentifyWarning;
+pub use weighting::JointWeighting;

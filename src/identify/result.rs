@@ -5,6 +5,11 @@ use super::error::IdentifyError;
 use super::options::{CHECK_TOL, IdentifyOptions, Level, Regularizer};
 use super::reduce::{Reduced, reduce_samples, reduce_with_load};
 use super::warning::IdentifyWarning;
+use super::weighting::{self, JointWeighting};
+
+/// A solution and, when the joints were weighted by their noise, each
+/// joint's σ̂ (N·m).
+type Weighted = (super::solved::Solved, Option<Vec<f64>>);
 use crate::data::Dataset;
 use crate::dynamics::params_file::{BodyParams, ParamsFile};
 use crate::dynamics::{Data, Model, Samples, rnea};
@@ -116,6 +121,17 @@ pub struct IdentifyResult {
     pub bodies: Vec<BodyResult>,
     /// Friction.
     pub friction: Friction,
+    /// How the joints' rows were weighted.
+    pub joint_weighting: JointWeighting,
+    /// When the weight was chosen by cross-validation
+    /// ([`Identification::choose_weight`]): the curve and the choice (the
+    /// caller sets it).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub weight_choice: Option<super::WeightChoice>,
+    /// With [`JointWeighting::Noise`]: each joint's noise σ̂_j (N·m, the
+    /// residual RMS of the equally weighted fit) whose `1/σ̂_j²` weighted it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub joint_noise: Option<Vec<f64>>,
     /// Every body satisfies what it was asked for (checked by `moments`).
     pub constraints_satisfied: bool,
     /// Every body is physically consistent (`J ⪰ 0`), whatever its level:
@@ -472,37 +488,54 @@ impl Identification<'_> {
         &self,
         train: &Dataset,
         red: &Reduced,
-    ) -> Result<
-        (
-            super::solved::Solved,
-            Option<Reduced>,
-            Option<IdentifyWarning>,
-        ),
-        IdentifyError,
-    > {
-        let mut solved = self.solve(red)?;
+    ) -> Result<(Weighted, Option<Reduced>, Option<IdentifyWarning>), IdentifyError> {
+        let mut solved = self.solve_weighted(red)?;
         let model = self.model();
         if !model.friction_terms().contains(&FrictionTerm::Load) {
             return Ok((solved, None, None));
         }
         let (mut last, mut reduced, mut change) = (train.tau.clone(), None, f64::INFINITY);
-        for passes in 1..=LOAD_PASSES {
-            let load = self.rigid_torques(&solved.theta, train)?;
+        for _ in 0..LOAD_PASSES {
+            let load = self.rigid_torques(&solved.0.theta, train)?;
             change = relative_change(&last, &load);
             if change <= 1e-6 {
                 return Ok((solved, reduced, None));
             }
             let (q, qd, qdd) = (&train.q, &train.qd, &train.qdd);
             let red = reduce_with_load(model, [q, qd, qdd, &train.tau], &load, 256)?;
-            solved = self.solve(&red)?;
+            solved = self.solve_weighted(&red)?;
             (last, reduced) = (load, Some(red));
-            let _ = passes;
         }
         let warning = IdentifyWarning::LoadNotSettled {
             passes: LOAD_PASSES,
             change,
         };
         Ok((solved, reduced, Some(warning)))
+    }
+
+    /// Solves on `red` with the joints weighted as set
+    /// ([`super::weighting`]): equally, or (iterated feasible weighted
+    /// least squares) equally first, then with each joint's rows by
+    /// `1/σ̂_j²`, σ̂_j the last solution's residual RMS, until σ̂ changes by
+    /// under 1 % ([`weighting::PASSES`] at most; the σ̂ used is returned).
+    fn solve_weighted(&self, red: &Reduced) -> Result<Weighted, IdentifyError> {
+        let mut solved = self.solve(red)?;
+        if self.joint_weighting == JointWeighting::Equal {
+            return Ok((solved, None));
+        }
+        let n = self.model().dof();
+        let mut sigma = weighting::joint_rms(red, &solved.theta, n)?;
+        for _ in 0..weighting::PASSES {
+            let w = weighting::noise_weights(&sigma);
+            solved = self.solve(&weighting::weighted(red, &w)?)?;
+            let next = weighting::joint_rms(red, &solved.theta, n)?;
+            let settled = weighting::settled(&sigma, &next);
+            if settled {
+                break;
+            }
+            sigma = next;
+        }
+        Ok((solved, Some(sigma)))
     }
 
     /// The rigid model's torques (links and rotors at `theta`'s bodies, no
@@ -552,6 +585,8 @@ impl Identification<'_> {
             });
         }
         let (solved, reloaded, load_warning) = self.solve_loaded(train, red)?;
+        let joint_noise = solved.1;
+        let solved = solved.0;
         let red = reloaded.as_ref().unwrap_or(red);
         let theta = &solved.theta;
         let (bodies, ok) = body_results(self, theta);
@@ -576,6 +611,9 @@ impl Identification<'_> {
             regularizer: self.regularizer_kind(),
             bodies,
             friction,
+            joint_weighting: self.joint_weighting,
+            weight_choice: None,
+            joint_noise,
             constraints_satisfied: ok,
             all_bodies_consistent: inconsistent_bodies.is_empty(),
             inconsistent_bodies,

@@ -236,6 +236,7 @@ impl Identification<'_> {
                 mass_weight: MassWeight::default(),
                 prior: vec![],
                 regularizer: Regularizer::Euclidean,
+                joint_weighting: Default::default(),
                 com_lmi: self.com_lmi,
                 eps: self.eps,
                 settings: self.settings.clone(),

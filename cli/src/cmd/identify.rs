@@ -4,7 +4,9 @@
 
 use momentlmi::dynamics::RobotDescription;
 use momentlmi::dynamics::{FrictionTerm, ParamChoice};
-use momentlmi::identify::{Identification, IdentifyError, IdentifyResult, Level, Regularizer};
+use momentlmi::identify::{
+    Identification, IdentifyError, IdentifyResult, JointWeighting, Level, Regularizer, WEIGHT_GRID,
+};
 use std::path::Path;
 
 /// Arguments of `identify`.
@@ -24,7 +26,7 @@ pub struct IdentifyArgs<'a> {
     /// Prior: cad | true | FILE (default: cad, the description's prior: the sidecar's, else the URDF's own inertias).
     pub prior: Option<&'a str>,
     /// Weight w_π.
-    pub weight: f64,
+    pub weight: &'a str,
     /// How the prior enters the objective.
     pub regularizer: Regularizer,
     /// Extra weight on the masses' distance from the prior's (None: the
@@ -32,6 +34,8 @@ pub struct IdentifyArgs<'a> {
     pub prior_mass_weight: Option<f64>,
     /// The friction terms identified (None: the model's default).
     pub friction: Option<&'a str>,
+    /// How the joints' rows are weighted.
+    pub joint_weighting: JointWeighting,
     /// The Stribeck term's velocity (rad/s).
     pub stribeck_velocity: f64,
     /// Validation data (each file a segment; none: no validation).
@@ -153,14 +157,15 @@ fn identification<'r>(
     let (prior, _) = super::parameters_for(robot, "--prior", a.prior, ParamChoice::Cad)?;
     warn_inconsistent_prior(&robot.model.body_names(), &prior.params());
     let regularizer = a.regularizer;
-    if regularizer == Regularizer::Entropic && a.weight <= 0.0 {
+    // auto: the grid's first weight until the choice (which needs the data)
+    let weight = parse_weight(a.weight)?.unwrap_or(WEIGHT_GRID[0]);
+    if regularizer == Regularizer::Entropic && weight <= 0.0 {
         return Err(format!(
-            "--regularizer entropic needs --weight > 0 (typically 1e-3 to 1e-1), got {}",
-            a.weight
+            "--regularizer entropic needs --weight > 0 (typically 1e-3 to 1e-1, or auto), got {weight}"
         ));
     }
-    let id = Identification::for_robot(robot, level, a.weight)
-        .and_then(|id| id.prior(a.weight, prior.params()))
+    let id = Identification::for_robot(robot, level, weight)
+        .and_then(|id| id.prior(weight, prior.params()))
         .map_err(|e| format!("--weight / --prior: {e}"))?;
     let mut id = match a.prior_mass_weight {
         Some(w) => id
@@ -168,7 +173,8 @@ fn identification<'r>(
             .map_err(|e| format!("--prior-mass-weight: {e}"))?,
         None => id,
     }
-    .regularizer(regularizer);
+    .regularizer(regularizer)
+    .joint_weighting(a.joint_weighting);
     for l in a.levels {
         let (body, lv) = l
             .split_once('=')
@@ -247,8 +253,15 @@ fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
         }
         let train = train?;
         super::report_reading("--data", &train);
-        let id = identification(a, &robot)?.max_memory(super::gib(a.max_memory_gib)?);
+        let mut id = identification(a, &robot)?.max_memory(super::gib(a.max_memory_gib)?);
         super::warn_cost(momentlmi::identify::cost(&robot.model, train.data.len()).flops);
+        let choice = match parse_weight(a.weight)? {
+            Some(_) => None,
+            None => Some(
+                id.choose_weight(&train.data, &WEIGHT_GRID)
+                    .map_err(explain)?,
+            ),
+        };
         let red = id.reduce(&train.data).map_err(explain)?;
         // the held-out files are read while the SDP is solved (on the core
         // the solver leaves idle); that thread is always joined, and a
@@ -268,12 +281,24 @@ fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
             super::report_reading("--validate", v);
             r.validate(&robot.model, &v.data).map_err(explain)?;
         }
+        r.weight_choice = choice;
         r.data_preparation = momentlmi::identify::DataPreparation {
             training: train.files,
             validation: val.map(|v| v.files).unwrap_or_default(),
         };
         Ok(r)
     })
+}
+
+/// `--weight`: a number, or `auto` (None).
+fn parse_weight(s: &str) -> Result<Option<f64>, String> {
+    if s.trim() == "auto" {
+        return Ok(None);
+    }
+    s.trim()
+        .parse()
+        .map(Some)
+        .map_err(|_| format!("--weight: '{s}' is neither a number nor auto"))
 }
 
 /// An identification error, with the option it concerns and what to do.
@@ -294,6 +319,23 @@ fn explain(e: IdentifyError) -> String {
     }
 }
 
+/// The curve `--weight auto` chose from.
+fn print_weight_choice(c: &momentlmi::identify::WeightChoice) {
+    let folds = match c.folds {
+        momentlmi::identify::choose_weight::Folds::Segments => {
+            format!("{} files held out in turn", c.k)
+        }
+        momentlmi::identify::choose_weight::Folds::Time => {
+            format!("{} blocks in time held out in turn", c.k)
+        }
+    };
+    println!("weight chosen by cross-validation ({folds}): mean held-out RMS per weight");
+    for (w, m) in c.weights.iter().zip(&c.mean_rms) {
+        let mark = if *w == c.chosen { "  ← chosen" } else { "" };
+        println!("  {w:>7.0e}  {m:.4} N·m{mark}");
+    }
+}
+
 /// A short human report.
 pub fn print_report(r: &IdentifyResult) {
     println!(
@@ -311,6 +353,9 @@ pub fn print_report(r: &IdentifyResult) {
         r.rank,
         r.num_parameters
     );
+    if let Some(c) = &r.weight_choice {
+        print_weight_choice(c);
+    }
     println!(
         "{:<12} {:>9} {:>28} {:>34} {:>11} {:>11}",
         "body", "mass", "CoM [m]", "principal moments [kg·m²]", "consistent", "d(J‖Ĵ)"
@@ -349,6 +394,9 @@ pub fn print_report(r: &IdentifyResult) {
         if c.iter().any(|&c| c != 0.0) {
             println!("{:<15}{} {}", t.name(), list(c), t.unit());
         }
+    }
+    if let Some(s) = &r.joint_noise {
+        println!("joint noise σ̂  {} N·m (weights ∝ 1/σ̂²)", list(s));
     }
     println!("training RMS   {} N·m", list(&r.training_rms));
     if let Some(v) = &r.validation_rms {

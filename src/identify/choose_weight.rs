@@ -1,0 +1,178 @@
+//! The prior's weight chosen by held-out error (`--weight auto`).
+//!
+//! Each weight of a grid is scored by cross-validation on the training
+//! data: with several segments (files, or one file's pieces between gaps)
+//! each segment is held out in turn and the rest fitted; with one segment,
+//! [`TIME_FOLDS`] contiguous blocks of it are held out in turn (K-fold in
+//! time: a block and its neighbours share no samples, though they share
+//! the trajectory's style). A weight's score is the mean over joints of
+//! the held-out RMS pooled over the folds (each joint's squared errors
+//! summed over every held-out sample); the lowest score wins, the whole
+//! curve is kept ([`WeightChoice`]). Every fit is the identification as
+//! set (levels, regulariser, friction terms, weighting), so the choice
+//! costs `grid × folds` fits.
+//!
+//! What cross-validation cannot see it cannot choose for: when the
+//! training files repeat one trajectory, every fold's held-out data look
+//! like its training data, and the curve favours the smallest weight even
+//! where a trajectory of other speeds would want more
+//! (docs/real-robot.md).
+
+use super::builder::Identification;
+use super::error::IdentifyError;
+use crate::data::Dataset;
+use serde::Serialize;
+
+/// The weights tried by default (the regulariser's, either kind).
+pub const WEIGHT_GRID: [f64; 7] = [1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1.0];
+
+/// The blocks of K-fold cross-validation in time.
+pub const TIME_FOLDS: usize = 5;
+
+/// How the training data were split.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Folds {
+    /// Each segment (file) held out in turn.
+    Segments,
+    /// Contiguous blocks in time held out in turn.
+    Time,
+}
+
+/// The weight chosen and the curve it was chosen from.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct WeightChoice {
+    /// How the data were split.
+    pub folds: Folds,
+    /// Number of folds.
+    pub k: usize,
+    /// The weights tried, increasing.
+    pub weights: Vec<f64>,
+    /// Per weight, each joint's held-out RMS pooled over the folds (N·m).
+    pub heldout_rms: Vec<Vec<f64>>,
+    /// Per weight, the mean over joints of `heldout_rms` (N·m).
+    pub mean_rms: Vec<f64>,
+    /// The weight of the lowest `mean_rms`.
+    pub chosen: f64,
+}
+
+/// The (training, held-out) pairs of `d`'s cross-validation: by segment
+/// when it has several, else `k` blocks in time.
+pub fn folds(d: &Dataset, k: usize) -> (Folds, Vec<(Dataset, Dataset)>) {
+    let segments = d.segment_ranges();
+    let joints: Vec<&str> = d.joints.iter().map(String::as_str).collect();
+    let split = |held: &dyn Fn(&std::ops::Range<usize>) -> std::ops::Range<usize>| {
+        let (mut train, mut out) = (Dataset::empty(&joints), Dataset::empty(&joints));
+        for s in &segments {
+            let h = held(s);
+            for part in [s.start..h.start, h.end..s.end] {
+                if !part.is_empty() {
+                    train.append_segment(d.slice(part));
+                }
+            }
+            if !h.is_empty() {
+                out.append_segment(d.slice(h));
+            }
+        }
+        (train, out)
+    };
+    if segments.len() >= 2 {
+        let pairs = (0..segments.len())
+            .map(|f| {
+                split(&|s| {
+                    if *s == segments[f] {
+                        s.clone()
+                    } else {
+                        s.start..s.start
+                    }
+                })
+            })
+            .collect();
+        return (Folds::Segments, pairs);
+    }
+    let pairs = (0..k)
+        .map(|f| {
+            split(&|s| {
+                let len = s.end - s.start;
+                s.start + f * len / k..s.start + (f + 1) * len / k
+            })
+        })
+        .collect();
+    (Folds::Time, pairs)
+}
+
+impl Identification<'_> {
+    /// Chooses the prior's weight from `grid` (> 0 each) by
+    /// cross-validation on `train` (module doc) and sets it; the curve is
+    /// returned. Needs the prior ([`Self::prior`]); a fold's failed fit is
+    /// an error naming the weight.
+    pub fn choose_weight(
+        &mut self,
+        train: &Dataset,
+        grid: &[f64],
+    ) -> Result<WeightChoice, IdentifyError> {
+        let nb = self.model.num_bodies();
+        if self.prior.len() != 10 * nb {
+            return Err(IdentifyError::NoPrior {
+                body: self.model.body_names().first().cloned().unwrap_or_default(),
+            });
+        }
+        let mut weights: Vec<f64> = grid.to_vec();
+        weights.sort_by(f64::total_cmp);
+        if let Some(&w) = weights.iter().find(|w| !(w.is_finite() && **w > 0.0)) {
+            return Err(IdentifyError::WeightGrid {
+                what: format!("{w:e} is not positive and finite"),
+            });
+        }
+        if weights.is_empty() {
+            return Err(IdentifyError::WeightGrid {
+                what: "none given".into(),
+            });
+        }
+        let (kind, pairs) = folds(train, TIME_FOLDS);
+        let mut heldout_rms = Vec::with_capacity(weights.len());
+        for &w in &weights {
+            self.weight = w;
+            heldout_rms.push(self.pooled_heldout_rms(&pairs)?);
+        }
+        let mean_rms: Vec<f64> = (heldout_rms.iter())
+            .map(|r| r.iter().sum::<f64>() / r.len().max(1) as f64)
+            .collect();
+        let best = (0..weights.len())
+            .min_by(|&a, &b| mean_rms[a].total_cmp(&mean_rms[b]))
+            .unwrap_or(0);
+        self.weight = weights[best];
+        Ok(WeightChoice {
+            folds: kind,
+            k: pairs.len(),
+            chosen: weights[best],
+            weights,
+            heldout_rms,
+            mean_rms,
+        })
+    }
+
+    /// Each joint's held-out RMS pooled over `pairs` (fitted at the weight
+    /// set).
+    fn pooled_heldout_rms(&self, pairs: &[(Dataset, Dataset)]) -> Result<Vec<f64>, IdentifyError> {
+        let n = self.model.dof();
+        let (mut sum, mut count) = (vec![0.0; n], 0usize);
+        for (fold, (train, held)) in pairs.iter().enumerate() {
+            let failed = |e| IdentifyError::Fold {
+                weight: self.weight,
+                fold,
+                source: Box::new(e),
+            };
+            let mut r = self.fit(train).map_err(failed)?;
+            r.validate(self.model, held).map_err(failed)?;
+            for (s, rms) in sum.iter_mut().zip(r.validation_rms.iter().flatten()) {
+                *s += rms * rms * held.len() as f64;
+            }
+            count += held.len();
+        }
+        Ok(sum
+            .iter()
+            .map(|s| (s / count.max(1) as f64).sqrt())
+            .collect())
+    }
+}
