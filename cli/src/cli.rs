@@ -225,7 +225,8 @@ enum Command {
         prior: Option<String>,
         /// Regularisation weight w_π toward the prior (0 turns it off), or auto: the weight
         /// of 1e-6, 1e-5, …, 1 with the lowest held-out RMS in cross-validation on the
-        /// training data (each --data file held out in turn; one file: 5 blocks in time),
+        /// training data (each --data file, or piece between gaps, held out in turn; one
+        /// piece: 5 blocks in time),
         /// the curve in the report and JSON (weight_choice).
         #[arg(
             long,
@@ -298,6 +299,11 @@ enum Command {
         /// default: the model's own parameters, no friction.
         #[arg(long)]
         nominal: Option<String>,
+        /// Two runs of one trajectory (read like --data) whose torque difference, once
+        /// aligned by positions, is the noise floor: RMS(τ₁ − τ₂)/√2 per joint [default:
+        /// the residual's first differences, a lower bound on low-pass filtered data].
+        #[arg(long, num_args = 2, value_names = ["RUN1", "RUN2"])]
+        repeats: Vec<PathBuf>,
         /// Print the JSON report.
         #[arg(long)]
         json: bool,
@@ -488,6 +494,7 @@ pub fn main() -> i32 {
             data,
             read,
             nominal,
+            repeats,
             json,
             out,
             max_memory_gib,
@@ -498,6 +505,7 @@ pub fn main() -> i32 {
             package_paths: &package_path,
             data: &data,
             nominal: nominal.as_deref(),
+            repeats: &repeats,
             json,
             out: out.as_deref(),
             max_memory_gib,

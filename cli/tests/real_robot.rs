@@ -279,3 +279,82 @@ fn the_kukas_torque_offsets_are_identified_and_predicted() {
         "{err}"
     );
 }
+
+/// `diagnose` on run 3 against the KUKA model of the recommended options
+/// (docs/real-robot.md), with `--repeats` runs 1 and 2 (issue 35): the
+/// noise floor is the runs' repeatability (RMS(τ₁ − τ₂)/√2, measured
+/// 2026-12-04: 0.146 0.179 0.186 0.156 0.055 0.024 0.010 N·m), the gap
+/// closed is within [0, 1] on every joint, and every joint whose remainder
+/// is above twice the floor has a line saying where it lies. Without
+/// `--repeats` the floor comes from first differences, named a lower bound
+/// on every joint (the reader low-passed the runs).
+#[test]
+fn the_kukas_diagnosis_measures_against_its_repeatability() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../robots/kuka-lwr4");
+    let s = |p: &str| root.join(p).to_str().unwrap().to_string();
+    let dir = tempfile::tempdir().unwrap();
+    let model = dir.path().join("model.json");
+    let o = bin()
+        .args(["identify", "--robot", &s("kuka_lwr4.urdf")])
+        .args(["--data", &s("data/measurements_1.npz")])
+        .args(["--data", &s("data/measurements_2.npz")])
+        .args(["--constraints", "ellipsoid", "--regularizer", "entropic"])
+        .args(["--weight", "1e-2", "--json"])
+        .args(["--friction", "viscous,coulomb,offset,load,stribeck"])
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    std::fs::write(&model, &o.stdout).unwrap();
+    let diagnose = |repeats: bool| {
+        let mut c = bin();
+        c.args(["diagnose", "--robot", &s("kuka_lwr4.urdf"), "--json"])
+            .args(["--nominal", model.to_str().unwrap()])
+            .args(["--data", &s("data/measurements_3.npz")]);
+        if repeats {
+            c.args([
+                "--repeats",
+                &s("data/measurements_1.npz"),
+                &s("data/measurements_2.npz"),
+            ]);
+        }
+        let o = c.output().unwrap();
+        assert_eq!(
+            o.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        serde_json::from_slice::<serde_json::Value>(&o.stdout).unwrap()
+    };
+    let v = diagnose(true);
+    assert_eq!(
+        v["noise_floor_source"]["kind"], "repeats",
+        "{}",
+        v["noise_floor_source"]
+    );
+    let floor: Vec<f64> = serde_json::from_value(v["noise_floor"].clone()).unwrap();
+    let want = [0.146, 0.179, 0.186, 0.156, 0.055, 0.024, 0.010];
+    for (f, w) in floor.iter().zip(want) {
+        assert!((f - w).abs() < 0.005, "{floor:?} vs {want:?}");
+    }
+    let gap: Vec<f64> = serde_json::from_value(v["gap_closed"].clone()).unwrap();
+    assert!(gap.iter().all(|g| (0.0..=1.0).contains(g)), "{gap:?}");
+    let last: Vec<f64> = serde_json::from_value(v["heldout_rms_final"].clone()).unwrap();
+    let lines: Vec<String> = serde_json::from_value(v["unexplained_where"].clone()).unwrap();
+    for (i, (l, f)) in last.iter().zip(&floor).enumerate() {
+        let joint = format!("lwr_{i}_joint");
+        assert!(
+            *l <= 2.0 * f || lines.iter().any(|x| x.starts_with(&joint)),
+            "{joint}: {lines:?}"
+        );
+    }
+    let v = diagnose(false);
+    let low: Vec<String> =
+        serde_json::from_value(v["noise_floor_source"]["low_passed"].clone()).unwrap();
+    assert_eq!(low.len(), 7, "{}", v["noise_floor_source"]);
+}

@@ -87,24 +87,34 @@ fn median(mut v: Vec<f64>) -> f64 {
 /// Welch's power spectrum of joint `j`'s q over every segment, bins
 /// `0..=l/2`.
 fn welch(segments: &[RawLog], j: usize, l: usize, fft: &dyn Fft<f64>) -> Vec<f64> {
-    let w: Vec<f64> = (0..l).map(|k| blackman_harris(k, l)).collect();
     let mut psd = vec![0.0; l / 2 + 1];
     for s in segments.iter().filter(|s| s.len() >= l) {
-        let x: Vec<f64> = s.q.column(j);
-        for start in (0..=x.len() - l).step_by(l / 2) {
-            let seg = detrended(&x[start..start + l]);
-            let mut buf: Vec<Complex<f64>> = seg
-                .iter()
-                .zip(&w)
-                .map(|(a, b)| Complex::new(a * b, 0.0))
-                .collect();
-            fft.process(&mut buf);
-            psd.iter_mut()
-                .zip(&buf)
-                .for_each(|(p, c)| *p += c.norm_sqr());
-        }
+        welch_add(&s.q.column(j), l, fft, &mut psd);
     }
     psd
+}
+
+/// Adds Welch's power spectrum of `x` (windows of `l` samples, half
+/// overlapping, each detrended and Blackman–Harris windowed; `fft` of
+/// length `l`) to `psd` (bins `0..=l/2`, unnormalised); nothing when `x`
+/// is shorter than `l`.
+pub fn welch_add(x: &[f64], l: usize, fft: &dyn Fft<f64>, psd: &mut [f64]) {
+    if x.len() < l || l < 2 {
+        return;
+    }
+    let w: Vec<f64> = (0..l).map(|k| blackman_harris(k, l)).collect();
+    for start in (0..=x.len() - l).step_by(l / 2) {
+        let seg = detrended(&x[start..start + l]);
+        let mut buf: Vec<Complex<f64>> = seg
+            .iter()
+            .zip(&w)
+            .map(|(a, b)| Complex::new(a * b, 0.0))
+            .collect();
+        fft.process(&mut buf);
+        psd.iter_mut()
+            .zip(&buf)
+            .for_each(|(p, c)| *p += c.norm_sqr());
+    }
 }
 
 /// `x` minus its least-squares line.
@@ -125,8 +135,9 @@ fn detrended(x: &[f64]) -> Vec<f64> {
         .collect()
 }
 
-/// The 4-term Blackman–Harris window (−92 dB side lobes).
-fn blackman_harris(k: usize, l: usize) -> f64 {
+/// The 4-term Blackman–Harris window (−92 dB side lobes), sample `k` of
+/// `l`.
+pub fn blackman_harris(k: usize, l: usize) -> f64 {
     let x = 2.0 * std::f64::consts::PI * k as f64 / (l - 1) as f64;
     0.35875 - 0.48829 * x.cos() + 0.14128 * (2.0 * x).cos() - 0.01168 * (3.0 * x).cos()
 }

@@ -40,6 +40,13 @@ pub enum DiagnoseError {
         /// Which number.
         what: &'static str,
     },
+    /// Two runs given as repeats of one trajectory that are not, or a
+    /// noise floor that does not fit the data.
+    #[error("the repeated runs for the noise floor: {why}")]
+    NotRepeats {
+        /// Why.
+        why: String,
+    },
     /// No joint moves in the data: nothing about the dynamics can be told.
     #[error("no joint moves in the data (every q is constant): a diagnosis needs motion")]
     NoMotion,

@@ -22,6 +22,7 @@ mod build;
 mod candidate;
 mod error;
 mod fit;
+pub mod floor;
 mod forward;
 mod memory;
 mod options;
@@ -32,6 +33,7 @@ mod warning;
 pub mod where_;
 
 pub use error::{DiagnoseError, FitError};
+pub use floor::{FloorSource, NoiseFloor};
 pub use memory::{MemoryEstimate, OptionalGroup, memory_estimate};
 pub use options::{DEFAULT_MAX_MEMORY_BYTES, DiagnoseOptions};
 pub use report::{Diagnosis, EffectReport, HeldOut};
@@ -91,12 +93,39 @@ fn where_of(split: &Split, data: &Dataset, r: &[f64]) -> Vec<JointWhere> {
         .collect()
 }
 
-/// Share of the gap above the noise floor closed, per joint.
+/// The noise floor given in `opts` (one per joint, else an error), else
+/// the residual's first differences, naming the joints where they are a
+/// lower bound (a low-passed residual).
+fn noise_floor(opts: &DiagnoseOptions, where_: &[JointWhere]) -> Result<NoiseFloor, DiagnoseError> {
+    if let Some(f) = opts.noise_floor() {
+        if f.per_joint.len() != where_.len() {
+            return Err(DiagnoseError::NotRepeats {
+                why: format!(
+                    "a floor of {} joints for data of {}",
+                    f.per_joint.len(),
+                    where_.len()
+                ),
+            });
+        }
+        return Ok(f.clone());
+    }
+    Ok(NoiseFloor {
+        per_joint: where_.iter().map(|w| w.noise_floor).collect(),
+        source: FloorSource::FirstDifferences {
+            low_passed: (where_.iter().filter(|w| w.low_passed))
+                .map(|w| w.joint.clone())
+                .collect(),
+        },
+    })
+}
+
+/// Share of the gap above the noise floor closed, per joint, in [0, 1]
+/// (1 where the nominal model is already at the floor).
 fn gap_closed(nominal: &[f64], last: &[f64], floor: &[f64]) -> Vec<f64> {
     (0..nominal.len())
         .map(|i| {
             if nominal[i] > floor[i] {
-                ((nominal[i] - last[i]) / (nominal[i] - floor[i])).clamp(-1.0, 1.0)
+                ((nominal[i] - last[i]) / (nominal[i] - floor[i])).clamp(0.0, 1.0)
             } else {
                 1.0
             }
@@ -183,7 +212,8 @@ pub fn diagnose(
     let split = Split::new(data.len(), n, opts.train_fraction());
     let r_nominal = nominal_residual(model, friction, data)?;
     let where_nominal = where_of(&split, data, &r_nominal);
-    let noise_floor: Vec<f64> = where_nominal.iter().map(|w| w.noise_floor).collect();
+    let floor = noise_floor(opts, &where_nominal)?;
+    let noise_floor = floor.per_joint.clone();
     let nominal = rms_per_joint(&r_nominal[split.heldout.clone()], n);
     let cx = Context::new(model, friction, data, &r_nominal, split.first_heldout);
     let library = build::candidates(opts.library(), &cx, &left_out, &split.train, &mut warnings);
@@ -220,6 +250,7 @@ pub fn diagnose(
         heldout_rms_nominal: nominal,
         heldout_rms_final: final_rms,
         noise_floor,
+        noise_floor_source: floor.source,
         unexplained: !unexplained.is_empty(),
         unexplained_where: unexplained
             .iter()

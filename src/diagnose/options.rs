@@ -2,6 +2,7 @@
 //! memory limit and the effect library; validated at construction.
 
 use super::error::DiagnoseError;
+use super::floor::NoiseFloor;
 use crate::effects::Library;
 
 /// Options, validated at construction ([`DiagnoseOptions::new`]).
@@ -12,6 +13,7 @@ pub struct DiagnoseOptions {
     blocks: usize,
     max_memory_bytes: u64,
     library: Library,
+    noise_floor: Option<NoiseFloor>,
 }
 
 /// The memory a diagnosis may plan for by default (8 GiB).
@@ -27,6 +29,7 @@ impl Default for DiagnoseOptions {
             blocks: 20,
             max_memory_bytes: DEFAULT_MAX_MEMORY_BYTES,
             library: Library::builtin(),
+            noise_floor: None,
         }
     }
 }
@@ -91,6 +94,19 @@ impl DiagnoseOptions {
     pub fn with_max_memory(mut self, bytes: u64) -> Self {
         self.max_memory_bytes = bytes;
         self
+    }
+
+    /// The noise floor to measure the gap against (e.g. from two runs that
+    /// repeat a trajectory, [`super::floor::repeat_floor`]) instead of the
+    /// residual's first differences; one number per joint of the data.
+    pub fn with_noise_floor(mut self, floor: NoiseFloor) -> Self {
+        self.noise_floor = Some(floor);
+        self
+    }
+
+    /// The noise floor given, if any.
+    pub fn noise_floor(&self) -> Option<&NoiseFloor> {
+        self.noise_floor.as_ref()
     }
 
     /// The memory limit (bytes).

@@ -66,6 +66,8 @@ pub struct Diagnosis {
     pub heldout_rms_final: Vec<f64>,
     /// Noise floor per joint (N·m).
     pub noise_floor: Vec<f64>,
+    /// Where the noise floor came from.
+    pub noise_floor_source: super::FloorSource,
     /// Share of the gap above the noise floor closed, per joint.
     pub gap_closed: Vec<f64>,
     /// A remainder above the noise floor is left that no candidate explains.

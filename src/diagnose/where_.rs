@@ -32,6 +32,12 @@ pub struct JointWhere {
     /// Noise-floor estimate from first differences, `RMS(Δr)/√2` (N·m):
     /// white measurement noise shows up here; slow model errors do not.
     pub noise_floor: f64,
+    /// The measured torque looks low-pass filtered
+    /// ([`super::floor::looks_low_passed`]): `noise_floor` is then a lower
+    /// bound. (The torque, not the residual: a model's Coulomb steps at
+    /// velocity reversals put broadband content into the residual of
+    /// filtered data.)
+    pub low_passed: bool,
     /// By velocity: near zero, reversals, and |q̇| bins with sign.
     pub by_velocity: Vec<Bin>,
     /// By acceleration magnitude.
@@ -108,6 +114,7 @@ pub fn analyse_joint(
         bias: all.bias,
         torque_rms: crate::data::rms(tau.iter().copied()),
         noise_floor: noise_floor(r, sampling.segments),
+        low_passed: super::floor::looks_low_passed(tau, sampling.segments),
         by_velocity: by_velocity(r, qd, fs),
         by_acceleration: by_acceleration(r, qdd),
         by_position: by_position(r, q),

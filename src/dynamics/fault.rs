@@ -11,7 +11,7 @@ pub enum ModelFault {
     NoJoint,
     /// Gravity not finite or beyond ±1000 m/s².
     Gravity([f64; 3]),
-    /// A Stribeck velocity (rad/s) that is not positive and finite.
+    /// A Stribeck velocity (rad/s) that is not positive and ≤ 1e6.
     StribeckVelocity(f64),
     /// A movable joint without a name.
     UnnamedJoint,
@@ -111,7 +111,7 @@ impl fmt::Display for ModelFault {
             StribeckVelocity(v) => {
                 write!(
                     f,
-                    "the Stribeck velocity {v:e} rad/s must be positive and finite"
+                    "the Stribeck velocity {v:e} rad/s must be positive and ≤ 1e6"
                 )
             }
             UnnamedJoint => f.write_str("a movable joint without a name"),

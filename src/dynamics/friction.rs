@@ -30,9 +30,9 @@
 //! Coulomb friction growing with the torque the joint transmits, here the
 //! rigid model's torque τ_rigid,i (links and rotors, before friction) in
 //! `predict` and the simulator; `identify`, which does not know τ_rigid
-//! before it solves, scales the column by the measured torque
-//! ([`crate::dynamics::Data::load`]) — the two differ by the friction and
-//! the noise, a small bias when friction is a small part of the torque. A model
+//! before it solves, first scales the column by the measured torque
+//! ([`crate::dynamics::Data::load`]), then by the previous solution's rigid
+//! torque until that settles (docs/identification.md). A model
 //! identifies the terms [`crate::dynamics::Model::friction_terms`] lists
 //! ([`FrictionTerm::DEFAULT`]: viscous and Coulomb): the regressor's
 //! friction columns are those terms in that order, one column per joint

@@ -373,10 +373,10 @@ impl Model {
         self.stribeck_velocity
     }
 
-    /// The model with Stribeck velocity `v` (rad/s; positive and finite,
-    /// else an error naming it).
+    /// The model with Stribeck velocity `v` (rad/s; positive and at most
+    /// 1e6, as a model file allows; else an error naming it).
     pub fn with_stribeck_velocity(mut self, v: f64) -> Result<Self, super::DynamicsError> {
-        if !(v.is_finite() && v > 0.0) {
+        if !(v.is_finite() && v > 0.0 && v <= crate::moments::MAX_ABS_PARAM) {
             return Err(super::DynamicsError::InvalidModel {
                 model: self.name.clone(),
                 fault: super::fault::ModelFault::StribeckVelocity(v),

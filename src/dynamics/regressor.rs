@@ -5,7 +5,9 @@
 //! 10 columns per body in the paper's order, then one column per joint for
 //! each term of the friction law the model has ([`Model::friction_terms`],
 //! by default viscous, then Coulomb); term t's column of joint i holds
-//! φ_t(q̇ᵢ) in row i (q̇ᵢ, sign(q̇ᵢ), 1: [`super::friction`]).
+//! its basis φ_t in row i ([`super::friction`]); the `load` term's needs
+//! the joint's load, [`Data::load`], which the caller sets (an error when
+//! it is not finite).
 
 use super::data::{BodyRegressor, Data};
 use super::error::DynamicsError;
@@ -87,8 +89,25 @@ pub fn regressor<'a>(
     check_len("q", q, n)?;
     check_len("qd", qd, n)?;
     check_len("qdd", qdd, n)?;
+    check_load(model, data)?;
     regressor_unchecked(model, data, q, qd, qdd);
     Ok(&data.regressor)
+}
+
+/// With a load friction term, every joint's [`Data::load`] must be finite
+/// (set by the caller).
+fn check_load(model: &Model, data: &Data) -> Result<(), DynamicsError> {
+    let has_load = model.friction_terms().contains(&super::FrictionTerm::Load);
+    match data.load.iter().position(|l| !l.is_finite()) {
+        Some(i) if has_load => Err(DynamicsError::NonFinite {
+            sample: 0,
+            what: format!(
+                "the load of joint '{}' (Data::load, which a model with the load friction term needs set)",
+                model.joints[i].name
+            ),
+        }),
+        _ => Ok(()),
+    }
 }
 
 pub(crate) fn regressor_unchecked(
@@ -123,6 +142,7 @@ pub fn regressor_blocks(
     check_len("q", q, n)?;
     check_len("qd", qd, n)?;
     check_len("qdd", qdd, n)?;
+    check_load(model, data)?;
     regressor_blocks_unchecked(model, data, q, qd, qdd, put);
     Ok(())
 }
@@ -222,6 +242,8 @@ pub fn regressor_batch(
 ) -> Result<Vec<f64>, DynamicsError> {
     use rayon::prelude::*;
     let n = model.dof();
+    // (no loads here: a load term's columns would be NaN)
+    check_load(model, &Data::new(model))?;
     if n == 0 || q.len() % n != 0 || qd.len() != q.len() || qdd.len() != q.len() {
         return Err(DynamicsError::Dimension {
             what: "batch state arrays".into(),

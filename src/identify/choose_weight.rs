@@ -29,11 +29,15 @@ pub const WEIGHT_GRID: [f64; 7] = [1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1.0];
 /// The blocks of K-fold cross-validation in time.
 pub const TIME_FOLDS: usize = 5;
 
+/// The fewest samples a fold's training or held-out part may have.
+pub const MIN_FOLD_SAMPLES: usize = 50;
+
 /// How the training data were split.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Folds {
-    /// Each segment (file) held out in turn.
+    /// Each segment (a file, or a file's piece between gaps) held out in
+    /// turn.
     Segments,
     /// Contiguous blocks in time held out in turn.
     Time,
@@ -105,7 +109,9 @@ impl Identification<'_> {
     /// Chooses the prior's weight from `grid` (> 0 each) by
     /// cross-validation on `train` (module doc) and sets it; the curve is
     /// returned. Needs the prior ([`Self::prior`]); a fold's failed fit is
-    /// an error naming the weight.
+    /// an error naming the weight, and a fold of under
+    /// [`MIN_FOLD_SAMPLES`] training or held-out samples an error before
+    /// any fit.
     pub fn choose_weight(
         &mut self,
         train: &Dataset,
@@ -130,6 +136,16 @@ impl Identification<'_> {
             });
         }
         let (kind, pairs) = folds(train, TIME_FOLDS);
+        for (fold, (t, h)) in pairs.iter().enumerate() {
+            if t.len().min(h.len()) < MIN_FOLD_SAMPLES {
+                return Err(IdentifyError::FoldTooSmall {
+                    fold,
+                    training: t.len(),
+                    held_out: h.len(),
+                    min: MIN_FOLD_SAMPLES,
+                });
+            }
+        }
         let mut heldout_rms = Vec::with_capacity(weights.len());
         for &w in &weights {
             self.weight = w;

@@ -205,6 +205,20 @@ pub enum IdentifyError {
         /// What is wrong.
         what: String,
     },
+    /// A cross-validation fold too small to fit or to score on.
+    #[error(
+        "choosing the weight: fold {fold} has {training} training and {held_out} held-out samples (each needs at least {min}); give longer data or fewer gaps"
+    )]
+    FoldTooSmall {
+        /// The fold (0-based).
+        fold: usize,
+        /// Its training samples.
+        training: usize,
+        /// Its held-out samples.
+        held_out: usize,
+        /// The least each part needs.
+        min: usize,
+    },
     /// A cross-validation fit that failed, with its weight and fold.
     #[error("choosing the weight: the fit at weight {weight:e} on fold {fold} failed: {source}")]
     Fold {

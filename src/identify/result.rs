@@ -7,9 +7,13 @@ use super::reduce::{Reduced, reduce_samples, reduce_with_load};
 use super::warning::IdentifyWarning;
 use super::weighting::{self, JointWeighting};
 
-/// A solution and, when the joints were weighted by their noise, each
-/// joint's σ̂ (N·m).
-type Weighted = (super::solved::Solved, Option<Vec<f64>>);
+/// A solution, when the joints were weighted by their noise each joint's
+/// σ̂ (N·m) that weighted it, and a warning when σ̂ did not settle.
+type Weighted = (
+    super::solved::Solved,
+    Option<Vec<f64>>,
+    Option<IdentifyWarning>,
+);
 use crate::data::Dataset;
 use crate::dynamics::params_file::{BodyParams, ParamsFile};
 use crate::dynamics::{Data, Model, Samples, rnea};
@@ -129,7 +133,8 @@ pub struct IdentifyResult {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub weight_choice: Option<super::WeightChoice>,
     /// With [`JointWeighting::Noise`]: each joint's noise σ̂_j (N·m, the
-    /// residual RMS of the equally weighted fit) whose `1/σ̂_j²` weighted it.
+    /// residual RMS of the previous weighted solve, iterated until it
+    /// settles) whose `1/σ̂_j²` weighted the final solve.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub joint_noise: Option<Vec<f64>>,
     /// Every body satisfies what it was asked for (checked by `moments`).
@@ -521,7 +526,7 @@ impl Identification<'_> {
     fn solve_weighted(&self, red: &Reduced) -> Result<Weighted, IdentifyError> {
         let mut solved = self.solve(red)?;
         if self.joint_weighting == JointWeighting::Equal {
-            return Ok((solved, None));
+            return Ok((solved, None, None));
         }
         let n = self.model().dof();
         let mut sigma = weighting::joint_rms(red, &solved.theta, n)?;
@@ -529,13 +534,19 @@ impl Identification<'_> {
             let w = weighting::noise_weights(&sigma);
             solved = self.solve(&weighting::weighted(red, &w)?)?;
             let next = weighting::joint_rms(red, &solved.theta, n)?;
-            let settled = weighting::settled(&sigma, &next);
-            if settled {
-                break;
+            if weighting::settled(&sigma, &next) {
+                return Ok((solved, Some(sigma), None));
             }
             sigma = next;
         }
-        Ok((solved, Some(sigma)))
+        // the last solve was weighted by the σ̂ before `sigma`: solve once
+        // more with the σ̂ reported
+        let w = weighting::noise_weights(&sigma);
+        solved = self.solve(&weighting::weighted(red, &w)?)?;
+        let warning = IdentifyWarning::WeightsNotSettled {
+            passes: weighting::PASSES,
+        };
+        Ok((solved, Some(sigma), Some(warning)))
     }
 
     /// The rigid model's torques (links and rotors at `theta`'s bodies, no
@@ -585,8 +596,7 @@ impl Identification<'_> {
             });
         }
         let (solved, reloaded, load_warning) = self.solve_loaded(train, red)?;
-        let joint_noise = solved.1;
-        let solved = solved.0;
+        let (solved, joint_noise, weights_warning) = solved;
         let red = reloaded.as_ref().unwrap_or(red);
         let theta = &solved.theta;
         let (bodies, ok) = body_results(self, theta);
@@ -627,6 +637,7 @@ impl Identification<'_> {
                 .chain(self.mass_weight_warning())
                 .chain(self.prior_outside_warning())
                 .chain(load_warning)
+                .chain(weights_warning)
                 .collect(),
             iterations: solved.iterations,
             rank: solved.rank,

@@ -37,6 +37,12 @@ pub enum IdentifyWarning {
         /// The last pass's change of the load, relative (RMS).
         change: f64,
     },
+    /// The per-joint noise estimates of weighted least squares still
+    /// moved by over 1 % after the passes allowed.
+    WeightsNotSettled {
+        /// Weighted solves made.
+        passes: usize,
+    },
 }
 
 impl fmt::Display for IdentifyWarning {
@@ -62,6 +68,10 @@ impl fmt::Display for IdentifyWarning {
             IdentifyWarning::LoadNotSettled { passes, change } => write!(
                 f,
                 "the load friction's load (the rigid model's torque) still changed by {change:.1e} (relative RMS) after {passes} passes: its coefficients are approximate"
+            ),
+            IdentifyWarning::WeightsNotSettled { passes } => write!(
+                f,
+                "the joints' noise estimates of the weighted least squares still moved by over 1 % after {passes} passes: the weights are approximate"
             ),
         }
     }

@@ -43,11 +43,12 @@ impl JointWeighting {
 }
 
 /// Weights `∝ 1/σ_j²`, scaled to mean 1, for per-joint noise levels
-/// `sigma` (N·m, finite and > 0; a σ below 1e-6 of the largest counts as
-/// that, so a joint the model fits exactly does not take every weight).
+/// `sigma` (N·m; a σ below 1e-3 of the largest, or below 1e-9 N·m, counts
+/// as that: a joint the model fits exactly does not take every weight, and
+/// the weights differ by at most 1e6).
 pub fn noise_weights(sigma: &[f64]) -> Vec<f64> {
     let top = sigma.iter().cloned().fold(0.0, f64::max);
-    let floor = (1e-6 * top).max(f64::MIN_POSITIVE);
+    let floor = (1e-3 * top).max(1e-9);
     let raw: Vec<f64> = sigma.iter().map(|s| 1.0 / s.max(floor).powi(2)).collect();
     let mean = raw.iter().sum::<f64>() / raw.len().max(1) as f64;
     raw.iter().map(|w| w / mean).collect()
@@ -116,8 +117,10 @@ mod tests {
         }
         let z = noise_weights(&[0.0, 1.0]);
         assert!(
-            z.iter().all(|x| x.is_finite()) && z[0] > 1e6 * z[1],
+            z.iter().all(|x| x.is_finite()) && z[0] > 1e5 * z[1],
             "{z:?}"
         );
+        let none = noise_weights(&[0.0, 0.0]);
+        assert_eq!(none, vec![1.0, 1.0]);
     }
 }

@@ -1,7 +1,8 @@
 //! `momentlmi diagnose --robot MODEL --data FILE.csv [--nominal cad|true|FILE] [--json] [--out DIR]`.
 
 use momentlmi::data::Staged;
-use momentlmi::diagnose::{DiagnoseOptions, Diagnosis, diagnose};
+use momentlmi::diagnose::floor::repeat_floor;
+use momentlmi::diagnose::{DiagnoseOptions, Diagnosis, FloorSource, diagnose};
 use momentlmi::dynamics::ParamChoice;
 use std::path::Path;
 
@@ -19,6 +20,9 @@ pub struct DiagnoseArgs<'a> {
     pub read: super::ReadChoice<'a>,
     /// `cad`, `true` or a parameter file.
     pub nominal: Option<&'a str>,
+    /// Two runs of one trajectory for the noise floor (none: first
+    /// differences).
+    pub repeats: &'a [std::path::PathBuf],
     /// Print the JSON report.
     pub json: bool,
     /// Folder for diagnosis.json and the plots.
@@ -28,7 +32,7 @@ pub struct DiagnoseArgs<'a> {
 }
 
 fn diagnosis(a: &DiagnoseArgs) -> Result<Diagnosis, String> {
-    let opts = DiagnoseOptions::default().with_max_memory(super::gib(a.max_memory_gib)?);
+    let mut opts = DiagnoseOptions::default().with_max_memory(super::gib(a.max_memory_gib)?);
     let robot = super::load_robot(a.robot, a.sidecar, a.package_paths)?;
     if a.nominal == Some("true") {
         super::warn_robot(&robot);
@@ -41,6 +45,18 @@ fn diagnosis(a: &DiagnoseArgs) -> Result<Diagnosis, String> {
     let reading = super::read_data(&paths, &names, &read, a.robot, a.sidecar)?;
     super::report_reading("--data", &reading);
     let d = reading.data;
+    if let [r1, r2] = a.repeats {
+        let run = |p: &Path| {
+            let r = super::read_data(&[p], &names, &read, a.robot, a.sidecar)?;
+            super::report_reading("--repeats", &r);
+            Ok::<_, String>(r.data)
+        };
+        let (x, y) = (run(r1)?, run(r2)?);
+        let shown = [r1, r2].map(|p| p.display().to_string());
+        let floor =
+            repeat_floor(&x, &y, [&shown[0], &shown[1]]).map_err(|e| format!("--repeats: {e}"))?;
+        opts = opts.with_noise_floor(floor);
+    }
     diagnose(&model, &friction, &d, &opts).map_err(|e| match e {
         e @ momentlmi::diagnose::DiagnoseError::TooLarge { .. } => {
             format!("{e}\nhint: --max-memory-gib raises the limit")
@@ -110,6 +126,28 @@ pub fn run(a: &DiagnoseArgs) -> i32 {
     0
 }
 
+/// Where the noise floor came from, in words.
+fn floor_source(s: &FloorSource) -> String {
+    match s {
+        FloorSource::Repeats {
+            runs,
+            lag,
+            position_rms,
+            samples,
+        } => format!(
+            "the repeated runs {}, aligned at a lag of {lag} samples, positions within {position_rms:.1e} RMS, {samples} samples",
+            runs.join(" and ")
+        ),
+        FloorSource::FirstDifferences { low_passed } if low_passed.is_empty() => {
+            "the residual's first differences".into()
+        }
+        FloorSource::FirstDifferences { low_passed } => format!(
+            "the residual's first differences, a lower bound on {}, whose residual is low-pass filtered (--repeats gives one that holds)",
+            low_passed.join(", ")
+        ),
+    }
+}
+
 /// The human report: where, which, how far.
 fn print_report(dg: &Diagnosis) {
     println!("Where the gap lies (held-out part, nominal model):");
@@ -151,7 +189,10 @@ fn print_report(dg: &Diagnosis) {
             println!("  {:<20} {}", "", e.detail);
         }
     }
-    println!("\nHow far:");
+    println!(
+        "\nHow far (noise floor: {}):",
+        floor_source(&dg.noise_floor_source)
+    );
     for (i, j) in dg.joints.iter().enumerate() {
         println!(
             "  {j:<10} held-out RMS {:.3} → {:.3} N·m, noise floor {:.3}, gap closed {:.0} %",

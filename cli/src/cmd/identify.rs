@@ -315,6 +315,14 @@ fn explain(e: IdentifyError) -> String {
         | IdentifyError::NoPrior { .. }
         | IdentifyError::Prior { .. } => format!("--prior / --regularizer: {e}"),
         IdentifyError::TooLarge { .. } => format!("{e}\nhint: --max-memory-gib raises the limit"),
+        IdentifyError::Fold {
+            weight,
+            fold,
+            source,
+        } => format!(
+            "--weight auto: the fit at weight {weight:e} on fold {fold} failed: {}",
+            explain(*source)
+        ),
         e => e.to_string(),
     }
 }
@@ -323,7 +331,10 @@ fn explain(e: IdentifyError) -> String {
 fn print_weight_choice(c: &momentlmi::identify::WeightChoice) {
     let folds = match c.folds {
         momentlmi::identify::choose_weight::Folds::Segments => {
-            format!("{} files held out in turn", c.k)
+            format!(
+                "{} segments (files, or pieces between gaps) held out in turn",
+                c.k
+            )
         }
         momentlmi::identify::choose_weight::Folds::Time => {
             format!("{} blocks in time held out in turn", c.k)
@@ -392,7 +403,10 @@ pub fn print_report(r: &IdentifyResult) {
     for t in &FrictionTerm::ALL[2..] {
         let c = r.friction.coefficients(*t);
         if c.iter().any(|&c| c != 0.0) {
-            println!("{:<15}{} {}", t.name(), list(c), t.unit());
+            let vs = (*t == FrictionTerm::Stribeck)
+                .then(|| format!(" (v_s {} rad/s)", r.friction.stribeck_velocity()))
+                .unwrap_or_default();
+            println!("{:<15}{} {}{vs}", t.name(), list(c), t.unit());
         }
     }
     if let Some(s) = &r.joint_noise {
