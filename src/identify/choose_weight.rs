@@ -20,6 +20,7 @@
 
 use super::builder::Identification;
 use super::error::IdentifyError;
+use super::warning::IdentifyWarning;
 use crate::data::Dataset;
 use serde::Serialize;
 
@@ -58,6 +59,10 @@ pub struct WeightChoice {
     pub mean_rms: Vec<f64>,
     /// The weight of the lowest `mean_rms`.
     pub chosen: f64,
+    /// What the folds' fits reported (their warnings, their degenerate
+    /// bodies), each with its weight and fold: a curve point scored on
+    /// doubtful fits is named, not hidden.
+    pub fold_notes: Vec<String>,
 }
 
 /// The (training, held-out) pairs of `d`'s cross-validation: by segment
@@ -146,10 +151,10 @@ impl Identification<'_> {
                 });
             }
         }
-        let mut heldout_rms = Vec::with_capacity(weights.len());
+        let (mut heldout_rms, mut fold_notes) = (Vec::with_capacity(weights.len()), vec![]);
         for &w in &weights {
             self.weight = w;
-            heldout_rms.push(self.pooled_heldout_rms(&pairs)?);
+            heldout_rms.push(self.pooled_heldout_rms(&pairs, &mut fold_notes)?);
         }
         let mean_rms: Vec<f64> = (heldout_rms.iter())
             .map(|r| r.iter().sum::<f64>() / r.len().max(1) as f64)
@@ -165,12 +170,17 @@ impl Identification<'_> {
             weights,
             heldout_rms,
             mean_rms,
+            fold_notes,
         })
     }
 
     /// Each joint's held-out RMS pooled over `pairs` (fitted at the weight
     /// set).
-    fn pooled_heldout_rms(&self, pairs: &[(Dataset, Dataset)]) -> Result<Vec<f64>, IdentifyError> {
+    fn pooled_heldout_rms(
+        &self,
+        pairs: &[(Dataset, Dataset)],
+        notes: &mut Vec<String>,
+    ) -> Result<Vec<f64>, IdentifyError> {
         let n = self.model.dof();
         let (mut sum, mut count) = (vec![0.0; n], 0usize);
         for (fold, (train, held)) in pairs.iter().enumerate() {
@@ -181,6 +191,19 @@ impl Identification<'_> {
             };
             let mut r = self.fit(train).map_err(failed)?;
             r.validate(self.model, held).map_err(failed)?;
+            let at = |what: String| format!("weight {:e}, fold {fold}: {what}", self.weight);
+            // (the prior's own warnings are the final fit's too)
+            let own = |w: &&IdentifyWarning| {
+                !matches!(
+                    w,
+                    IdentifyWarning::PriorOutsideEllipsoid { .. }
+                        | IdentifyWarning::MassWeightLow { .. }
+                )
+            };
+            notes.extend(r.warnings.iter().filter(own).map(|w| at(w.to_string())));
+            if !r.degenerate_bodies.is_empty() {
+                notes.push(at(format!("degenerate {}", r.degenerate_bodies.join(", "))));
+            }
             for (s, rms) in sum.iter_mut().zip(r.validation_rms.iter().flatten()) {
                 *s += rms * rms * held.len() as f64;
             }

@@ -345,6 +345,13 @@ fn print_weight_choice(c: &momentlmi::identify::WeightChoice) {
         let mark = if *w == c.chosen { "  ← chosen" } else { "" };
         println!("  {w:>7.0e}  {m:.4} N·m{mark}");
     }
+    if !c.fold_notes.is_empty() {
+        println!(
+            "  ({} notes from the folds' fits, in the JSON's weight_choice.fold_notes; first: {})",
+            c.fold_notes.len(),
+            c.fold_notes[0]
+        );
+    }
 }
 
 /// A short human report.
