@@ -74,6 +74,7 @@ fn single_effects_are_found_and_close_the_gap() {
         ("offset", vec![]),
         ("asymmetric_friction", vec![]),
         ("stribeck", vec![]),
+        ("load_friction", vec![]),
         ("payload", vec![]),
         ("time_delay", vec![]),
         ("cogging", vec![]),

@@ -134,6 +134,8 @@ fn each_effect_alone_adds_its_formula_and_off_is_absent() {
                     "stribeck" => base + 1.0 * (-(v / 0.2).powi(2)).exp() * sgn(v),
                     "asymmetric_friction" => base + 0.3 * cheetah3::COULOMB[i] * sgn(v).abs(),
                     "offset" => base + 0.5,
+                    // no rotors here: the load is the links' torque, `base`
+                    "load_friction" => base + 0.05 * base.abs() * sgn(v),
                     "cogging" => base + 0.2 * (6.0 * cheetah3::GEAR_RATIO * q[k][i]).sin(),
                     "torque_gain" => base * 1.1,
                     other => panic!("untested effect {other}"),

@@ -26,6 +26,7 @@ registry! {
     viscous::Viscous,
     stribeck::Stribeck,
     asymmetric_friction::AsymmetricFriction,
+    load_friction::LoadFriction,
     offset::Offset,
     rotor_inertia::RotorInertia,
     link_inertia::LinkInertia,
