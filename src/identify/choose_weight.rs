@@ -151,10 +151,20 @@ impl Identification<'_> {
                 });
             }
         }
+        // each fold's training data reduced once, whatever the weight
+        let reduced = (pairs.iter().enumerate())
+            .map(|(fold, (t, _))| {
+                self.reduce(t).map_err(|e| IdentifyError::Fold {
+                    weight: weights[0],
+                    fold,
+                    source: Box::new(e),
+                })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
         let (mut heldout_rms, mut fold_notes) = (Vec::with_capacity(weights.len()), vec![]);
         for &w in &weights {
             self.weight = w;
-            heldout_rms.push(self.pooled_heldout_rms(&pairs, &mut fold_notes)?);
+            heldout_rms.push(self.pooled_heldout_rms(&pairs, &reduced, &mut fold_notes)?);
         }
         let mean_rms: Vec<f64> = (heldout_rms.iter())
             .map(|r| r.iter().sum::<f64>() / r.len().max(1) as f64)
@@ -175,21 +185,22 @@ impl Identification<'_> {
     }
 
     /// Each joint's held-out RMS pooled over `pairs` (fitted at the weight
-    /// set).
+    /// set on their training parts' reductions `reduced`).
     fn pooled_heldout_rms(
         &self,
         pairs: &[(Dataset, Dataset)],
+        reduced: &[super::Reduced],
         notes: &mut Vec<String>,
     ) -> Result<Vec<f64>, IdentifyError> {
         let n = self.model.dof();
         let (mut sum, mut count) = (vec![0.0; n], 0usize);
-        for (fold, (train, held)) in pairs.iter().enumerate() {
+        for (fold, ((train, held), red)) in pairs.iter().zip(reduced).enumerate() {
             let failed = |e| IdentifyError::Fold {
                 weight: self.weight,
                 fold,
                 source: Box::new(e),
             };
-            let mut r = self.fit(train).map_err(failed)?;
+            let mut r = self.fit_reduced(train, red).map_err(failed)?;
             r.validate(self.model, held).map_err(failed)?;
             let at = |what: String| format!("weight {:e}, fold {fold}: {what}", self.weight);
             // (the prior's own warnings are the final fit's too)
