@@ -120,7 +120,7 @@ fn options_out_of_range_are_refused_at_construction() {
         }
     }
     assert_eq!(
-        DiagnoseOptions::new(0.6, 4, 20).unwrap(),
+        DiagnoseOptions::new(0.6, 8, 20).unwrap(),
         DiagnoseOptions::default()
     );
     let base = IdentifyOptions::new(Level::Consistent);

@@ -118,16 +118,24 @@ fn each_effect_alone_adds_its_formula_and_off_is_absent() {
         ) {
             continue; // checked below through the dynamics
         }
-        let fx = Effects::parse(e, &[]).unwrap();
+        // a drift scales the friction there is
+        let list = if e == "friction_drift" {
+            "coulomb,viscous,friction_drift"
+        } else {
+            e
+        };
+        let fx = Effects::parse(list, &[]).unwrap();
+        let times: Vec<f64> = (0..q.len()).map(|k| 0.05 * k as f64).collect();
         let got = Library::builtin()
             .true_robot(&leg, &fx)
             .unwrap()
-            .torques(&q, &qd, &qdd)
+            .torques_at(&times, &q, &qd, &qdd)
             .unwrap();
         for k in 0..q.len() {
             for i in 0..3 {
                 let v = qd[k][i];
                 let base = none[k][i];
+                let friction = cheetah3::COULOMB[i] * sgn(v) + 0.1 * v;
                 let want = match e {
                     "coulomb" => base + cheetah3::COULOMB[i] * sgn(v),
                     "viscous" => base + 0.1 * v,
@@ -138,6 +146,9 @@ fn each_effect_alone_adds_its_formula_and_off_is_absent() {
                     "load_friction" => base + 0.05 * base.abs() * sgn(v),
                     "cogging" => base + 0.2 * (6.0 * cheetah3::GEAR_RATIO * q[k][i]).sin(),
                     "torque_gain" => base * 1.1,
+                    "friction_drift" => base + friction * (1.0 - 0.4 / 60.0 * times[k]),
+                    // every joint of the leg has a rotor: its ripple is cogging
+                    "ripple" => base,
                     other => panic!("untested effect {other}"),
                 };
                 assert!(
@@ -469,4 +480,43 @@ fn older_records_keep_their_encoders() {
     assert_eq!((old.link_encoder_bits, old.edge_seconds), (None, 0.0));
     let (res, _) = old.encoder(&no_rotors, 0);
     assert!((res - std::f64::consts::TAU / 16384.0).abs() < 1e-15);
+}
+
+/// On an arm without rotors, `ripple` adds `A sin(p qᵢ)` to every revolute
+/// joint (defaults A = 0.5 N·m, p = 5 per joint turn).
+#[test]
+fn ripple_adds_its_formula_on_joints_without_a_rotor() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/panda");
+    let urdf = dir.join("panda.urdf");
+    let arm = momentlmi::dynamics::robots::load_robot(
+        urdf.to_str().unwrap(),
+        Some(&dir.join("panda.toml")),
+    )
+    .unwrap();
+    let n = arm.model.dof();
+    let row = |k: usize, s: f64| -> Vec<f64> {
+        (0..n)
+            .map(|i| s * (0.3 * k as f64 + i as f64).sin())
+            .collect()
+    };
+    let (mut q, mut qd, mut qdd) = (Samples::new(n), Samples::new(n), Samples::new(n));
+    for k in 0..50 {
+        q.push(&row(k, 1.0));
+        qd.push(&row(k + 3, 0.7));
+        qdd.push(&row(k + 5, 2.0));
+    }
+    let torques = |e: &str| {
+        Library::builtin()
+            .true_robot(&arm, &Effects::parse(e, &[]).unwrap())
+            .unwrap()
+            .torques(&q, &qd, &qdd)
+            .unwrap()
+    };
+    let (none, ripple) = (torques(""), torques("ripple"));
+    for k in 0..q.len() {
+        for i in 0..n {
+            let want = none[k][i] + 0.5 * (5.0 * q[k][i]).sin();
+            assert!((ripple[k][i] - want).abs() < 1e-12, "joint {i} sample {k}");
+        }
+    }
 }

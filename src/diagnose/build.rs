@@ -2,6 +2,7 @@
 //! the model and fits the memory plan proposes its hypothesis, built in
 //! parallel (the most expensive first) and returned in the library's order.
 
+use super::alias::merge_aliases;
 use super::candidate::Candidate;
 use super::warning::DiagnoseWarning;
 use crate::effects::{Context, Effect, EffectError, Hypothesis, Library};
@@ -15,7 +16,7 @@ type Built = Result<Option<Candidate>, EffectError>;
 /// effects `left_out` (by the memory plan) and, with a warning each, those
 /// that do not apply to the model or whose hypothesis cannot be built.
 /// Every variant's Gram matrix over `train` is computed while the cores are
-/// free.
+/// free. Candidates with one span are merged ([`merge_aliases`]).
 pub fn candidates(
     library: &Library,
     cx: &Context,
@@ -59,7 +60,7 @@ pub fn candidates(
             }),
         }
     }
-    out
+    merge_aliases(out, train)
 }
 
 /// `build` of every effect, in parallel, returned in `proposed`'s order;

@@ -8,11 +8,15 @@ use std::borrow::Cow;
 use std::ops::Range;
 use std::sync::{Arc, OnceLock};
 
-/// One variant's columns and their kept Gram matrix.
+/// One variant's columns, their kept Gram matrices and the joint each
+/// column lies in.
 pub struct Variant {
     /// The columns.
     pub columns: Columns,
-    gram: OnceLock<(Range<usize>, Vec<f64>)>,
+    /// Gram matrices of the first two row ranges asked for (the training
+    /// rows, and the first part of them the joints are screened on).
+    gram: [OnceLock<(Range<usize>, Vec<f64>)>; 2],
+    joints: OnceLock<Option<Vec<usize>>>,
 }
 
 impl Variant {
@@ -20,21 +24,37 @@ impl Variant {
     pub fn new(columns: Columns) -> Self {
         Self {
             columns,
-            gram: OnceLock::new(),
+            gram: [OnceLock::new(), OnceLock::new()],
+            joints: OnceLock::new(),
         }
     }
 
-    /// `XᵀX` of the columns over `rows` (k × k, row-major): kept from the
-    /// first call, computed afresh for other rows.
+    /// `XᵀX` of the columns over `rows` (k × k, row-major): kept for the
+    /// first two row ranges asked for, computed afresh for others.
     pub fn gram(&self, rows: &Range<usize>) -> Cow<'_, [f64]> {
-        let (at, g) = self
-            .gram
-            .get_or_init(|| (rows.clone(), gram_of(&self.columns.cols, rows)));
-        if at == rows {
-            Cow::Borrowed(g)
-        } else {
-            Cow::Owned(gram_of(&self.columns.cols, rows))
+        for slot in &self.gram {
+            let (at, g) = slot.get_or_init(|| (rows.clone(), gram_of(&self.columns.cols, rows)));
+            if at == rows {
+                return Cow::Borrowed(g);
+            }
         }
+        Cow::Owned(gram_of(&self.columns.cols, rows))
+    }
+
+    /// The joint each column lies in (every nonzero value in that joint's
+    /// rows, `n` joints, sample-major), or `None` when a column spans
+    /// several joints (or none).
+    pub fn column_joints(&self, n: usize) -> Option<&[usize]> {
+        self.joints
+            .get_or_init(|| {
+                let one = |c: &Vec<f64>| {
+                    let mut rows = c.iter().enumerate().filter(|(_, x)| **x != 0.0);
+                    let j = rows.next()?.0 % n;
+                    rows.all(|(i, _)| i % n == j).then_some(j)
+                };
+                self.columns.cols.iter().map(one).collect()
+            })
+            .as_deref()
     }
 }
 
@@ -62,6 +82,9 @@ pub struct Candidate {
     pub open_low: bool,
     /// A fit at the grid's last variant can hide a larger value.
     pub open_high: bool,
+    /// Effects whose hypotheses span the same columns on these data,
+    /// offered under this one's name ([`super::alias`]).
+    pub aliases: Vec<&'static str>,
 }
 
 impl Candidate {
@@ -73,6 +96,7 @@ impl Candidate {
             variants: h.variants.into_iter().map(Variant::new).collect(),
             open_low: h.open_low,
             open_high: h.open_high,
+            aliases: vec![],
         })
     }
 

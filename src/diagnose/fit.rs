@@ -16,20 +16,33 @@ pub fn least_squares(
     rows: std::ops::Range<usize>,
     r: &[f64],
 ) -> Result<Vec<f64>, FitError> {
-    let k = c.columns.cols.len();
+    let all: Vec<usize> = (0..c.columns.cols.len()).collect();
+    least_squares_on(c, &all, rows, r)
+}
+
+/// [`least_squares`] with only the columns `on` (the others' β are 0).
+pub fn least_squares_on(
+    c: &Variant,
+    on: &[usize],
+    rows: std::ops::Range<usize>,
+    r: &[f64],
+) -> Result<Vec<f64>, FitError> {
+    let (k, m) = (c.columns.cols.len(), on.len());
     let xtx = c.gram(&rows);
-    let g = Mat::<f64>::from_fn(k, k, |a, b| xtx[a * k + b]);
-    let b = Mat::<f64>::from_fn(k, 1, |a, _| xtr(c, a, &rows, r));
-    let tr: f64 = (0..k).map(|a| g[(a, a)]).sum::<f64>().max(1e-300);
-    let mut g = g;
-    for a in 0..k {
-        g[(a, a)] += 1e-10 * tr / k as f64;
+    let mut g = Mat::<f64>::from_fn(m, m, |a, b| xtx[on[a] * k + on[b]]);
+    let b = Mat::<f64>::from_fn(m, 1, |a, _| xtr(c, on[a], &rows, r));
+    let tr: f64 = (0..m).map(|a| g[(a, a)]).sum::<f64>().max(1e-300);
+    for a in 0..m {
+        g[(a, a)] += 1e-10 * tr / m as f64;
     }
     let l = g
         .llt(faer::Side::Lower)
         .map_err(|_| FitError::Factorisation)?;
     let x = l.solve(&b);
-    let beta: Vec<f64> = (0..k).map(|a| x[(a, 0)]).collect();
+    let mut beta = vec![0.0; k];
+    for (a, &col) in on.iter().enumerate() {
+        beta[col] = x[(a, 0)];
+    }
     if beta.iter().all(|v| v.is_finite()) {
         Ok(beta)
     } else {

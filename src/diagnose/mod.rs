@@ -18,6 +18,7 @@
 //! See `docs/diagnosis.md` for the method in full and the confusion table
 //! of the withheld-effect benchmark.
 
+mod alias;
 mod build;
 mod candidate;
 mod error;
@@ -27,6 +28,7 @@ mod forward;
 mod memory;
 mod options;
 mod report;
+mod screen;
 mod select;
 mod split;
 mod warning;

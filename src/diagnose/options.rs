@@ -20,12 +20,12 @@ pub struct DiagnoseOptions {
 pub const DEFAULT_MAX_MEMORY_BYTES: u64 = 8 << 30;
 
 impl Default for DiagnoseOptions {
-    /// 60 % training, at most 4 effects, 20 held-out blocks, 8 GiB, the
+    /// 60 % training, at most 8 effects, 20 held-out blocks, 8 GiB, the
     /// built-in effect library.
     fn default() -> Self {
         Self {
             train_fraction: 0.6,
-            max_effects: 4,
+            max_effects: 8,
             blocks: 20,
             max_memory_bytes: DEFAULT_MAX_MEMORY_BYTES,
             library: Library::builtin(),

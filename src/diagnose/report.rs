@@ -40,6 +40,11 @@ pub struct EffectReport {
     pub accepted: bool,
     /// Candidates that explain the same within noise.
     pub tied_with: Vec<String>,
+    /// Effects whose hypotheses span the same columns as this one's on
+    /// these data (an offset and direction-dependent friction where the
+    /// joints never stand still): one hypothesis, offered once under this
+    /// name.
+    pub same_as: Vec<String>,
     /// Why its fitted parameters are physically doubtful, if they are: a
     /// nonlinear parameter at the edge of its grid, an encoder offset beyond
     /// 0.2 rad. An accepted effect with a flag is also a warning.
@@ -96,6 +101,32 @@ impl EffectReport {
     /// The fitted values the effect reports under `key` (`joint_offsets`).
     pub fn fitted(&self, key: &str) -> Option<&[f64]> {
         self.fitted.get(key).map(Vec::as_slice)
+    }
+
+    /// The effect's name with the effects that are the same hypothesis on
+    /// these data: `offset ≡ asymmetric_friction`.
+    pub fn label(&self) -> String {
+        std::iter::once(self.effect.as_str())
+            .chain(self.same_as.iter().map(String::as_str))
+            .collect::<Vec<_>>()
+            .join(" ≡ ")
+    }
+
+    /// ` (tied with a, b)`, or nothing without ties.
+    pub fn ties(&self) -> String {
+        if self.tied_with.is_empty() {
+            String::new()
+        } else {
+            format!(" (tied with {})", self.tied_with.join(", "))
+        }
+    }
+
+    /// Whether `effect` is this one, one of the same hypothesis or tied
+    /// with it.
+    pub fn covers(&self, effect: &str) -> bool {
+        self.effect == effect
+            || self.same_as.iter().any(|a| a == effect)
+            || self.tied_with.iter().any(|t| t == effect)
     }
 }
 

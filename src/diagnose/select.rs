@@ -3,8 +3,9 @@
 //! then the best significant one among those within noise of it.
 
 use super::candidate::{Candidate, Variant};
-use super::fit::{apply, fit_candidate};
+use super::fit::{Fit, apply, fit_candidate, least_squares_on};
 use super::report::EffectReport;
+use super::screen::screened_columns;
 use super::split::Split;
 use super::warning::DiagnoseWarning;
 use crate::data::rms_per_joint;
@@ -48,21 +49,36 @@ pub struct Evaluation {
     pub gain_se: f64,
 }
 
-/// The variant (nonlinear parameter) that fits the training part best: its
-/// index, training RSS and coefficients; failed fits are reported in
-/// `warnings`.
+/// The variant (nonlinear parameter) that fits the training part best
+/// (each on its screened joints: [`screened_columns`]): its index,
+/// training RSS, coefficients and the number of columns fitted; failed
+/// fits are reported in `warnings`.
 fn best_variant(
     c: &Candidate,
     split: &Split,
     r: &[f64],
     round: usize,
     warnings: &mut Vec<DiagnoseWarning>,
-) -> Option<(usize, f64, Vec<f64>)> {
-    let mut best: Option<(usize, f64, Vec<f64>)> = None;
+) -> Option<Best> {
+    let mut best: Option<Best> = None;
     for (j, v) in c.variants.iter().enumerate() {
         let (effect, variant) = (c.name().to_string(), v.columns.detail.clone());
-        let beta = match fit_candidate(v, split.train.clone(), r) {
-            Ok(f) => {
+        let fit = screened_columns(v, split, r).and_then(|on| {
+            if on.len() < v.columns.cols.len() {
+                let beta = least_squares_on(v, &on, split.train.clone(), r)?;
+                Ok((
+                    Fit {
+                        beta,
+                        inaccurate: false,
+                    },
+                    on.len(),
+                ))
+            } else {
+                Ok((fit_candidate(v, split.train.clone(), r)?, on.len()))
+            }
+        });
+        let (beta, fitted) = match fit {
+            Ok((f, fitted)) => {
                 if f.inaccurate {
                     warnings.push(DiagnoseWarning::Inaccurate {
                         round,
@@ -70,7 +86,7 @@ fn best_variant(
                         variant,
                     });
                 }
-                f.beta
+                (f.beta, fitted)
             }
             Err(e) => {
                 warnings.push(DiagnoseWarning::FitFailed {
@@ -84,26 +100,43 @@ fn best_variant(
         };
         let after = apply(&v.columns.cols, &beta, r);
         let rss: f64 = after[split.train.clone()].iter().map(|x| x * x).sum();
-        if best.as_ref().is_none_or(|b| rss < b.1) {
-            best = Some((j, rss, beta));
+        if best.as_ref().is_none_or(|b| rss < b.rss) {
+            best = Some(Best {
+                at: j,
+                rss,
+                beta,
+                fitted,
+            });
         }
     }
     best
 }
 
-/// Per-block held-out gains `MSE(r) − MSE(after)`.
+/// A candidate's best variant.
+struct Best {
+    at: usize,
+    rss: f64,
+    beta: Vec<f64>,
+    /// Columns fitted (the others' β are 0).
+    fitted: usize,
+}
+
+/// Per-block held-out gains `MSE(r) − MSE(after)`: the held-out samples in
+/// `blocks` consecutive blocks of equal length (±1 sample; a remainder of
+/// a few samples is not a block of its own, whose mean would weigh as
+/// much as a full block's).
 fn block_gains(split: &Split, r: &[f64], after: &[f64], blocks: usize) -> Vec<f64> {
     let n = split.joints;
     let va = split.heldout.clone();
-    let per_block = (va.len() / n / blocks.max(2)).max(1) * n;
-    va.clone()
-        .step_by(per_block)
-        .map(|s| {
-            let e = (s + per_block).min(va.end);
+    let m = va.len() / n;
+    let b = blocks.max(2).min(m.max(1));
+    (0..b)
+        .map(|j| {
+            let (s, e) = (va.start + j * m / b * n, va.start + (j + 1) * m / b * n);
             (s..e)
                 .map(|i| r[i] * r[i] - after[i] * after[i])
                 .sum::<f64>()
-                / (e - s) as f64
+                / (e - s).max(1) as f64
         })
         .collect()
 }
@@ -118,7 +151,12 @@ pub fn evaluate(
     warnings: &mut Vec<DiagnoseWarning>,
 ) -> Option<Evaluation> {
     let n = split.joints;
-    let (at, rss_after_tr, beta) = best_variant(c, split, r, round, warnings)?;
+    let Best {
+        at,
+        rss: rss_after_tr,
+        beta,
+        fitted,
+    } = best_variant(c, split, r, round, warnings)?;
     let v = &c.variants[at].columns;
     let before = rms_per_joint(&r[split.heldout.clone()], n);
     let after = apply(&v.cols, &beta, r);
@@ -129,7 +167,7 @@ pub fn evaluate(
         .sqrt();
     let nt = split.train.len() as f64;
     let rss_tr: f64 = r[split.train.clone()].iter().map(|x| x * x).sum();
-    let params = v.cols.len() + v.nonlinear;
+    let params = fitted + v.nonlinear;
     let dbic = nt * (rss_after_tr / rss_tr.max(1e-300)).ln() + params as f64 * nt.ln();
     let joints = (0..n)
         .filter(|&i| after_rms[i] < 0.99 * before[i])
@@ -154,6 +192,7 @@ pub fn evaluate(
             z: block_bootstrap_z(&diffs),
             accepted: false,
             tied_with: vec![],
+            same_as: c.aliases.iter().map(|a| a.to_string()).collect(),
             implausible: implausible(c, at, &beta, names),
         },
         after,
@@ -222,7 +261,7 @@ pub fn choose(evals: &mut [Evaluation], before: &[f64]) -> Option<(usize, Vec<us
 
 #[cfg(test)]
 mod tests {
-    use super::{Split, block_bootstrap_z, evaluate, implausible};
+    use super::{Split, block_bootstrap_z, block_gains, evaluate, implausible};
     use crate::diagnose::candidate::Candidate;
     use crate::effects::{Columns, Hypothesis, Library};
 
@@ -300,6 +339,27 @@ mod tests {
         let broken = offset(vec![variant(vec![bad], "broken")]);
         let none = evaluate(&broken, &split, &r, (2, 20), &names, &mut warnings);
         assert!(none.is_none() && warnings.len() == 1);
+    }
+
+    /// 2,011 held-out samples in 20 blocks: 20 gains, not 20 and a block
+    /// of the 11 left over, whose mean would weigh as much as 100 samples'.
+    #[test]
+    fn held_out_blocks_are_equal_and_leave_no_remainder() {
+        let (n, samples) = (2, 5028);
+        let split = Split::new(samples, n, 0.6);
+        let held = split.heldout.len() / n;
+        assert_eq!(held, 2012);
+        let r = vec![1.0; samples * n];
+        // the fit halves the residual everywhere but makes the last 11 samples 10× worse
+        let after: Vec<f64> = (0..samples * n)
+            .map(|i| if i / n >= samples - 11 { 10.0 } else { 0.5 })
+            .collect();
+        let g = block_gains(&split, &r, &after, 20);
+        assert_eq!(g.len(), 20);
+        assert!(g[..19].iter().all(|x| (x - 0.75).abs() < 1e-12), "{g:?}");
+        // the last block: 100 or 101 samples, 11 of them at −99
+        let last = g[19];
+        assert!(last < 0.0 && last > -11.0, "{last}");
     }
 
     #[test]

@@ -67,16 +67,20 @@ impl<'a> Context<'a> {
     /// One column per joint: column i holds `f(k, i)` in joint i's row of
     /// every sample k, zero in the other joints' rows.
     pub fn per_joint(&self, f: impl Fn(usize, usize) -> f64) -> Vec<Vec<f64>> {
-        let n = self.joints();
-        (0..n)
-            .map(|i| {
-                let mut c = vec![0.0; self.samples() * n];
-                for k in 0..self.samples() {
-                    c[k * n + i] = f(k, i);
-                }
-                c
-            })
+        (0..self.joints())
+            .map(|i| self.joint_column(i, |k| f(k, i)))
             .collect()
+    }
+
+    /// One column for joint i: `f(k)` in joint i's row of every sample k,
+    /// zero in the other joints' rows.
+    pub fn joint_column(&self, i: usize, f: impl Fn(usize) -> f64) -> Vec<f64> {
+        let n = self.joints();
+        let mut c = vec![0.0; self.samples() * n];
+        for k in 0..self.samples() {
+            c[k * n + i] = f(k);
+        }
+        c
     }
 
     /// `count` columns from the nominal model's regressor

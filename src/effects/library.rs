@@ -286,8 +286,8 @@ mod tests {
             again.push(e).unwrap();
         }
         assert_eq!(again, lib);
-        assert_eq!(lib.names().len(), 15);
-        assert_eq!(lib.names()[7], "link_inertia");
+        assert_eq!(lib.names().len(), 17);
+        assert_eq!(lib.names()[8], "link_inertia");
         let shared: Vec<_> = lib
             .params()
             .into_iter()

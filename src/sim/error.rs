@@ -9,6 +9,14 @@ pub enum SimError {
     /// The model or an effect is invalid.
     #[error(transparent)]
     Dynamics(#[from] DynamicsError),
+    /// Torques asked at a number of times other than of states.
+    #[error("torques asked at {times} times for {samples} states")]
+    Times {
+        /// Times given.
+        times: usize,
+        /// States given.
+        samples: usize,
+    },
     /// A setting out of range.
     #[error("simulation setting '{setting}' = {}: {requirement}", crate::numfmt::short(*value))]
     Setting {

@@ -407,7 +407,7 @@ pub fn simulate_with(
     let span = (-(edge as isize), samples + 2 * edge);
     let states = sample_states(model, cfg, span, truth.delay(), &mut progress)?;
     let [qs, qds, qdds] = &states.delayed;
-    let mut tau = truth.torques(qs, qds, qdds)?;
+    let mut tau = truth.torques_at(&states.t, qs, qds, qdds)?;
     add_compliance(truth, cfg, &states, &mut tau)?;
     add_noise(cfg, &mut tau);
     let [q, qd, qdd] = states.exact;

@@ -29,6 +29,8 @@ pub struct JointState {
     pub q: f64,
     /// Its velocity (rad/s or m/s).
     pub qd: f64,
+    /// The time since the record began (s).
+    pub t: f64,
     /// The gear ratio N of its rotor (1 without one).
     pub gear: f64,
 }
@@ -224,11 +226,31 @@ impl TrueRobot {
         self.model.link_side()
     }
 
-    /// Torques at the given states (already shifted by the delay if any):
-    /// the rigid-body torque at the true positions plus the friction, then
-    /// every torque term in order, times the gain.
+    /// Torques at the given states (already shifted by the delay if any),
+    /// all at the record's start (a term that drifts with time at its
+    /// initial value): [`Self::torques_at`].
     pub fn torques(&self, q: &Samples, qd: &Samples, qdd: &Samples) -> Result<Samples, SimError> {
+        self.torques_at(&vec![0.0; q.len()], q, qd, qdd)
+    }
+
+    /// Torques at the given states (already shifted by the delay if any)
+    /// and times `t` (s since the record began, one per sample): the
+    /// rigid-body torque at the true positions plus the friction, then
+    /// every torque term in order, times the gain.
+    pub fn torques_at(
+        &self,
+        t: &[f64],
+        q: &Samples,
+        qd: &Samples,
+        qdd: &Samples,
+    ) -> Result<Samples, SimError> {
         let (n, p) = (self.model.dof(), &self.parts);
+        if t.len() != q.len() {
+            return Err(SimError::Times {
+                times: t.len(),
+                samples: q.len(),
+            });
+        }
         let shifted: Samples;
         let q = if p.position_offset.iter().any(|d| *d != 0.0) {
             // the encoders read q − δ: the robot is really at q + δ
@@ -244,18 +266,19 @@ impl TrueRobot {
             q
         };
         let mut tau = predict_torques(&self.model, &p.friction, q, qd, qdd)?;
-        for (k, t) in tau.iter_mut().enumerate() {
+        for (k, row) in tau.iter_mut().enumerate() {
             for i in 0..n {
                 let s = JointState {
                     joint: i,
                     q: q[k][i],
                     qd: qd[k][i],
+                    t: t[k],
                     gear: self.gear[i],
                 };
                 for term in &p.terms {
-                    t[i] += term(&s);
+                    row[i] += term(&s);
                 }
-                t[i] *= p.gain;
+                row[i] *= p.gain;
             }
         }
         Ok(tau)

@@ -185,15 +185,15 @@ fn print_diagnosis(d: &Diagnosis, out: &Path) {
         println!("   where: {s}");
     }
     for e in d.ranked_effects.iter().filter(|e| e.accepted) {
+        let detail = if e.detail.is_empty() {
+            String::new()
+        } else {
+            format!(" {}", e.detail)
+        };
         println!(
-            "   which: {} {}{} — held-out RMS {} → {} N·m",
-            e.effect,
-            e.detail,
-            if e.tied_with.is_empty() {
-                String::new()
-            } else {
-                format!(" (tied with {})", e.tied_with.join(", "))
-            },
+            "   which: {}{detail}{} — held-out RMS {} → {} N·m",
+            e.label(),
+            e.ties(),
             super::per_joint(&e.heldout_rms_before, 2),
             super::per_joint(&e.heldout_rms_after, 2),
         );

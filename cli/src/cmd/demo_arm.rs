@@ -206,11 +206,7 @@ fn print_diagnosis(d: &Diagnosis, level: &str) {
     );
     println!("   against the {level} model (the lower validation RMS above):");
     for e in d.ranked_effects.iter().filter(|e| e.accepted) {
-        let tied = if e.tied_with.is_empty() {
-            String::new()
-        } else {
-            format!(" (tied with {})", e.tied_with.join(", "))
-        };
+        let tied = e.ties();
         let detail = if e.detail.is_empty() {
             String::new()
         } else {
@@ -218,7 +214,7 @@ fn print_diagnosis(d: &Diagnosis, level: &str) {
         };
         println!(
             "   which: {}{detail}{tied} — held-out RMS {} → {} N·m",
-            e.effect,
+            e.label(),
             super::per_joint(&e.heldout_rms_before, 2),
             super::per_joint(&e.heldout_rms_after, 2)
         );

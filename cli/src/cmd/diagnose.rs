@@ -172,18 +172,14 @@ fn print_report(dg: &Diagnosis) {
         }
         println!(
             "  {:<20} {:>6} {:>9.1} {:>7.1}  {} → {}{}{}",
-            e.effect,
+            e.label(),
             e.params,
             e.delta_bic,
             e.z,
             super::per_joint(&e.heldout_rms_before, 3),
             super::per_joint(&e.heldout_rms_after, 3),
             if e.accepted { "  ACCEPTED" } else { "" },
-            if e.tied_with.is_empty() {
-                String::new()
-            } else {
-                format!(" (tied with {})", e.tied_with.join(", "))
-            }
+            e.ties()
         );
         if !e.detail.is_empty() {
             println!("  {:<20} {}", "", e.detail);

@@ -1,6 +1,8 @@
 //! `time_delay`: the torque is measured at the state `δ` seconds earlier.
-//! Diagnosed on a grid of delays of whole samples: the column is
-//! `τ̂(t − s·dt) − τ̂(t)` (first order in the nominal model's torque).
+//! Diagnosed on a grid of delays of whole samples: per joint the column
+//! `τ̂ᵢ(t − s·dt) − τ̂ᵢ(t)` (first order in the nominal model's torque),
+//! whose coefficient is 1 on a joint whose torque is that late (one
+//! sensor's filter or bus) and 0 on one that is not.
 
 use crate::effects::{
     Columns, Context, Effect, EffectError, Hypothesis, Memory, ParamSpec, Range, Shape, Values,
@@ -17,8 +19,13 @@ const DELAY: ParamSpec = ParamSpec::new(
     Range::Within(0.0, 1.0),
     "Delay δ between state and torque.",
 );
-/// The delays, in samples, the diagnosis tries.
+/// The delays, in samples, the diagnosis tries (those within
+/// [`MAX_DELAY`]; the first always).
 const SHIFTS: [usize; 8] = [1, 2, 3, 5, 8, 12, 20, 30];
+/// The longest delay (s) a torque measurement is taken to have: a
+/// sensor's filter and a bus, not the tens of samples of a slow log, where
+/// a long shift is a smoothed derivative that absorbs any dynamic mismatch.
+const MAX_DELAY: f64 = 0.05;
 
 impl Effect for TimeDelay {
     fn name(&self) -> &'static str {
@@ -39,11 +46,11 @@ impl Effect for TimeDelay {
     }
 
     fn memory(&self, shape: &Shape) -> Memory {
-        Memory::columns(shape, SHIFTS.len())
+        Memory::columns(shape, SHIFTS.len() * shape.joints)
     }
 
     fn hypothesis(&self, cx: &Context) -> Result<Hypothesis, EffectError> {
-        let (d, n) = (cx.data, cx.joints());
+        let d = cx.data;
         let th = cx.nominal_torques()?;
         let dt = if d.len() > 1 {
             (d.t[d.len() - 1] - d.t[0]) / (d.len() - 1) as f64
@@ -52,16 +59,12 @@ impl Effect for TimeDelay {
         };
         let variants = SHIFTS
             .iter()
-            .map(|&s| {
-                let mut c = vec![0.0; d.len() * n];
-                for k in 0..d.len() {
-                    let j = k.saturating_sub(s);
-                    for i in 0..n {
-                        c[k * n + i] = th[j][i] - th[k][i];
-                    }
-                }
+            .enumerate()
+            .filter(|&(j, &s)| j == 0 || s as f64 * dt <= MAX_DELAY * (1.0 + 1e-9))
+            .map(|(_, &s)| {
+                let cols = cx.per_joint(|k, i| th[k.saturating_sub(s)][i] - th[k][i]);
                 let ms = 1e3 * s as f64 * dt;
-                Columns::variant(format!("delay {ms:.0} ms"), vec![c], 1)
+                Columns::variant(format!("delay {ms:.0} ms"), cols, 1)
             })
             .collect();
         Ok(Hypothesis::grid(variants))

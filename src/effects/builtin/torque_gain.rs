@@ -1,5 +1,7 @@
 //! `torque_gain`: a torque-constant (gain) error, the measured torque
-//! `(1 + ε) τ`. Diagnosed as one column, the nominal model's torque τ̂.
+//! `(1 + ε) τ`. Diagnosed with one column per joint, the nominal model's
+//! torque τ̂ᵢ in joint i's rows: a gain ε_i per joint (one sensor's
+//! calibration, or one motor's torque constant).
 
 use crate::effects::{
     Context, Effect, EffectError, Hypothesis, Memory, ParamSpec, Range, Shape, Values,
@@ -36,11 +38,11 @@ impl Effect for TorqueGain {
     }
 
     fn memory(&self, shape: &Shape) -> Memory {
-        Memory::columns(shape, 1)
+        Memory::columns(shape, shape.joints)
     }
 
     fn hypothesis(&self, cx: &Context) -> Result<Hypothesis, EffectError> {
         let th = cx.nominal_torques()?;
-        Ok(Hypothesis::linear(vec![th.iter().flatten().copied().collect()]))
+        Ok(Hypothesis::linear(cx.per_joint(|k, i| th[k][i])))
     }
 }
