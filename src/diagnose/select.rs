@@ -256,13 +256,52 @@ pub fn choose(evals: &mut [Evaluation], before: &[f64]) -> Option<(usize, Vec<us
             .then(evals[a].report.params.cmp(&evals[b].report.params))
     });
     let chosen = group[0];
+    if let Some(lean) = leaner(evals, chosen, total_before) {
+        // deferred, not tied: the leaner one explains its joints as well
+        return Some((lean, vec![]));
+    }
     Some((chosen, group.into_iter().filter(|&j| j != chosen).collect()))
+}
+
+/// The share of what the chosen candidate removes on a leaner one's joints
+/// that the leaner one must remove there to be preferred.
+const PARSIMONY: f64 = 0.9;
+
+/// A significant candidate with fewer parameters than `chosen` that, on
+/// the joints it lowers (held-out MSE by ≥ 1 %), removes at least
+/// [`PARSIMONY`] of what `chosen` removes there: an offset on one joint
+/// before a 70-parameter inertia refit that also bends to it (the refit
+/// can follow in a later round for the other joints). The one with the
+/// largest held-out gain among them, if any.
+fn leaner(evals: &[Evaluation], chosen: usize, total_before: f64) -> Option<usize> {
+    let gains = |e: &Evaluation| -> Vec<f64> {
+        let (b, a) = (&e.report.heldout_rms_before, &e.report.heldout_rms_after);
+        b.iter().zip(a).map(|(b, a)| b * b - a * a).collect()
+    };
+    let big = gains(&evals[chosen]);
+    (0..evals.len())
+        .filter(|&j| {
+            let e = &evals[j];
+            if j == chosen || e.report.params >= evals[chosen].report.params {
+                return false;
+            }
+            let (g, b) = (gains(e), &e.report.heldout_rms_before);
+            let on: Vec<usize> = (0..g.len())
+                .filter(|&i| g[i] >= 0.01 * b[i] * b[i])
+                .collect();
+            let (mine, theirs) = on
+                .iter()
+                .fold((0.0, 0.0), |(m, t), &i| (m + g[i], t + big[i]));
+            significant(e, total_before) && !on.is_empty() && mine >= PARSIMONY * theirs
+        })
+        .max_by(|&a, &b| evals[a].gain.total_cmp(&evals[b].gain))
 }
 
 #[cfg(test)]
 mod tests {
-    use super::{Split, block_bootstrap_z, block_gains, evaluate, implausible};
+    use super::{Evaluation, Split, block_bootstrap_z, block_gains, choose, evaluate, implausible};
     use crate::diagnose::candidate::Candidate;
+    use crate::diagnose::report::EffectReport;
     use crate::effects::{Columns, Hypothesis, Library};
 
     fn candidate(name: &str, h: Hypothesis) -> Candidate {
@@ -339,6 +378,55 @@ mod tests {
         let broken = offset(vec![variant(vec![bad], "broken")]);
         let none = evaluate(&broken, &split, &r, (2, 20), &names, &mut warnings);
         assert!(none.is_none() && warnings.len() == 1);
+    }
+
+    /// A significant candidate scored with held-out RMS `after` per joint
+    /// (from 1.0 each) and `params` parameters.
+    fn scored(effect: &str, after: &[f64], params: usize, delta_bic: f64) -> Evaluation {
+        let before = vec![1.0; after.len()];
+        let gain = after.iter().map(|a| 1.0 - a * a).sum::<f64>() / after.len() as f64;
+        Evaluation {
+            report: EffectReport {
+                effect: effect.into(),
+                detail: String::new(),
+                fitted: Default::default(),
+                round: 1,
+                joints: vec![],
+                params,
+                heldout_rms_before: before,
+                heldout_rms_after: after.to_vec(),
+                delta_bic,
+                z: 3.9,
+                accepted: false,
+                tied_with: vec![],
+                same_as: vec![],
+                implausible: None,
+            },
+            after: vec![],
+            gain,
+            gain_se: 1e-4,
+        }
+    }
+
+    /// A 70-parameter refit that removes most on joints 0–1 and also bends to
+    /// joint 2's offset loses to the 1-parameter offset that removes as much
+    /// on joint 2; an offset that removes only half of it there does not.
+    #[test]
+    fn a_leaner_candidate_that_explains_its_joints_goes_first() {
+        let before = [1.0; 3];
+        let mut evals = vec![
+            scored("link_inertia", &[0.5, 0.5, 0.6], 70, -900.0),
+            scored("offset", &[1.0, 1.0, 0.62], 1, -300.0),
+        ];
+        let (chosen, tied) = choose(&mut evals, &before).unwrap();
+        assert_eq!(evals[chosen].report.effect, "offset");
+        assert!(tied.is_empty());
+        let mut evals = vec![
+            scored("link_inertia", &[0.5, 0.5, 0.6], 70, -900.0),
+            scored("offset", &[1.0, 1.0, 0.85], 1, -300.0),
+        ];
+        let (chosen, _) = choose(&mut evals, &before).unwrap();
+        assert_eq!(evals[chosen].report.effect, "link_inertia");
     }
 
     /// 2,011 held-out samples in 20 blocks: 20 gains, not 20 and a block
