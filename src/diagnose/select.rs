@@ -230,21 +230,15 @@ fn significant(e: &Evaluation, total_before: f64) -> bool {
 /// Picks this round's effect among `evals` (sorted here by held-out gain):
 /// the best significant one and every significant candidate within two
 /// standard errors of its gain form a tie group, in which the lowest ΔBIC
-/// (then the fewest parameters) wins. Returns the chosen index and the
-/// others of its group, or `None` when nothing is significant.
+/// (then the fewest parameters) wins — unless a [`leaner`] candidate
+/// explains the winner's joints as well, which then goes first with its
+/// own tie group. Returns the chosen index and the others of its group, or
+/// `None` when nothing is significant.
 pub fn choose(evals: &mut [Evaluation], before: &[f64]) -> Option<(usize, Vec<usize>)> {
     let total_before: f64 = before.iter().map(|x| x * x).sum();
     evals.sort_by(|a, b| b.gain.total_cmp(&a.gain));
     let bi = evals.iter().position(|e| significant(e, total_before))?;
-    let (bm, bse) = (evals[bi].gain, evals[bi].gain_se);
-    let mut group: Vec<usize> = (0..evals.len())
-        .filter(|&j| {
-            j != bi
-                && significant(&evals[j], total_before)
-                && evals[j].gain >= bm - 2.0 * bse.max(evals[j].gain_se)
-        })
-        .collect();
-    group.push(bi);
+    let mut group = tie_group(evals, bi, total_before);
     // among tied candidates the penalised criterion decides: a 1-parameter
     // effect beats a 30-parameter refit that explains the same on the
     // training part
@@ -257,18 +251,39 @@ pub fn choose(evals: &mut [Evaluation], before: &[f64]) -> Option<(usize, Vec<us
     });
     let chosen = group[0];
     if let Some(lean) = leaner(evals, chosen, total_before) {
-        // deferred, not tied: the leaner one explains its joints as well
-        return Some((lean, vec![]));
+        // the one deferred is not tied: it explains more elsewhere
+        let tied = tie_group(evals, lean, total_before);
+        return Some((
+            lean,
+            tied.into_iter()
+                .filter(|&j| j != lean && j != chosen)
+                .collect(),
+        ));
     }
     Some((chosen, group.into_iter().filter(|&j| j != chosen).collect()))
 }
 
-/// The share of what the chosen candidate removes on a leaner one's joints
-/// that the leaner one must remove there to be preferred.
+/// `at` and every significant candidate whose gain is within two standard
+/// errors of its gain.
+fn tie_group(evals: &[Evaluation], at: usize, total_before: f64) -> Vec<usize> {
+    let (bm, bse) = (evals[at].gain, evals[at].gain_se);
+    let mut group: Vec<usize> = (0..evals.len())
+        .filter(|&j| {
+            j != at
+                && significant(&evals[j], total_before)
+                && evals[j].gain >= bm - 2.0 * bse.max(evals[j].gain_se)
+        })
+        .collect();
+    group.push(at);
+    group
+}
+
+/// The share of what the chosen candidate removes on the joints both
+/// lower that a leaner one must remove there to be preferred.
 const PARSIMONY: f64 = 0.9;
 
 /// A significant candidate with fewer parameters than `chosen` that, on
-/// the joints it lowers (held-out MSE by ≥ 1 %), removes at least
+/// the joints both lower (held-out MSE by ≥ 1 % each), removes at least
 /// [`PARSIMONY`] of what `chosen` removes there: an offset on one joint
 /// before a 70-parameter inertia refit that also bends to it (the refit
 /// can follow in a later round for the other joints). The one with the
@@ -286,13 +301,14 @@ fn leaner(evals: &[Evaluation], chosen: usize, total_before: f64) -> Option<usiz
                 return false;
             }
             let (g, b) = (gains(e), &e.report.heldout_rms_before);
-            let on: Vec<usize> = (0..g.len())
-                .filter(|&i| g[i] >= 0.01 * b[i] * b[i])
+            let lowers = |x: &[f64], i: usize| x[i] >= 0.01 * b[i] * b[i];
+            let shared: Vec<usize> = (0..g.len())
+                .filter(|&i| lowers(&g, i) && lowers(&big, i))
                 .collect();
-            let (mine, theirs) = on
+            let (mine, theirs) = shared
                 .iter()
                 .fold((0.0, 0.0), |(m, t), &i| (m + g[i], t + big[i]));
-            significant(e, total_before) && !on.is_empty() && mine >= PARSIMONY * theirs
+            significant(e, total_before) && theirs > 0.0 && mine >= PARSIMONY * theirs
         })
         .max_by(|&a, &b| evals[a].gain.total_cmp(&evals[b].gain))
 }
@@ -427,6 +443,13 @@ mod tests {
         ];
         let (chosen, _) = choose(&mut evals, &before).unwrap();
         assert_eq!(evals[chosen].report.effect, "link_inertia");
+        // a leaner one that works only where the chosen one does not is no rival
+        let mut evals = vec![
+            scored("torque_gain", &[0.3, 0.3, 1.0], 3, -900.0),
+            scored("offset", &[1.0, 1.0, 0.96], 1, -300.0),
+        ];
+        let (chosen, _) = choose(&mut evals, &before).unwrap();
+        assert_eq!(evals[chosen].report.effect, "torque_gain");
     }
 
     /// 2,011 held-out samples in 20 blocks: 20 gains, not 20 and a block

@@ -162,13 +162,16 @@ fn print_report(dg: &Diagnosis) {
         "effect", "params", "ΔBIC", "z"
     );
     let mut round = 0;
-    for e in &dg.ranked_effects {
+    // the accepted and the held-out-significant ones (a round with none:
+    // the last, where nothing was significant, is not headed)
+    for e in dg
+        .ranked_effects
+        .iter()
+        .filter(|e| e.accepted || e.z >= 3.0)
+    {
         if e.round != round {
             round = e.round;
             println!("  — round {round}");
-        }
-        if !e.accepted && e.z < 3.0 {
-            continue;
         }
         println!(
             "  {:<20} {:>6} {:>9.1} {:>7.1}  {} → {}{}{}",

@@ -3,7 +3,10 @@
 //! since the record began). Diagnosed with one column per joint, `(t −
 //! t̄)·f_i`: the nominal model's friction torque f_i times the time from
 //! the training part's mean t̄ — a constant error of the friction's size
-//! is `coulomb`'s or `viscous`'s and barely projects on it.
+//! is `coulomb`'s or `viscous`'s and barely projects on it. (The diagnosis
+//! lets every velocity-dependent term of the nominal law drift alike —
+//! Stribeck and load friction too — where the simulator drifts the two it
+//! scales.)
 
 use crate::dynamics::{FrictionTerm, sign};
 use crate::effects::{Context, Effect, EffectError, Hypothesis, Memory, ParamSpec, Range, Shape, Values};
@@ -61,6 +64,9 @@ impl Effect for FrictionDrift {
             .filter(|&i| (0..cx.samples()).any(|k| friction(k, i) != 0.0))
             .collect();
         if moving.is_empty() {
+            return Ok(Hypothesis::none());
+        }
+        if cx.samples() == 0 {
             return Ok(Hypothesis::none());
         }
         let train = cx.train.min(cx.samples()).max(1);

@@ -3,7 +3,8 @@
 //! generator, a sensor's eccentricity: `p` periods per joint turn; a joint
 //! with a rotor has `cogging`, periodic in the motor angle). Diagnosed on
 //! a grid of periods per joint turn, each a sine and a cosine column per
-//! such joint (an amplitude and a phase each).
+//! such joint (an amplitude and a phase each) whose motion over the
+//! training part covers at least one period.
 
 use crate::dynamics::{JointKind, Model};
 use crate::effects::{
@@ -85,8 +86,10 @@ impl Effect for Ripple {
         let span: Vec<(usize, f64)> = ripple_joints(cx.model)
             .into_iter()
             .map(|j| {
-                let (lo, hi) = d.q.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), q| {
-                    (a.min(q[j]), b.max(q[j]))
+                // on the training part: what the fit sees
+                let train = (0..cx.train.min(d.len())).map(|k| d.q[k][j]);
+                let (lo, hi) = train.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), q| {
+                    (a.min(q), b.max(q))
                 });
                 (j, hi - lo)
             })
