@@ -28,7 +28,8 @@ pub fn merge_aliases(cands: Vec<Candidate>, train: &Range<usize>) -> Vec<Candida
     out
 }
 
-/// Whether `a` and `b` are single plain linear variants with the same span.
+/// Whether `a` and `b` are single plain linear variants with the same span
+/// (their Gram matrices over `rows` are the ones the selection keeps).
 fn same_span(a: &Candidate, b: &Candidate, rows: &Range<usize>) -> bool {
     let plain = |c: &Candidate| {
         c.variants.len() == 1
@@ -38,22 +39,29 @@ fn same_span(a: &Candidate, b: &Candidate, rows: &Range<usize>) -> bool {
     if !plain(a) || !plain(b) {
         return false;
     }
-    let (x, y) = (&a.variants[0].columns.cols, &b.variants[0].columns.cols);
-    x.len() == y.len() && within_span(x, y, rows) && within_span(y, x, rows)
+    let (va, vb) = (&a.variants[0], &b.variants[0]);
+    let (x, y) = (&va.columns.cols, &vb.columns.cols);
+    if x.len() != y.len() {
+        return false;
+    }
+    let dot = |u: &[f64], v: &[f64]| rows.clone().map(|i| u[i] * v[i]).sum::<f64>();
+    let cross = DMatrix::from_fn(x.len(), y.len(), |i, j| dot(&x[i], &y[j]));
+    let (ga, gb) = (va.gram(rows), vb.gram(rows));
+    within_span(&ga, &gb, &cross) && within_span(&gb, &ga, &cross.transpose())
 }
 
-/// Whether every column of `y` lies within [`SAME_SPAN`] of the span of
-/// `x`'s columns over `rows` (least squares through `x`'s Gram matrix; a
-/// singular one is not a span to compare).
-fn within_span(x: &[Vec<f64>], y: &[Vec<f64>], rows: &Range<usize>) -> bool {
-    let dot = |u: &[f64], v: &[f64]| rows.clone().map(|i| u[i] * v[i]).sum::<f64>();
-    let g = DMatrix::from_fn(x.len(), x.len(), |i, j| dot(&x[i], &x[j]));
+/// Whether every column of Y lies within [`SAME_SPAN`] of the span of X's
+/// columns: `gx = XᵀX`, `gy = YᵀY` (row-major), `cross = XᵀY` (least
+/// squares through XᵀX; a singular one is not a span to compare).
+fn within_span(gx: &[f64], gy: &[f64], cross: &DMatrix<f64>) -> bool {
+    let (kx, ky) = cross.shape();
+    let g = DMatrix::from_row_slice(kx, kx, gx);
     let Some(chol) = g.cholesky() else {
         return false;
     };
-    y.iter().all(|c| {
-        let norm = dot(c, c);
-        let b = DVector::from_iterator(x.len(), x.iter().map(|xi| dot(xi, c)));
+    (0..ky).all(|j| {
+        let norm = gy[j * ky + j];
+        let b: DVector<f64> = cross.column(j).into_owned();
         let explained = b.dot(&chol.solve(&b));
         norm > 0.0 && norm - explained <= SAME_SPAN * norm
     })

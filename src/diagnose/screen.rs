@@ -11,7 +11,7 @@
 
 use super::candidate::Variant;
 use super::error::FitError;
-use super::fit::{apply, least_squares};
+use super::fit::least_squares;
 use super::split::Split;
 
 /// The share of the training samples the screening fit uses.
@@ -36,15 +36,19 @@ pub fn screened_columns(v: &Variant, split: &Split, r: &[f64]) -> Result<Vec<usi
         return Ok(all);
     }
     let beta = least_squares(v, fit, r)?;
-    let after = apply(&c.cols, &beta, r);
-    let mse = |x: &[f64], i: usize| -> f64 {
-        rest.clone()
-            .filter(|row| row % n == i)
-            .map(|row| x[row] * x[row])
-            .sum()
-    };
+    // per joint, Σ r² and Σ (r − Xβ)² over the rest, in one pass over it
+    let mut sums = vec![(0.0, 0.0); n];
+    for row in rest {
+        let mut after = r[row];
+        for (col, b) in c.cols.iter().zip(&beta) {
+            after -= b * col[row];
+        }
+        let s = &mut sums[row % n];
+        s.0 += r[row] * r[row];
+        s.1 += after * after;
+    }
     let kept: Vec<usize> = (0..n)
-        .filter(|&i| mse(&after, i) < (1.0 - SCREEN_GAIN) * mse(r, i))
+        .filter(|&i| sums[i].1 < (1.0 - SCREEN_GAIN) * sums[i].0)
         .collect();
     let on: Vec<usize> = all
         .into_iter()
