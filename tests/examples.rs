@@ -210,10 +210,10 @@ fn a_users_effect_that_does_not_fit_is_a_named_error() {
 }
 
 /// The real-data confusion table (`examples/confusion_real.rs`, the KUKA
-/// of `robots/kuka-lwr4`): every case diagnosed, and the ones the
-/// docs list as found on the shoulder joint — a 5 % sensor gain, a 20 ms
-/// torque delay, a 2° encoder offset — are found there, with nothing
-/// accepted beyond the untouched run's verdict.
+/// of `robots/kuka-lwr4`): every case diagnosed; the ones on the shoulder
+/// joint — a 5 % sensor gain, a 20 ms torque delay, a 2° encoder offset —
+/// are found there; at least 90 % of all are found, and no case accepts
+/// anything the untouched run does not already show.
 #[test]
 fn injected_effects_on_real_data_are_found_on_their_joint() {
     let (_, rows) = confusion_real::run("", &[]).unwrap();
@@ -226,6 +226,15 @@ fn injected_effects_on_real_data_are_found_on_their_joint() {
         // injected well above the repeatability there
         assert!(r.size.0 > 2.0 * r.size.1, "{}: {:?}", r.case, r.size);
         assert!(r.found, "{}: accepted {}", r.case, r.accepted);
-        assert_eq!(r.beyond, "—", "{}", r.case);
+    }
+    // the bar: at least 90 % found, nothing beyond the untouched run
+    let found = rows.iter().filter(|r| r.found).count();
+    assert!(
+        found * 10 >= rows.len() * 9,
+        "found {found} of {}",
+        rows.len()
+    );
+    for r in &rows {
+        assert_eq!(r.beyond, "—", "{}: accepted {}", r.case, r.accepted);
     }
 }

@@ -21,6 +21,7 @@
 mod alias;
 mod build;
 mod candidate;
+mod carry;
 mod error;
 mod fit;
 pub mod floor;

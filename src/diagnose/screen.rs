@@ -26,8 +26,7 @@ pub fn screened_columns(v: &Variant, split: &Split, r: &[f64]) -> Result<Vec<usi
     let c = &v.columns;
     let all: Vec<usize> = (0..c.cols.len()).collect();
     let n = split.joints;
-    let plain = c.bodies.is_empty() && !c.nonneg;
-    let (Some(joints), true) = (v.column_joints(n), plain) else {
+    let Some(joints) = per_joint(v, n) else {
         return Ok(all);
     };
     let cut = (split.first_heldout as f64 * SCREEN_FIT) as usize * n;
@@ -59,6 +58,16 @@ pub fn screened_columns(v: &Variant, split: &Split, r: &[f64]) -> Result<Vec<usi
     } else {
         on
     })
+}
+
+/// The joint of each column of `v` when it is a plain variant (no bodies,
+/// no sign constraint) whose columns lie in one joint each: the fit then
+/// separates into one independent fit per joint.
+pub fn per_joint(v: &Variant, n: usize) -> Option<&[usize]> {
+    let c = &v.columns;
+    (c.bodies.is_empty() && !c.nonneg)
+        .then(|| v.column_joints(n))
+        .flatten()
 }
 
 #[cfg(test)]

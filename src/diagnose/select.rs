@@ -3,6 +3,7 @@
 //! then the best significant one among those within noise of it.
 
 use super::candidate::{Candidate, Variant};
+use super::carry::drop_hurting;
 use super::fit::{Fit, apply, fit_candidate, least_squares_on};
 use super::report::EffectReport;
 use super::screen::screened_columns;
@@ -121,26 +122,6 @@ struct Best {
     fitted: usize,
 }
 
-/// Per-block held-out gains `MSE(r) − MSE(after)`: the held-out samples in
-/// `blocks` consecutive blocks of equal length (±1 sample; a remainder of
-/// a few samples is not a block of its own, whose mean would weigh as
-/// much as a full block's).
-fn block_gains(split: &Split, r: &[f64], after: &[f64], blocks: usize) -> Vec<f64> {
-    let n = split.joints;
-    let va = split.heldout.clone();
-    let m = va.len() / n;
-    let b = blocks.max(2).min(m.max(1));
-    (0..b)
-        .map(|j| {
-            let (s, e) = (va.start + j * m / b * n, va.start + (j + 1) * m / b * n);
-            (s..e)
-                .map(|i| r[i] * r[i] - after[i] * after[i])
-                .sum::<f64>()
-                / (e - s).max(1) as f64
-        })
-        .collect()
-}
-
 /// Scores one candidate (its best variant) against the current residual.
 pub fn evaluate(
     c: &Candidate,
@@ -153,22 +134,27 @@ pub fn evaluate(
     let n = split.joints;
     let Best {
         at,
-        rss: rss_after_tr,
-        beta,
-        fitted,
+        mut rss,
+        mut beta,
+        mut fitted,
     } = best_variant(c, split, r, round, warnings)?;
+    let dropped = drop_hurting(&c.variants[at], split, r, &mut beta);
     let v = &c.variants[at].columns;
-    let before = rms_per_joint(&r[split.heldout.clone()], n);
     let after = apply(&v.cols, &beta, r);
+    if dropped > 0 {
+        fitted -= dropped;
+        rss = after[split.train.clone()].iter().map(|x| x * x).sum();
+    }
+    let before = rms_per_joint(&r[split.heldout.clone()], n);
     let after_rms = rms_per_joint(&after[split.heldout.clone()], n);
-    let diffs = block_gains(split, r, &after, blocks);
+    let diffs = split.block_gains(r, &after, blocks, None);
     let m = diffs.iter().sum::<f64>() / diffs.len() as f64;
     let sd = (diffs.iter().map(|d| (d - m).powi(2)).sum::<f64>() / (diffs.len() - 1).max(1) as f64)
         .sqrt();
     let nt = split.train.len() as f64;
     let rss_tr: f64 = r[split.train.clone()].iter().map(|x| x * x).sum();
     let params = fitted + v.nonlinear;
-    let dbic = nt * (rss_after_tr / rss_tr.max(1e-300)).ln() + params as f64 * nt.ln();
+    let dbic = nt * (rss / rss_tr.max(1e-300)).ln() + params as f64 * nt.ln();
     let joints = (0..n)
         .filter(|&i| after_rms[i] < 0.99 * before[i])
         .map(|i| names[i].clone())
@@ -239,9 +225,27 @@ pub fn choose(evals: &mut [Evaluation], before: &[f64]) -> Option<(usize, Vec<us
     evals.sort_by(|a, b| b.gain.total_cmp(&a.gain));
     let bi = evals.iter().position(|e| significant(e, total_before))?;
     let mut group = tie_group(evals, bi, total_before);
-    // among tied candidates the penalised criterion decides: a 1-parameter
-    // effect beats a 30-parameter refit that explains the same on the
-    // training part
+    by_criterion(evals, &mut group);
+    let chosen = group[0];
+    if let Some(lean) = leaner(evals, chosen, total_before) {
+        // the one deferred is not tied: it explains more elsewhere; the
+        // leaner one's group is decided like any other, among those
+        // leaner than the one deferred
+        let params = evals[chosen].report.params;
+        let mut tied: Vec<usize> = tie_group(evals, lean, total_before)
+            .into_iter()
+            .filter(|&j| j != chosen && evals[j].report.params < params)
+            .collect();
+        by_criterion(evals, &mut tied);
+        return Some((tied[0], tied[1..].to_vec()));
+    }
+    Some((chosen, group[1..].to_vec()))
+}
+
+/// Orders a tie group by the penalised criterion: among tied candidates a
+/// 1-parameter effect beats a 30-parameter refit that explains the same
+/// on the training part (the lowest ΔBIC, then the fewest parameters).
+fn by_criterion(evals: &[Evaluation], group: &mut [usize]) {
     group.sort_by(|&a, &b| {
         evals[a]
             .report
@@ -249,18 +253,6 @@ pub fn choose(evals: &mut [Evaluation], before: &[f64]) -> Option<(usize, Vec<us
             .total_cmp(&evals[b].report.delta_bic)
             .then(evals[a].report.params.cmp(&evals[b].report.params))
     });
-    let chosen = group[0];
-    if let Some(lean) = leaner(evals, chosen, total_before) {
-        // the one deferred is not tied: it explains more elsewhere
-        let tied = tie_group(evals, lean, total_before);
-        return Some((
-            lean,
-            tied.into_iter()
-                .filter(|&j| j != lean && j != chosen)
-                .collect(),
-        ));
-    }
-    Some((chosen, group.into_iter().filter(|&j| j != chosen).collect()))
 }
 
 /// `at` and every significant candidate whose gain is within two standard
@@ -315,7 +307,7 @@ fn leaner(evals: &[Evaluation], chosen: usize, total_before: f64) -> Option<usiz
 
 #[cfg(test)]
 mod tests {
-    use super::{Evaluation, Split, block_bootstrap_z, block_gains, choose, evaluate, implausible};
+    use super::{Evaluation, Split, block_bootstrap_z, choose, evaluate, implausible};
     use crate::diagnose::candidate::Candidate;
     use crate::diagnose::report::EffectReport;
     use crate::effects::{Columns, Hypothesis, Library};
@@ -452,6 +444,28 @@ mod tests {
         assert_eq!(evals[chosen].report.effect, "torque_gain");
     }
 
+    /// When a leaner candidate goes first, its tie group is decided like
+    /// any other: a 1-parameter offset tied with the leaner 6-parameter
+    /// delay, and with the lower ΔBIC, is chosen although on its own it
+    /// explains too little of the refit's gain to be leaner.
+    #[test]
+    fn the_leaner_candidates_tie_group_goes_by_the_criterion() {
+        let before = [1.0; 3];
+        let mut evals = vec![
+            scored("link_inertia", &[0.5, 0.5, 0.6], 70, -900.0),
+            scored("time_delay", &[0.55, 0.55, 1.0], 6, -300.0),
+            scored("offset", &[1.0, 1.0, 0.75], 1, -400.0),
+        ];
+        evals.iter_mut().for_each(|e| e.gain_se = 0.2);
+        let (chosen, tied) = choose(&mut evals, &before).unwrap();
+        assert_eq!(evals[chosen].report.effect, "offset");
+        let tied: Vec<&str> = tied
+            .iter()
+            .map(|&j| evals[j].report.effect.as_str())
+            .collect();
+        assert_eq!(tied, ["time_delay"]);
+    }
+
     /// 2,011 held-out samples in 20 blocks: 20 gains, not 20 and a block
     /// of the 11 left over, whose mean would weigh as much as 100 samples'.
     #[test]
@@ -465,7 +479,7 @@ mod tests {
         let after: Vec<f64> = (0..samples * n)
             .map(|i| if i / n >= samples - 11 { 10.0 } else { 0.5 })
             .collect();
-        let g = block_gains(&split, &r, &after, 20);
+        let g = split.block_gains(&r, &after, 20, None);
         assert_eq!(g.len(), 20);
         assert!(g[..19].iter().all(|x| (x - 0.75).abs() < 1e-12), "{g:?}");
         // the last block: 100 or 101 samples, 11 of them at −99
