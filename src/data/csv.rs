@@ -91,8 +91,6 @@ pub(crate) fn read_raw(
     joints: &[&str],
     require_tau: bool,
 ) -> Result<RawLog, DataError> {
-    let default = Mapping::csv_default();
-    let mut mapping = mapping.unwrap_or(&default);
     let mut rdr = ::csv::ReaderBuilder::new()
         .trim(csv::Trim::All)
         .flexible(true)
@@ -110,11 +108,7 @@ pub(crate) fn read_raw(
         .iter()
         .map(str::to_string)
         .collect();
-    let has = |name: &str| header.iter().any(|h| h == name);
-    if only_default && has("t") && !has(mapping.time_name()) {
-        mapping = &default; // the format's own names, not the robot's default mapping
-    }
-    let cols = Columns::find(&header, path, mapping, joints, require_tau)?;
+    let cols = columns_of(&header, path, (mapping, only_default), joints, require_tau)?;
     let mut d = RawLog {
         path: path.into(),
         q: Samples::new(joints.len()),
@@ -133,18 +127,36 @@ pub(crate) fn read_raw(
                 message: format!("more than {MAX_ROWS} data rows; split the log"),
             });
         }
-        cols.push_row(&mut d, &rec, &header, path, r + 1)?;
+        cols.push_fields(&mut d, (rec.len(), |c| &rec[c]), &header, path, r + 1)?;
     }
     Ok(d)
 }
 
+/// The columns of `header` for the robot's `joints`, through `mapping` or
+/// the format's own names (see [`read_raw`]).
+pub(super) fn columns_of(
+    header: &[String],
+    path: &str,
+    (mapping, only_default): (Option<&Mapping>, bool),
+    joints: &[&str],
+    require_tau: bool,
+) -> Result<Columns, DataError> {
+    let default = Mapping::csv_default();
+    let mut mapping = mapping.unwrap_or(&default);
+    let has = |name: &str| header.iter().any(|h| h == name);
+    if only_default && has("t") && !has(mapping.time_name()) {
+        mapping = &default; // the format's own names, not the robot's default mapping
+    }
+    Columns::find(header, path, mapping, joints, require_tau)
+}
+
 /// Where each quantity's columns are in the header (per robot joint), and
 /// the factor of each to SI units.
-struct Columns {
+pub(super) struct Columns {
     t: (usize, f64),
     q: (Vec<usize>, f64),
     qd: Option<(Vec<usize>, f64)>,
-    qdd: Option<(Vec<usize>, f64)>,
+    pub(super) qdd: Option<(Vec<usize>, f64)>,
     tau: Option<(Vec<usize>, f64)>,
 }
 
@@ -153,7 +165,7 @@ impl Columns {
     /// be there, every other
     /// quantity is all there or absent (a partial set is an error; with
     /// the default names, `qd_*` and `tau_*` may be absent).
-    fn find(
+    pub(super) fn find(
         header: &[String],
         path: &str,
         mapping: &Mapping,
@@ -208,25 +220,31 @@ impl Columns {
         })
     }
 
-    /// Reads one record (1-based data `row`) into `d`, checking its length
-    /// and every value.
-    fn push_row(
+    /// Whether the file has q̇ for every joint.
+    pub(super) fn has_qd(&self) -> bool {
+        self.qd.is_some()
+    }
+
+    /// Reads one record (1-based data `row`; its number of fields and
+    /// field `c` by `field(c)`) into `d`, checking its length and every
+    /// value.
+    pub(super) fn push_fields<'r>(
         &self,
         d: &mut RawLog,
-        rec: &::csv::StringRecord,
+        (len, field): (usize, impl Fn(usize) -> &'r str),
         header: &[String],
         path: &str,
         row: usize,
     ) -> Result<(), DataError> {
-        if rec.len() != header.len() {
+        if len != header.len() {
             return Err(DataError::Row {
                 path: path.into(),
                 row,
-                message: format!("has {} fields, the header has {}", rec.len(), header.len()),
+                message: format!("has {len} fields, the header has {}", header.len()),
             });
         }
         let get = |c: usize, scale: f64| -> Result<f64, DataError> {
-            let raw = &rec[c];
+            let raw = field(c);
             let bad = |message: String| DataError::Value {
                 path: path.into(),
                 row,

@@ -14,6 +14,8 @@
 //!   SI units, any column order) with validation naming the row and column;
 //! - [`filter`]: the zero-phase Butterworth low-pass and the differentiator
 //!   that give q̈ (and, for raw encoders, q̇) offline;
+//! - [`stream`]: a prepared CSV log (with q̈) streamed in blocks of rows,
+//!   parsed on the thread pool, for reductions that need one pass;
 //! - [`rms`], [`rms_per_joint`]: the one RMS helper;
 //! - [`target`]: what an output path names (a file, standard output, a device) and so
 //!   how it is written;
@@ -32,6 +34,7 @@ mod read;
 pub mod ros2;
 pub mod spectrum;
 mod stats;
+pub mod stream;
 pub mod target;
 mod warning;
 pub mod write;
@@ -43,7 +46,7 @@ pub use filter::estimate_qdd;
 pub use mapping::Mapping;
 pub use prepare::{FileReport, Prepare, Velocity};
 pub use raw::RawLog;
-pub use read::{ReadOptions, Reading, read_logs};
+pub use read::{ReadOptions, Reading, read_as_csv, read_logs};
 pub use stats::{rms, rms_per_joint};
 pub use target::Target;
 pub use warning::ReadWarning;

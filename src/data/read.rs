@@ -77,6 +77,19 @@ fn prep_of(opts: &ReadOptions) -> Prepare {
     }
 }
 
+/// Whether [`read_logs`] reads `path` as CSV (by its extension: anything
+/// but `.npz`, `.npy`, `.mcap` and the formats it refuses).
+pub fn read_as_csv(path: &Path) -> bool {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    !matches!(
+        ext.as_deref(),
+        Some("npz" | "npy" | "mcap" | "bag" | "db3" | "parquet")
+    )
+}
+
 /// One file, raw.
 fn read_raw(path: &Path, joints: &[&str], opts: &ReadOptions) -> Result<RawLog, DataError> {
     let mapping = opts.mapping.as_ref();

@@ -87,6 +87,12 @@ impl Samples {
         self.rows == 0
     }
 
+    /// Removes every row (keeping the room, for reuse).
+    pub fn clear(&mut self) {
+        self.data.clear();
+        self.rows = 0;
+    }
+
     /// Appends one row.
     ///
     /// # Panics

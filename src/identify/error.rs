@@ -198,6 +198,11 @@ pub enum IdentifyError {
         /// The per-joint matrices kept.
         kept: usize,
     },
+    /// A load friction term fitted on a reduction without its samples.
+    #[error(
+        "the load friction term is refitted on the rigid torques of every training sample, which a reduction made while reading does not keep: read the data whole"
+    )]
+    LoadNeedsSamples,
     /// A grid of weights to choose from that is empty or has a weight
     /// that is not positive and finite.
     #[error("the weights to choose from: {what}")]

@@ -161,6 +161,14 @@ impl GramAcc {
         Ok(())
     }
 
+    /// [`flush`](Self::flush)es and frees the chunk's room (kept: the
+    /// sums), for an accumulator kept only to be merged.
+    pub(crate) fn compact(&mut self) -> Result<(), NotFinite> {
+        self.flush()?;
+        self.blocks.iter_mut().for_each(|b| *b = Vec::new());
+        Ok(())
+    }
+
     /// The chunk's first sample with a value that is not finite, if any.
     fn first_not_finite(&self) -> Option<NotFinite> {
         let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());

@@ -9,14 +9,16 @@
 //!
 //! Files: `options` (levels, regulariser, options, tolerances), `error`,
 //! `warning`, `reduce`, `builder` (assembling), `robot_facts` (a robot's
-//! set-up), `solved` (the answer, by name), `solve` (solving), `result`
-//! (the end-to-end identification and its report), `weighting` (per-joint
+//! set-up), `solved` (the answer, by name), `solve` (solving), `fit`
+//! (the end-to-end identification), `result` (its report), `stream` (training logs
+//! reduced while they are read), `weighting` (per-joint
 //! weighted least squares), `choose_weight` (the prior's weight by
 //! cross-validation).
 
 mod builder;
 pub mod choose_weight;
 mod error;
+mod fit;
 mod gram;
 mod options;
 pub mod reduce;
@@ -24,19 +26,22 @@ pub mod result;
 mod robot_facts;
 mod solve;
 mod solved;
+pub mod stream;
 mod warning;
 pub mod weighting;
 
 pub use builder::{Identification, Vars};
 pub use choose_weight::{WEIGHT_GRID, WeightChoice};
 pub use error::{GramProblem, IdentifyError};
+pub use fit::{LOAD_PASSES, identify};
 pub use options::{CHECK_TOL, IdentifyOptions, Level, Regularizer, default_settings};
 pub use reduce::{Cost, Reduced, StreamReducer, cost, reduce_samples};
 pub use result::{
     BodyResult, Contributions, DEGENERATE_ADVICE, DataPreparation, Degenerate, IdentifyResult,
-    identify, predict_split, rms,
+    predict_split, rms,
 };
 pub use solve::solve_identification;
 pub use solved::{Solved, parameter_names};
+pub use stream::{StreamedLogs, reduce_logs};
 pub use warning::IdentifyWarning;
 pub use weighting::JointWeighting;

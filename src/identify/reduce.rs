@@ -348,11 +348,20 @@ pub struct StreamReducer<'m> {
     gram: GramAcc,
     chunk: usize,
     samples: usize,
+    /// The index of the first sample pushed (for errors).
+    first: usize,
 }
 
 impl<'m> StreamReducer<'m> {
     /// A reducer for `model`, multiplying out every `chunk` samples.
     pub fn new(model: &'m Model, chunk: usize) -> Self {
+        Self::starting_at(model, chunk, 0)
+    }
+
+    /// [`new`](Self::new), for samples whose first is sample `first` of
+    /// the whole (errors name samples by that count): one of several
+    /// reducers of parts of the data, [`merge`](Self::merge)d at the end.
+    pub fn starting_at(model: &'m Model, chunk: usize, first: usize) -> Self {
         let n = model.dof();
         let p = model.regressor_columns();
         let chunk = chunk_for(chunk, n, p + 1);
@@ -362,7 +371,34 @@ impl<'m> StreamReducer<'m> {
             gram: GramAcc::new(model, chunk),
             chunk,
             samples: 0,
+            first,
         }
+    }
+
+    /// The samples pushed.
+    pub fn samples(&self) -> usize {
+        self.samples
+    }
+
+    /// Multiplies out the samples pushed and frees the room for the next
+    /// chunk (kept: the sums), for a reducer kept only to be
+    /// [`merge`](Self::merge)d; an error if a value overflowed.
+    pub fn compact(mut self) -> Result<Self, IdentifyError> {
+        let first = self.first + self.samples - self.gram.samples;
+        self.gram.compact().map_err(|e| not_finite(first, e))?;
+        Ok(self)
+    }
+
+    /// The sums of `other` (of the same model) added to these; a chunk
+    /// not yet multiplied out is first (an error if its values overflow).
+    pub fn merge(mut self, mut other: Self) -> Result<Self, IdentifyError> {
+        for r in [&mut self, &mut other] {
+            let first = r.first + r.samples - r.gram.samples;
+            r.gram.flush().map_err(|e| not_finite(first, e))?;
+        }
+        self.gram = self.gram.merge(other.gram);
+        self.samples += other.samples;
+        Ok(self)
     }
 
     /// Adds one sample.
@@ -374,7 +410,7 @@ impl<'m> StreamReducer<'m> {
         tau: &[f64],
     ) -> Result<(), IdentifyError> {
         let n = self.model.dof();
-        let sample = self.samples;
+        let sample = self.first + self.samples;
         if tau.len() != n {
             return Err(IdentifyError::SampleLength {
                 sample,
@@ -388,23 +424,28 @@ impl<'m> StreamReducer<'m> {
             .map_err(|source| IdentifyError::Regressor { sample, source })?;
         self.samples += 1;
         if self.gram.samples == self.chunk {
-            let first = self.samples - self.chunk;
+            let first = self.first + self.samples - self.chunk;
             self.gram.flush().map_err(|e| not_finite(first, e))?;
         }
         Ok(())
     }
 
-    /// The reduced data; an error if the sums overflowed.
+    /// The reduced data (with each joint's Gram matrix, as
+    /// [`reduce_samples`] keeps them); an error if the sums overflowed.
     pub fn finish(self) -> Result<Reduced, IdentifyError> {
-        let first = self.samples - self.gram.samples;
-        let (mut gram, _) = self.gram.finish(false).map_err(|e| not_finite(first, e))?;
+        let first = self.first + self.samples - self.gram.samples;
+        let (n, p) = (self.model.dof(), self.model.regressor_columns());
+        let (mut gram, mut joint_grams) = (self.gram)
+            .finish(keep_joint_grams(n, p + 1))
+            .map_err(|e| not_finite(first, e))?;
         finite_gram(&gram)?;
         symmetrize(&mut gram);
+        joint_grams.iter_mut().for_each(symmetrize);
         Ok(Reduced {
             gram,
             samples: self.samples,
-            p: self.model.regressor_columns(),
-            joint_grams: vec![],
+            p,
+            joint_grams,
             reduce_time_s: 0.0,
         })
     }

@@ -241,7 +241,7 @@ fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
         // the bounding volumes (meshes read, ellipsoids fitted) are computed
         // while the logs are read
         let bounds = ellipsoid.then(|| s.spawn(|| robot.bounding_warnings().len()));
-        let train = read(a.data);
+        let train = training(a, &robot, &opts, read);
         if let Some(b) = bounds {
             b.join()
                 .map_err(|_| "computing the bounding volumes failed")?;
@@ -252,17 +252,19 @@ fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
             }
         }
         let train = train?;
-        super::report_reading("--data", &train);
+        super::report_files("--data", train.files());
         let mut id = identification(a, &robot)?.max_memory(super::gib(a.max_memory_gib)?);
-        super::warn_cost(momentlmi::identify::cost(&robot.model, train.data.len()).flops);
-        let choice = match parse_weight(a.weight)? {
-            Some(_) => None,
-            None => Some(
-                id.choose_weight(&train.data, &WEIGHT_GRID)
-                    .map_err(explain)?,
-            ),
+        super::warn_cost(momentlmi::identify::cost(&robot.model, train.samples()).flops);
+        let (choice, red) = match &train {
+            Training::Streamed(t) => (None, t.reduced.clone()),
+            Training::Whole(t) => {
+                let choice = match parse_weight(a.weight)? {
+                    Some(_) => None,
+                    None => Some(id.choose_weight(&t.data, &WEIGHT_GRID).map_err(explain)?),
+                };
+                (choice, id.reduce(&t.data).map_err(explain)?)
+            }
         };
-        let red = id.reduce(&train.data).map_err(explain)?;
         // the held-out files are read while the SDP is solved (on the core
         // the solver leaves idle); that thread is always joined, and a
         // held-out file that cannot be read is the error shown first (it is
@@ -272,7 +274,11 @@ fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
                 .then(|| read(a.validate))
                 .transpose()
         });
-        let fitted = id.fit_reduced(&train.data, &red).map_err(explain);
+        let fitted = match &train {
+            Training::Streamed(_) => id.fit_streamed(&red),
+            Training::Whole(t) => id.fit_reduced(&t.data, &red),
+        }
+        .map_err(explain);
         let val = val
             .join()
             .unwrap_or_else(|_| Err("reading the validation data failed".to_string()))?;
@@ -283,11 +289,65 @@ fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
         }
         r.weight_choice = choice;
         r.data_preparation = momentlmi::identify::DataPreparation {
-            training: train.files,
+            training: train.into_files(),
             validation: val.map(|v| v.files).unwrap_or_default(),
         };
         Ok(r)
     })
+}
+
+/// The training data: reduced while read (prepared CSV logs, when neither
+/// `--weight auto` nor a load friction term needs the samples again), or
+/// read whole.
+enum Training {
+    Streamed(momentlmi::identify::StreamedLogs),
+    Whole(momentlmi::data::Reading),
+}
+
+impl Training {
+    fn files(&self) -> &[momentlmi::data::FileReport] {
+        match self {
+            Self::Streamed(t) => &t.files,
+            Self::Whole(t) => &t.files,
+        }
+    }
+
+    fn into_files(self) -> Vec<momentlmi::data::FileReport> {
+        match self {
+            Self::Streamed(t) => t.files,
+            Self::Whole(t) => t.files,
+        }
+    }
+
+    fn samples(&self) -> usize {
+        match self {
+            Self::Streamed(t) => t.reduced.samples,
+            Self::Whole(t) => t.data.len(),
+        }
+    }
+}
+
+/// Reads `--data`: streamed into the reduction where it can be
+/// ([`Training`]), else whole with `read`.
+fn training(
+    a: &IdentifyArgs,
+    robot: &RobotDescription,
+    opts: &momentlmi::data::ReadOptions,
+    read: impl Fn(&[std::path::PathBuf]) -> Result<momentlmi::data::Reading, String>,
+) -> Result<Training, String> {
+    let load = robot.model.friction_terms().contains(&FrictionTerm::Load);
+    if parse_weight(a.weight)?.is_some() && !load {
+        let p: Vec<&Path> = a.data.iter().map(|p| p.as_path()).collect();
+        match momentlmi::identify::reduce_logs(&robot.model, &p, opts) {
+            Ok(Some(t)) => return Ok(Training::Streamed(t)),
+            Ok(None) => {}
+            Err(IdentifyError::Data(e)) => {
+                return Err(super::explain_data(e, a.robot, a.sidecar));
+            }
+            Err(e) => return Err(explain(e)),
+        }
+    }
+    read(a.data).map(Training::Whole)
 }
 
 /// `--weight`: a number, or `auto` (None).

@@ -144,11 +144,23 @@ pub(crate) fn read_data(
     spec: &str,
     sidecar: Option<&Path>,
 ) -> Result<momentlmi::data::Reading, String> {
+    momentlmi::data::read_logs(paths, names, opts).map_err(|e| explain_data(e, spec, sidecar))
+}
+
+/// A data error, with a hint when a missing joint column may be one a
+/// sidecar locks (see [`read_data`]).
+pub(crate) fn explain_data(
+    e: momentlmi::data::DataError,
+    spec: &str,
+    sidecar: Option<&Path>,
+) -> String {
     use momentlmi::data::DataError;
-    momentlmi::data::read_logs(paths, names, opts).map_err(|e| match e {
-        DataError::MissingColumn { ref column, ref path, .. }
-            if column.starts_with("q_") && sidecar.is_none() && Path::new(spec).is_file() =>
-        {
+    match e {
+        DataError::MissingColumn {
+            ref column,
+            ref path,
+            ..
+        } if column.starts_with("q_") && sidecar.is_none() && Path::new(spec).is_file() => {
             match simulated_with_sidecar(Path::new(path)) {
                 Some(sc) => format!(
                     "{e}\nhint: the data were simulated with --sidecar {sc}; pass it here too"
@@ -160,18 +172,23 @@ pub(crate) fn read_data(
             }
         }
         e => e.to_string(),
-    })
+    }
 }
 
 /// Prints what reading did to each raw log (files taken as prepared say
 /// nothing).
 pub(crate) fn report_reading(what: &str, r: &momentlmi::data::Reading) {
-    for f in &r.files {
+    report_files(what, &r.files)
+}
+
+/// [`report_reading`] of the files' reports.
+pub(crate) fn report_files(what: &str, files: &[momentlmi::data::FileReport]) {
+    for f in files {
         for w in &f.warnings {
             eprintln!("warning: {what} {}: {w}", f.path);
         }
     }
-    for f in r.files.iter().filter(|f| !f.taken_as_prepared) {
+    for f in files.iter().filter(|f| !f.taken_as_prepared) {
         eprintln!(
             "note: {what} {}: {} rows, {} repeated dropped, steps {:.2}–{:.2} ms (median {:.2}), {} gap(s), {} segment(s), resampled at {:.1} Hz, low-pass {:.2} Hz ({}), q̇ {}, {} samples trimmed per segment end, {} samples",
             f.path,

@@ -1,0 +1,527 @@
+//! A prepared CSV log (one with q̈, as `simulate` writes: taken as it is,
+//! [`super::prepare`]) streamed in blocks of rows: the main thread reads
+//! the next block while the thread pool parses and uses the ones before,
+//! at most a few blocks at a time, so memory does not grow with the file.
+//! Each row is checked as [`read_logs`](super::read_logs) checks it (the
+//! same code), and time must increase within and across blocks.
+//!
+//! A raw log (no q̈) needs its whole segments for the zero-phase filter
+//! and the derivatives: it is not streamed ([`stream_prepared_csv`] says
+//! so by returning `None`), and is read whole.
+
+use super::csv::{Columns, MAX_LINE_BYTES, MAX_ROWS, columns_of};
+use super::error::DataError;
+use super::prepare::FileReport;
+use super::raw::RawLog;
+use super::read::ReadOptions;
+use crate::dynamics::Samples;
+use std::io::Read;
+use std::path::Path;
+use std::sync::{Condvar, Mutex};
+
+/// The most bytes of one block (whole lines; a longer line makes its
+/// block longer, up to [`MAX_LINE_BYTES`]); a small file is cut into
+/// about four blocks per thread, of at least [`MIN_BLOCK_BYTES`].
+pub const BLOCK_BYTES: usize = 1 << 20;
+/// The fewest bytes of a block (but the last).
+pub const MIN_BLOCK_BYTES: usize = 1 << 16;
+
+/// A block of a prepared log handed to the caller: its samples (t, q, q̇,
+/// q̈ and τ when the file has them, SI units, the robot's joint order) and
+/// the 1-based data row of its first sample.
+pub struct Block<'a> {
+    /// The first sample's data row (1-based, as errors count rows).
+    pub first_row: usize,
+    /// The samples.
+    pub raw: &'a RawLog,
+}
+
+/// What one block's task returns: the caller's result, the block's first
+/// and last time stamps and its number of samples.
+type Done<R> = Result<(R, Option<(f64, f64)>, usize), DataError>;
+
+/// Streams `path` (a CSV with q̈ for every joint) through `each`, block by
+/// block on the thread pool; returns the results in the file's order and
+/// the file's report, or `None` when the file is not a prepared CSV (no
+/// q̈ columns: read it whole). Errors name the row and column; the first
+/// in the file's order is returned.
+pub fn stream_prepared_csv<R: Send>(
+    path: &Path,
+    joints: &[&str],
+    opts: &ReadOptions,
+    each: impl Fn(&Block) -> R + Sync,
+) -> Result<Option<(Vec<R>, FileReport)>, DataError> {
+    let len = std::fs::metadata(path).map_or(0, |m| m.len()) as usize;
+    let block = (len / (4 * rayon::current_num_threads())).clamp(MIN_BLOCK_BYTES, BLOCK_BYTES);
+    stream_in_blocks(path, joints, opts, each, block)
+}
+
+/// [`stream_prepared_csv`] in blocks of `block` bytes.
+fn stream_in_blocks<R: Send>(
+    path: &Path,
+    joints: &[&str],
+    opts: &ReadOptions,
+    each: impl Fn(&Block) -> R + Sync,
+    block: usize,
+) -> Result<Option<(Vec<R>, FileReport)>, DataError> {
+    let p = path.display().to_string();
+    let io = |source| DataError::Io {
+        path: p.clone(),
+        source,
+    };
+    let mut file = std::fs::File::open(path).map_err(io)?;
+    let (header, mut rest) = read_header(&mut file, &p)?;
+    let mapping = (opts.mapping.as_ref(), opts.mapping_is_default);
+    if mapping.0.is_some_and(|m| m.q.is_none()) {
+        return Ok(None); // the whole-file reader names the problem
+    }
+    let cols = columns_of(&header, &p, mapping, joints, opts.require_tau)?;
+    if cols.qdd.is_none() {
+        return Ok(None);
+    }
+    if !cols.has_qd() {
+        return Err(DataError::Array {
+            path: p,
+            array: "qd".into(),
+            message: "the file has q̈ (taken as prepared) but no q̇".into(),
+        });
+    }
+    let at = Parse {
+        cols: &cols,
+        header: &header,
+        path: &p,
+        joints: joints.len(),
+    };
+    let results = blocks((&mut file, &mut rest, block), &p, |text, first_row| {
+        at.block(text, first_row, &each)
+    })?;
+    let mut out = Vec::with_capacity(results.len());
+    let (mut last, mut rows): (Option<f64>, usize) = (None, 0);
+    for r in results {
+        let (value, span, count) = r?;
+        if let (Some(prev), Some((first, _))) = (last, span)
+            && first <= prev
+        {
+            return Err(not_after(&p, rows + 1, first, prev));
+        }
+        last = span.map(|s| s.1).or(last);
+        rows += count;
+        out.push(value);
+    }
+    if rows == 0 {
+        return Err(DataError::Row {
+            path: p,
+            row: 1,
+            message: "no data rows".into(),
+        });
+    }
+    let report = FileReport {
+        path: p,
+        rows,
+        taken_as_prepared: true,
+        segments: 1,
+        samples: rows,
+        velocity: opts.velocity,
+        ..FileReport::default()
+    };
+    Ok(Some((out, report)))
+}
+
+/// The header line (parsed as CSV, fields trimmed) and what was read past it.
+fn read_header(file: &mut std::fs::File, path: &str) -> Result<(Vec<String>, Vec<u8>), DataError> {
+    let mut buf = vec![];
+    let mut chunk = vec![0u8; 1 << 16];
+    let end = loop {
+        if let Some(i) = buf.iter().position(|&b| b == b'\n') {
+            break i;
+        }
+        if buf.len() > MAX_LINE_BYTES {
+            return Err(row_error(
+                path,
+                0,
+                format!("a line longer than {MAX_LINE_BYTES} bytes"),
+            ));
+        }
+        let k = file.read(&mut chunk).map_err(|source| DataError::Io {
+            path: path.into(),
+            source,
+        })?;
+        if k == 0 {
+            break buf.len();
+        }
+        buf.extend_from_slice(&chunk[..k]);
+    };
+    let mut rdr = ::csv::ReaderBuilder::new()
+        .trim(::csv::Trim::All)
+        .has_headers(false)
+        .from_reader(&buf[..end]);
+    let mut rec = ::csv::StringRecord::new();
+    let read = rdr.read_record(&mut rec);
+    let header = match read {
+        Ok(true) => rec.iter().map(str::to_string).collect(),
+        Ok(false) => vec![],
+        Err(e) => return Err(row_error(path, 0, e.to_string())),
+    };
+    let rest = buf.get(end + 1..).unwrap_or_default().to_vec();
+    Ok((header, rest))
+}
+
+/// Reads `file` (after `rest`, the bytes already read) in blocks of whole
+/// lines of about `size` bytes and runs `task(block, first_row)` on each on the thread pool, at
+/// most a few at once; returns the results in order.
+fn blocks<R: Send>(
+    (file, rest, size): (&mut std::fs::File, &mut Vec<u8>, usize),
+    path: &str,
+    task: impl Fn(&[u8], usize) -> Done<R> + Sync,
+) -> Result<Vec<Done<R>>, DataError> {
+    let limit = 2 * rayon::current_num_threads() + 1;
+    let in_flight = Gate::new(limit);
+    // the blocks' buffers, reused: fresh pages cost more than the parsing
+    let pool: Mutex<Vec<Vec<u8>>> = Mutex::new(vec![]);
+    let done: Mutex<Vec<(usize, Done<R>)>> = Mutex::new(vec![]);
+    let failed = std::sync::atomic::AtomicBool::new(false);
+    let mut read_error = None;
+    rayon::in_place_scope(|s| {
+        let (mut index, mut first_row) = (0usize, 1usize);
+        loop {
+            if failed.load(std::sync::atomic::Ordering::Relaxed) {
+                break;
+            }
+            let spare = pool
+                .lock()
+                .ok()
+                .and_then(|mut p| p.pop())
+                .unwrap_or_default();
+            let block = match next_block((file, rest, size), spare, path) {
+                Ok(Some(b)) => b,
+                Ok(None) => break,
+                Err(e) => {
+                    read_error = Some(e);
+                    break;
+                }
+            };
+            let lines = block.iter().filter(|&&b| b == b'\n').count() + 1;
+            if first_row + lines > MAX_ROWS + 1 {
+                let message = format!("more than {MAX_ROWS} data rows; split the log");
+                read_error = Some(row_error(path, MAX_ROWS + 1, message));
+                break;
+            }
+            let slot = in_flight.enter();
+            let (task, done, failed, pool) = (&task, &done, &failed, &pool);
+            s.spawn(move |_| {
+                let _slot = slot; // freed however the task ends
+                let r = task(&block, first_row);
+                if r.is_err() {
+                    failed.store(true, std::sync::atomic::Ordering::Relaxed);
+                }
+                done.lock()
+                    .expect("no task panics holding it")
+                    .push((index, r));
+                if let Ok(mut p) = pool.lock() {
+                    p.push(block);
+                }
+            });
+            index += 1;
+            first_row += lines;
+        }
+    });
+    let mut done = done.into_inner().expect("no task panics holding it");
+    done.sort_by_key(|d| d.0);
+    // a block's own error comes before a read error further on
+    if let Some(e) = read_error
+        && done.iter().all(|d| d.1.is_ok())
+    {
+        return Err(e);
+    }
+    Ok(done.into_iter().map(|d| d.1).collect())
+}
+
+/// The next block of whole lines (the last may lack its line break), or
+/// `None` at the end of the file; read into `buf` (emptied first).
+fn next_block(
+    (file, rest, size): (&mut std::fs::File, &mut Vec<u8>, usize),
+    mut buf: Vec<u8>,
+    path: &str,
+) -> Result<Option<Vec<u8>>, DataError> {
+    buf.clear();
+    buf.append(rest);
+    loop {
+        let want = size.saturating_sub(buf.len()).max(1 << 12) as u64;
+        // read_to_end fills the spare room without zeroing it first
+        let k = (&mut *file)
+            .take(want)
+            .read_to_end(&mut buf)
+            .map_err(|source| DataError::Io {
+                path: path.into(),
+                source,
+            })?;
+        let eof = k == 0;
+        if eof {
+            return Ok((!buf.is_empty()).then_some(buf));
+        }
+        if buf.len() >= size {
+            match buf.iter().rposition(|&b| b == b'\n') {
+                Some(i) => {
+                    rest.extend_from_slice(&buf[i + 1..]);
+                    buf.truncate(i); // without the line break
+                    return Ok(Some(buf));
+                }
+                None if buf.len() > MAX_LINE_BYTES => {
+                    let message = format!("a line longer than {MAX_LINE_BYTES} bytes");
+                    return Err(row_error(path, 0, message));
+                }
+                None => {} // one long line: read on
+            }
+        }
+    }
+}
+
+/// What parsing a block needs.
+struct Parse<'a> {
+    cols: &'a Columns,
+    header: &'a [String],
+    path: &'a str,
+    joints: usize,
+}
+
+impl Parse<'_> {
+    /// Parses the lines of `block` (data rows from `first_row`), checks
+    /// that time increases and hands the samples to `each`.
+    fn block<R>(&self, block: &[u8], first_row: usize, each: &impl Fn(&Block) -> R) -> Done<R> {
+        // each thread's samples buffer, reused from block to block
+        thread_local! {
+            static RAW: std::cell::RefCell<RawLog> = std::cell::RefCell::default();
+        }
+        RAW.with_borrow_mut(|raw| {
+            self.empty(raw);
+            let text = std::str::from_utf8(block).map_err(|e| {
+                let before = &block[..e.valid_up_to()];
+                let row = first_row + before.iter().filter(|&&b| b == b'\n').count();
+                row_error(self.path, row, "is not UTF-8 text".into())
+            })?;
+            let mut fields: Vec<&str> = Vec::with_capacity(self.header.len());
+            for (k, line) in text.split('\n').enumerate() {
+                let row = first_row + k;
+                let line = line.strip_suffix('\r').unwrap_or(line);
+                if line.trim().is_empty() {
+                    continue; // a blank line, as the whole-file reader skips it
+                }
+                fields.clear();
+                fields.extend(line.split(',').map(unquoted));
+                let f = &fields;
+                (self.cols).push_fields(raw, (f.len(), |c| f[c]), self.header, self.path, row)?;
+                let n = raw.t.len();
+                if n > 1 && raw.t[n - 1] <= raw.t[n - 2] {
+                    return Err(not_after(self.path, row, raw.t[n - 1], raw.t[n - 2]));
+                }
+            }
+            let span = raw.t.first().zip(raw.t.last()).map(|(a, b)| (*a, *b));
+            let count = raw.t.len();
+            Ok((each(&Block { first_row, raw }), span, count))
+        })
+    }
+
+    /// `raw` emptied for this file's samples (its room kept).
+    fn empty(&self, raw: &mut RawLog) {
+        if raw.q.width() != self.joints || raw.path != self.path {
+            *raw = RawLog {
+                path: self.path.into(),
+                q: Samples::new(self.joints),
+                ..RawLog::default()
+            };
+        }
+        raw.t.clear();
+        raw.q.clear();
+        for s in [&mut raw.qd, &mut raw.qdd, &mut raw.tau]
+            .into_iter()
+            .flatten()
+        {
+            s.clear();
+        }
+    }
+}
+
+/// A field trimmed and without one pair of enclosing double quotes.
+fn unquoted(f: &str) -> &str {
+    let f = f.trim();
+    f.strip_prefix('"')
+        .and_then(|x| x.strip_suffix('"'))
+        .map_or(f, str::trim)
+}
+
+fn row_error(path: &str, row: usize, message: String) -> DataError {
+    DataError::Row {
+        path: path.into(),
+        row,
+        message,
+    }
+}
+
+/// Time at `row` not after the previous row's, as the whole-file reader says it.
+fn not_after(path: &str, row: usize, t: f64, prev: f64) -> DataError {
+    DataError::Value {
+        path: path.into(),
+        row,
+        column: "t".into(),
+        message: format!("time {t} is not after the previous row's {prev}"),
+    }
+}
+
+/// A counting gate: at most `limit` holders at once.
+struct Gate {
+    count: Mutex<usize>,
+    freed: Condvar,
+    limit: usize,
+}
+
+impl Gate {
+    fn new(limit: usize) -> Self {
+        Self {
+            count: Mutex::new(0),
+            freed: Condvar::new(),
+            limit,
+        }
+    }
+
+    /// Waits for a free place and holds it until the slot is dropped.
+    fn enter(&self) -> Slot<'_> {
+        let mut c = self
+            .count
+            .lock()
+            .expect("the gate's lock is never poisoned");
+        while *c >= self.limit {
+            c = self
+                .freed
+                .wait(c)
+                .expect("the gate's lock is never poisoned");
+        }
+        *c += 1;
+        Slot(self)
+    }
+}
+
+/// A place held in a [`Gate`].
+struct Slot<'g>(&'g Gate);
+
+impl Drop for Slot<'_> {
+    fn drop(&mut self) {
+        let mut c = (self.0.count.lock()).unwrap_or_else(std::sync::PoisonError::into_inner);
+        *c -= 1;
+        self.0.freed.notify_one();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Block, stream_in_blocks};
+    use crate::data::{DataError, Dataset, ReadOptions, Samples};
+
+    const J: [&str; 2] = ["a", "b"];
+
+    /// A prepared log of `k` samples.
+    fn log(k: usize) -> Dataset {
+        let row = |s: usize, c: f64| -> Vec<f64> { vec![c * s as f64 + 0.25, -c * s as f64] };
+        let rows = |c: f64| Samples::from_rows(&(0..k).map(|s| row(s, c)).collect::<Vec<_>>());
+        Dataset {
+            joints: J.iter().map(|j| j.to_string()).collect(),
+            t: (0..k).map(|s| 1e-3 * s as f64).collect(),
+            q: rows(0.01),
+            qd: rows(0.1),
+            qdd: rows(1.0),
+            tau: rows(3.0),
+            segments: vec![],
+        }
+    }
+
+    /// Every block's samples, in order, with its first row.
+    fn streamed(text: &str, block: usize) -> Result<Option<Vec<(usize, Dataset)>>, DataError> {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("log.csv");
+        std::fs::write(&path, text).unwrap();
+        let each = |b: &Block| {
+            let r = b.raw;
+            let d = Dataset {
+                joints: J.iter().map(|j| j.to_string()).collect(),
+                t: r.t.clone(),
+                q: r.q.clone(),
+                qd: r.qd.clone().unwrap(),
+                qdd: r.qdd.clone().unwrap(),
+                tau: r.tau.clone().unwrap(),
+                segments: vec![],
+            };
+            (b.first_row, d)
+        };
+        let out = stream_in_blocks(&path, &J, &ReadOptions::default(), each, block)?;
+        Ok(out.map(|(v, report)| {
+            assert_eq!(report.samples, v.iter().map(|b| b.1.len()).sum::<usize>());
+            v
+        }))
+    }
+
+    /// Blocks of a few kilobytes hold every sample once, in order, as
+    /// the whole-file reader reads them; a raw log (no q̈) is not streamed.
+    #[test]
+    fn blocks_together_are_the_whole_file() {
+        let d = log(5000);
+        let text = d.to_csv();
+        let whole = Dataset::parse_csv(&text, "log.csv", &J, ReadOptions::default()).unwrap();
+        let blocks = streamed(&text, 4096).unwrap().unwrap();
+        assert!(blocks.len() > 50, "{}", blocks.len());
+        let mut joined = Dataset::empty(&J);
+        let mut next = 1;
+        for (first, b) in blocks {
+            assert_eq!(first, next);
+            next += b.len();
+            for s in 0..b.len() {
+                joined.t.push(b.t[s]);
+                joined.q.push(&b.q[s]);
+                joined.qd.push(&b.qd[s]);
+                joined.qdd.push(&b.qdd[s]);
+                joined.tau.push(&b.tau[s]);
+            }
+        }
+        assert_eq!(
+            (joined.t, joined.q, joined.tau),
+            (whole.t, whole.q, whole.tau)
+        );
+        assert_eq!((joined.qd, joined.qdd), (whole.qd, whole.qdd));
+        let raw: String = text
+            .lines()
+            .map(|l| {
+                // t, q, q̇ and τ: no q̈
+                let f: Vec<&str> = l.split(',').collect();
+                [0, 1, 2, 3, 4, 7, 8].map(|c| f[c]).join(",") + "\n"
+            })
+            .collect();
+        assert!(streamed(&raw, 4096).unwrap().is_none());
+    }
+
+    /// A bad value deep in the file and time that goes back across a
+    /// block boundary are errors naming their row and column.
+    #[test]
+    fn errors_name_the_row_and_column_in_any_block() {
+        let text = log(5000).to_csv();
+        let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+        lines[4001] = lines[4001].replacen(',', ",x", 1);
+        let e = streamed(&(lines.join("\n") + "\n"), 4096)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("row 4001") && e.contains("q_a") && e.contains("'x"),
+            "{e}"
+        );
+        // time back at a block boundary: the row after the first block's last
+        let blocks = streamed(&text, 4096).unwrap().unwrap();
+        let at = blocks[5].0; // the sixth block's first data row
+        let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+        let rest = lines[at].split_once(',').unwrap().1.to_string();
+        lines[at] = format!("0,{rest}");
+        let e = streamed(&(lines.join("\n") + "\n"), 4096)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains(&format!("row {at}")) && e.contains("not after"),
+            "{e}"
+        );
+    }
+}

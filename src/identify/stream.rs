@@ -1,0 +1,92 @@
+//! Training logs reduced while they are read: each block of rows of a
+//! prepared CSV log ([`crate::data::stream`]) is parsed and reduced to its
+//! Gram sums on the thread pool, and the blocks' sums are added in the
+//! file's order. Nothing holds the samples: memory is a few blocks of text
+//! and one small accumulator per block, whatever the number of samples,
+//! and the result equals [`reduce_samples`](super::reduce_samples) of the
+//! same samples read whole (to rounding: the sums are added in another
+//! order).
+
+use super::error::IdentifyError;
+use super::reduce::{Reduced, StreamReducer};
+use crate::data::stream::{Block, stream_prepared_csv};
+use crate::data::{FileReport, ReadOptions};
+use crate::dynamics::Model;
+use std::path::Path;
+
+/// Logs reduced as they were read.
+#[derive(Clone, Debug)]
+pub struct StreamedLogs {
+    /// Their reduction (`reduce_time_s`: reading and reducing, which overlap).
+    pub reduced: Reduced,
+    /// Per file, what reading it did.
+    pub files: Vec<FileReport>,
+}
+
+/// Chunk of samples the blocks' reducers multiply out at once.
+const CHUNK: usize = 256;
+
+/// Reduces the training logs `paths` for `model` while reading them, when
+/// every one is a prepared CSV log (with q̈; as [`read_logs`](crate::data::read_logs)
+/// would take it as it is); `None` when one is not (another format, or a
+/// raw log that needs filtering: read those whole). An error names the
+/// file, row and column, or the sample.
+pub fn reduce_logs(
+    model: &Model,
+    paths: &[&Path],
+    opts: &ReadOptions,
+) -> Result<Option<StreamedLogs>, IdentifyError> {
+    let t0 = std::time::Instant::now();
+    if !paths.iter().all(|p| crate::data::read_as_csv(p)) {
+        return Ok(None);
+    }
+    let joints = model.joint_names();
+    let mut total: Option<StreamReducer> = None;
+    let mut files = vec![];
+    for path in paths {
+        let offset = total.as_ref().map_or(0, StreamReducer::samples);
+        let each = |b: &Block| reduce_block(model, b, offset);
+        let Some((parts, report)) = stream_prepared_csv(path, &joints, opts, each)? else {
+            return Ok(None);
+        };
+        for part in parts {
+            let part = part?;
+            total = Some(match total {
+                None => part,
+                Some(t) => t.merge(part)?,
+            });
+        }
+        files.push(report);
+    }
+    let Some(total) = total else {
+        return Err(IdentifyError::NoTrainingData {
+            samples: 0,
+            torques: 0,
+        });
+    };
+    let mut reduced = total.finish()?;
+    reduced.reduce_time_s = t0.elapsed().as_secs_f64();
+    Ok(Some(StreamedLogs { reduced, files }))
+}
+
+/// One block's samples reduced (`offset`: the samples of the files
+/// before, so that errors count samples over all of them).
+fn reduce_block<'m>(
+    model: &'m Model,
+    b: &Block,
+    offset: usize,
+) -> Result<StreamReducer<'m>, IdentifyError> {
+    let raw = b.raw;
+    // (a prepared log has q̇ and q̈; τ is there unless not required)
+    let (Some(qd), Some(qdd), Some(tau)) = (&raw.qd, &raw.qdd, &raw.tau) else {
+        return Err(IdentifyError::NoTrainingData {
+            samples: raw.len(),
+            torques: 0,
+        });
+    };
+    let mut r = StreamReducer::starting_at(model, CHUNK, offset + b.first_row - 1);
+    for s in 0..raw.len() {
+        r.push(&raw.q[s], &qd[s], &qdd[s], &tau[s])?;
+    }
+    r.compact()
+}
