@@ -68,6 +68,9 @@ fn a_streamed_reduction_equals_the_whole_one() {
     let one = id.fit_streamed(r).unwrap();
     let two = id.fit_reduced(&whole, &red).unwrap();
     assert_eq!(one.training_samples, two.training_samples);
+    let (t, u) = (&one.timings, &two.timings);
+    assert!(t.reduce_s > 0.0 && t.solve_s > 0.0 && t.total_s >= t.reduce_s + t.solve_s);
+    assert!(u.solve_s > 0.0 && u.total_s >= u.solve_s && t.validate_s == 0.0);
     for (x, y) in one.theta.iter().zip(&two.theta) {
         assert!((x - y).abs() < 1e-6 * (1.0 + y.abs()), "{x} vs {y}");
     }

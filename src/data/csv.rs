@@ -225,6 +225,39 @@ impl Columns {
         self.qd.is_some()
     }
 
+    /// Reads one record of numbers already parsed (`values[c]`, field `c`'s)
+    /// into `d` when each value it uses is finite and within the limits;
+    /// otherwise reads nothing and returns `false`, for
+    /// [`push_fields`](Self::push_fields) to name the problem.
+    pub(super) fn push_values(&self, d: &mut RawLog, values: &[f64]) -> bool {
+        let fine = |c: usize, s: f64, limit: f64| (values[c] * s).abs() <= limit;
+        let series = [
+            Some(&self.q),
+            self.qd.as_ref(),
+            self.qdd.as_ref(),
+            self.tau.as_ref(),
+        ];
+        let all = |(ix, s): &(Vec<usize>, f64)| ix.iter().all(|&c| fine(c, *s, MAX_ABS_VALUE));
+        if !(fine(self.t.0, self.t.1, MAX_ABS_TIME) && series.into_iter().flatten().all(all)) {
+            return false;
+        }
+        let scaled = |(ix, s): &(Vec<usize>, f64), dst: &mut Samples| {
+            dst.try_push_with(|j| Ok::<_, std::convert::Infallible>(values[ix[j]] * s))
+        };
+        d.t.push(values[self.t.0] * self.t.1);
+        let _ = scaled(&self.q, &mut d.q);
+        for (src, dst) in [
+            (&self.qd, &mut d.qd),
+            (&self.qdd, &mut d.qdd),
+            (&self.tau, &mut d.tau),
+        ] {
+            if let Some(c) = src {
+                let _ = scaled(c, dst.get_or_insert_with(|| Samples::new(c.0.len())));
+            }
+        }
+        true
+    }
+
     /// Reads one record (1-based data `row`; its number of fields and
     /// field `c` by `field(c)`) into `d`, checking its length and every
     /// value.

@@ -48,6 +48,12 @@ pub struct Reading {
     pub data: Dataset,
     /// Per file, what preparing it did.
     pub files: Vec<FileReport>,
+    /// Time spent reading the files (s), summed over the files (they are
+    /// read in parallel: the sum can exceed the wall time).
+    pub read_s: f64,
+    /// Time spent preparing them (filtering, differentiating; s), summed
+    /// over the files.
+    pub filter_s: f64,
 }
 
 /// Reads `paths` (`.csv`, `.npz`, `.npy`, `.mcap`, by extension; anything
@@ -62,12 +68,20 @@ pub fn read_logs(
     let each = paths
         .par_iter()
         .map(|p| {
-            read_raw(p, joints, opts).and_then(|raw| prepare(raw, &prep_of(opts), opts.require_tau))
+            let t0 = std::time::Instant::now();
+            let raw = read_raw(p, joints, opts)?;
+            let t1 = std::time::Instant::now();
+            let prepared = prepare(raw, &prep_of(opts), opts.require_tau)?;
+            Ok((prepared, [t1 - t0, t1.elapsed()]))
         })
         .collect::<Vec<_>>()
         .into_iter()
-        .collect::<Result<Vec<_>, _>>()?; // the first file's error, whichever thread met it first
-    joined(each, joints)
+        .collect::<Result<Vec<_>, DataError>>()?; // the first file's error, whichever thread met it first
+    let sum = |k: usize| each.iter().map(|e| e.1[k].as_secs_f64()).sum();
+    let (read_s, filter_s) = (sum(0), sum(1));
+    let mut r = joined(each.into_iter().map(|e| e.0), joints)?;
+    (r.read_s, r.filter_s) = (read_s, filter_s);
+    Ok(r)
 }
 
 fn prep_of(opts: &ReadOptions) -> Prepare {
@@ -146,13 +160,16 @@ pub(crate) fn prepared(
     let each = (raws.into_iter())
         .map(|raw| prepare(raw, &prep_of(opts), opts.require_tau))
         .collect::<Result<Vec<_>, _>>()?;
-    joined(each, joints)
+    joined(each.into_iter(), joints)
 }
 
 /// Prepared files joined: segments in file order; a file whose time stamps
 /// do not follow the previous one's is shifted to start one step after it
 /// (times stay increasing; the segments stay apart).
-fn joined(each: Vec<(Vec<Dataset>, FileReport)>, joints: &[&str]) -> Result<Reading, DataError> {
+fn joined(
+    each: impl Iterator<Item = (Vec<Dataset>, FileReport)>,
+    joints: &[&str],
+) -> Result<Reading, DataError> {
     let mut data = Dataset::empty(joints);
     let mut files = vec![];
     for (segments, report) in each {
@@ -168,7 +185,12 @@ fn joined(each: Vec<(Vec<Dataset>, FileReport)>, joints: &[&str]) -> Result<Read
         }
         files.push(report);
     }
-    Ok(Reading { data, files })
+    Ok(Reading {
+        data,
+        files,
+        read_s: 0.0,
+        filter_s: 0.0,
+    })
 }
 
 impl Dataset {

@@ -37,12 +37,24 @@ pub struct Block<'a> {
 }
 
 /// What one block's task returns: the caller's result, the block's first
-/// and last time stamps and its number of samples.
-type Done<R> = Result<(R, Option<(f64, f64)>, usize), DataError>;
+/// and last time stamps, its number of samples and the time its parsing took (s).
+type Done<R> = Result<(R, Option<(f64, f64)>, usize, f64), DataError>;
+
+/// A streamed file: the blocks' results in the file's order, what reading
+/// it did, and the time spent parsing it (s, summed over the blocks,
+/// which were parsed in parallel).
+pub struct Streamed<R> {
+    /// Each block's result, in order.
+    pub results: Vec<R>,
+    /// What reading the file did.
+    pub report: FileReport,
+    /// Parsing time summed over the blocks (s).
+    pub read_s: f64,
+}
 
 /// Streams `path` (a CSV with q̈ for every joint) through `each`, block by
-/// block on the thread pool; returns the results in the file's order and
-/// the file's report, or `None` when the file is not a prepared CSV (no
+/// block on the thread pool; returns the results in the file's order with
+/// the file's report ([`Streamed`]), or `None` when the file is not a prepared CSV (no
 /// q̈ columns: read it whole). Errors name the row and column; the first
 /// in the file's order is returned.
 pub fn stream_prepared_csv<R: Send>(
@@ -50,7 +62,7 @@ pub fn stream_prepared_csv<R: Send>(
     joints: &[&str],
     opts: &ReadOptions,
     each: impl Fn(&Block) -> R + Sync,
-) -> Result<Option<(Vec<R>, FileReport)>, DataError> {
+) -> Result<Option<Streamed<R>>, DataError> {
     let len = std::fs::metadata(path).map_or(0, |m| m.len()) as usize;
     let block = (len / (4 * rayon::current_num_threads())).clamp(MIN_BLOCK_BYTES, BLOCK_BYTES);
     stream_in_blocks(path, joints, opts, each, block)
@@ -63,7 +75,7 @@ fn stream_in_blocks<R: Send>(
     opts: &ReadOptions,
     each: impl Fn(&Block) -> R + Sync,
     block: usize,
-) -> Result<Option<(Vec<R>, FileReport)>, DataError> {
+) -> Result<Option<Streamed<R>>, DataError> {
     let p = path.display().to_string();
     let io = |source| DataError::Io {
         path: p.clone(),
@@ -96,9 +108,10 @@ fn stream_in_blocks<R: Send>(
         at.block(text, first_row, &each)
     })?;
     let mut out = Vec::with_capacity(results.len());
-    let (mut last, mut rows): (Option<f64>, usize) = (None, 0);
+    let (mut last, mut rows, mut read_s): (Option<f64>, usize, f64) = (None, 0, 0.0);
     for r in results {
-        let (value, span, count) = r?;
+        let (value, span, count, parse) = r?;
+        read_s += parse;
         if let (Some(prev), Some((first, _))) = (last, span)
             && first <= prev
         {
@@ -124,7 +137,11 @@ fn stream_in_blocks<R: Send>(
         velocity: opts.velocity,
         ..FileReport::default()
     };
-    Ok(Some((out, report)))
+    Ok(Some(Streamed {
+        results: out,
+        report,
+        read_s,
+    }))
 }
 
 /// The header line (parsed as CSV, fields trimmed) and what was read past it.
@@ -293,6 +310,7 @@ impl Parse<'_> {
             static RAW: std::cell::RefCell<RawLog> = std::cell::RefCell::default();
         }
         RAW.with_borrow_mut(|raw| {
+            let t0 = std::time::Instant::now();
             self.empty(raw);
             let text = std::str::from_utf8(block).map_err(|e| {
                 let before = &block[..e.valid_up_to()];
@@ -300,24 +318,36 @@ impl Parse<'_> {
                 row_error(self.path, row, "is not UTF-8 text".into())
             })?;
             let mut fields: Vec<&str> = Vec::with_capacity(self.header.len());
+            let mut values: Vec<f64> = Vec::with_capacity(self.header.len());
             for (k, line) in text.split('\n').enumerate() {
                 let row = first_row + k;
                 let line = line.strip_suffix('\r').unwrap_or(line);
                 if line.trim().is_empty() {
                     continue; // a blank line, as the whole-file reader skips it
                 }
-                fields.clear();
-                fields.extend(line.split(',').map(unquoted));
-                let f = &fields;
-                (self.cols).push_fields(raw, (f.len(), |c| f[c]), self.header, self.path, row)?;
+                let plain =
+                    numbers(line.as_bytes(), &mut values) && values.len() == self.header.len();
+                if !(plain && self.cols.push_values(raw, &values)) {
+                    // anything else (spaces, quotes, a bad value) as the whole-file reader reads it
+                    fields.clear();
+                    fields.extend(line.split(',').map(unquoted));
+                    let f = &fields;
+                    (self.cols).push_fields(
+                        raw,
+                        (f.len(), |c| f[c]),
+                        self.header,
+                        self.path,
+                        row,
+                    )?;
+                }
                 let n = raw.t.len();
                 if n > 1 && raw.t[n - 1] <= raw.t[n - 2] {
                     return Err(not_after(self.path, row, raw.t[n - 1], raw.t[n - 2]));
                 }
             }
             let span = raw.t.first().zip(raw.t.last()).map(|(a, b)| (*a, *b));
-            let count = raw.t.len();
-            Ok((each(&Block { first_row, raw }), span, count))
+            let (count, parse) = (raw.t.len(), t0.elapsed().as_secs_f64());
+            Ok((each(&Block { first_row, raw }), span, count, parse))
         })
     }
 
@@ -337,6 +367,24 @@ impl Parse<'_> {
             .flatten()
         {
             s.clear();
+        }
+    }
+}
+
+/// The numbers of a line of plain numbers separated by commas (no spaces,
+/// no quotes) into `values`; `false` when the line is anything else.
+/// Each is the closest `f64`, as `str::parse` gives it.
+fn numbers(mut line: &[u8], values: &mut Vec<f64>) -> bool {
+    values.clear();
+    loop {
+        let Ok((v, used)) = fast_float2::parse_partial::<f64, _>(line) else {
+            return false;
+        };
+        values.push(v);
+        match line.get(used) {
+            None => return true,
+            Some(b',') => line = &line[used + 1..],
+            Some(_) => return false,
         }
     }
 }
@@ -452,9 +500,12 @@ mod tests {
             (b.first_row, d)
         };
         let out = stream_in_blocks(&path, &J, &ReadOptions::default(), each, block)?;
-        Ok(out.map(|(v, report)| {
-            assert_eq!(report.samples, v.iter().map(|b| b.1.len()).sum::<usize>());
-            v
+        Ok(out.map(|s| {
+            assert_eq!(
+                s.report.samples,
+                s.results.iter().map(|b| b.1.len()).sum::<usize>()
+            );
+            s.results
         }))
     }
 
@@ -494,6 +545,98 @@ mod tests {
             })
             .collect();
         assert!(streamed(&raw, 4096).unwrap().is_none());
+    }
+
+    /// A line of plain numbers is read as `str::parse` reads each field;
+    /// a field `str::parse` refuses is never read as a number, and a line
+    /// with spaces or quotes goes to the whole-file reader's code.
+    #[test]
+    fn plain_numbers_parse_as_str_parse_does() {
+        let mut fields: Vec<String> = [
+            "0",
+            "-0",
+            "+1",
+            ".5",
+            "5.",
+            "1e5",
+            "1E-5",
+            "0.1e+3",
+            "-2.5e-310",
+            "4.9e-324",
+            "1.7976931348623157e308",
+            "1e400",
+            "123456789012345678901234567890",
+            "inf",
+            "-inf",
+            "NaN",
+            "1e",
+            "1.2.3",
+            "--1",
+            "0x10",
+            "1_0",
+            "",
+            " 1",
+            "1 ",
+            "\"1\"",
+            "e5",
+            "+",
+        ]
+        .map(String::from)
+        .into();
+        for k in 0..2000 {
+            let x = f64::from_bits(
+                0x3ff0_0000_0000_0000 ^ (k as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15) >> 2,
+            );
+            fields.extend([format!("{x}"), format!("{x:e}"), format!("{:.3}", -x)]);
+        }
+        let mut values = vec![];
+        for f in &fields {
+            let std = f.parse::<f64>();
+            if super::numbers(f.as_bytes(), &mut values) {
+                let (v, s) = (values[0], std.as_ref().map_err(|_| f).unwrap());
+                assert!(
+                    v.to_bits() == s.to_bits() || (v.is_nan() && s.is_nan()),
+                    "{f}"
+                );
+            }
+            // every field std parses, the plain path parses (but padded or quoted ones)
+            if std.is_ok() && !f.starts_with(' ') && !f.ends_with(' ') {
+                assert!(super::numbers(f.as_bytes(), &mut values), "{f}");
+            }
+        }
+        // a line: every field, or none
+        assert!(super::numbers(b"1,2.5,-3e2", &mut values) && values == [1.0, 2.5, -300.0]);
+        assert!(!super::numbers(b"1, 2", &mut values) && !super::numbers(b"1,,2", &mut values));
+        assert!(!super::numbers(b"1,2,", &mut values));
+    }
+
+    /// Spaces and quotes around values (the whole-file reader's code) give
+    /// the values the whole-file reader gives.
+    #[test]
+    fn padded_and_quoted_values_are_read_as_whole() {
+        let text = log(300).to_csv();
+        let padded: String = (text.lines().enumerate())
+            .map(|(k, l)| match k % 3 {
+                1 => l.replace(',', " , ") + "\r\n",
+                2 if k > 0 => {
+                    l.split(',')
+                        .map(|f| format!("\"{f}\""))
+                        .collect::<Vec<_>>()
+                        .join(",")
+                        + "\n"
+                }
+                _ => l.to_string() + "\n",
+            })
+            .collect();
+        let whole = Dataset::parse_csv(&padded, "log.csv", &J, ReadOptions::default()).unwrap();
+        let blocks = streamed(&padded, 4096).unwrap().unwrap();
+        let t: Vec<f64> = blocks.iter().flat_map(|b| b.1.t.clone()).collect();
+        let tau: Vec<f64> = blocks
+            .iter()
+            .flat_map(|b| b.1.tau.as_flat().to_vec())
+            .collect();
+        assert_eq!((t, tau), (whole.t.clone(), whole.tau.as_flat().to_vec()));
+        assert_eq!(whole.len(), 300);
     }
 
     /// A bad value deep in the file and time that goes back across a

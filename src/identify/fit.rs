@@ -8,8 +8,8 @@ use super::error::IdentifyError;
 use super::options::IdentifyOptions;
 use super::reduce::{Reduced, reduce_samples, reduce_with_load};
 use super::result::{
-    Contributions, DataPreparation, IdentifyResult, body_results, names_where, training_rms,
-    with_torques,
+    Contributions, DataPreparation, IdentifyResult, Timings, body_results, names_where,
+    training_rms, with_torques,
 };
 use super::warning::IdentifyWarning;
 use super::weighting::{self, JointWeighting};
@@ -66,6 +66,7 @@ impl Identification<'_> {
             r.validate(self.model(), v)?;
         }
         r.total_time_s = t0.elapsed().as_secs_f64();
+        r.timings.total_s = r.total_time_s;
         Ok(r)
     }
 
@@ -214,11 +215,13 @@ impl Identification<'_> {
         let (solved, joint_noise, weights_warning) = solved;
         let red = reloaded.as_ref().unwrap_or(red);
         let theta = &solved.theta;
+        let t_check = std::time::Instant::now();
         let (bodies, ok) = body_results(self, theta);
         let inconsistent_bodies = names_where(&bodies, |b| !b.consistent);
         let degenerate_bodies = names_where(&bodies, |b| b.degenerate.is_some());
         let friction = solved.friction_law(model.stribeck_velocity());
         let training_rms = training_rms(model, theta, train, red)?;
+        let check_s = t_check.elapsed().as_secs_f64();
         let status = solved.status;
         let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
         if !(finite(theta) && finite(&training_rms)) {
@@ -265,6 +268,13 @@ impl Identification<'_> {
             solve_time_s: solved.solve_time_s,
             reduce_time_s: red.reduce_time_s,
             total_time_s: red.reduce_time_s + t0.elapsed().as_secs_f64(),
+            timings: Timings {
+                reduce_s: red.reduce_time_s,
+                solve_s: solved.solve_time_s,
+                check_s,
+                total_s: red.reduce_time_s + t0.elapsed().as_secs_f64(),
+                ..Timings::default()
+            },
             data_preparation: DataPreparation::default(),
             validation_prediction: Samples::default(),
             contributions: Contributions::default(),

@@ -38,7 +38,7 @@ pub use options::{CHECK_TOL, IdentifyOptions, Level, Regularizer, default_settin
 pub use reduce::{Cost, Reduced, StreamReducer, cost, reduce_samples};
 pub use result::{
     BodyResult, Contributions, DEGENERATE_ADVICE, DataPreparation, Degenerate, IdentifyResult,
-    predict_split, rms,
+    Timings, predict_split, rms,
 };
 pub use solve::solve_identification;
 pub use solved::{Solved, parameter_names};

@@ -165,6 +165,8 @@ pub struct IdentifyResult {
     pub reduce_time_s: f64,
     /// Whole identification in the process, reading excluded (s); the CLI adds reading.
     pub total_time_s: f64,
+    /// Each stage's time.
+    pub timings: Timings,
     /// What reading did to the training and validation files (each step
     /// of the preparation of raw logs); empty when the caller read no file.
     #[serde(skip_serializing_if = "DataPreparation::is_empty")]
@@ -178,6 +180,33 @@ pub struct IdentifyResult {
     /// θ (not serialised; in `bodies` and `friction`).
     #[serde(skip)]
     pub theta: Vec<f64>,
+}
+
+/// Each stage's time (s). A stage run by itself is timed by the wall
+/// clock; reading and filtering, which run per file in parallel (and,
+/// when the training logs are streamed, per block beside the reduction),
+/// are summed over the files or blocks, so that the stages can add up to
+/// more than `total_s`. A stage that did not run is 0.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Timings {
+    /// Reading and parsing the training files.
+    pub read_s: f64,
+    /// Preparing them: the low-pass filter, the derivatives, resampling.
+    pub filter_s: f64,
+    /// The regressor and its reduction to the Gram matrix (when streamed,
+    /// the wall time of reading and reducing together).
+    pub reduce_s: f64,
+    /// The SDP (or the direct least-squares solve), with its set-up.
+    pub solve_s: f64,
+    /// Every body checked by `moments`, the training RMS.
+    pub check_s: f64,
+    /// The held-out prediction and its RMS (the held-out files' reading not
+    /// included: it runs beside the solve).
+    pub validate_s: f64,
+    /// The whole identification, by the wall clock.
+    pub total_s: f64,
+    /// Whether the training logs were reduced while they were read.
+    pub streamed: bool,
 }
 
 impl BodyResult {
@@ -441,6 +470,7 @@ impl IdentifyResult {
                 found: self.theta.len(),
             });
         }
+        let t0 = std::time::Instant::now();
         let (pred, c) = predict_split(model, &self.theta, v)?;
         let r = rms(&pred, &v.tau);
         if !r.iter().all(|x| x.is_finite()) {
@@ -452,6 +482,7 @@ impl IdentifyResult {
         self.validation_samples = v.len();
         self.validation_prediction = pred;
         self.contributions = c;
+        self.timings.validate_s = t0.elapsed().as_secs_f64();
         Ok(())
     }
 }

@@ -21,6 +21,10 @@ pub struct StreamedLogs {
     pub reduced: Reduced,
     /// Per file, what reading it did.
     pub files: Vec<FileReport>,
+    /// Time spent parsing the files (s), summed over their blocks (parsed
+    /// in parallel, and overlapping the reduction: `reduced.reduce_time_s`
+    /// includes it).
+    pub read_s: f64,
 }
 
 /// Chunk of samples the blocks' reducers multiply out at once.
@@ -42,21 +46,22 @@ pub fn reduce_logs(
     }
     let joints = model.joint_names();
     let mut total: Option<StreamReducer> = None;
-    let mut files = vec![];
+    let (mut files, mut read_s) = (vec![], 0.0);
     for path in paths {
         let offset = total.as_ref().map_or(0, StreamReducer::samples);
         let each = |b: &Block| reduce_block(model, b, offset);
-        let Some((parts, report)) = stream_prepared_csv(path, &joints, opts, each)? else {
+        let Some(streamed) = stream_prepared_csv(path, &joints, opts, each)? else {
             return Ok(None);
         };
-        for part in parts {
+        read_s += streamed.read_s;
+        for part in streamed.results {
             let part = part?;
             total = Some(match total {
                 None => part,
                 Some(t) => t.merge(part)?,
             });
         }
-        files.push(report);
+        files.push(streamed.report);
     }
     let Some(total) = total else {
         return Err(IdentifyError::NoTrainingData {
@@ -66,7 +71,11 @@ pub fn reduce_logs(
     };
     let mut reduced = total.finish()?;
     reduced.reduce_time_s = t0.elapsed().as_secs_f64();
-    Ok(Some(StreamedLogs { reduced, files }))
+    Ok(Some(StreamedLogs {
+        reduced,
+        files,
+        read_s,
+    }))
 }
 
 /// One block's samples reduced (`offset`: the samples of the files

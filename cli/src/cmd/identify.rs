@@ -60,6 +60,7 @@ pub fn run(a: &IdentifyArgs) -> i32 {
         Ok(mut r) => {
             let total = t0.elapsed().as_secs_f64();
             r.total_time_s = total;
+            r.timings.total_s = total;
             if a.json {
                 match serde_json::to_string_pretty(&r) {
                     Ok(s) => println!("{s}"),
@@ -288,6 +289,7 @@ fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
             r.validate(&robot.model, &v.data).map_err(explain)?;
         }
         r.weight_choice = choice;
+        (r.timings.read_s, r.timings.filter_s, r.timings.streamed) = train.times();
         r.data_preparation = momentlmi::identify::DataPreparation {
             training: train.into_files(),
             validation: val.map(|v| v.files).unwrap_or_default(),
@@ -316,6 +318,14 @@ impl Training {
         match self {
             Self::Streamed(t) => t.files,
             Self::Whole(t) => t.files,
+        }
+    }
+
+    /// Reading's and filtering's times (s) and whether it was streamed.
+    fn times(&self) -> (f64, f64, bool) {
+        match self {
+            Self::Streamed(t) => (t.read_s, 0.0, true),
+            Self::Whole(t) => (t.read_s, t.filter_s, false),
         }
     }
 
@@ -488,11 +498,26 @@ pub fn print_report(r: &IdentifyResult) {
         );
     }
     println!(
-        "status {}, {} iterations, solve {:.1} ms, total {:.1} ms, constraints satisfied: {}",
-        r.status,
-        r.iterations,
-        1e3 * r.solve_time_s,
-        1e3 * r.total_time_s,
-        r.constraints_satisfied
+        "status {}, {} iterations, constraints satisfied: {}",
+        r.status, r.iterations, r.constraints_satisfied
+    );
+    print_timings(&r.timings);
+}
+
+/// One line of the stages' times (ms).
+fn print_timings(t: &momentlmi::identify::Timings) {
+    let ms = |s: f64| format!("{:.1}", 1e3 * s);
+    let read = if t.streamed {
+        format!("read {} (streamed, beside the reduction)", ms(t.read_s))
+    } else {
+        format!("read {}, filter {}", ms(t.read_s), ms(t.filter_s))
+    };
+    println!(
+        "time [ms]      {read}, regressor + reduction {}, solve {}, check {}, validate {}, total {}",
+        ms(t.reduce_s),
+        ms(t.solve_s),
+        ms(t.check_s),
+        ms(t.validate_s),
+        ms(t.total_s)
     );
 }
