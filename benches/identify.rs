@@ -8,16 +8,16 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use momentlmi::conic::Decomposition;
+use momentlmi::data::{Dataset, ReadOptions};
 use momentlmi::dynamics::cheetah3;
 use momentlmi::effects::simulate;
-use momentlmi::data::{Dataset, ReadOptions};
 use momentlmi::identify::{
     Identification, IdentifyOptions, Level, Regularizer, StreamReducer, default_settings,
     reduce_logs, reduce_samples, solve_identification,
 };
-use std::io::Write;
 use momentlmi::sim::{Effects, SimConfig};
 use std::hint::black_box;
+use std::io::Write;
 
 fn bench(c: &mut Criterion) {
     let leg = cheetah3::description();

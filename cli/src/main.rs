@@ -28,6 +28,14 @@ fn main() {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
+    // Transparent huge pages off for this process: mimalloc's arenas would
+    // otherwise fault in (and zero) 2 MiB at a time, doubling the peak
+    // memory of a streamed identification for no speed (docs/benchmarks.md)
+    #[cfg(target_os = "linux")]
+    // SAFETY: prctl with an integer option and integer arguments only
+    unsafe {
+        libc::prctl(libc::PR_SET_THP_DISABLE, 1, 0, 0, 0);
+    }
     // SIGINT and SIGTERM remove the staged outputs' temporary files and
     // end the process with 130 or 143
     momentlmi_cli::interrupt::remove_staged_files_on_signals();
