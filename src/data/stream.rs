@@ -40,12 +40,9 @@ pub struct Block<'a> {
 /// and last time stamps, its number of samples and the time its parsing took (s).
 type Done<R> = Result<(R, Option<(f64, f64)>, usize, f64), DataError>;
 
-/// A streamed file: the blocks' results in the file's order, what reading
-/// it did, and the time spent parsing it (s, summed over the blocks,
-/// which were parsed in parallel).
-pub struct Streamed<R> {
-    /// Each block's result, in order.
-    pub results: Vec<R>,
+/// A streamed file: what reading it did, and the time spent parsing it
+/// (s, summed over the blocks, which were parsed in parallel).
+pub struct Streamed {
     /// What reading the file did.
     pub report: FileReport,
     /// Parsing time summed over the blocks (s).
@@ -53,19 +50,23 @@ pub struct Streamed<R> {
 }
 
 /// Streams `path` (a CSV with q̈ for every joint) through `each`, block by
-/// block on the thread pool; returns the results in the file's order with
-/// the file's report ([`Streamed`]), or `None` when the file is not a prepared CSV (no
-/// q̈ columns: read it whole). Errors name the row and column; the first
-/// in the file's order is returned.
+/// block on the thread pool, and hands each block's result to `fold` in the
+/// file's order on the caller's thread as soon as the blocks before it are
+/// folded (`fold` returns `false` to stop reading); at most a few blocks
+/// are read and not yet folded, so memory does not grow with the file.
+/// Returns the file's report ([`Streamed`]), or `None` when the file is not
+/// a prepared CSV (no q̈ columns: read it whole). Errors name the row and
+/// column; the first in the file's order is returned.
 pub fn stream_prepared_csv<R: Send>(
     path: &Path,
     joints: &[&str],
     opts: &ReadOptions,
     each: impl Fn(&Block) -> R + Sync,
-) -> Result<Option<Streamed<R>>, DataError> {
+    fold: impl FnMut(R) -> bool,
+) -> Result<Option<Streamed>, DataError> {
     let len = std::fs::metadata(path).map_or(0, |m| m.len()) as usize;
     let block = (len / (4 * rayon::current_num_threads())).clamp(MIN_BLOCK_BYTES, BLOCK_BYTES);
-    stream_in_blocks(path, joints, opts, each, block)
+    stream_in_blocks(path, joints, opts, (each, fold), block)
 }
 
 /// [`stream_prepared_csv`] in blocks of `block` bytes.
@@ -73,9 +74,9 @@ fn stream_in_blocks<R: Send>(
     path: &Path,
     joints: &[&str],
     opts: &ReadOptions,
-    each: impl Fn(&Block) -> R + Sync,
+    (each, mut fold): (impl Fn(&Block) -> R + Sync, impl FnMut(R) -> bool),
     block: usize,
-) -> Result<Option<Streamed<R>>, DataError> {
+) -> Result<Option<Streamed>, DataError> {
     let p = path.display().to_string();
     let io = |source| DataError::Io {
         path: p.clone(),
@@ -83,44 +84,43 @@ fn stream_in_blocks<R: Send>(
     };
     let mut file = std::fs::File::open(path).map_err(io)?;
     let (header, mut rest) = read_header(&mut file, &p)?;
-    let mapping = (opts.mapping.as_ref(), opts.mapping_is_default);
-    if mapping.0.is_some_and(|m| m.q.is_none()) {
-        return Ok(None); // the whole-file reader names the problem
-    }
-    let cols = columns_of(&header, &p, mapping, joints, opts.require_tau)?;
-    if cols.qdd.is_none() {
+    let Some(cols) = prepared_columns(&header, &p, joints, opts)? else {
         return Ok(None);
-    }
-    if !cols.has_qd() {
-        return Err(DataError::Array {
-            path: p,
-            array: "qd".into(),
-            message: "the file has q̈ (taken as prepared) but no q̇".into(),
-        });
-    }
+    };
     let at = Parse {
         cols: &cols,
         header: &header,
         path: &p,
         joints: joints.len(),
     };
-    let results = blocks((&mut file, &mut rest, block), &p, |text, first_row| {
-        at.block(text, first_row, &each)
-    })?;
-    let mut out = Vec::with_capacity(results.len());
-    let (mut last, mut rows, mut read_s): (Option<f64>, usize, f64) = (None, 0, 0.0);
-    for r in results {
-        let (value, span, count, parse) = r?;
-        read_s += parse;
-        if let (Some(prev), Some((first, _))) = (last, span)
-            && first <= prev
-        {
-            return Err(not_after(&p, rows + 1, first, prev));
+    let (mut last, mut rows, mut read_s) = (None::<f64>, 0usize, 0.0);
+    let mut failed = None;
+    // each block's samples checked against the block before, then folded
+    let mut take = |done: Done<R>| {
+        let checked = done.and_then(|(value, span, count, parse)| {
+            if let (Some(prev), Some((first, _))) = (last, span)
+                && first <= prev
+            {
+                return Err(not_after(&p, rows + 1, first, prev));
+            }
+            (last, rows, read_s) = (span.map(|s| s.1).or(last), rows + count, read_s + parse);
+            Ok(value)
+        });
+        match checked {
+            Ok(value) => fold(value),
+            Err(e) => {
+                failed = Some(e);
+                false
+            }
         }
-        last = span.map(|s| s.1).or(last);
-        rows += count;
-        out.push(value);
+    };
+    let task = |text: &[u8], first_row| at.block(text, first_row, &each);
+    let read = blocks((&mut file, &mut rest, block), &p, task, &mut take);
+    // a block's own error comes before a read error further on
+    if let Some(e) = failed {
+        return Err(e);
     }
+    read?;
     if rows == 0 {
         return Err(DataError::Row {
             path: p,
@@ -137,11 +137,33 @@ fn stream_in_blocks<R: Send>(
         velocity: opts.velocity,
         ..FileReport::default()
     };
-    Ok(Some(Streamed {
-        results: out,
-        report,
-        read_s,
-    }))
+    Ok(Some(Streamed { report, read_s }))
+}
+
+/// The columns of a prepared log (with q̈, and then q̇), or `None` when
+/// the log is not one (it is read whole: that reader names any problem).
+fn prepared_columns(
+    header: &[String],
+    path: &str,
+    joints: &[&str],
+    opts: &ReadOptions,
+) -> Result<Option<Columns>, DataError> {
+    let mapping = (opts.mapping.as_ref(), opts.mapping_is_default);
+    if mapping.0.is_some_and(|m| m.q.is_none()) {
+        return Ok(None); // the whole-file reader names the problem
+    }
+    let cols = columns_of(header, path, mapping, joints, opts.require_tau)?;
+    if cols.qdd.is_none() {
+        return Ok(None);
+    }
+    if !cols.has_qd() {
+        return Err(DataError::Array {
+            path: path.into(),
+            array: "qd".into(),
+            message: "the file has q̈ (taken as prepared) but no q̇".into(),
+        });
+    }
+    Ok(Some(cols))
 }
 
 /// The header line (parsed as CSV, fields trimmed) and what was read past it.
@@ -184,73 +206,136 @@ fn read_header(file: &mut std::fs::File, path: &str) -> Result<(Vec<String>, Vec
 }
 
 /// Reads `file` (after `rest`, the bytes already read) in blocks of whole
-/// lines of about `size` bytes and runs `task(block, first_row)` on each on the thread pool, at
-/// most a few at once; returns the results in order.
+/// lines of about `size` bytes, runs `task(block, first_row)` on each on the
+/// thread pool and hands the results to `take` in order, on this thread, as
+/// they come (`take` returns `false` to stop). At most `2 × threads + 1`
+/// blocks are read and not yet taken. An error reading the file ends the
+/// reading; the blocks read before it are still taken.
 fn blocks<R: Send>(
     (file, rest, size): (&mut std::fs::File, &mut Vec<u8>, usize),
     path: &str,
-    task: impl Fn(&[u8], usize) -> Done<R> + Sync,
-) -> Result<Vec<Done<R>>, DataError> {
+    task: impl Fn(&[u8], usize) -> R + Sync,
+    take: &mut impl FnMut(R) -> bool,
+) -> Result<(), DataError> {
     let limit = 2 * rayon::current_num_threads() + 1;
-    let in_flight = Gate::new(limit);
+    let queue = Queue::default();
     // the blocks' buffers, reused: fresh pages cost more than the parsing
     let pool: Mutex<Vec<Vec<u8>>> = Mutex::new(vec![]);
-    let done: Mutex<Vec<(usize, Done<R>)>> = Mutex::new(vec![]);
-    let failed = std::sync::atomic::AtomicBool::new(false);
-    let mut read_error = None;
+    let mut read_error = Ok(());
     rayon::in_place_scope(|s| {
-        let (mut index, mut first_row) = (0usize, 1usize);
+        let (mut issued, mut taken, mut first_row) = (0usize, 0usize, 1usize);
+        // room for one more block: the oldest taken until fewer than `limit` are out
+        let mut stopped = false;
         loop {
-            if failed.load(std::sync::atomic::Ordering::Relaxed) {
+            if !queue.take_until(&mut taken, (issued + 1).saturating_sub(limit), take) {
+                stopped = true;
                 break;
             }
-            let spare = pool
-                .lock()
-                .ok()
-                .and_then(|mut p| p.pop())
-                .unwrap_or_default();
-            let block = match next_block((file, rest, size), spare, path) {
+            let spare = (pool.lock().ok()).and_then(|mut p| p.pop());
+            let block = match next_block((file, rest, size), spare.unwrap_or_default(), path) {
                 Ok(Some(b)) => b,
                 Ok(None) => break,
                 Err(e) => {
-                    read_error = Some(e);
+                    read_error = Err(e);
                     break;
                 }
             };
             let lines = block.iter().filter(|&&b| b == b'\n').count() + 1;
             if first_row + lines > MAX_ROWS + 1 {
                 let message = format!("more than {MAX_ROWS} data rows; split the log");
-                read_error = Some(row_error(path, MAX_ROWS + 1, message));
+                read_error = Err(row_error(path, MAX_ROWS + 1, message));
                 break;
             }
-            let slot = in_flight.enter();
-            let (task, done, failed, pool) = (&task, &done, &failed, &pool);
+            let (task, queue, pool, index) = (&task, &queue, &pool, issued);
             s.spawn(move |_| {
-                let _slot = slot; // freed however the task ends
+                let sent = Sent { queue, index };
                 let r = task(&block, first_row);
-                if r.is_err() {
-                    failed.store(true, std::sync::atomic::Ordering::Relaxed);
-                }
-                done.lock()
-                    .expect("no task panics holding it")
-                    .push((index, r));
                 if let Ok(mut p) = pool.lock() {
                     p.push(block);
                 }
+                sent.send(r);
             });
-            index += 1;
+            issued += 1;
             first_row += lines;
         }
+        // the rest, in order (unless `take` stopped: then they are dropped)
+        if !stopped {
+            queue.take_until(&mut taken, issued, take);
+        }
     });
-    let mut done = done.into_inner().expect("no task panics holding it");
-    done.sort_by_key(|d| d.0);
-    // a block's own error comes before a read error further on
-    if let Some(e) = read_error
-        && done.iter().all(|d| d.1.is_ok())
-    {
-        return Err(e);
+    read_error
+}
+
+/// Finished blocks' results by index, for the reading thread to take in
+/// order; `None` for a task that panicked (the scope then panics too).
+struct Queue<R> {
+    done: Mutex<std::collections::BTreeMap<usize, Option<R>>>,
+    ready: Condvar,
+}
+
+impl<R> Default for Queue<R> {
+    fn default() -> Self {
+        Self {
+            done: Mutex::default(),
+            ready: Condvar::new(),
+        }
     }
-    Ok(done.into_iter().map(|d| d.1).collect())
+}
+
+impl<R> Queue<R> {
+    fn put(&self, index: usize, r: Option<R>) {
+        let mut d = (self.done.lock()).unwrap_or_else(std::sync::PoisonError::into_inner);
+        d.insert(index, r);
+        self.ready.notify_one();
+    }
+
+    /// Hands results to `take` in order from `*taken`: waiting for each
+    /// until `*taken` reaches `until`, then those already there. `false`
+    /// when `take` stopped or a task panicked.
+    fn take_until(
+        &self,
+        taken: &mut usize,
+        until: usize,
+        take: &mut impl FnMut(R) -> bool,
+    ) -> bool {
+        loop {
+            let mut d = (self.done.lock()).unwrap_or_else(std::sync::PoisonError::into_inner);
+            let next = loop {
+                match d.remove(taken) {
+                    Some(r) => break r,
+                    None if *taken >= until => return true,
+                    None => {
+                        d = (self.ready.wait(d)).unwrap_or_else(std::sync::PoisonError::into_inner)
+                    }
+                }
+            };
+            drop(d);
+            *taken += 1;
+            if !next.is_some_and(&mut *take) {
+                return false;
+            }
+        }
+    }
+}
+
+/// A block's place in the [`Queue`]: filled by its result, or by `None` if
+/// its task unwinds.
+struct Sent<'q, R> {
+    queue: &'q Queue<R>,
+    index: usize,
+}
+
+impl<R> Sent<'_, R> {
+    fn send(self, r: R) {
+        self.queue.put(self.index, Some(r));
+        std::mem::forget(self);
+    }
+}
+
+impl<R> Drop for Sent<'_, R> {
+    fn drop(&mut self) {
+        self.queue.put(self.index, None);
+    }
 }
 
 /// The next block of whole lines (the last may lack its line break), or
@@ -415,50 +500,6 @@ fn not_after(path: &str, row: usize, t: f64, prev: f64) -> DataError {
     }
 }
 
-/// A counting gate: at most `limit` holders at once.
-struct Gate {
-    count: Mutex<usize>,
-    freed: Condvar,
-    limit: usize,
-}
-
-impl Gate {
-    fn new(limit: usize) -> Self {
-        Self {
-            count: Mutex::new(0),
-            freed: Condvar::new(),
-            limit,
-        }
-    }
-
-    /// Waits for a free place and holds it until the slot is dropped.
-    fn enter(&self) -> Slot<'_> {
-        let mut c = self
-            .count
-            .lock()
-            .expect("the gate's lock is never poisoned");
-        while *c >= self.limit {
-            c = self
-                .freed
-                .wait(c)
-                .expect("the gate's lock is never poisoned");
-        }
-        *c += 1;
-        Slot(self)
-    }
-}
-
-/// A place held in a [`Gate`].
-struct Slot<'g>(&'g Gate);
-
-impl Drop for Slot<'_> {
-    fn drop(&mut self) {
-        let mut c = (self.0.count.lock()).unwrap_or_else(std::sync::PoisonError::into_inner);
-        *c -= 1;
-        self.0.freed.notify_one();
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::{Block, stream_in_blocks};
@@ -499,13 +540,16 @@ mod tests {
             };
             (b.first_row, d)
         };
-        let out = stream_in_blocks(&path, &J, &ReadOptions::default(), each, block)?;
+        let mut blocks = vec![];
+        let fold = |b| {
+            blocks.push(b);
+            true
+        };
+        let out = stream_in_blocks(&path, &J, &ReadOptions::default(), (each, fold), block)?;
         Ok(out.map(|s| {
-            assert_eq!(
-                s.report.samples,
-                s.results.iter().map(|b| b.1.len()).sum::<usize>()
-            );
-            s.results
+            let samples = blocks.iter().map(|b: &(usize, Dataset)| b.1.len());
+            assert_eq!(s.report.samples, samples.sum::<usize>());
+            blocks
         }))
     }
 
@@ -637,6 +681,51 @@ mod tests {
             .collect();
         assert_eq!((t, tau), (whole.t.clone(), whole.tau.as_flat().to_vec()));
         assert_eq!(whole.len(), 300);
+    }
+
+    /// Results are folded as they come: never more than 2 × threads + 1
+    /// blocks' results exist at once, whatever the file's length; a fold
+    /// that says stop ends the reading.
+    #[test]
+    fn results_are_folded_as_they_come() {
+        use std::sync::atomic::{AtomicUsize, Ordering::SeqCst};
+        struct Alive<'a>(&'a AtomicUsize);
+        impl Drop for Alive<'_> {
+            fn drop(&mut self) {
+                self.0.fetch_sub(1, SeqCst);
+            }
+        }
+        let (alive, most, taken) = (
+            AtomicUsize::new(0),
+            AtomicUsize::new(0),
+            AtomicUsize::new(0),
+        );
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("log.csv");
+        std::fs::write(&path, log(20_000).to_csv()).unwrap();
+        let each = |_: &Block| {
+            most.fetch_max(alive.fetch_add(1, SeqCst) + 1, SeqCst);
+            Alive(&alive)
+        };
+        let run = |stop_after: usize| {
+            taken.store(0, SeqCst);
+            let fold = |a: Alive| {
+                drop(a);
+                taken.fetch_add(1, SeqCst) + 1 < stop_after
+            };
+            stream_in_blocks(&path, &J, &ReadOptions::default(), (each, fold), 4096).unwrap()
+        };
+        let report = run(usize::MAX).unwrap().report;
+        assert_eq!(report.samples, 20_000);
+        let blocks = taken.load(SeqCst);
+        let limit = 2 * rayon::current_num_threads() + 1;
+        assert!(
+            blocks > 100 && most.load(SeqCst) <= limit,
+            "{blocks} {most:?}"
+        );
+        run(3);
+        assert_eq!(taken.load(SeqCst), 3);
+        assert_eq!(alive.load(SeqCst), 0); // every result dropped
     }
 
     /// A bad value deep in the file and time that goes back across a

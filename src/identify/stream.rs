@@ -50,17 +50,27 @@ pub fn reduce_logs(
     for path in paths {
         let offset = total.as_ref().map_or(0, StreamReducer::samples);
         let each = |b: &Block| reduce_block(model, b, offset);
-        let Some(streamed) = stream_prepared_csv(path, &joints, opts, each)? else {
+        let mut failed = None;
+        // each block's sums added as it comes, in the file's order
+        let fold = |part: Result<_, IdentifyError>| {
+            let merged = part.and_then(|part| match total.take() {
+                None => Ok(part),
+                Some(t) => t.merge(part),
+            });
+            match merged {
+                Ok(m) => total = Some(m),
+                Err(e) => failed = Some(e),
+            }
+            failed.is_none()
+        };
+        let streamed = stream_prepared_csv(path, &joints, opts, each, fold);
+        if let Some(e) = failed {
+            return Err(e);
+        }
+        let Some(streamed) = streamed? else {
             return Ok(None);
         };
         read_s += streamed.read_s;
-        for part in streamed.results {
-            let part = part?;
-            total = Some(match total {
-                None => part,
-                Some(t) => t.merge(part)?,
-            });
-        }
         files.push(streamed.report);
     }
     let Some(total) = total else {
