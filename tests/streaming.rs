@@ -122,4 +122,12 @@ fn raw_logs_are_left_to_the_whole_reader_and_errors_name_the_file() {
         &ReadOptions::default(),
     );
     assert!(none.unwrap().is_none());
+    // not a regular file (a pipe, a device): left to the whole reader, which
+    // reads it once
+    #[cfg(unix)]
+    {
+        let dev = std::path::Path::new("/dev/null");
+        let none = reduce_logs(&model, &[dev], &ReadOptions::default());
+        assert!(none.unwrap().is_none());
+    }
 }

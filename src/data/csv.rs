@@ -225,6 +225,11 @@ impl Columns {
         self.qd.is_some()
     }
 
+    /// Whether the file has each of q̇, q̈ and τ.
+    pub(super) fn series(&self) -> [bool; 3] {
+        [self.qd.is_some(), self.qdd.is_some(), self.tau.is_some()]
+    }
+
     /// Reads one record of numbers already parsed (`values[c]`, field `c`'s)
     /// into `d` when each value it uses is finite and within the limits;
     /// otherwise reads nothing and returns `false`, for

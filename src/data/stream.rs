@@ -447,11 +447,14 @@ impl Parse<'_> {
         }
         raw.t.clear();
         raw.q.clear();
-        for s in [&mut raw.qd, &mut raw.qdd, &mut raw.tau]
-            .into_iter()
-            .flatten()
-        {
-            s.clear();
+        // this file's series, empty (a block of blank lines still has them)
+        let series = [&mut raw.qd, &mut raw.qdd, &mut raw.tau];
+        for (s, has) in series.into_iter().zip(self.cols.series()) {
+            match (s.as_mut(), has) {
+                (Some(s), true) => s.clear(),
+                (None, true) => *s = Some(Samples::new(self.joints)),
+                (_, false) => *s = None,
+            }
         }
     }
 }

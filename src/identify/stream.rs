@@ -41,7 +41,12 @@ pub fn reduce_logs(
     opts: &ReadOptions,
 ) -> Result<Option<StreamedLogs>, IdentifyError> {
     let t0 = std::time::Instant::now();
-    if !paths.iter().all(|p| crate::data::read_as_csv(p)) {
+    // a regular file only: a pipe cannot be read again by the whole reader
+    let regular = |p: &&Path| std::fs::metadata(p).is_ok_and(|m| m.is_file());
+    if !paths
+        .iter()
+        .all(|p| crate::data::read_as_csv(p) && regular(p))
+    {
         return Ok(None);
     }
     let joints = model.joint_names();
