@@ -32,9 +32,12 @@ const CHUNK: usize = 256;
 
 /// Reduces the training logs `paths` for `model` while reading them, when
 /// every one is a prepared CSV log (with q̈; as [`read_logs`](crate::data::read_logs)
-/// would take it as it is); `None` when one is not (another format, or a
-/// raw log that needs filtering: read those whole). An error names the
-/// file, row and column, or the sample.
+/// would take it as it is); `None` when one is not (another format, a
+/// raw log that needs filtering, or text the streaming reader leaves to the
+/// whole-file reader: read them all whole). A `None` can come after
+/// earlier files (or blocks) were read and reduced for nothing, which costs
+/// time, not the result. An error names the file, row and column, or the
+/// sample (counted over all the files, as the whole reduction counts it).
 pub fn reduce_logs(
     model: &Model,
     paths: &[&Path],
