@@ -398,7 +398,7 @@ fn find_cycle(g: &BTreeMap<ModPath, BTreeMap<ModPath, String>>) -> Option<Vec<St
 }
 
 /// The layers, lowest first: a file may use its own layer and those below.
-const LAYERS: [&[&str]; 12] = [
+const LAYERS: [&[&str]; 13] = [
     &["faer_lapack", "numfmt", "io", "linalg", "warning"],
     &["conic"],
     &["sdpa"],
@@ -407,6 +407,7 @@ const LAYERS: [&[&str]; 12] = [
     &["dynamics"],
     &["data"],
     &["sim"],
+    &["export"],
     &["identify"],
     &["effects"],
     &["diagnose"],

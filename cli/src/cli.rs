@@ -2,7 +2,7 @@
 //! library. Every command returns an exit code; errors are printed, never
 //! panicked.
 
-use crate::cmd::{check, demo, diagnose, identify, predict, sdpa, simulate};
+use crate::cmd::{check, demo, diagnose, export, identify, predict, sdpa, simulate};
 use clap::{Args, Parser, Subcommand};
 use momentlmi::data::Velocity;
 use momentlmi::effects::Library;
@@ -173,6 +173,11 @@ enum Command {
         /// Print a JSON summary.
         #[arg(long)]
         json: bool,
+        /// The torques of the model as its MuJoCo export holds it (`export --mjcf-out`): rotors
+        /// as joint armature, no friction: what MuJoCo's inverse dynamics gives without
+        /// passive and constraint forces.
+        #[arg(long)]
+        mujoco_view: bool,
     },
     /// Simulate a robot with switchable unmodelled effects and write a data file.
     Simulate {
@@ -314,6 +319,29 @@ enum Command {
         #[arg(long, default_value_t = 8.0)]
         max_memory_gib: f64,
     },
+    /// Write a model for a simulator: a copy of the robot's URDF with the parameters (and a
+    /// sidecar beside it), and/or a MuJoCo model (docs/export.md).
+    Export {
+        #[command(flatten)]
+        robot: RobotArgs,
+        /// `true` (own parameters + nominal friction), `cad` (the description's prior), or a
+        /// parameter file (the JSON `identify --json` prints); default: the model's own, no
+        /// friction.
+        #[arg(long)]
+        params: Option<String>,
+        /// The URDF to write: the robot's own with each body's <inertial> and each joint's
+        /// <dynamics> replaced (a built-in robot: one written from its model).
+        #[arg(long, value_name = "OUT.urdf")]
+        urdf_out: Option<PathBuf>,
+        /// The sidecar written with --urdf-out (rotors, friction, the prior)
+        /// [default: beside it, OUT.toml].
+        #[arg(long, value_name = "OUT.toml", requires = "urdf_out")]
+        sidecar_out: Option<PathBuf>,
+        /// The MuJoCo model (MJCF) to write: rotors as joint armature, viscous friction as
+        /// damping, Coulomb as frictionloss.
+        #[arg(long, value_name = "OUT.xml")]
+        mjcf_out: Option<PathBuf>,
+    },
     /// Solve an SDPA sparse file (.dat-s) and print the result.
     Sdpa {
         /// The .dat-s file.
@@ -399,7 +427,9 @@ pub fn main() -> i32 {
             read,
             out,
             json,
+            mujoco_view,
         } => predict::run(&predict::PredictArgs {
+            mujoco_view,
             read: read.choice(),
             robot: &robot,
             sidecar: own_sidecar(&robot, sidecar, no_sidecar).as_deref(),
@@ -509,6 +539,29 @@ pub fn main() -> i32 {
             json,
             out: out.as_deref(),
             max_memory_gib,
+        }),
+        Command::Export {
+            robot:
+                RobotArgs {
+                    robot,
+                    sidecar,
+                    package_path,
+                    no_sidecar,
+                },
+            params,
+            urdf_out,
+            sidecar_out,
+            mjcf_out,
+        } => export::run(&export::ExportArgs {
+            robot: &robot,
+            sidecar: own_sidecar(&robot, sidecar, no_sidecar).as_deref(),
+            package_paths: &package_path,
+            params: params.as_deref(),
+            out: export::Outputs {
+                urdf: urdf_out.as_deref(),
+                sidecar: sidecar_out.as_deref(),
+                mjcf: mjcf_out.as_deref(),
+            },
         }),
         Command::Sdpa {
             file,

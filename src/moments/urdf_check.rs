@@ -23,6 +23,7 @@ use super::nearest::{NearestOptions, nearest_consistent};
 use super::params::InertialParams;
 use super::union::{UnionRealization, realize_on_union};
 use crate::urdf::mesh::MeshPaths;
+use crate::urdf::write::{apply_edits, indent_before, inertial_xml};
 use crate::urdf::{Robot, UrdfError, geometry_warnings, read_file, read_str, validate};
 use nalgebra::Vector3;
 use serde::Serialize;
@@ -469,29 +470,8 @@ fn repaired_inertial(
         None if !rep.ellipsoids.is_empty() => "nearest inertia density realizable in its geometry",
         _ => "nearest physically consistent inertia",
     };
-    Ok((
-        format!(
-            "<inertial>\n{pad}  <!-- repaired by momentlmi check: {what} -->\n{pad}  <origin xyz=\"{:e} {:e} {:e}\" rpy=\"0 0 0\"/>\n{pad}  <mass value=\"{:e}\"/>\n{pad}  <inertia ixx=\"{:e}\" ixy=\"{:e}\" ixz=\"{:e}\" iyy=\"{:e}\" iyz=\"{:e}\" izz=\"{:e}\"/>\n{pad}</inertial>",
-            c[0], c[1], c[2], m, i[0], i[1], i[2], i[3], i[4], i[5]
-        ),
-        note,
-    ))
-}
-
-/// The spaces and tabs between the start of the line and byte `at`, if
-/// only those precede it on its line (else ""); looks back no further than
-/// the indentation, so that many repairs on one long line stay linear.
-fn indent_before(text: &str, at: usize) -> &str {
-    let b = text.as_bytes();
-    let mut i = at.min(b.len());
-    while i > 0 && matches!(b[i - 1], b' ' | b'\t') {
-        i -= 1;
-    }
-    if i == 0 || b[i - 1] == b'\n' {
-        &text[i..at]
-    } else {
-        ""
-    }
+    let comment = format!("repaired by momentlmi check: {what}");
+    Ok((inertial_xml(pad, &comment, m, c, i), note))
 }
 
 /// The URDF text with every inconsistent (non-placeholder, positive-mass)
@@ -543,22 +523,9 @@ pub fn repair_urdf(
     }
     // one pass, in file order (replacing in place would move the rest of
     // the text once per edit)
-    edits.sort_by_key(|e| e.0.start);
-    let mut out =
-        String::with_capacity(text.len() + edits.iter().map(|e| e.1.len()).sum::<usize>());
-    let mut at = 0;
-    for (r, s) in edits {
-        if r.start < at {
-            return Err(UrdfError::Robot {
-                path: path.into(),
-                message: "the report is not of this text (two of its <inertial> elements overlap)"
-                    .into(),
-            });
-        }
-        out.push_str(&text[at..r.start]);
-        out.push_str(&s);
-        at = r.end;
-    }
-    out.push_str(&text[at..]);
+    let out = apply_edits(text, edits).ok_or_else(|| UrdfError::Robot {
+        path: path.into(),
+        message: "the report is not of this text (two of its <inertial> elements overlap)".into(),
+    })?;
     Ok((out, repaired))
 }

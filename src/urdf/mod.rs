@@ -29,6 +29,7 @@ mod read;
 mod robot;
 mod rules;
 mod tree;
+pub mod write;
 
 pub use error::UrdfError;
 pub use limits::{Limits, MAX_ATTRIBUTES, MAX_BYTES, MAX_DEPTH, MAX_NAMESPACES, MAX_NODES};

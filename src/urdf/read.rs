@@ -263,6 +263,7 @@ fn read_link(path: &str, node: Node) -> Result<Link, UrdfError> {
             .transpose()?,
         collisions: read_shapes(node, "collision"),
         visuals: read_shapes(node, "visual"),
+        range: node.range(),
     })
 }
 
@@ -348,6 +349,7 @@ fn read_joint(path: &str, node: Node) -> Result<Joint, UrdfError> {
         limit,
         mimic,
         dynamics,
+        ranges: (node.range(), child(node, "dynamics").map(|d| d.range())),
     })
 }
 

@@ -92,6 +92,8 @@ pub struct Link {
     pub collisions: Vec<Shape>,
     /// Visual shapes.
     pub visuals: Vec<Shape>,
+    /// Byte range of the `<link>` element in the text (for writing a copy).
+    pub range: Range<usize>,
 }
 
 /// A joint's `type`.
@@ -168,6 +170,9 @@ pub struct Joint {
     pub mimic: Option<Mimic>,
     /// Friction, if given.
     pub dynamics: Option<JointDynamics>,
+    /// Byte ranges in the text of the `<joint>` element and of its
+    /// `<dynamics>` child, if any (for writing a copy).
+    pub ranges: (Range<usize>, Option<Range<usize>>),
 }
 
 /// A `<transmission>`: the joint it drives and its reduction.

@@ -24,6 +24,9 @@ pub struct PredictArgs<'a> {
     pub out: &'a Path,
     /// Print a JSON summary.
     pub json: bool,
+    /// Predict the model as its MuJoCo export holds it: rotors as joint
+    /// armature, no friction (`momentlmi::export::MujocoView`).
+    pub mujoco_view: bool,
 }
 
 /// Exit codes: 0 written, 2 bad input or failed write.
@@ -63,7 +66,11 @@ fn run_inner(a: &PredictArgs) -> Result<(), String> {
     let reading = super::read_data(&paths, &names, &opts, a.robot, a.sidecar)?;
     super::report_reading("--data", &reading);
     let d = reading.data;
-    let tau = predict_torques(&model, &friction, &d.q, &d.qd, &d.qdd).map_err(|e| e.to_string())?;
+    let tau = if a.mujoco_view {
+        view_torques(&model, &friction, &d)?
+    } else {
+        predict_torques(&model, &friction, &d.q, &d.qd, &d.qdd).map_err(|e| e.to_string())?
+    };
     let mut s = String::from("t");
     for j in &names {
         s += &format!(",tau_{j}");
@@ -128,4 +135,19 @@ fn run_inner(a: &PredictArgs) -> Result<(), String> {
         print!("{summary}");
     }
     Ok(())
+}
+
+/// The torques of the MuJoCo view of `model` (rigid bodies and armature).
+fn view_torques(
+    model: &momentlmi::dynamics::Model,
+    friction: &momentlmi::dynamics::Friction,
+    d: &momentlmi::data::Dataset,
+) -> Result<momentlmi::dynamics::Samples, String> {
+    let view = momentlmi::export::MujocoView::new(model, friction).map_err(|e| e.to_string())?;
+    let mut data = momentlmi::dynamics::Data::new(&view.model);
+    let rows: Vec<Vec<f64>> = (0..d.len())
+        .map(|k| view.torques(&mut data, &d.q[k], &d.qd[k], &d.qdd[k]))
+        .collect::<Result<_, _>>()
+        .map_err(|e| e.to_string())?;
+    Ok(momentlmi::dynamics::Samples::from_rows(&rows))
 }

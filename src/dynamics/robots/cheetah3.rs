@@ -124,6 +124,7 @@ pub fn true_params() -> [InertialParams; 6] {
 pub const ENTRY: BuiltIn = BuiltIn {
     name: NAME,
     describe,
+    sidecar: SIDECAR,
 };
 
 /// The leg's kinematics with its identified parameters, described by its

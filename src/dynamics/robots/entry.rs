@@ -11,4 +11,7 @@ pub struct BuiltIn {
     pub name: &'static str,
     /// Its description.
     pub describe: fn() -> Result<RobotDescription, DynamicsError>,
+    /// Its own sidecar's text (what [`Self::describe`] reads besides its
+    /// kinematics; the base of the sidecar an export writes).
+    pub sidecar: &'static str,
 }

@@ -23,6 +23,11 @@ pub fn built_in_names() -> Vec<&'static str> {
     BUILT_IN.iter().map(|b| b.name).collect()
 }
 
+/// The built-in robot named `name`, if there is one.
+pub fn built_in(name: &str) -> Option<&'static BuiltIn> {
+    BUILT_IN.iter().find(|b| b.name == name)
+}
+
 /// A built-in robot (`cheetah3-leg`) or a path to a URDF file (with an
 /// optional TOML sidecar), described; a URDF body without a sidecar
 /// bounding ellipsoid gets one from its geometry

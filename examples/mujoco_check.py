@@ -1,0 +1,142 @@
+#!/usr/bin/env python3
+"""The exported models checked by MuJoCo itself (run by .ci/run in a
+virtualenv with mujoco and numpy; docs/export.md).
+
+For the built-in leg (three geared rotors), the Panda (fixed and locked
+joints, STL meshes) and the KUKA LWR4+ (a real robot's URDF):
+1. `momentlmi export --params true --urdf-out --mjcf-out`;
+2. inverse dynamics: MuJoCo's `mj_inverse` on the written MJCF, with
+   constraints (Coulomb `frictionloss`, limits, contacts) and damping off,
+   equals `momentlmi predict --mujoco-view` (rigid bodies + armature) to
+   1e-6 N·m on simulated motions; damping and frictionloss equal the
+   exported sidecar's viscous and Coulomb friction;
+3. round trip: `predict` on the written URDF + sidecar equals `predict` on
+   the original robot to 1e-9 N·m, and `check` calls every body of the
+   written URDF consistent;
+4. forward: MuJoCo's `mj_step` from a recorded state under the recorded
+   torques (the Panda without friction: the MJCF is then the whole model)
+   stays within 1e-4 rad of the recorded motion for 0.2 s (each step's
+   torque the mean of the samples at its ends; measured 2e-6 rad).
+
+Usage: mujoco_check.py [path of the momentlmi binary]"""
+import csv
+import subprocess
+import sys
+import tempfile
+import tomllib
+from pathlib import Path
+
+import mujoco
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+BIN = Path(sys.argv[1]) if len(sys.argv) > 1 else ROOT / "target/release/momentlmi"
+ROBOTS = {
+    "leg": ["--robot", "cheetah3-leg"],
+    "panda": ["--robot", str(ROOT / "robots/panda/panda.urdf")],
+    "kuka": ["--robot", str(ROOT / "robots/kuka-lwr4/kuka_lwr4.urdf")],
+}
+
+
+def run(*args, ok=(0,)):
+    r = subprocess.run([str(BIN), *map(str, args)], capture_output=True, text=True)
+    if r.returncode not in ok:
+        sys.exit(f"momentlmi {' '.join(map(str, args))}: exit {r.returncode}\n{r.stderr}")
+    return r
+
+
+def read_csv(path):
+    with open(path) as f:
+        rows = list(csv.reader(f))
+    return rows[0], np.array(rows[1:], dtype=float)
+
+
+def columns(header, values, prefix, names):
+    return values[:, [header.index(f"{prefix}_{n}") for n in names]]
+
+
+def joint_names(m):
+    return [mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, i) for i in range(m.njnt)]
+
+
+def inverse(xml, data, pred):
+    """max |qfrc_inverse − predicted| over the samples (N·m)."""
+    m = mujoco.MjModel.from_xml_path(str(xml))
+    m.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONSTRAINT
+    m.dof_damping[:] = 0
+    d = mujoco.MjData(m)
+    names = joint_names(m)
+    h, a = read_csv(data)
+    hp, p = read_csv(pred)
+    q, qd, qdd = (columns(h, a, x, names) for x in ("q", "qd", "qdd"))
+    tau = columns(hp, p, "tau", names)
+    worst = 0.0
+    for k in range(len(a)):
+        d.qpos[:], d.qvel[:], d.qacc[:] = q[k], qd[k], qdd[k]
+        mujoco.mj_inverse(m, d)
+        worst = max(worst, float(np.abs(d.qfrc_inverse - tau[k]).max()))
+    return worst
+
+
+def friction_matches(xml, sidecar):
+    """The MJCF's damping and frictionloss are the sidecar's viscous and Coulomb friction."""
+    m = mujoco.MjModel.from_xml_path(str(xml))
+    joints = {j["name"]: j for j in tomllib.loads(Path(sidecar).read_text()).get("joint", [])}
+    for i, n in enumerate(joint_names(m)):
+        j = joints[n]
+        assert m.dof_damping[i] == j["viscous"] and m.dof_frictionloss[i] == j["coulomb"], n
+
+
+def forward(xml, data, start=500, steps=200):
+    """Largest |q_MuJoCo − q_recorded| (rad) over `steps` steps of 1 ms from
+    sample `start`, the recorded torques applied, friction off."""
+    m = mujoco.MjModel.from_xml_path(str(xml))
+    m.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONTACT | mujoco.mjtDisableBit.mjDSBL_LIMIT
+    m.opt.integrator = mujoco.mjtIntegrator.mjINT_RK4
+    m.dof_damping[:] = 0
+    m.dof_frictionloss[:] = 0
+    d = mujoco.MjData(m)
+    names = joint_names(m)
+    h, a = read_csv(data)
+    q, qd, tau = (columns(h, a, x, names) for x in ("q", "qd", "tau"))
+    d.qpos[:], d.qvel[:] = q[start], qd[start]
+    worst = 0.0
+    for k in range(start, start + steps):
+        d.ctrl[:] = 0.5 * (tau[k] + tau[k + 1])  # the torque over the step, to O(dt²)
+        mujoco.mj_step(m, d)
+        worst = max(worst, float(np.abs(d.qpos - q[k + 1]).max()))
+    return worst
+
+
+def main():
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        for name, robot in ROBOTS.items():
+            data, pred = tmp / f"{name}.csv", tmp / f"{name}_pred.csv"
+            urdf, side, xml = tmp / f"{name}.urdf", tmp / f"{name}.toml", tmp / f"{name}.xml"
+            run("simulate", *robot, "--seconds", 2, "--noise", 0, "--out", data)
+            run("export", *robot, "--params", "true", "--urdf-out", urdf, "--mjcf-out", xml)
+            run("predict", *robot, "--params", "true", "--mujoco-view", "--data", data, "--out", pred)
+            worst = inverse(xml, data, pred)
+            print(f"{name}: max |mj_inverse - predict --mujoco-view| = {worst:.2e} N·m")
+            assert worst <= 1e-6, worst
+            friction_matches(xml, side)
+            # round trip through the written URDF and sidecar
+            back, orig = tmp / f"{name}_back.csv", tmp / f"{name}_orig.csv"
+            run("predict", *robot, "--params", "true", "--data", data, "--out", orig)
+            run("predict", "--robot", urdf, "--sidecar", side, "--params", "true", "--data", data, "--out", back)
+            (h1, a1), (h2, a2) = read_csv(orig), read_csv(back)
+            assert h1 == h2, (h1, h2)
+            gap = float(np.abs(a1 - a2).max())
+            print(f"{name}: URDF round trip, max torque difference {gap:.2e} N·m")
+            assert gap <= 1e-9, gap
+            run("check", urdf, "--package-path", ROOT / "robots/panda")
+            if name == "panda":
+                drift = forward(xml, data)
+                print(f"{name}: mj_step under the recorded torques, 0.2 s: max |dq| = {drift:.2e} rad")
+                assert drift <= 1e-4, drift
+    print("mujoco: ok")
+
+
+if __name__ == "__main__":
+    main()
