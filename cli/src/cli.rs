@@ -73,6 +73,33 @@ impl ReadArgs {
     }
 }
 
+/// Where a model is exported (docs/export.md).
+#[derive(Args, Debug)]
+struct ExportOutArgs {
+    /// A URDF to write: the robot's own with each body's <inertial> and each joint's
+    /// <dynamics> replaced (a built-in robot: one written from its model).
+    #[arg(long, value_name = "OUT.urdf")]
+    urdf_out: Option<PathBuf>,
+    /// The sidecar written with --urdf-out (rotors, friction, the prior)
+    /// [default: beside it, OUT.toml].
+    #[arg(long, value_name = "OUT.toml", requires = "urdf_out")]
+    sidecar_out: Option<PathBuf>,
+    /// A MuJoCo model (MJCF) to write: rotors as joint armature, viscous friction as
+    /// damping, Coulomb as frictionloss.
+    #[arg(long, value_name = "OUT.xml")]
+    mjcf_out: Option<PathBuf>,
+}
+
+impl ExportOutArgs {
+    fn outputs(&self) -> export::Outputs<'_> {
+        export::Outputs {
+            urdf: self.urdf_out.as_deref(),
+            sidecar: self.sidecar_out.as_deref(),
+            mjcf: self.mjcf_out.as_deref(),
+        }
+    }
+}
+
 /// `simulate --help`'s list of effect parameters.
 fn effect_param_help() -> String {
     format!(
@@ -288,6 +315,9 @@ enum Command {
         /// The memory identification may plan for (GiB); a larger problem is refused before it starts.
         #[arg(long, default_value_t = 8.0)]
         max_memory_gib: f64,
+        /// The identified model exported too (as `momentlmi export` would).
+        #[command(flatten)]
+        export: ExportOutArgs,
     },
     /// Diagnose the gap between a nominal model and measured data: where it lies, which unmodelled
     /// effect explains it, how far it shrinks (docs/diagnosis.md).
@@ -329,18 +359,8 @@ enum Command {
         /// friction.
         #[arg(long)]
         params: Option<String>,
-        /// The URDF to write: the robot's own with each body's <inertial> and each joint's
-        /// <dynamics> replaced (a built-in robot: one written from its model).
-        #[arg(long, value_name = "OUT.urdf")]
-        urdf_out: Option<PathBuf>,
-        /// The sidecar written with --urdf-out (rotors, friction, the prior)
-        /// [default: beside it, OUT.toml].
-        #[arg(long, value_name = "OUT.toml", requires = "urdf_out")]
-        sidecar_out: Option<PathBuf>,
-        /// The MuJoCo model (MJCF) to write: rotors as joint armature, viscous friction as
-        /// damping, Coulomb as frictionloss.
-        #[arg(long, value_name = "OUT.xml")]
-        mjcf_out: Option<PathBuf>,
+        #[command(flatten)]
+        out: ExportOutArgs,
     },
     /// Solve an SDPA sparse file (.dat-s) and print the result.
     Sdpa {
@@ -492,7 +512,9 @@ pub fn main() -> i32 {
             total_mass,
             equal,
             max_memory_gib,
+            export,
         } => identify::run(&identify::IdentifyArgs {
+            export: export.outputs(),
             read: read.choice(),
             robot: &robot,
             sidecar: own_sidecar(&robot, sidecar, no_sidecar).as_deref(),
@@ -549,19 +571,13 @@ pub fn main() -> i32 {
                     no_sidecar,
                 },
             params,
-            urdf_out,
-            sidecar_out,
-            mjcf_out,
+            out,
         } => export::run(&export::ExportArgs {
             robot: &robot,
             sidecar: own_sidecar(&robot, sidecar, no_sidecar).as_deref(),
             package_paths: &package_path,
             params: params.as_deref(),
-            out: export::Outputs {
-                urdf: urdf_out.as_deref(),
-                sidecar: sidecar_out.as_deref(),
-                mjcf: mjcf_out.as_deref(),
-            },
+            out: out.outputs(),
         }),
         Command::Sdpa {
             file,

@@ -90,3 +90,69 @@ fn bad_requests_write_nothing() {
     );
     assert_eq!(dir.names(), ["point.json"]);
 }
+
+/// `identify --urdf-out --mjcf-out`: the identified model written beside
+/// its JSON, and the URDF + sidecar predict what the JSON predicts.
+#[test]
+fn identify_exports_what_it_identified() {
+    let dir = TempDir::new("export-identify");
+    let data = dir.0.join("d.csv");
+    let o = bin()
+        .args([
+            "simulate",
+            "--robot",
+            "cheetah3-leg",
+            "--seconds",
+            "3",
+            "--out",
+            s(&data),
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (u, x) = (dir.0.join("id.urdf"), dir.0.join("id.xml"));
+    let o = bin()
+        .args([
+            "identify",
+            "--robot",
+            "cheetah3-leg",
+            "--data",
+            s(&data),
+            "--json",
+        ])
+        .args(["--urdf-out", s(&u), "--mjcf-out", s(&x)])
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let json = dir.write("id.json", &String::from_utf8_lossy(&o.stdout));
+    let predict = |robot: &[&str], params: &Path, out: &str| {
+        let out = dir.0.join(out);
+        let o = bin()
+            .arg("predict")
+            .args(robot)
+            .args(["--params", s(params), "--data", s(&data), "--out", s(&out)])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        std::fs::read_to_string(out).unwrap()
+    };
+    let from_json = predict(&["--robot", "cheetah3-leg"], &json, "a.csv");
+    let side = dir.0.join("id.toml");
+    let urdf_robot = ["--robot", s(&u), "--sidecar", s(&side)];
+    let from_urdf = predict(&urdf_robot, Path::new("true"), "b.csv");
+    let rows = |t: &str| -> Vec<Vec<f64>> {
+        (t.lines().skip(1))
+            .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+            .collect()
+    };
+    for (a, b) in rows(&from_json).iter().zip(rows(&from_urdf)) {
+        for (x, y) in a.iter().zip(&b) {
+            assert!((x - y).abs() <= 1e-9, "{x} {y}");
+        }
+    }
+}

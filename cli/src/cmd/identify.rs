@@ -50,14 +50,23 @@ pub struct IdentifyArgs<'a> {
     pub equal: &'a [String],
     /// The memory limit (GiB).
     pub max_memory_gib: f64,
+    /// Where the identified model is exported.
+    pub export: super::export::Outputs<'a>,
 }
 
 /// Exit codes: 0 identified (constraints satisfied), 1 identified but a
 /// constraint check failed, 2 bad input or solver failure.
 pub fn run(a: &IdentifyArgs) -> i32 {
     let t0 = std::time::Instant::now();
+    let staged = match exports_claimed(a) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return 2;
+        }
+    };
     match run_inner(a) {
-        Ok(mut r) => {
+        Ok((mut r, robot)) => {
             let total = t0.elapsed().as_secs_f64();
             r.total_time_s = total;
             r.timings.total_s = total;
@@ -77,6 +86,12 @@ pub fn run(a: &IdentifyArgs) -> i32 {
             }
             warn_bodies(&r);
             warn_unexcited(&r.unidentifiable_directions);
+            if let Some(staged) = staged
+                && let Err(e) = export(staged, &robot, &r, a)
+            {
+                eprintln!("error: exporting the identified model: {e}");
+                return 2;
+            }
             if r.constraints_satisfied { 0 } else { 1 }
         }
         Err(e) => {
@@ -84,6 +99,44 @@ pub fn run(a: &IdentifyArgs) -> i32 {
             2
         }
     }
+}
+
+/// The export outputs claimed before the work (an input as an output, a
+/// folder: refused now), or `None` when none is asked for.
+fn exports_claimed(a: &IdentifyArgs) -> Result<Option<momentlmi::data::Staged>, String> {
+    if !a.export.any() {
+        return Ok(None);
+    }
+    let files: Vec<&Path> = (a.data.iter().chain(a.validate).map(|p| p.as_path()))
+        .chain(a.sidecar)
+        .collect();
+    let specs = [a.robot, a.prior.unwrap_or("")];
+    let staged = momentlmi::data::Staged::protecting(super::input_files(&files, &specs));
+    a.export.claim(&staged)?;
+    Ok(Some(staged))
+}
+
+/// The identified model (the result read as a parameter file) exported.
+fn export(
+    staged: momentlmi::data::Staged,
+    robot: &momentlmi::dynamics::RobotDescription,
+    r: &IdentifyResult,
+    a: &IdentifyArgs,
+) -> Result<(), String> {
+    let json = serde_json::to_value(r).map_err(|e| e.to_string())?;
+    let file: momentlmi::dynamics::params_file::ParamsFile =
+        serde_json::from_value(json).map_err(|e| e.to_string())?;
+    let mut model = robot.model.clone();
+    let friction = file
+        .apply(&mut model, "the identified model")
+        .map_err(|e| e.to_string())?;
+    super::export::write(
+        staged,
+        robot,
+        (&model, &friction),
+        a.export,
+        a.package_paths,
+    )
 }
 
 /// The bodies that are not physically consistent (whatever the level), and
@@ -220,7 +273,7 @@ fn identification<'r>(
     Ok(id)
 }
 
-fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
+fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), String> {
     parse_level(a.constraints, "--constraints")?;
     let mut robot = super::load_robot(a.robot, a.sidecar, a.package_paths)?;
     if let Some(list) = a.friction {
@@ -238,7 +291,7 @@ fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
         let p: Vec<&Path> = paths.iter().map(|p| p.as_path()).collect();
         super::read_data(&p, &names, &opts, a.robot, a.sidecar)
     };
-    std::thread::scope(|s| {
+    let r = std::thread::scope(|s| {
         // the bounding volumes (meshes read, ellipsoids fitted) are computed
         // while the logs are read
         let bounds = ellipsoid.then(|| s.spawn(|| robot.bounding_warnings().len()));
@@ -294,8 +347,9 @@ fn run_inner(a: &IdentifyArgs) -> Result<IdentifyResult, String> {
             training: train.into_files(),
             validation: val.map(|v| v.files).unwrap_or_default(),
         };
-        Ok(r)
-    })
+        Ok::<_, String>(r)
+    })?;
+    Ok((r, robot))
 }
 
 /// The training data: reduced while read (prepared CSV logs, when neither
