@@ -2,6 +2,7 @@
 //! `base` link, and per body a link (its identified `<inertial>`, no
 //! shapes) and a joint (origin, axis, limits, `<dynamics>`).
 
+use super::checks::urdf_inertial;
 use super::error::ExportError;
 use crate::dynamics::{Friction, JointKind, Model};
 use crate::urdf::write::inertial_xml;
@@ -22,17 +23,7 @@ pub fn urdf_of_model(model: &Model, friction: &Friction) -> Result<String, Expor
         super::mjcf::escape(&model.name)
     );
     for (b, j) in model.joints.iter().enumerate() {
-        let p = &j.inertia;
-        if !(p.mass() > 0.0) {
-            return Err(ExportError::Body {
-                body: j.body.clone(),
-                message: format!(
-                    "mass {} kg: a URDF <inertial> needs a positive mass",
-                    p.mass()
-                ),
-            });
-        }
-        let (m, c, i) = p.to_urdf();
+        let (m, c, i) = urdf_inertial(&j.body, &j.inertia)?;
         let inertial = inertial_xml("    ", "identified by momentlmi", m, c, i);
         let _ = writeln!(
             s,

@@ -13,6 +13,7 @@
 //! Frames: a body's parameters are in its body frame, which is its URDF
 //! link's frame (`docs/export.md`).
 
+mod checks;
 mod error;
 mod generate;
 pub mod mjcf;

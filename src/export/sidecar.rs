@@ -2,6 +2,7 @@
 //! (its text kept where not changed) with the identified rotors and
 //! friction, and the prior it was identified against.
 
+use super::checks::has_friction;
 use super::error::ExportError;
 use crate::dynamics::{Friction, Model};
 use crate::moments::InertialParams;
@@ -51,12 +52,7 @@ pub fn sidecar_with_params(
         t["axis"] = value(numbers(r.axis.as_slice()));
         t["params"] = value(numbers(&r.inertia.0));
     }
-    if friction
-        .viscous
-        .iter()
-        .chain(&friction.coulomb)
-        .any(|&x| x != 0.0)
-    {
+    if has_friction(friction) {
         for (j, joint) in model.joints.iter().enumerate() {
             let t = entry(&mut doc, "joint", "name", &joint.name).map_err(bad)?;
             t["viscous"] = value(friction.viscous[j]);

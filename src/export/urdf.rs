@@ -10,6 +10,7 @@
 //! locked joints are still movable in the copy: lock them there too.
 //! Links on the fixed base keep their elements.
 
+use super::checks::{has_friction, urdf_inertial};
 use super::error::ExportError;
 use crate::dynamics::{Friction, Model};
 use crate::moments::InertialParams;
@@ -50,12 +51,7 @@ pub fn urdf_with_params(
             }
         }
     }
-    if friction
-        .viscous
-        .iter()
-        .chain(&friction.coulomb)
-        .any(|&x| x != 0.0)
-    {
+    if has_friction(friction) {
         for (j, joint) in model.joints.iter().enumerate() {
             edits.push(joint_dynamics(source, &joint.name, friction, j)?);
         }
@@ -91,16 +87,7 @@ fn body_inertial(
     link: &Link,
     p: &InertialParams,
 ) -> Result<Edit, ExportError> {
-    if !(p.mass() > 0.0) {
-        return Err(ExportError::Body {
-            body: link.name.clone(),
-            message: format!(
-                "mass {} kg: a URDF <inertial> needs a positive mass (the CoM is undefined)",
-                p.mass()
-            ),
-        });
-    }
-    let (m, c, i) = p.to_urdf();
+    let (m, c, i) = urdf_inertial(&link.name, p)?;
     let comment = "identified by momentlmi (the whole body: this link and the links fixed to it)";
     match &link.inertial {
         Some(old) => {
