@@ -239,12 +239,19 @@ impl Writer {
             ));
             return None;
         }
+        if ext == "stl" && ascii_stl(&path) {
+            self.notes.push(format!(
+                "mesh {} of link '{link}': an ASCII STL (MuJoCo reads binary STL only)",
+                path.display()
+            ));
+            return None;
+        }
         let path = std::fs::canonicalize(&path).unwrap_or(path);
         let name = format!("mesh{}", self.meshes);
         self.meshes += 1;
         let _ = writeln!(
             self.assets,
-            "    <mesh name=\"{name}\" file=\"{}\" scale=\"{:e} {:e} {:e}\"/>",
+            "    <mesh name=\"{name}\" file=\"{}\" scale=\"{:e} {:e} {:e}\" inertia=\"shell\"/>",
             escape(&path.display().to_string()),
             scale[0],
             scale[1],
@@ -252,6 +259,22 @@ impl Writer {
         );
         Some(name)
     }
+}
+
+/// Whether an STL file is ASCII: it starts with `solid` and its size is
+/// not the binary format's (84 + 50 bytes per triangle, the count at byte 80).
+fn ascii_stl(path: &std::path::Path) -> bool {
+    use std::io::Read;
+    let Ok(mut f) = std::fs::File::open(path) else {
+        return false;
+    };
+    let mut head = [0u8; 84];
+    if f.read_exact(&mut head).is_err() {
+        return head.starts_with(b"solid");
+    }
+    let count = u32::from_le_bytes([head[80], head[81], head[82], head[83]]) as u64;
+    let size = std::fs::metadata(path).map_or(0, |m| m.len());
+    head.starts_with(b"solid") && size != 84 + 50 * count
 }
 
 /// `pos="…" quat="…"` of frame B given X (A → B).

@@ -89,6 +89,10 @@ fn run_inner(a: &ExportArgs) -> Result<(), String> {
     ));
     a.out.claim(&staged)?;
     let robot = super::load_robot(a.robot, a.sidecar, a.package_paths)?;
+    if a.params.is_some_and(|p| p == "true") {
+        // placeholder friction would otherwise be written as if it were known
+        super::warn_robot(&robot);
+    }
     let (model, friction) = super::parameters_for(&robot, "--params", a.params, ParamChoice::Own)?;
     write(staged, &robot, (&model, &friction), a.out, a.package_paths)
 }
