@@ -13,6 +13,7 @@ use crate::data::stream::{Block, stream_prepared_csv};
 use crate::data::{FileReport, ReadOptions};
 use crate::dynamics::Model;
 use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
 
 /// Logs reduced as they were read.
 #[derive(Clone, Debug)]
@@ -54,32 +55,36 @@ pub fn reduce_logs(
     }
     let joints = model.joint_names();
     let mut total: Option<StreamReducer> = None;
-    let (mut files, mut read_s) = (vec![], 0.0);
+    let (mut files, mut read_s, mut failed) = (vec![], 0.0, None);
+    // after a failed sum, the files are still read for their own errors,
+    // which come first (as when they are read whole), without summing
+    let gave_up = AtomicBool::new(false);
     for path in paths {
         let offset = total.as_ref().map_or(0, StreamReducer::samples);
-        let each = |b: &Block| reduce_block(model, b, offset);
-        let mut failed = None;
+        let each = |b: &Block| (!gave_up.load(Relaxed)).then(|| reduce_block(model, b, offset));
         // each block's sums added as it comes, in the file's order
-        let fold = |part: Result<_, IdentifyError>| {
+        let fold = |part: Option<Result<_, IdentifyError>>| {
+            let Some(part) = part.filter(|_| failed.is_none()) else {
+                return false;
+            };
             let merged = part.and_then(|part| match total.take() {
                 None => Ok(part),
                 Some(t) => t.merge(part),
             });
             match merged {
                 Ok(m) => total = Some(m),
-                Err(e) => failed = Some(e),
+                Err(e) => (failed, _) = (Some(e), gave_up.store(true, Relaxed)),
             }
             failed.is_none()
         };
-        let streamed = stream_prepared_csv(path, &joints, opts, each, fold);
-        if let Some(e) = failed {
-            return Err(e);
-        }
-        let Some(streamed) = streamed? else {
+        let Some(streamed) = stream_prepared_csv(path, &joints, opts, each, fold)? else {
             return Ok(None);
         };
         read_s += streamed.read_s;
         files.push(streamed.report);
+    }
+    if let Some(e) = failed {
+        return Err(e);
     }
     let Some(total) = total else {
         return Err(IdentifyError::NoTrainingData {

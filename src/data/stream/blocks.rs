@@ -4,7 +4,7 @@
 
 use super::super::csv::{MAX_LINE_BYTES, MAX_ROWS};
 use super::super::error::DataError;
-use super::rows::row_error;
+use super::rows::{Fail, row_error, too_many_rows};
 use std::io::Read;
 use std::sync::{Condvar, Mutex};
 
@@ -20,39 +20,42 @@ pub(super) struct Text<'a> {
 /// Reads `file` (after `rest`, the bytes already read) in blocks of whole
 /// lines of about `size` bytes, runs `task` on each on the thread pool and
 /// hands the results to `take` in order, on this thread, as they come
-/// (`take` returns `false` to stop). At most `2 × threads + 1` blocks, and
-/// (but one block) as many times `size` bytes, are read and not yet taken:
-/// long lines make fewer blocks out. An error reading the file ends the
-/// reading; the blocks read before it are still taken.
+/// (`take` returns `false` to stop). At most `2 × threads + 1` blocks are
+/// out (handed to a task and not yet taken), each's bytes held until it is
+/// taken, and together (but one block) at most that many times `size`
+/// bytes: long lines make fewer blocks out; one more block is being read.
+/// Up to as many buffers of at most `4 × size` bytes are kept for reuse.
+///
+/// A failure reading the file ends the reading (the blocks read before it
+/// are still taken), as does a block that starts past [`MAX_ROWS`] rows.
 pub(super) fn blocks<R: Send>(
     (file, rest, size): (&mut std::fs::File, &mut Vec<u8>, usize),
     path: &str,
     task: impl Fn(&Text) -> R + Sync,
     take: &mut impl FnMut(R) -> bool,
-) -> Result<(), DataError> {
+) -> Result<(), Fail> {
     let limit = 2 * rayon::current_num_threads() + 1;
     let queue = Queue::default();
     // the blocks' buffers, reused: fresh pages cost more than the parsing
     let pool: Mutex<Vec<Vec<u8>>> = Mutex::new(vec![]);
-    let mut read_error = Ok(());
+    let mut failure = Ok(());
     rayon::in_place_scope(|s| {
         let (mut issued, mut taken, mut first_row) = (0usize, 0usize, 1usize);
         let mut out = std::collections::VecDeque::new(); // the bytes of the blocks out
         loop {
             let spare = (pool.lock().ok()).and_then(|mut p| p.pop());
             let next = next_block((file, rest, size), spare.unwrap_or_default(), path);
-            let block = match next {
+            let block = match next.map_err(|f| f.at_row(path, first_row)) {
                 Ok(Some(b)) => b,
                 Ok(None) => break,
-                Err(e) => {
-                    read_error = Err(e.at_row(first_row));
+                Err(f) => {
+                    failure = Err(f);
                     break;
                 }
             };
             let records = records(&block);
-            if first_row + records > MAX_ROWS + 1 {
-                let message = format!("more than {MAX_ROWS} data rows; split the log");
-                read_error = Err(row_error(path, MAX_ROWS + 1, message));
+            if records > 0 && first_row > MAX_ROWS {
+                failure = Err(too_many_rows(path).into());
                 break;
             }
             // room for this block: the oldest taken until it fits
@@ -90,7 +93,7 @@ pub(super) fn blocks<R: Send>(
         // the rest, in order
         queue.take_until(&mut taken, issued, take);
     });
-    read_error
+    failure
 }
 
 /// The number of records in `text`: runs of bytes other than `\r` and `\n`
@@ -111,30 +114,41 @@ pub(super) fn records(text: &[u8]) -> usize {
     first + starts.sum::<usize>()
 }
 
-/// Why reading the next block failed: the file (an I/O error) or a line
-/// longer than [`MAX_LINE_BYTES`] (whose row the caller knows).
+/// Why reading the next block failed: the file (an I/O error), or a line
+/// longer than [`MAX_LINE_BYTES`] after the block's first `before` records
+/// (the whole-file reader refuses it at its row; one holding `\r`-ended
+/// records, `Whole: true`, it refuses at a row only it can tell).
 pub(super) enum ReadFailure {
     Io(DataError),
-    /// The file, and the records in the block before the long line.
-    LongLine(String, usize),
+    LongLine { before: usize, whole: bool },
 }
 
 impl ReadFailure {
-    /// The error, naming `row` for a long line.
-    fn at_row(self, row: usize) -> DataError {
+    /// The failure of the block whose first record is data row `row`.
+    fn at_row(self, path: &str, row: usize) -> Fail {
         match self {
-            Self::Io(e) => e,
-            Self::LongLine(path, before) => row_error(
-                &path,
-                row + before,
-                format!("a line longer than {MAX_LINE_BYTES} bytes"),
-            ),
+            Self::Io(e) => e.into(),
+            Self::LongLine {
+                before,
+                whole: true,
+            } => Fail::Whole(row + before),
+            Self::LongLine { before, .. } => {
+                let message = format!("a line longer than {MAX_LINE_BYTES} bytes");
+                row_error(path, row + before, message).into()
+            }
         }
+    }
+
+    /// A long line that starts after the first `before` records of a block.
+    fn long(line: &[u8], before: usize) -> Self {
+        let whole = line.contains(&b'\r');
+        Self::LongLine { before, whole }
     }
 }
 
-/// The next block of whole lines (the last may lack its line break), or
-/// `None` at the end of the file; read into `buf` (emptied first).
+/// The next block of whole lines, each with its line break (the file's
+/// last may lack it), or `None` at the end of the file; read into `buf`
+/// (emptied first), what is read past the block kept in `rest`.
 fn next_block(
     (file, rest, size): (&mut std::fs::File, &mut Vec<u8>, usize),
     mut buf: Vec<u8>,
@@ -142,38 +156,77 @@ fn next_block(
 ) -> Result<Option<Vec<u8>>, ReadFailure> {
     buf.clear();
     buf.append(rest);
-    let mut searched = 0; // bytes known to hold no line break
+    let mut cut = Cut::default();
     loop {
-        // up to `size`; in a long line, as much again as read (at most 1 MiB)
-        let want = match size.checked_sub(buf.len()) {
-            Some(room) if room > 0 => room,
-            _ => buf.len().min(1 << 20),
-        } as u64;
-        // read_to_end fills the spare room without zeroing it first
-        let k = (&mut *file)
-            .take(want)
-            .read_to_end(&mut buf)
-            .map_err(|source| {
-                ReadFailure::Io(DataError::Io {
-                    path: path.into(),
-                    source,
-                })
-            })?;
-        if k == 0 {
-            return no_long_line(buf, path).map(|b| (!b.is_empty()).then_some(b));
+        let eof = match buf.len() < size {
+            true => read_more(file, &mut buf, size, path)?,
+            false => false,
+        };
+        if let Some(at) = cut.find(&buf, size) {
+            rest.extend_from_slice(&buf[at..]);
+            buf.truncate(at);
+            return no_long_line(buf).map(Some);
+        }
+        if eof {
+            return no_long_line(buf).map(|b| (!b.is_empty()).then_some(b));
+        }
+        if buf.len() > MAX_LINE_BYTES {
+            return Err(ReadFailure::long(&buf, 0));
         }
         if buf.len() >= size {
-            match buf[searched..].iter().rposition(|&b| b == b'\n') {
-                Some(i) => {
-                    let i = searched + i;
-                    rest.extend_from_slice(&buf[i + 1..]);
-                    buf.truncate(i); // without the line break
-                    return no_long_line(buf, path).map(Some);
-                }
-                None if buf.len() > MAX_LINE_BYTES => {
-                    return Err(ReadFailure::LongLine(path.into(), 0));
-                }
-                None => searched = buf.len(), // one long line: read on
+            // one long line: as much again as read (at most 1 MiB)
+            let upto = buf.len() + buf.len().min(1 << 20);
+            if read_more(file, &mut buf, upto, path)? {
+                return no_long_line(buf).map(Some);
+            }
+        }
+    }
+}
+
+/// Reads more bytes into `buf`, up to `upto` in all; `true` at the end of
+/// the file.
+fn read_more(
+    file: &mut std::fs::File,
+    buf: &mut Vec<u8>,
+    upto: usize,
+    path: &str,
+) -> Result<bool, ReadFailure> {
+    let want = upto.saturating_sub(buf.len()) as u64;
+    // read_to_end fills the spare room without zeroing it first
+    let k = (file.take(want).read_to_end(buf)).map_err(|source| {
+        ReadFailure::Io(DataError::Io {
+            path: path.into(),
+            source,
+        })
+    })?;
+    Ok(k == 0)
+}
+
+/// Where a block ends: after the last line break in its first `size`
+/// bytes, else after the first one past them; what was searched is not
+/// searched again.
+#[derive(Default)]
+struct Cut {
+    searched: Option<usize>,
+}
+
+impl Cut {
+    fn find(&mut self, buf: &[u8], size: usize) -> Option<usize> {
+        if buf.len() < size {
+            return None;
+        }
+        let from = match self.searched {
+            Some(from) => from,
+            None => match buf[..size].iter().rposition(|&b| b == b'\n') {
+                Some(i) => return Some(i + 1),
+                None => size,
+            },
+        };
+        match buf[from..].iter().position(|&b| b == b'\n') {
+            Some(i) => Some(from + i + 1),
+            None => {
+                self.searched = Some(buf.len());
+                None
             }
         }
     }
@@ -181,14 +234,14 @@ fn next_block(
 
 /// `block`, unless a line of it is longer than [`MAX_LINE_BYTES`] (the
 /// whole-file reader refuses it).
-fn no_long_line(block: Vec<u8>, path: &str) -> Result<Vec<u8>, ReadFailure> {
+fn no_long_line(block: Vec<u8>) -> Result<Vec<u8>, ReadFailure> {
     if block.len() <= MAX_LINE_BYTES {
         return Ok(block);
     }
     let mut start = 0;
     for line in block.split(|&b| b == b'\n') {
         if line.len() > MAX_LINE_BYTES {
-            return Err(ReadFailure::LongLine(path.into(), records(&block[..start])));
+            return Err(ReadFailure::long(line, records(&block[..start])));
         }
         start += line.len() + 1;
     }

@@ -1,34 +1,43 @@
-//! A prepared CSV log (one with q̈, as `simulate` writes: taken as it is,
-//! [`super::prepare`]) streamed in blocks of rows: the calling thread reads
-//! the next block while the thread pool parses and uses the ones before,
-//! at most a few blocks at a time, so memory does not grow with the file.
+//! A prepared CSV log (one with q̈ and q̇, as `simulate` writes: taken as
+//! it is, [`super::prepare`]) streamed in blocks of rows: the calling
+//! thread reads the next block while the thread pool parses and uses the
+//! ones before, at most a few blocks at a time, so memory does not grow
+//! with the file.
 //!
 //! Rows are read as [`read_logs`](super::read_logs) reads them: a line of
 //! plain numbers by a fast parser that gives `str::parse`'s values, any
-//! other line by the same CSV reader with the same settings and the same
-//! checks of each value; rows are counted as that reader counts them
-//! (empty lines are not rows), and time must increase within and across
-//! blocks. What it does not take line by line (`\r` line ends in the
-//! header, a quoted line break, text that is not UTF-8) it leaves to the
+//! other line by the CSV automaton that reader runs, with its settings,
+//! and the same checks of each value; rows are counted as that reader
+//! counts them (empty lines are not rows). Its errors come in its order:
+//! the first malformed row (or more than [`MAX_ROWS`](super::csv::MAX_ROWS)
+//! rows), else no rows, else the first row whose time is not after the
+//! row before's, within or across blocks. What it does not take line by
+//! line (empty lines before the header, a `\r` line end in the header, a
+//! quoted line break, text that is not UTF-8, an over-long line holding
+//! `\r`-ended records, a header near the longest line) it leaves to the
 //! whole-file reader by returning `None`.
 //!
 //! A raw log (no q̈) needs its whole segments for the zero-phase filter
 //! and the derivatives: it is not streamed either.
 
 mod blocks;
+mod fields;
 mod parse;
 mod rows;
+mod tally;
 
 use super::csv::{Columns, MAX_LINE_BYTES, columns_of};
 use super::error::DataError;
 use super::prepare::FileReport;
 use super::read::ReadOptions;
 use blocks::{Text, blocks};
-use parse::{Done, Fail, Parse};
+use fields::Splitter;
+use parse::Parse;
 pub use rows::Block;
-use rows::{not_after, row_error};
+use rows::row_error;
 use std::io::Read;
 use std::path::Path;
+use tally::Tally;
 
 /// The most bytes of one block (whole lines; a longer line makes its
 /// block longer, up to [`MAX_LINE_BYTES`]); a small file is cut into
@@ -49,15 +58,18 @@ pub struct Streamed {
 /// Streams `path` (a CSV with q̈ for every joint) through `each`, block by
 /// block on the thread pool, and hands each block's result to `fold` in the
 /// file's order on the caller's thread as soon as the blocks before it are
-/// folded (`fold` returns `false` to stop reading); at most a few blocks
-/// are read and not yet folded, so memory does not grow with the file.
+/// folded; at most a few blocks are read and not yet folded, so memory
+/// does not grow with the file. When `fold` returns `false` it is handed
+/// no more, and `each` is not run on later blocks, but the file is still
+/// read to its end for its errors (as the whole-file reader would).
 ///
 /// Returns the file's report ([`Streamed`]), or `None` when the file is to
-/// be read whole: not a prepared CSV (no q̈ columns), or a line this reader
-/// leaves to the whole-file reader (see the module). That `None` can come
-/// after blocks before the line were folded: the caller discards what it
-/// folded. Errors name the row and column; the first in the file's order
-/// is returned. Callable from any thread, the pool's included.
+/// be read whole: not a prepared CSV (no q̈, or q̈ but no q̇), or text
+/// this reader leaves to the whole-file reader (see the module). That
+/// `None` can come after blocks before the text were folded: the caller
+/// discards what it folded. An error is the one the whole-file reader
+/// reports: the first malformed row, else the first row whose time is not
+/// after the one before. Callable from any thread, the pool's included.
 pub fn stream_prepared_csv<R: Send>(
     path: &Path,
     joints: &[&str],
@@ -75,7 +87,7 @@ fn stream_in_blocks<R: Send>(
     path: &Path,
     joints: &[&str],
     opts: &ReadOptions,
-    (each, mut fold): (impl Fn(&Block) -> R + Sync, impl FnMut(R) -> bool),
+    (each, fold): (impl Fn(&Block) -> R + Sync, impl FnMut(R) -> bool),
     block: usize,
 ) -> Result<Option<Streamed>, DataError> {
     let p = path.display().to_string();
@@ -89,44 +101,22 @@ fn stream_in_blocks<R: Send>(
     let Some(cols) = prepared_columns(&header, &p, joints, opts)? else {
         return Ok(None);
     };
+    let stop = std::sync::atomic::AtomicBool::new(false);
     let at = Parse {
         cols: &cols,
         header: &header,
         path: &p,
         joints: joints.len(),
+        stop: &stop,
     };
-    let (mut last, mut rows, mut read_s) = (None::<f64>, 0usize, 0.0);
-    let mut failed = None;
-    // each block's samples checked against the block before, then folded
-    let mut take = |done: Done<R>| {
-        let checked = done.and_then(|(value, span, count, parse)| {
-            if let (Some(prev), Some((first, _))) = (last, span)
-                && first <= prev
-            {
-                return Err(not_after(&p, rows + 1, first, prev).into());
-            }
-            (last, rows, read_s) = (span.map(|s| s.1).or(last), rows + count, read_s + parse);
-            Ok(value)
-        });
-        match checked {
-            Ok(value) => fold(value),
-            Err(e) => {
-                failed = Some(e);
-                false
-            }
-        }
-    };
+    let mut tally = Tally::new(&p, fold, &stop);
     let task = |text: &Text| at.block(text, &each);
-    let read = blocks((&mut file, &mut rest, block), &p, task, &mut take);
-    // a block's own error comes before a read error further on
-    match failed {
-        Some(Fail::Error(e)) => return Err(e),
-        Some(Fail::Whole) => return Ok(None),
-        None => read?,
-    }
-    if rows == 0 {
-        return Err(row_error(&p, 1, "no data rows".into()));
-    }
+    let read = blocks((&mut file, &mut rest, block), &p, task, &mut |d| {
+        tally.take(d)
+    });
+    let Some((rows, read_s)) = tally.finish(read)? else {
+        return Ok(None);
+    };
     let report = FileReport {
         path: p,
         rows,
@@ -139,8 +129,8 @@ fn stream_in_blocks<R: Send>(
     Ok(Some(Streamed { report, read_s }))
 }
 
-/// The columns of a prepared log (with q̈, and then q̇), or `None` when
-/// the log is not one (it is read whole: that reader names any problem).
+/// The columns of a prepared log (with q̈ and q̇), or `None` when the log
+/// is not one (it is read whole: that reader names any problem, in its order).
 fn prepared_columns(
     header: &[String],
     path: &str,
@@ -149,38 +139,31 @@ fn prepared_columns(
 ) -> Result<Option<Columns>, DataError> {
     let mapping = (opts.mapping.as_ref(), opts.mapping_is_default);
     if mapping.0.is_some_and(|m| m.q.is_none()) {
-        return Ok(None); // the whole-file reader names the problem
-    }
-    let cols = columns_of(header, path, mapping, joints, opts.require_tau)?;
-    if cols.qdd.is_none() {
         return Ok(None);
     }
-    if !cols.has_qd() {
-        return Err(DataError::Array {
-            path: path.into(),
-            array: "qd".into(),
-            message: "the file has q̈ (taken as prepared) but no q̇".into(),
-        });
-    }
-    Ok(Some(cols))
+    let cols = columns_of(header, path, mapping, joints, opts.require_tau)?;
+    Ok((cols.qdd.is_some() && cols.has_qd()).then_some(cols))
 }
 
 /// The header line (parsed as CSV, fields trimmed) and what was read past
-/// it; `None` when the header ends in a lone `\r` (such line ends are left
-/// to the whole-file reader).
+/// it; `None` when the whole-file reader is to read it: empty lines before
+/// it, a lone `\r` ending it, a quoted field going on past it, or a length
+/// near [`MAX_LINE_BYTES`].
 fn read_header(
     file: &mut std::fs::File,
     path: &str,
 ) -> Result<Option<(Vec<String>, Vec<u8>)>, DataError> {
-    let mut buf = vec![];
-    let mut chunk = vec![0u8; 1 << 16];
+    let (mut buf, mut searched) = (vec![], 0);
     let (end, eof) = loop {
-        let k = file.read(&mut chunk).map_err(|source| DataError::Io {
+        let k = (&mut *file).take(1 << 16).read_to_end(&mut buf);
+        let k = k.map_err(|source| DataError::Io {
             path: path.into(),
             source,
         })?;
-        buf.extend_from_slice(&chunk[..k]);
-        if let Some(i) = buf.iter().position(|&b| b == b'\n' || b == b'\r') {
+        let at = buf[searched..]
+            .iter()
+            .position(|&b| b == b'\n' || b == b'\r');
+        if let Some(i) = at.map(|i| searched + i) {
             // a `\r` is a line end only before `\n` here; its next byte may be unread
             if buf[i] == b'\n' || buf.get(i + 1) == Some(&b'\n') {
                 break (i, false);
@@ -188,31 +171,39 @@ fn read_header(
             if buf.len() > i + 1 {
                 return Ok(None);
             }
+            searched = i;
+        } else {
+            searched = buf.len();
         }
         if k == 0 {
             break (buf.len(), true);
         }
         if buf.len() > MAX_LINE_BYTES {
-            let message = format!("a line longer than {MAX_LINE_BYTES} bytes");
-            return Err(row_error(path, 0, message));
+            return Ok(None);
         }
     };
+    let skip: usize = match (eof, buf.get(end)) {
+        (true, _) => 0,
+        (false, Some(b'\r')) => 2,
+        _ => 1,
+    };
+    let line = &buf[..end];
+    let bom = line.strip_prefix(b"\xef\xbb\xbf").unwrap_or(line);
+    // with the `\r` of a `\r\n`: the whole-file reader counts it in the line
+    let too_long = end + skip.saturating_sub(1) > MAX_LINE_BYTES;
+    let read = Splitter::new().records(&buf[..end + skip], |_| Ok::<_, ()>(()));
+    if bom.is_empty() || too_long || read != Ok(true) {
+        return Ok(None);
+    }
     let mut rdr = ::csv::ReaderBuilder::new()
         .trim(::csv::Trim::All)
         .has_headers(false)
-        .from_reader(&buf[..end]);
+        .from_reader(line);
     let mut rec = ::csv::StringRecord::new();
     let header = match rdr.read_record(&mut rec) {
         Ok(true) => rec.iter().map(str::to_string).collect(),
         Ok(false) => vec![],
         Err(e) => return Err(row_error(path, 0, e.to_string())),
-    };
-    let skip = if eof {
-        0
-    } else if buf[end] == b'\r' {
-        2
-    } else {
-        1
     };
     let rest = buf.get(end + skip..).unwrap_or_default().to_vec();
     Ok(Some((header, rest)))
@@ -387,27 +378,133 @@ mod tests {
             (noted_with(9, &"n".repeat(super::MAX_LINE_BYTES)), "error"), // a line too long
         ];
         for (k, (text, expect)) in cases.iter().enumerate() {
-            let whole = Dataset::parse_csv(text, "log.csv", &J, ReadOptions::default());
-            let got = match (streamed(text, 256), &whole) {
-                (Ok(None), _) => "whole",
-                (Ok(Some(blocks)), Ok(w)) => {
-                    let t: Vec<f64> = blocks.iter().flat_map(|b| b.1.t.clone()).collect();
-                    let tau = blocks.iter().flat_map(|b| b.1.tau.as_flat().to_vec());
-                    assert_eq!(t, w.t, "case {k}");
-                    assert_eq!(tau.collect::<Vec<_>>(), w.tau.as_flat(), "case {k}");
-                    "read"
-                }
-                (Err(e), Err(w)) => {
-                    // the same message past the file's name (a temporary path here)
-                    let after =
-                        |e: &DataError| e.to_string().split_once("log.csv").unwrap().1.to_string();
-                    assert_eq!(after(&e), after(w), "case {k}");
-                    "error"
-                }
-                (s, w) => panic!("case {k}: {:?} against {w:?}", s.map(|s| s.is_some())),
-            };
-            assert_eq!(got, *expect, "case {k}: {whole:?}");
+            assert_eq!(against_whole(text, 256), *expect, "case {k}");
         }
+    }
+
+    /// How the stream reads `text` in blocks of `block` bytes, checked
+    /// against the whole-file reader: "read" (the same samples), "error"
+    /// (the same message past the file's name) or "whole" (left to it).
+    fn against_whole(text: &str, block: usize) -> &'static str {
+        let whole = Dataset::parse_csv(text, "log.csv", &J, ReadOptions::default());
+        match (streamed(text, block), &whole) {
+            (Ok(None), _) => "whole",
+            (Ok(Some(blocks)), Ok(w)) => {
+                let t: Vec<f64> = blocks.iter().flat_map(|b| b.1.t.clone()).collect();
+                let tau = blocks.iter().flat_map(|b| b.1.tau.as_flat().to_vec());
+                assert_eq!(t, w.t);
+                assert_eq!(tau.collect::<Vec<_>>(), w.tau.as_flat());
+                "read"
+            }
+            (Err(e), Err(w)) => {
+                // the same message past the file's name (a temporary path here)
+                let after =
+                    |e: &DataError| e.to_string().split_once("log.csv").unwrap().1.to_string();
+                assert_eq!(after(&e), after(w));
+                "error"
+            }
+            (s, w) => panic!("{:?} against {w:?}", s.map(|s| s.is_some())),
+        }
+    }
+
+    /// `each` may use the thread pool itself (its tasks may then run
+    /// other blocks on the same thread).
+    #[test]
+    fn each_may_use_the_pool() {
+        use rayon::prelude::*;
+        let text = log(50_000).to_csv();
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("log.csv");
+        std::fs::write(&path, text).unwrap();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(4)
+            .build()
+            .unwrap();
+        let each = |b: &Block| -> f64 {
+            // waits inside: the thread runs other tasks (blocks) meanwhile
+            let wait = std::time::Duration::from_micros(50);
+            let part = |k: usize| (k..b.raw.len()).step_by(4).map(|s| b.raw.t[s]).sum::<f64>();
+            (0..4)
+                .into_par_iter()
+                .map(|k| (std::thread::sleep(wait), part(k)).1)
+                .sum()
+        };
+        let mut sum = 0.0;
+        let fold = |x| {
+            sum += x;
+            true
+        };
+        let read = pool
+            .install(|| stream_in_blocks(&path, &J, &ReadOptions::default(), (each, fold), 4096));
+        assert_eq!(read.unwrap().unwrap().report.samples, 50_000);
+        assert!(
+            (sum - 1e-3 * (49_999.0 * 50_000.0 / 2.0)).abs() < 1e-3,
+            "{sum}"
+        );
+    }
+
+    /// The whole-file reader reads every row before it checks time and
+    /// q̇: a malformed row anywhere comes before time going back (in a
+    /// block or across blocks); text the line-by-line reading would take
+    /// otherwise (a byte-order mark on a data line, empty lines before
+    /// the header, a quoted line break after a quote inside an unquoted
+    /// field, a quoted line break in the header) is read as it reads it.
+    #[test]
+    fn errors_and_odd_text_come_as_the_whole_reader_has_them() {
+        let text = log(400).to_csv();
+        let lines: Vec<&str> = text.lines().collect();
+        let with = |changes: &[(usize, String)]| {
+            let mut l: Vec<String> = lines.iter().map(|s| s.to_string()).collect();
+            for (k, line) in changes {
+                l[*k] = line.clone();
+            }
+            l.join("\n") + "\n"
+        };
+        let bad = |k: usize| (k, lines[k].replacen(',', ",x", 1));
+        let back = |k: usize| (k, lines[3].to_string());
+        let starts: Vec<usize> = (streamed(&text, 4096).unwrap().unwrap())
+            .iter()
+            .map(|b| b.0)
+            .collect();
+        let edge = starts[2]; // a block's first row
+        let no_qd: String = (text.lines())
+            .map(|l| {
+                let f: Vec<&str> = l.split(',').collect();
+                [0, 1, 2, 5, 6, 7, 8].map(|c| f[c]).join(",") + "\n"
+            })
+            .collect();
+        let notes = |k: usize, v: &str| format!("{},{v}", lines[k]);
+        let noted = |odd: &str| {
+            let l = (0..lines.len()).map(|k| match k {
+                0 => notes(0, "n1,n2,n3"),
+                20 => notes(20, odd),
+                _ => notes(k, "a,b,c"),
+            });
+            l.collect::<Vec<_>>().join("\n") + "\n"
+        };
+        let cases: Vec<(String, &str)> = vec![
+            (with(&[back(10), bad(300)]), "error"),
+            (with(&[back(edge), bad(edge + 40)]), "error"),
+            (with(&[back(edge), back(edge + 5)]), "error"),
+            (with(&[bad(edge), back(edge + 1)]), "error"),
+            (no_qd.replacen("\n0.001", "\nx", 1), "whole"),
+            (with(&[(30, format!("\u{feff}{}", lines[30]))]), "error"),
+            (format!("\n\r\n{text}"), "whole"),
+            (noted("a\"b,\"c\nd\",e\"f"), "whole"),
+            (noted("a\"b,c\"d,e"), "read"),
+            (format!("{},\"x\ny\"\n{}", lines[0], noted("z")), "whole"),
+        ];
+        for (k, (text, expect)) in cases.iter().enumerate() {
+            for block in [256, 4096] {
+                assert_eq!(
+                    against_whole(text, block),
+                    *expect,
+                    "case {k}, block {block}"
+                );
+            }
+        }
+        let e = streamed(&with(&[back(10), bad(300)]), 4096).unwrap_err();
+        assert!(e.to_string().contains("row 300"), "{e}");
     }
 
     /// From a thread of the pool (a one-thread pool: the blocks' tasks wait
@@ -436,7 +533,8 @@ mod tests {
     /// Results are folded as they come: never more than 2 × threads + 1
     /// blocks' results exist at once, whatever the file's length, nor more
     /// bytes of blocks than as many blocks (a file of long lines has fewer
-    /// out); a fold that says stop ends the reading.
+    /// out); after a fold that says stop, no more are folded and the
+    /// blocks after those out are not handed to `each`.
     #[test]
     fn results_are_folded_as_they_come() {
         use std::sync::atomic::{AtomicUsize, Ordering::SeqCst};
@@ -446,7 +544,8 @@ mod tests {
                 self.0.fetch_sub(1, SeqCst);
             }
         }
-        let (alive, most, taken) = (
+        let (alive, most, taken, ran) = (
+            AtomicUsize::new(0),
             AtomicUsize::new(0),
             AtomicUsize::new(0),
             AtomicUsize::new(0),
@@ -461,11 +560,16 @@ mod tests {
             .map(|(k, l)| format!("{l},{}\n", if k == 0 { "note" } else { &note }));
         std::fs::write(&long, noted.collect::<String>()).unwrap();
         let each = |_: &Block| {
+            ran.fetch_add(1, SeqCst);
             most.fetch_max(alive.fetch_add(1, SeqCst) + 1, SeqCst);
             Alive(&alive)
         };
         let run = |path: &std::path::Path, stop_after: usize| {
-            (taken.store(0, SeqCst), most.store(0, SeqCst));
+            (
+                taken.store(0, SeqCst),
+                most.store(0, SeqCst),
+                ran.store(0, SeqCst),
+            );
             let fold = |a: Alive| {
                 drop(a);
                 taken.fetch_add(1, SeqCst) + 1 < stop_after
@@ -483,8 +587,9 @@ mod tests {
         assert_eq!(run(&long, usize::MAX).unwrap().report.samples, 299);
         let fit = (limit * 4096 / (note.len() + 100)).max(1);
         assert!(most.load(SeqCst) <= fit, "{most:?} > {fit}");
-        run(&path, 3);
+        assert_eq!(run(&path, 3).unwrap().report.samples, 20_000); // read to its end
         assert_eq!(taken.load(SeqCst), 3);
+        assert!(ran.load(SeqCst) <= 3 + limit + 1, "{ran:?}");
         assert_eq!(alive.load(SeqCst), 0); // every result dropped
     }
 

@@ -1,33 +1,35 @@
 //! A block of a prepared CSV log parsed into samples: a line of plain
-//! numbers by a fast parser, any other line by the CSV reader the
-//! whole-file reader uses, with its settings, so that both read the same
-//! values and name the same rows.
+//! numbers by a fast parser, any other line by the CSV automaton the
+//! whole-file reader runs, with its settings ([`Splitter`]), so that both
+//! read the same values and name the same rows.
 
 use super::super::csv::Columns;
 use super::super::error::DataError;
 use super::super::raw::RawLog;
 use super::blocks::Text;
-use super::rows::{Block, not_after, row_error};
+use super::fields::Splitter;
+use super::rows::{Block, Fail, not_after};
 use crate::dynamics::Samples;
+use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
 
-/// Why a block gave no result: an error naming its row and column, or a
-/// line this reader does not take (a quoted line break, text that is not
-/// UTF-8, rows it counts otherwise than the whole-file reader): the file
-/// is then read whole, which reads or names it.
-pub(super) enum Fail {
-    Error(DataError),
-    Whole,
+/// What one block's task returns.
+pub(super) struct Parsed<R> {
+    /// The caller's result (`None` once the caller takes no more).
+    pub value: Option<R>,
+    /// The block's first and last time stamps.
+    pub span: Option<(f64, f64)>,
+    /// Its number of samples.
+    pub count: usize,
+    /// The time its parsing took (s).
+    pub parse_s: f64,
+    /// The first row in it whose time is not after the row before's: an
+    /// error only if no row of the file is malformed (the whole-file
+    /// reader checks time after reading every row).
+    pub late: Option<DataError>,
 }
 
-impl From<DataError> for Fail {
-    fn from(e: DataError) -> Self {
-        Self::Error(e)
-    }
-}
-
-/// What one block's task returns: the caller's result, the block's first
-/// and last time stamps, its number of samples and the time its parsing took (s).
-pub(super) type Done<R> = Result<(R, Option<(f64, f64)>, usize, f64), Fail>;
+/// A block's [`Parsed`], or why it has none.
+pub(super) type Done<R> = Result<Parsed<R>, Fail>;
 
 /// What parsing a block needs.
 pub(super) struct Parse<'a> {
@@ -35,82 +37,87 @@ pub(super) struct Parse<'a> {
     pub header: &'a [String],
     pub path: &'a str,
     pub joints: usize,
+    /// Set when the caller takes no more results: the blocks are still
+    /// parsed (for their errors), not handed to the caller.
+    pub stop: &'a AtomicBool,
 }
 
 impl Parse<'_> {
-    /// Parses the records of `text`, checks that time increases and hands
-    /// the samples to `each`.
+    /// Parses the records of `text` and hands the samples to `each`.
     pub fn block<R>(&self, text: &Text, each: &impl Fn(&Block) -> R) -> Done<R> {
-        // each thread's samples buffer, reused from block to block
+        // each thread's samples buffer, reused from block to block; taken
+        // out while in use (`each` may run another block on this thread)
         thread_local! {
             static RAW: std::cell::RefCell<RawLog> = std::cell::RefCell::default();
         }
-        RAW.with_borrow_mut(|raw| {
-            let t0 = std::time::Instant::now();
-            self.empty(raw);
-            let lines = std::str::from_utf8(text.bytes).map_err(|_| Fail::Whole)?;
-            let mut values: Vec<f64> = Vec::with_capacity(self.header.len());
-            let mut row = text.first_row; // the next record's
-            for line in lines.split('\n') {
-                let line = line.strip_suffix('\r').unwrap_or(line);
-                if line.is_empty() {
-                    continue; // the whole-file reader skips it, and does not count it
-                }
-                let plain = numbers(line.as_bytes(), self.header.len(), &mut values)
-                    && self.cols.push_values(raw, &values);
-                if plain {
-                    self.check_time(raw, row)?;
-                    row += 1;
-                } else {
-                    row = self.records(line, raw, row)?;
-                }
-            }
-            if row - text.first_row != text.records {
-                return Err(Fail::Whole); // counted otherwise: the whole reader decides
-            }
+        let t0 = std::time::Instant::now();
+        let mut raw = RAW.take();
+        self.empty(&mut raw);
+        let done = self.fill(text, &mut raw).map(|late| {
             let span = raw.t.first().zip(raw.t.last()).map(|(a, b)| (*a, *b));
-            let (count, parse) = (raw.t.len(), t0.elapsed().as_secs_f64());
+            let parse_s = t0.elapsed().as_secs_f64();
             let block = Block {
                 first_row: text.first_row,
-                raw,
+                raw: &raw,
             };
-            Ok((each(&block), span, count, parse))
-        })
-    }
-
-    /// The records of a line that is not plain numbers (spaces, quotes, a
-    /// `\r` inside, a bad value), read by the CSV reader with the whole-file
-    /// reader's settings from `row` on; returns the next record's row.
-    fn records(&self, line: &str, raw: &mut RawLog, mut row: usize) -> Result<usize, Fail> {
-        if line.bytes().filter(|&b| b == b'"').count() % 2 == 1 {
-            return Err(Fail::Whole); // a quoted field goes on past the line
-        }
-        let mut rdr = ::csv::ReaderBuilder::new()
-            .trim(::csv::Trim::All)
-            .flexible(true)
-            .has_headers(false)
-            .from_reader(line.as_bytes());
-        let mut rec = ::csv::StringRecord::new();
-        loop {
-            match rdr.read_record(&mut rec) {
-                Ok(false) => return Ok(row),
-                Ok(true) => {}
-                Err(e) => return Err(row_error(self.path, row, e.to_string()).into()),
+            let go = late.is_none() && !self.stop.load(Relaxed);
+            Parsed {
+                value: go.then(|| each(&block)),
+                span,
+                count: raw.t.len(),
+                parse_s,
+                late,
             }
-            let fields = (rec.len(), |c| &rec[c]);
-            (self.cols).push_fields(raw, fields, self.header, self.path, row)?;
-            self.check_time(raw, row)?;
-            row += 1;
-        }
+        });
+        RAW.set(raw);
+        done
     }
 
-    /// The last sample's time after the one before (in this block).
-    fn check_time(&self, raw: &RawLog, row: usize) -> Result<(), DataError> {
-        let n = raw.t.len();
-        if n > 1 && raw.t[n - 1] <= raw.t[n - 2] {
-            return Err(not_after(self.path, row, raw.t[n - 1], raw.t[n - 2]));
+    /// The records of `text` into `raw`; returns the first row whose time
+    /// is not after the one before, if any.
+    fn fill(&self, text: &Text, raw: &mut RawLog) -> Result<Option<DataError>, Fail> {
+        let whole = Fail::Whole(text.first_row);
+        std::str::from_utf8(text.bytes).map_err(|_| whole)?;
+        let mut values: Vec<f64> = Vec::with_capacity(self.header.len());
+        let mut split = None;
+        let (mut row, mut late) = (text.first_row, None); // the next record's row
+        for line in text.bytes.split_inclusive(|&b| b == b'\n') {
+            let body = line.strip_suffix(b"\n").unwrap_or(line);
+            let body = body.strip_suffix(b"\r").unwrap_or(body);
+            if body.is_empty() {
+                continue; // the whole-file reader skips it, and does not count it
+            }
+            if numbers(body, self.header.len(), &mut values) && self.cols.push_values(raw, &values)
+            {
+                self.check_time(raw, row, &mut late);
+                row += 1;
+                continue;
+            }
+            let split = split.get_or_insert_with(Splitter::new);
+            let read = split.records(line, |record| {
+                let fields = (record.len(), |c| record.field(c));
+                (self.cols).push_fields(raw, fields, self.header, self.path, row)?;
+                self.check_time(raw, row, &mut late);
+                row += 1;
+                Ok::<_, DataError>(())
+            })?;
+            if !read {
+                return Err(Fail::Whole(row)); // a quoted field goes on past the line
+            }
         }
-        Ok(())
+        if row - text.first_row != text.records {
+            return Err(Fail::Whole(text.first_row)); // counted otherwise
+        }
+        Ok(late)
+    }
+
+    /// Keeps in `late`, if it is the first, the last sample's time not
+    /// after the one before (in this block).
+    fn check_time(&self, raw: &RawLog, row: usize, late: &mut Option<DataError>) {
+        let n = raw.t.len();
+        if late.is_none() && n > 1 && raw.t[n - 1] <= raw.t[n - 2] {
+            *late = Some(not_after(self.path, row, raw.t[n - 1], raw.t[n - 2]));
+        }
     }
 
     /// `raw` emptied for this file's samples (its room kept).
