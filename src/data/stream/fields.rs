@@ -59,10 +59,12 @@ impl Splitter {
         line: &[u8],
         mut each: impl FnMut(&Record) -> Result<(), E>,
     ) -> Result<bool, E> {
-        // the fields are never longer than the line, nor more than its bytes
+        // the fields are never longer than the line; the ends grow as needed
         if self.out.len() <= line.len() {
             self.out.resize(line.len() + 1, 0);
-            self.ends.resize(line.len() + 1, 0);
+        }
+        if self.ends.is_empty() {
+            self.ends.resize(64, 0);
         }
         let eof = !line.ends_with(b"\n");
         let (mut input, mut out, mut ends) = (line, 0, 0);
@@ -85,9 +87,8 @@ impl Splitter {
                 ReadRecordResult::InputEmpty if !eof => return Ok(out == 0 && ends == 0),
                 ReadRecordResult::InputEmpty => {}
                 ReadRecordResult::End => return Ok(true),
-                ReadRecordResult::OutputFull | ReadRecordResult::OutputEndsFull => {
-                    return Ok(false);
-                }
+                ReadRecordResult::OutputEndsFull => self.ends.resize(2 * self.ends.len(), 0),
+                ReadRecordResult::OutputFull => self.out.resize(2 * self.out.len(), 0),
             }
         }
     }
@@ -109,11 +110,18 @@ mod tests {
 
     /// Lines are split into the records and trimmed fields the CSV crate
     /// reads from the same text, quoted and padded fields, `\r` inside
-    /// and a byte-order mark included; a quoted field that goes on past
-    /// its line is left alone.
+    /// a byte-order mark and 200 fields included; a quoted field that goes
+    /// on past its line is left alone.
     #[test]
     fn lines_split_as_the_csv_reader_splits_them() {
-        let lines: [&[u8]; 10] = [
+        // more fields than the splitter first has room for
+        let many = (0..200)
+            .map(|k| format!("\"{k}\""))
+            .collect::<Vec<_>>()
+            .join(",")
+            + "\n";
+        let lines: [&[u8]; 11] = [
+            many.as_bytes(),
             b"1,2,3\n",
             b" 1 ,\"2\", \"3\" \r\n",
             b"\"a,b\",\"c\"\"d\"\n",
