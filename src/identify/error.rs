@@ -98,6 +98,10 @@ pub enum IdentifyError {
     /// A Gram matrix given as reduced data that is not one.
     #[error("reduced data: {0}")]
     Gram(GramProblem),
+    /// Reduced data read from bytes, or added, that do not fit: not
+    /// momentlmi's, another format version, another robot, cut short.
+    #[error("reduced data: {0}")]
+    Stored(String),
     /// An unknown body or joint name.
     #[error("unknown {what} '{name}' (known: {valid})")]
     UnknownName {

@@ -19,6 +19,7 @@ mod builder;
 pub mod choose_weight;
 mod error;
 mod fit;
+pub mod fleet;
 mod gram;
 mod options;
 pub mod reduce;

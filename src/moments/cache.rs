@@ -79,6 +79,20 @@ pub struct SolveCache {
 }
 
 impl SolveCache {
+    /// The cache the command line uses: the folder `MOMENTLMI_CACHE_DIR`
+    /// names (empty or `off`: none), else `$XDG_CACHE_HOME/momentlmi`, else
+    /// `$HOME/.cache/momentlmi`.
+    pub fn from_env() -> Option<Self> {
+        let var = |k: &str| std::env::var_os(k).filter(|v| !v.is_empty());
+        if let Some(dir) = std::env::var_os("MOMENTLMI_CACHE_DIR") {
+            return (!dir.is_empty() && dir != "off").then(|| Self::new(dir));
+        }
+        let base = var("XDG_CACHE_HOME")
+            .map(PathBuf::from)
+            .or_else(|| var("HOME").map(|h| PathBuf::from(h).join(".cache")))?;
+        Some(Self::new(base.join("momentlmi")))
+    }
+
     /// The cache in folder `dir` (made when the first entry is written).
     pub fn new(dir: impl Into<PathBuf>) -> Self {
         Self { dir: dir.into() }

@@ -41,19 +41,10 @@ pub(crate) fn load_robot(
     Ok(robot)
 }
 
-/// Where solved bounding ellipsoids are kept between runs: the folder
-/// `MOMENTLMI_CACHE_DIR` names (empty or `off`: nowhere), else
-/// `$XDG_CACHE_HOME/momentlmi`, else `$HOME/.cache/momentlmi`.
+/// Where solved bounding ellipsoids are kept between runs
+/// ([`SolveCache::from_env`](momentlmi::moments::cache::SolveCache::from_env)).
 pub(crate) fn solve_cache() -> Option<momentlmi::moments::cache::SolveCache> {
-    use momentlmi::moments::cache::SolveCache;
-    let var = |k: &str| std::env::var_os(k).filter(|v| !v.is_empty());
-    if let Some(dir) = std::env::var_os("MOMENTLMI_CACHE_DIR") {
-        return (!dir.is_empty() && dir != "off").then(|| SolveCache::new(dir));
-    }
-    let base = var("XDG_CACHE_HOME")
-        .map(std::path::PathBuf::from)
-        .or_else(|| var("HOME").map(|h| Path::new(&h).join(".cache")))?;
-    Some(SolveCache::new(base.join("momentlmi")))
+    momentlmi::moments::cache::SolveCache::from_env()
 }
 
 /// A URDF's own sidecar: `NAME.toml` beside `NAME.urdf`, if there is one.

@@ -1,0 +1,298 @@
+"""momentlmi: physically consistent inertial parameter identification of robots.
+
+The Python face of the momentlmi crate (Wensing, Kim, Slotine 2017): a rigid body's
+ten inertial parameters π = [m, hx, hy, hz, Ixx, Ixy, Ixz, Iyy, Iyz, Izz] (about the
+body frame's origin, SI units) are physically consistent iff the 4×4 pseudo-inertia
+J(π) is positive definite; a body inside an ellipsoid is density realizable in it iff
+also tr(J Q) ≥ 0.
+
+- One body: :func:`pseudo_inertia`, :func:`is_consistent`, :func:`realizable_in`,
+  :func:`four_point_masses`, :func:`nearest_consistent`, and Pinocchio's order
+  (:func:`from_pinocchio`, :func:`to_pinocchio`).
+- A URDF: :func:`check_urdf` (``momentlmi check --json``'s verdicts and margins),
+  :func:`repair_urdf`.
+- A robot: :class:`Robot` (``Robot.builtin("cheetah3-leg")``, ``Robot.from_urdf``):
+  inverse dynamics and the regressor over many samples at once.
+- Data too large for one machine: :class:`Reducer` reduces samples into fixed-size
+  sums that add across processes and machines (``to_bytes`` / ``from_bytes``), and
+  solves one SDP on them.
+
+Arrays are NumPy arrays of samples, shape (N, n) in the robot's joint order
+(:attr:`Robot.joint_names`). A wrong shape or a value that is not finite raises
+``ValueError`` naming the argument; the library's errors raise
+:class:`MomentlmiError` (subclasses per kind) with the command line's messages.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+import warnings
+from typing import Iterable, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from . import _native
+from ._native import (
+    CHECK_TOL,
+    REDUCED_FORMAT_VERSION,
+    DataError,
+    IdentifyError,
+    InertiaError,
+    ModelError,
+    MomentlmiError,
+    UrdfError,
+)
+
+__all__ = [
+    "CHECK_TOL",
+    "REDUCED_FORMAT_VERSION",
+    "DataError",
+    "IdentifyError",
+    "InertiaError",
+    "ModelError",
+    "MomentlmiError",
+    "UrdfError",
+    "Reducer",
+    "Robot",
+    "check_consistency",
+    "check_urdf",
+    "check_urdf_report",
+    "four_point_masses",
+    "from_pinocchio",
+    "is_consistent",
+    "nearest_consistent",
+    "pseudo_inertia",
+    "realizability",
+    "realizable_in",
+    "repair_urdf",
+    "to_pinocchio",
+]
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+
+def _floats(x, name: str) -> np.ndarray:
+    """`x` as a C-contiguous float64 array; a ValueError naming `name` if it is not numbers."""
+    try:
+        return np.ascontiguousarray(np.asarray(x, dtype=np.float64))
+    except (TypeError, ValueError) as e:
+        raise ValueError(f"{name}: not an array of numbers ({e})") from None
+
+
+def _paths(paths: Optional[Iterable[PathLike]]) -> list:
+    return [os.fspath(p) for p in (paths or [])]
+
+
+# -- one body ---------------------------------------------------------------
+
+
+def pseudo_inertia(pi) -> np.ndarray:
+    """J(π), the 4×4 pseudo-inertia [[Σ, h], [hᵀ, m]] (Σ = ½ tr(Ī)·1 − Ī)."""
+    return _native.pseudo_inertia(_floats(pi, "pi"))
+
+
+def check_consistency(pi, tol: float = CHECK_TOL) -> dict:
+    """The consistency report: ``verdict``, margins, ``consistent`` (J(π) ⪰ 0 within `tol`)."""
+    return json.loads(_native.consistency(_floats(pi, "pi"), float(tol)))
+
+
+def is_consistent(pi, tol: float = CHECK_TOL) -> bool:
+    """Whether π is physically consistent (J(π) positive semidefinite within `tol`)."""
+    return bool(check_consistency(pi, tol)["consistent"])
+
+
+def realizability(pi, center, semi_axes, rotation=None, tol: float = CHECK_TOL) -> dict:
+    """The realizability report of π in the ellipsoid of `center` (m), `semi_axes` (m)
+    and `rotation` (3×3, its axes as columns; default: the body frame's)."""
+    rot = np.eye(3) if rotation is None else rotation
+    args = [_floats(a, n) for a, n in ((pi, "pi"), (center, "center"), (semi_axes, "semi_axes"), (rot, "rotation"))]
+    return json.loads(_native.realizability(*args, float(tol)))
+
+
+def realizable_in(pi, center, semi_axes, rotation=None, tol: float = CHECK_TOL) -> bool:
+    """Whether π is density realizable in the ellipsoid (Theorem 4: consistent and tr(J Q) ≥ 0)."""
+    return bool(realizability(pi, center, semi_axes, rotation, tol)["realizable"])
+
+
+def four_point_masses(pi) -> Tuple[np.ndarray, np.ndarray]:
+    """Four point masses with the parameters π of a consistent body: masses (4,) kg and
+    positions (4, 3) m in the body frame."""
+    return _native.point_masses(_floats(pi, "pi"))
+
+
+def nearest_consistent(pi, eps: float = 1e-6, keep_mass: bool = True) -> Tuple[np.ndarray, float]:
+    """The nearest consistent π′ (J(π′) ⪰ ε·scale) and its distance (docs/math.md's metric)."""
+    return _native.nearest(_floats(pi, "pi"), float(eps), bool(keep_mass))
+
+
+def from_pinocchio(p) -> np.ndarray:
+    """π from Pinocchio's ``Inertia.toDynamicParameters()`` order
+    [m, mcx, mcy, mcz, Ixx, Ixy, Iyy, Ixz, Iyz, Izz] (inertia about the frame's origin)."""
+    return _native.from_pinocchio(_floats(p, "p"))
+
+
+def to_pinocchio(pi) -> np.ndarray:
+    """π in Pinocchio's order (``pinocchio.Inertia.FromDynamicParameters`` takes it)."""
+    return _native.to_pinocchio(_floats(pi, "pi"))
+
+
+# -- a URDF -----------------------------------------------------------------
+
+
+def check_urdf_report(path: PathLike, sidecar: Optional[PathLike] = None,
+                      package_paths: Optional[Sequence[PathLike]] = None) -> dict:
+    """``momentlmi check --json``'s whole report of the URDF at `path`: ``robot``,
+    ``links`` (one dict per link with an inertial), ``consistent``, ``warnings`` …
+    The report's warnings are also issued as Python warnings."""
+    sc = None if sidecar is None else os.fspath(sidecar)
+    text, notes = _native.check_urdf(os.fspath(path), sc, _paths(package_paths))
+    for n in notes:
+        warnings.warn(n, stacklevel=2)
+    return json.loads(text)
+
+
+def check_urdf(path: PathLike, package_paths: Optional[Sequence[PathLike]] = None,
+               sidecar: Optional[PathLike] = None) -> list:
+    """Each link's verdict and margins, as ``momentlmi check --json`` gives them: a list
+    of dicts (``name``, ``mass``, ``com``, ``principal_moments``, ``consistent``,
+    ``realizable_in_geometry``, margins …)."""
+    return check_urdf_report(path, sidecar, package_paths)["links"]
+
+
+def repair_urdf(path: PathLike, out: Optional[PathLike] = None, target: str = "consistent",
+                margin: float = 1e-6, sidecar: Optional[PathLike] = None,
+                package_paths: Optional[Sequence[PathLike]] = None) -> Tuple[str, list]:
+    """The URDF with its inconsistent inertials repaired (``target="geometry"``: also
+    those not realizable in their geometry), as ``momentlmi check --repair`` writes it,
+    and the names of the links repaired. With `out`, also written there, whole or not
+    at all."""
+    sc = None if sidecar is None else os.fspath(sidecar)
+    text, repaired = _native.repair_urdf_text(os.fspath(path), target, float(margin), sc, _paths(package_paths))
+    if out is not None:
+        _write_whole(os.fspath(out), text)
+    return text, repaired
+
+
+def _write_whole(path: str, text: str) -> None:
+    folder = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(dir=folder, prefix=".momentlmi-")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as f:
+            f.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        raise
+
+
+# -- a robot ----------------------------------------------------------------
+
+
+class Robot:
+    """A robot: its model (links, geared rotors, friction terms), prior and bounding
+    volumes. ``Robot.builtin("cheetah3-leg")`` or ``Robot.from_urdf(path, sidecar=...)``."""
+
+    def __init__(self, native: "_native.Robot"):
+        self._r = native
+
+    @staticmethod
+    def builtin(name: str) -> "Robot":
+        """A built-in robot by name (``cheetah3-leg``)."""
+        return Robot(_native.Robot.builtin(name))
+
+    @staticmethod
+    def from_urdf(path: PathLike, sidecar: Optional[PathLike] = None,
+                  package_paths: Optional[Sequence[PathLike]] = None) -> "Robot":
+        """A URDF robot; `sidecar` is its TOML (rotors, friction, bounding volumes, data
+        mapping), `package_paths` the folders where ``package://`` meshes are found."""
+        sc = None if sidecar is None else os.fspath(sidecar)
+        return Robot(_native.Robot.from_urdf(os.fspath(path), sc, _paths(package_paths)))
+
+    @property
+    def joint_names(self) -> list:
+        """The joints, in the order of every array's columns."""
+        return self._r.joint_names
+
+    @property
+    def body_names(self) -> list:
+        """The bodies (links, then rotors), in the order of the parameters."""
+        return self._r.body_names
+
+    @property
+    def parameter_names(self) -> list:
+        """The regressor's columns: 10 per body (``abad.m``, ``abad.hx`` …), then friction."""
+        return self._r.parameter_names
+
+    @property
+    def dof(self) -> int:
+        """The number of joints n."""
+        return self._r.dof
+
+    def params(self) -> np.ndarray:
+        """The model's inertial parameters, (bodies, 10), the paper's order."""
+        return self._r.params()
+
+    def rnea(self, q, v, a) -> np.ndarray:
+        """Joint torques (N·m) of the rigid bodies and rotors, no friction, (N, n), at
+        positions q (rad), velocities v (rad/s), accelerations a (rad/s²), each (N, n)."""
+        return self._r.rnea(_floats(q, "q"), _floats(v, "v"), _floats(a, "a"))
+
+    def regressor(self, q, v, a) -> np.ndarray:
+        """The regressor Y, (N, n, p), with τ = Y θ (θ: 10 per body, then friction;
+        :attr:`parameter_names`)."""
+        return self._r.regressor(_floats(q, "q"), _floats(v, "v"), _floats(a, "a"))
+
+    def __repr__(self) -> str:
+        return repr(self._r)
+
+
+# -- the fleet path ---------------------------------------------------------
+
+
+class Reducer:
+    """Samples of one robot reduced to fixed-size sums (the Gram matrix of [Y τ]): add
+    samples with :meth:`update`, other reducers' sums with :meth:`merge` (from other
+    processes or machines: :meth:`to_bytes` / :meth:`from_bytes`), then :meth:`solve`
+    one SDP. The sums of the parts are the sums of the whole."""
+
+    def __init__(self, robot: Robot, _native_reducer=None):
+        self.robot = robot
+        self._r = _native_reducer if _native_reducer is not None else _native.Reducer(robot._r)
+
+    @property
+    def samples(self) -> int:
+        """The samples reduced so far."""
+        return self._r.samples
+
+    def update(self, q, v, a, tau) -> "Reducer":
+        """Adds samples: q (rad), v (rad/s), a (rad/s²), τ (N·m), each (N, n)."""
+        self._r.update(_floats(q, "q"), _floats(v, "v"), _floats(a, "a"), _floats(tau, "tau"))
+        return self
+
+    def gram(self) -> np.ndarray:
+        """The Gram matrix [Y τ]ᵀ[Y τ] of the samples so far, (p + 1) × (p + 1)."""
+        return self._r.gram()
+
+    def merge(self, other: "Reducer") -> "Reducer":
+        """Adds the sums of `other` (the same robot's)."""
+        self._r.merge(other._r)
+        return self
+
+    def to_bytes(self) -> bytes:
+        """The sums, versioned (:data:`REDUCED_FORMAT_VERSION`) and tied to the robot."""
+        return self._r.to_bytes()
+
+    @staticmethod
+    def from_bytes(robot: Robot, data: bytes) -> "Reducer":
+        """The reducer whose sums `data` holds; an error if they are not this robot's."""
+        return Reducer(robot, _native.Reducer.from_bytes(robot._r, bytes(data)))
+
+    def solve(self, constraints: str = "ellipsoid", weight: float = 1e-6,
+              regularizer: str = "euclidean") -> dict:
+        """The identification on the sums, as ``momentlmi identify --json`` reports it
+        (``params``, ``bodies``, ``rms_residual`` …): `constraints` none, semi,
+        consistent or ellipsoid; toward the robot's prior with `weight`."""
+        return json.loads(self._r.solve(constraints, float(weight), regularizer))

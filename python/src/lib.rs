@@ -1,0 +1,27 @@
+//! The `momentlmi._native` extension module: the library's checks,
+//! dynamics and fleet reduction for Python, NumPy arrays in and out. The
+//! package `momentlmi` (python/momentlmi) wraps it: it turns array-likes
+//! into float arrays and JSON reports into dicts.
+
+mod arrays;
+mod check;
+mod errors;
+mod inertia;
+mod reducer;
+mod robot;
+
+use pyo3::prelude::*;
+
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    errors::add(m)?;
+    inertia::add(m)?;
+    check::add(m)?;
+    m.add_class::<robot::Robot>()?;
+    m.add_class::<reducer::Reducer>()?;
+    m.add(
+        "REDUCED_FORMAT_VERSION",
+        momentlmi::identify::fleet::REDUCED_FORMAT_VERSION,
+    )?;
+    Ok(())
+}

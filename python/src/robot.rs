@@ -1,0 +1,174 @@
+//! A robot (built-in, or a URDF with its sidecar) and its dynamics over
+//! many samples at once: arrays of shape (N, n), the robot's joint order.
+
+use crate::arrays::{array, samples};
+use crate::errors::{MomentlmiError, OrPy};
+use momentlmi::dynamics::{Data, RobotDescription, regressor_batch, rnea};
+use numpy::{PyArrayDyn, PyReadonlyArrayDyn};
+use pyo3::prelude::*;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+/// A robot: its model (links, rotors, friction terms), prior, bounding
+/// volumes and the names of its joints and bodies.
+#[pyclass(frozen, module = "momentlmi")]
+pub struct Robot {
+    pub(crate) robot: Arc<RobotDescription>,
+}
+
+impl Robot {
+    /// (as the command line loads it: the bounding-volume cache, the
+    /// sidecar's effect names checked)
+    pub(crate) fn load(
+        spec: &str,
+        sidecar: Option<PathBuf>,
+        package_paths: Vec<PathBuf>,
+    ) -> PyResult<Self> {
+        let load = momentlmi::dynamics::robots::load_robot_with;
+        let mut robot = load(spec, sidecar.as_deref(), &package_paths).or_py()?;
+        if let Some(cache) = momentlmi::moments::cache::SolveCache::from_env() {
+            robot = robot.with_bounding_cache(cache);
+        }
+        let effects = momentlmi::effects::Library::builtin();
+        effects
+            .check_defaults(&robot)
+            .map_err(|e| MomentlmiError::new_err(e.to_string()))?;
+        Ok(Self {
+            robot: Arc::new(robot),
+        })
+    }
+
+    /// `q, v, a` checked (each (N, n) or (n,), the same N) and read.
+    fn states(
+        &self,
+        q: &PyReadonlyArrayDyn<f64>,
+        v: &PyReadonlyArrayDyn<f64>,
+        a: &PyReadonlyArrayDyn<f64>,
+    ) -> PyResult<(usize, [Vec<f64>; 3])> {
+        let n = self.robot.model.dof();
+        let (rows, q) = samples("q", q, n)?;
+        let mut out = [q, vec![], vec![]];
+        for (k, (what, x)) in [("v", v), ("a", a)].into_iter().enumerate() {
+            let (r, x) = samples(what, x, n)?;
+            if r != rows {
+                let m = format!("{what}: {r} samples, q has {rows}");
+                return Err(pyo3::exceptions::PyValueError::new_err(m));
+            }
+            out[k + 1] = x;
+        }
+        Ok((rows, out))
+    }
+}
+
+#[pymethods]
+impl Robot {
+    /// A built-in robot by name (`cheetah3-leg`).
+    #[staticmethod]
+    fn builtin(name: &str) -> PyResult<Self> {
+        if momentlmi::dynamics::robots::built_in(name).is_none() {
+            let known = momentlmi::dynamics::robots::built_in_names().join(", ");
+            return Err(MomentlmiError::new_err(format!(
+                "no built-in robot '{name}' (built in: {known})"
+            )));
+        }
+        Self::load(name, None, vec![])
+    }
+
+    /// A URDF robot: `sidecar` the TOML of its rotors, friction, bounding
+    /// volumes and data mapping; `package_paths` the folders where its
+    /// `package://` meshes are found.
+    #[staticmethod]
+    #[pyo3(signature = (path, sidecar=None, package_paths=vec![]))]
+    fn from_urdf(
+        path: PathBuf,
+        sidecar: Option<PathBuf>,
+        package_paths: Vec<PathBuf>,
+    ) -> PyResult<Self> {
+        Self::load(&path.display().to_string(), sidecar, package_paths)
+    }
+
+    /// The joints, in the order of every array's columns.
+    #[getter]
+    fn joint_names(&self) -> Vec<String> {
+        self.robot
+            .model
+            .joint_names()
+            .iter()
+            .map(|s| s.to_string())
+            .collect()
+    }
+
+    /// The bodies (links, then rotors), in the order of the parameters.
+    #[getter]
+    fn body_names(&self) -> Vec<String> {
+        self.robot.model.body_names()
+    }
+
+    /// The regressor's columns: 10 per body, then the friction terms'.
+    #[getter]
+    fn parameter_names(&self) -> Vec<String> {
+        momentlmi::identify::parameter_names(&self.robot.model)
+    }
+
+    /// The number of joints n.
+    #[getter]
+    fn dof(&self) -> usize {
+        self.robot.model.dof()
+    }
+
+    /// The model's inertial parameters, (bodies, 10), the paper's order.
+    fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        let p = self.robot.model.params();
+        let bodies = p.len() / 10;
+        array(py, p, &[bodies, 10])
+    }
+
+    /// Joint torques of the rigid bodies and rotors (no friction), (N, n)
+    /// N·m, at joint positions q (rad), velocities v (rad/s) and
+    /// accelerations a (rad/s²), each (N, n).
+    fn rnea<'py>(
+        &self,
+        py: Python<'py>,
+        q: PyReadonlyArrayDyn<f64>,
+        v: PyReadonlyArrayDyn<f64>,
+        a: PyReadonlyArrayDyn<f64>,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        let (rows, [q, v, a]) = self.states(&q, &v, &a)?;
+        let (model, n) = (&self.robot.model, self.robot.model.dof());
+        let tau = py.detach(|| {
+            let mut data = Data::new(model);
+            let mut out = Vec::with_capacity(rows * n);
+            for s in 0..rows {
+                let at = s * n..(s + 1) * n;
+                let t = rnea(model, &mut data, &q[at.clone()], &v[at.clone()], &a[at])?;
+                out.extend(t.iter());
+            }
+            Ok::<_, momentlmi::dynamics::DynamicsError>(out)
+        });
+        array(py, tau.or_py()?, &[rows, n])
+    }
+
+    /// The regressor Y with τ = Y θ (θ: 10 per body, then friction), (N, n, p).
+    fn regressor<'py>(
+        &self,
+        py: Python<'py>,
+        q: PyReadonlyArrayDyn<f64>,
+        v: PyReadonlyArrayDyn<f64>,
+        a: PyReadonlyArrayDyn<f64>,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        let (rows, [q, v, a]) = self.states(&q, &v, &a)?;
+        let model = &self.robot.model;
+        let y = py.detach(|| regressor_batch(model, &q, &v, &a)).or_py()?;
+        array(py, y, &[rows, model.dof(), model.regressor_columns()])
+    }
+
+    fn __repr__(&self) -> String {
+        let r = &self.robot;
+        format!(
+            "Robot('{}', {} joints, {} bodies)",
+            r.origin(),
+            r.model.dof(),
+            r.model.num_bodies()
+        )
+    }
+}

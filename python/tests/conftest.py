@@ -1,0 +1,46 @@
+"""Shared helpers: the command line (for comparisons) and simulated leg data."""
+
+import os
+import shutil
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def cli_binary():
+    """The `momentlmi` command: $MOMENTLMI_BIN, else the workspace's release build."""
+    b = os.environ.get("MOMENTLMI_BIN") or str(ROOT / "target" / "release" / "momentlmi")
+    return b if os.path.isfile(b) else shutil.which("momentlmi")
+
+
+@pytest.fixture(scope="session")
+def cli():
+    b = cli_binary()
+    if b is None:
+        pytest.skip("the momentlmi command is not built (cargo build --release -p momentlmi-cli; or set MOMENTLMI_BIN)")
+
+    def run(*args, ok=(0,)):
+        r = subprocess.run([b, *map(str, args)], capture_output=True, text=True)
+        assert r.returncode in ok, r.stderr
+        return r
+
+    return run
+
+
+@pytest.fixture(scope="session")
+def leg_csv(tmp_path_factory, cli):
+    """Two seconds of the simulated leg at 1 kHz (a prepared CSV: t, q, qd, qdd, tau)."""
+    out = tmp_path_factory.mktemp("leg") / "leg.csv"
+    cli("simulate", "--robot", "cheetah3-leg", "--seconds", 2, "--out", out)
+    return out
+
+
+def read_csv(path, joints):
+    """The CSV's columns as arrays: t (N,), q, qd, qdd, tau (N, n)."""
+    data = np.genfromtxt(path, delimiter=",", names=True)
+    col = lambda p: np.column_stack([data[f"{p}_{j}"] for j in joints])
+    return data["t"], col("q"), col("qd"), col("qdd"), col("tau")
