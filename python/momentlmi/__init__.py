@@ -60,6 +60,7 @@ __all__ = [
     "check_urdf",
     "check_urdf_report",
     "four_point_masses",
+    "identify",
     "from_pinocchio",
     "is_consistent",
     "nearest_consistent",
@@ -67,6 +68,7 @@ __all__ = [
     "realizability",
     "realizable_in",
     "repair_urdf",
+    "simulate",
     "to_pinocchio",
 ]
 
@@ -247,6 +249,81 @@ class Robot:
 
     def __repr__(self) -> str:
         return repr(self._r)
+
+
+def simulate(robot: Robot, seconds: float, effects: Sequence[str] = (), params: Sequence[str] = (),
+             seed: int = 1, noise: Optional[float] = None) -> dict:
+    """`seconds` of the robot's excitation, as ``momentlmi simulate`` writes it for the
+    same arguments: a dict of arrays ``t`` (N,), ``q``, ``qd``, ``qdd``, ``tau`` (N, n,
+    SI units) and ``joints``. `effects` are unmodelled effects by name (``backlash``,
+    ``ripple`` …), `params` their ``NAME=VALUE`` overrides, `noise` the torque noise σ
+    (N·m; 0: exact samples)."""
+    return _native.simulate(robot._r, float(seconds), list(effects), list(params), int(seed),
+                            None if noise is None else float(noise))
+
+
+def _segment(d, joints: list, name: str) -> tuple:
+    """One segment (a dict of arrays, or a DataFrame with the CSV's column names) as
+    (t, q, qd, qdd, tau) arrays, those not given None."""
+    if hasattr(d, "columns"):  # a pandas DataFrame: t, q_<joint>, qd_<joint> …
+        cols = set(map(str, d.columns))
+
+        def get(p):
+            names = [f"{p}_{j}" for j in joints]
+            have = [n for n in names if n in cols]
+            if have and len(have) < len(names):
+                missing = [n for n in names if n not in cols]
+                raise ValueError(f"{name}: columns {', '.join(missing)} missing (it has {', '.join(have)})")
+            return _floats(d[names].to_numpy(), f"{name}: {p}") if have else None
+
+        if "t" not in cols:
+            raise ValueError(f"{name}: no column 't'")
+        arrays = {"t": _floats(d["t"].to_numpy(), f"{name}: t"), **{p: get(p) for p in ("q", "qd", "qdd", "tau")}}
+    elif isinstance(d, dict):
+        unknown = set(d) - {"t", "q", "qd", "qdd", "tau", "joints"}
+        if unknown:
+            raise ValueError(f"{name}: unknown keys {sorted(unknown)} (t, q, qd, qdd, tau)")
+        arrays = {k: None if d.get(k) is None else _floats(d[k], f"{name}: {k}") for k in ("t", "q", "qd", "qdd", "tau")}
+    else:
+        raise ValueError(f"{name}: a dict of arrays or a DataFrame, not {type(d).__name__}")
+    for k in ("t", "q"):
+        if arrays[k] is None:
+            raise ValueError(f"{name}: no {k}")
+    return tuple(arrays[k] for k in ("t", "q", "qd", "qdd", "tau"))
+
+
+def _segments(data, joints: list, name: str) -> list:
+    if data is None:
+        return []
+    many = isinstance(data, (list, tuple))
+    return [_segment(d, joints, f"{name}[{k}]" if many else name) for k, d in enumerate(data if many else [data])]
+
+
+def identify(robot: Robot, data, constraints: str = "ellipsoid", prior: str = "cad",
+             weight: Union[float, str] = 1e-6, regularizer: str = "euclidean", validate=None,
+             cutoff_hz: Optional[float] = None, velocity: str = "differentiate") -> dict:
+    """The identification of `robot` from `data`, as ``momentlmi identify --json``
+    reports it (``bodies`` with each body's ``params``, ``training_rms``,
+    ``validation_rms`` …).
+
+    `data` (and `validate`, held out) is a segment or a list of segments, each a dict
+    of arrays ``t`` (N,), ``q``, and ``qd``, ``qdd``, ``tau`` (N, n) where recorded, or
+    a pandas DataFrame with the CSV's column names (``t``, ``q_<joint>`` …). A segment
+    with ``qdd`` is taken as it is; one without is filtered and differentiated as a raw
+    log file (`cutoff_hz`: None chooses it; `velocity`: differentiate or file).
+    `constraints`: none, semi, consistent or ellipsoid; `prior`: cad, true or a
+    parameter file; `weight`: a number or ``"auto"`` (cross-validation);
+    `regularizer`: euclidean or entropic."""
+    joints = robot.joint_names
+    if isinstance(weight, str):
+        if weight != "auto":
+            raise ValueError(f"weight: '{weight}' is not a number or 'auto'")
+        w = None
+    else:
+        w = float(weight)
+    return json.loads(_native.identify(robot._r, _segments(data, joints, "data"), _segments(validate, joints, "validate"),
+                                       constraints, os.fspath(prior), w, regularizer,
+                                       None if cutoff_hz is None else float(cutoff_hz), velocity))
 
 
 # -- the fleet path ---------------------------------------------------------

@@ -40,6 +40,17 @@ pub(crate) fn samples(
     Ok((rows, values))
 }
 
+/// Time stamps: shape `(N,)`, every value finite.
+pub(crate) fn times(what: &str, a: &PyReadonlyArrayDyn<f64>) -> PyResult<Vec<f64>> {
+    if a.shape().len() != 1 {
+        let m = format!("{what}: shape {}, expected (N,)", shape_of(a.shape()));
+        return Err(PyValueError::new_err(m));
+    }
+    let values: Vec<f64> = a.as_array().iter().copied().collect();
+    finite(what, &values, 1)?;
+    Ok(values)
+}
+
 /// A vector of exactly `K` finite values (argument `what`).
 pub(crate) fn vector<const K: usize>(
     what: &str,

@@ -54,34 +54,23 @@ pub(crate) trait ToPy {
     fn py_err(self) -> PyErr;
 }
 
-impl ToPy for momentlmi::dynamics::DynamicsError {
-    fn py_err(self) -> PyErr {
-        ModelError::new_err(self.to_string())
-    }
+/// Each library error type as its exception.
+macro_rules! to_py {
+    ($($error:ty => $exception:ident),* $(,)?) => {$(
+        impl ToPy for $error {
+            fn py_err(self) -> PyErr {
+                $exception::new_err(self.to_string())
+            }
+        }
+    )*};
 }
 
-impl ToPy for momentlmi::moments::MomentsError {
-    fn py_err(self) -> PyErr {
-        InertiaError::new_err(self.to_string())
-    }
-}
-
-impl ToPy for momentlmi::urdf::UrdfError {
-    fn py_err(self) -> PyErr {
-        UrdfError::new_err(self.to_string())
-    }
-}
-
-impl ToPy for momentlmi::identify::IdentifyError {
-    fn py_err(self) -> PyErr {
-        IdentifyError::new_err(self.to_string())
-    }
-}
-
-impl ToPy for momentlmi::data::DataError {
-    fn py_err(self) -> PyErr {
-        DataError::new_err(self.to_string())
-    }
+to_py! {
+    momentlmi::dynamics::DynamicsError => ModelError,
+    momentlmi::moments::MomentsError => InertiaError,
+    momentlmi::urdf::UrdfError => UrdfError,
+    momentlmi::identify::IdentifyError => IdentifyError,
+    momentlmi::data::DataError => DataError,
 }
 
 /// `Result<T, E>` with a library error `E` as a `PyResult`.

@@ -6,9 +6,12 @@
 mod arrays;
 mod check;
 mod errors;
+mod identify;
 mod inertia;
 mod reducer;
 mod robot;
+mod setup;
+mod simulate;
 
 use pyo3::prelude::*;
 
@@ -17,6 +20,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     errors::add(m)?;
     inertia::add(m)?;
     check::add(m)?;
+    simulate::add(m)?;
+    identify::add(m)?;
     m.add_class::<robot::Robot>()?;
     m.add_class::<reducer::Reducer>()?;
     m.add(

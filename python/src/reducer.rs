@@ -7,7 +7,7 @@ use crate::errors::{IdentifyError, OrPy};
 use crate::robot::Robot;
 use momentlmi::dynamics::{ParamChoice, RobotDescription};
 use momentlmi::identify::fleet::signature;
-use momentlmi::identify::{Identification, Level, Reduced, Regularizer, StreamReducer};
+use momentlmi::identify::{Reduced, StreamReducer};
 use numpy::PyReadonlyArrayDyn;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -133,36 +133,10 @@ impl Reducer {
         let Some(red) = &self.reduced else {
             return Err(IdentifyError::new_err("reduced data: no samples yet"));
         };
-        let level = Level::parse(constraints).ok_or_else(|| {
-            PyValueError::new_err(format!(
-                "constraints: '{constraints}' is not one of none, semi, consistent, ellipsoid"
-            ))
-        })?;
-        let regularizer = match regularizer {
-            "euclidean" => Regularizer::Euclidean,
-            "entropic" => Regularizer::Entropic,
-            r => {
-                return Err(PyValueError::new_err(format!(
-                    "regularizer: '{r}' is not one of euclidean, entropic"
-                )));
-            }
-        };
-        if !(weight.is_finite() && weight >= 0.0)
-            || (regularizer == Regularizer::Entropic && weight <= 0.0)
-        {
-            return Err(PyValueError::new_err(format!(
-                "weight: {weight} (≥ 0; > 0 with the entropic regulariser)"
-            )));
-        }
+        let setup = crate::setup::Setup::parse(constraints, regularizer, Some(weight))?;
         let robot = &*self.robot;
         let result = py.detach(|| {
-            let (prior, _) = robot
-                .parameters(&ParamChoice::Cad)
-                .map_err(|e| e.to_string())?;
-            let id = Identification::for_robot(robot, level, weight)
-                .and_then(|id| id.prior(weight, prior.params()))
-                .map_err(|e| e.to_string())?
-                .regularizer(regularizer);
+            let id = setup.identification(robot, &ParamChoice::Cad, weight)?;
             id.fit_streamed(red).map_err(|e| e.to_string())
         });
         let result = result.map_err(IdentifyError::new_err)?;

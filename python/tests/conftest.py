@@ -40,7 +40,8 @@ def leg_csv(tmp_path_factory, cli):
 
 
 def read_csv(path, joints):
-    """The CSV's columns as arrays: t (N,), q, qd, qdd, tau (N, n)."""
+    """The CSV's columns as arrays: t (N,), q, qd, qdd, tau (N, n) (None: not in the file)."""
     data = np.genfromtxt(path, delimiter=",", names=True)
-    col = lambda p: np.column_stack([data[f"{p}_{j}"] for j in joints])
+    have = data.dtype.names
+    col = lambda p: np.column_stack([data[f"{p}_{j}"] for j in joints]) if f"{p}_{joints[0]}" in have else None
     return data["t"], col("q"), col("qd"), col("qdd"), col("tau")

@@ -151,8 +151,10 @@ fn read_raw(path: &Path, joints: &[&str], opts: &ReadOptions) -> Result<RawLog, 
     }
 }
 
-/// Raw logs prepared and joined (see [`joined`]).
-pub(crate) fn prepared(
+/// Raw logs (recorded samples, from a reader or the caller's arrays)
+/// prepared as [`read_logs`] prepares files, and joined in order, each a
+/// segment (see [`joined`]).
+pub fn prepare_logs(
     raws: Vec<RawLog>,
     joints: &[&str],
     opts: &ReadOptions,
@@ -213,6 +215,6 @@ impl Dataset {
             joints,
             opts.require_tau,
         )?;
-        prepared(vec![raw], joints, &opts).map(|r| r.data)
+        prepare_logs(vec![raw], joints, &opts).map(|r| r.data)
     }
 }

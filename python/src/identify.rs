@@ -1,0 +1,144 @@
+//! An identification from arrays, as `momentlmi identify --json` reports
+//! it: each segment's samples prepared as a log file would be (taken as
+//! they are with q̈; filtered and differentiated without), the same
+//! identification set-up, the same report.
+
+use crate::arrays::{samples, times};
+use crate::errors::{IdentifyError, OrPy};
+use crate::robot::Robot;
+use momentlmi::data::{RawLog, ReadOptions, Reading, Samples, Velocity, prepare_logs};
+use momentlmi::dynamics::{ParamChoice, RobotDescription};
+use momentlmi::identify::{DataPreparation, WEIGHT_GRID};
+use numpy::PyReadonlyArrayDyn;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+
+pub(crate) fn add(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(identify, m)?)?;
+    Ok(())
+}
+
+/// One segment's arrays: t (N,), q, and q̇, q̈, τ when given, (N, n).
+type Segment<'py> = (
+    PyReadonlyArrayDyn<'py, f64>,
+    PyReadonlyArrayDyn<'py, f64>,
+    Option<PyReadonlyArrayDyn<'py, f64>>,
+    Option<PyReadonlyArrayDyn<'py, f64>>,
+    Option<PyReadonlyArrayDyn<'py, f64>>,
+);
+
+/// A segment's arrays checked into a raw log named `name`.
+fn raw_log(name: &str, (t, q, qd, qdd, tau): &Segment, n: usize) -> PyResult<RawLog> {
+    let tv = times(&format!("{name}: t"), t)?;
+    let rows = tv.len();
+    let series = |what: &str, a: &PyReadonlyArrayDyn<f64>| -> PyResult<Samples> {
+        let (r, v) = samples(&format!("{name}: {what}"), a, n)?;
+        if r != rows {
+            return Err(PyValueError::new_err(format!(
+                "{name}: {what} has {r} samples, t has {rows}"
+            )));
+        }
+        Ok(Samples::from_flat(n, v).unwrap_or_else(|| Samples::new(n)))
+    };
+    let opt = |what: &str, a: &Option<PyReadonlyArrayDyn<f64>>| {
+        a.as_ref().map(|a| series(what, a)).transpose()
+    };
+    Ok(RawLog {
+        path: name.into(),
+        t: tv,
+        q: series("q", q)?,
+        qd: opt("qd", qd)?,
+        qdd: opt("qdd", qdd)?,
+        tau: opt("tau", tau)?,
+        warnings: vec![],
+    })
+}
+
+/// Segments prepared and joined, as files are.
+fn prepared(
+    robot: &RobotDescription,
+    what: &str,
+    segs: &[Segment],
+    opts: &ReadOptions,
+) -> PyResult<Reading> {
+    let n = robot.model.dof();
+    let raws = (segs.iter().enumerate())
+        .map(|(k, s)| match segs.len() {
+            1 => raw_log(what, s, n),
+            _ => raw_log(&format!("{what}[{k}]"), s, n),
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    prepare_logs(raws, &robot.model.joint_names(), opts).or_py()
+}
+
+/// The report (JSON) of the identification on the `data` segments, held
+/// out on `validate`'s: `constraints` a level, toward `prior` (cad, true or
+/// a parameter file) with `weight` (None: chosen by cross-validation, as
+/// `--weight auto`), `regularizer` euclidean or entropic; `cutoff_hz` and
+/// `velocity` (differentiate, file) prepare raw segments.
+#[pyfunction]
+#[pyo3(signature = (robot, data, validate, constraints, prior, weight, regularizer, cutoff_hz, velocity))]
+#[allow(clippy::too_many_arguments)]
+fn identify(
+    py: Python<'_>,
+    robot: &Robot,
+    data: Vec<Segment>,
+    validate: Vec<Segment>,
+    constraints: &str,
+    prior: &str,
+    weight: Option<f64>,
+    regularizer: &str,
+    cutoff_hz: Option<f64>,
+    velocity: &str,
+) -> PyResult<String> {
+    let setup = crate::setup::Setup::parse(constraints, regularizer, weight)?;
+    let velocity = match velocity {
+        "differentiate" => Velocity::Differentiate,
+        "file" => Velocity::File,
+        v => {
+            return Err(PyValueError::new_err(format!(
+                "velocity: '{v}' is not one of differentiate, file"
+            )));
+        }
+    };
+    if data.is_empty() {
+        return Err(PyValueError::new_err("data: no segments"));
+    }
+    let desc = &*robot.robot;
+    let opts = ReadOptions {
+        cutoff_hz,
+        velocity,
+        ..ReadOptions::default()
+    };
+    let train = prepared(desc, "data", &data, &opts)?;
+    let val = (!validate.is_empty())
+        .then(|| prepared(desc, "validate", &validate, &opts))
+        .transpose()?;
+    let choice: ParamChoice = prior.parse().unwrap_or(ParamChoice::Cad);
+    let result = py.detach(|| {
+        let mut id = setup.identification(desc, &choice, weight.unwrap_or(WEIGHT_GRID[0]))?;
+        let choice = match weight {
+            Some(_) => None,
+            None => Some(
+                id.choose_weight(&train.data, &WEIGHT_GRID)
+                    .map_err(|e| e.to_string())?,
+            ),
+        };
+        let red = id.reduce(&train.data).map_err(|e| e.to_string())?;
+        let mut r = id
+            .fit_reduced(&train.data, &red)
+            .map_err(|e| e.to_string())?;
+        if let Some(v) = &val {
+            r.validate(&desc.model, &v.data)
+                .map_err(|e| e.to_string())?;
+        }
+        r.weight_choice = choice;
+        r.data_preparation = DataPreparation {
+            training: train.files.clone(),
+            validation: val.as_ref().map(|v| v.files.clone()).unwrap_or_default(),
+        };
+        Ok::<_, String>(r)
+    });
+    let r = result.map_err(IdentifyError::new_err)?;
+    serde_json::to_string(&r).map_err(|e| IdentifyError::new_err(e.to_string()))
+}

@@ -1,0 +1,90 @@
+"""`identify` from arrays gives the command line's report on the same data:
+prepared samples, raw samples (filtered and differentiated), held-out data."""
+
+import json
+
+import numpy as np
+import pytest
+
+import momentlmi as m
+from conftest import read_csv
+
+
+@pytest.fixture(scope="module")
+def leg():
+    return m.Robot.builtin("cheetah3-leg")
+
+
+@pytest.fixture(scope="module")
+def files(tmp_path_factory, cli):
+    d = tmp_path_factory.mktemp("id")
+    out = {}
+    for name, seconds, seed in (("train", 2, 1), ("val", 1, 2)):
+        out[name] = d / f"{name}.csv"
+        cli("simulate", "--robot", "cheetah3-leg", "--seconds", seconds, "--seed", seed, "--out", out[name])
+    # the training file without q̈ (and q̇): a raw log, filtered and differentiated
+    text = out["train"].read_text().splitlines()
+    keep = [k for k, c in enumerate(text[0].split(",")) if not c.startswith(("qd_", "qdd_"))]
+    out["raw"] = d / "raw.csv"
+    out["raw"].write_text("\n".join(",".join(np.array(l.split(","))[keep]) for l in text) + "\n")
+    return out
+
+
+def arrays(path, joints, raw=False):
+    t, q, qd, qdd, tau = read_csv(path, joints)
+    return dict(t=t, q=q, tau=tau) if raw else dict(t=t, q=q, qd=qd, qdd=qdd, tau=tau)
+
+
+def same(mine, theirs):
+    assert [b["name"] for b in mine["bodies"]] == [b["name"] for b in theirs["bodies"]]
+    pa = np.array([b["params"] for b in mine["bodies"]])
+    pb = np.array([b["params"] for b in theirs["bodies"]])
+    # the solves agree to the interior-point method's tolerance (docs/python.md)
+    assert np.abs(pa - pb).max() <= 1e-6 * np.abs(pb).max()
+    for k in ("training_rms", "validation_rms"):
+        assert (mine[k] is None) == (theirs[k] is None), k
+        if mine[k] is not None:
+            assert np.allclose(mine[k], theirs[k], rtol=1e-7), k
+    assert mine["training_samples"] == theirs["training_samples"]
+
+
+def test_prepared_arrays_with_held_out_data(leg, files, cli):
+    mine = m.identify(leg, arrays(files["train"], leg.joint_names), validate=arrays(files["val"], leg.joint_names))
+    theirs = json.loads(cli("identify", "--robot", "cheetah3-leg", "--data", files["train"], "--validate",
+                            files["val"], "--constraints", "ellipsoid", "--json").stdout)
+    same(mine, theirs)
+    assert mine["validation_samples"] == 1000
+
+
+def test_raw_arrays_are_prepared_as_a_raw_log_is(leg, files, cli):
+    mine = m.identify(leg, [arrays(files["raw"], leg.joint_names, raw=True)], constraints="consistent")
+    theirs = json.loads(cli("identify", "--robot", "cheetah3-leg", "--data", files["raw"],
+                            "--constraints", "consistent", "--json").stdout)
+    same(mine, theirs)
+    prep = mine["data_preparation"]["training"][0]
+    assert not prep["taken_as_prepared"] and prep["cutoff_hz"] == theirs["data_preparation"]["training"][0]["cutoff_hz"]
+
+
+def test_a_dataframe_is_read_by_its_column_names(leg, files):
+    pd = pytest.importorskip("pandas", reason="pandas is not installed: DataFrames are not tried")
+    df = pd.read_csv(files["train"])
+    a = m.identify(leg, df)
+    b = m.identify(leg, arrays(files["train"], leg.joint_names))
+    assert [x["params"] for x in a["bodies"]] == [x["params"] for x in b["bodies"]]
+
+
+def test_bad_data_are_value_errors_naming_the_segment(leg, files):
+    d = arrays(files["train"], leg.joint_names)
+    with pytest.raises(ValueError, match=r"data: qd has 10 samples, t has 2000"):
+        m.identify(leg, dict(d, qd=d["qd"][:10]))
+    with pytest.raises(ValueError, match=r"data\[1\]: tau: value inf"):
+        m.identify(leg, [d, dict(d, tau=np.full_like(d["tau"], np.inf))])
+    with pytest.raises(ValueError, match="data: no t"):
+        m.identify(leg, dict(q=d["q"]))
+    with pytest.raises(ValueError, match="unknown keys"):
+        m.identify(leg, dict(d, torque=d["tau"]))
+    with pytest.raises(ValueError, match="weight: 'best'"):
+        m.identify(leg, d, weight="best")
+    back = dict(d, t=d["t"][::-1].copy())
+    with pytest.raises(m.DataError, match="not after"):
+        m.identify(leg, back)
