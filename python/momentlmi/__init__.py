@@ -59,6 +59,7 @@ __all__ = [
     "check_consistency",
     "check_urdf",
     "check_urdf_report",
+    "diagnose",
     "four_point_masses",
     "identify",
     "from_pinocchio",
@@ -301,7 +302,8 @@ def _segments(data, joints: list, name: str) -> list:
 
 def identify(robot: Robot, data, constraints: str = "ellipsoid", prior: str = "cad",
              weight: Union[float, str] = 1e-6, regularizer: str = "euclidean", validate=None,
-             cutoff_hz: Optional[float] = None, velocity: str = "differentiate") -> dict:
+             cutoff_hz: Optional[float] = None, velocity: str = "differentiate",
+             friction: Optional[str] = None) -> dict:
     """The identification of `robot` from `data`, as ``momentlmi identify --json``
     reports it (``bodies`` with each body's ``params``, ``training_rms``,
     ``validation_rms`` …).
@@ -313,7 +315,8 @@ def identify(robot: Robot, data, constraints: str = "ellipsoid", prior: str = "c
     log file (`cutoff_hz`: None chooses it; `velocity`: differentiate or file).
     `constraints`: none, semi, consistent or ellipsoid; `prior`: cad, true or a
     parameter file; `weight`: a number or ``"auto"`` (cross-validation);
-    `regularizer`: euclidean or entropic."""
+    `regularizer`: euclidean or entropic; `friction`: the friction terms identified
+    (``"viscous,coulomb,offset,load,stribeck"``; None: the robot's)."""
     joints = robot.joint_names
     if isinstance(weight, str):
         if weight != "auto":
@@ -323,7 +326,19 @@ def identify(robot: Robot, data, constraints: str = "ellipsoid", prior: str = "c
         w = float(weight)
     return json.loads(_native.identify(robot._r, _segments(data, joints, "data"), _segments(validate, joints, "validate"),
                                        constraints, os.fspath(prior), w, regularizer,
-                                       None if cutoff_hz is None else float(cutoff_hz), velocity))
+                                       None if cutoff_hz is None else float(cutoff_hz), velocity, friction))
+
+
+def diagnose(robot: Robot, data, nominal: Optional[str] = None, repeats=None) -> dict:
+    """Where `data` depart from the `nominal` model (None: the robot's own parameters;
+    ``"cad"``, ``"true"`` or a parameter file), which unmodelled effects explain the
+    gap and how far it shrinks on held-out data, as ``momentlmi diagnose --json``
+    reports it. `data` as for :func:`identify`; `repeats`, two runs of one trajectory,
+    give the noise floor (needed when the torques were low-pass filtered)."""
+    joints = robot.joint_names
+    reps = _segments(repeats, joints, "repeats")
+    nom = None if nominal is None else os.fspath(nominal)
+    return json.loads(_native.diagnosis(robot._r, _segments(data, joints, "data"), nom, reps))
 
 
 # -- the fleet path ---------------------------------------------------------

@@ -7,7 +7,7 @@ use crate::arrays::{samples, times};
 use crate::errors::{IdentifyError, OrPy};
 use crate::robot::Robot;
 use momentlmi::data::{RawLog, ReadOptions, Reading, Samples, Velocity, prepare_logs};
-use momentlmi::dynamics::{ParamChoice, RobotDescription};
+use momentlmi::dynamics::{FrictionTerm, ParamChoice, RobotDescription};
 use momentlmi::identify::{DataPreparation, WEIGHT_GRID};
 use numpy::PyReadonlyArrayDyn;
 use pyo3::exceptions::PyValueError;
@@ -19,7 +19,7 @@ pub(crate) fn add(m: &Bound<'_, PyModule>) -> PyResult<()> {
 }
 
 /// One segment's arrays: t (N,), q, and q̇, q̈, τ when given, (N, n).
-type Segment<'py> = (
+pub(crate) type Segment<'py> = (
     PyReadonlyArrayDyn<'py, f64>,
     PyReadonlyArrayDyn<'py, f64>,
     Option<PyReadonlyArrayDyn<'py, f64>>,
@@ -54,8 +54,21 @@ fn raw_log(name: &str, (t, q, qd, qdd, tau): &Segment, n: usize) -> PyResult<Raw
     })
 }
 
+/// The robot with the friction terms `list` names (`viscous,coulomb,…`;
+/// `None`: its own), as `--friction` makes it.
+fn with_friction(robot: &Robot, list: Option<&str>) -> PyResult<std::sync::Arc<RobotDescription>> {
+    let Some(list) = list else {
+        return Ok(robot.robot.clone());
+    };
+    let terms = FrictionTerm::parse_list(list)
+        .map_err(|e| PyValueError::new_err(format!("friction: {e}")))?;
+    let mut d = (*robot.robot).clone();
+    d.model = d.model.with_friction_terms(&terms);
+    Ok(std::sync::Arc::new(d))
+}
+
 /// Segments prepared and joined, as files are.
-fn prepared(
+pub(crate) fn prepared(
     robot: &RobotDescription,
     what: &str,
     segs: &[Segment],
@@ -75,9 +88,10 @@ fn prepared(
 /// out on `validate`'s: `constraints` a level, toward `prior` (cad, true or
 /// a parameter file) with `weight` (None: chosen by cross-validation, as
 /// `--weight auto`), `regularizer` euclidean or entropic; `cutoff_hz` and
-/// `velocity` (differentiate, file) prepare raw segments.
+/// `velocity` (differentiate, file) prepare raw segments; `friction` the
+/// friction terms identified (None: the robot's).
 #[pyfunction]
-#[pyo3(signature = (robot, data, validate, constraints, prior, weight, regularizer, cutoff_hz, velocity))]
+#[pyo3(signature = (robot, data, validate, constraints, prior, weight, regularizer, cutoff_hz, velocity, friction))]
 #[allow(clippy::too_many_arguments)]
 fn identify(
     py: Python<'_>,
@@ -90,6 +104,7 @@ fn identify(
     regularizer: &str,
     cutoff_hz: Option<f64>,
     velocity: &str,
+    friction: Option<&str>,
 ) -> PyResult<String> {
     let setup = crate::setup::Setup::parse(constraints, regularizer, weight)?;
     let velocity = match velocity {
@@ -104,7 +119,7 @@ fn identify(
     if data.is_empty() {
         return Err(PyValueError::new_err("data: no segments"));
     }
-    let desc = &*robot.robot;
+    let desc = &*with_friction(robot, friction)?;
     let opts = ReadOptions {
         cutoff_hz,
         velocity,

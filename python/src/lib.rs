@@ -5,6 +5,7 @@
 
 mod arrays;
 mod check;
+mod diagnose;
 mod errors;
 mod identify;
 mod inertia;
@@ -22,6 +23,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     check::add(m)?;
     simulate::add(m)?;
     identify::add(m)?;
+    diagnose::add(m)?;
     m.add_class::<robot::Robot>()?;
     m.add_class::<reducer::Reducer>()?;
     m.add(

@@ -88,3 +88,26 @@ def test_bad_data_are_value_errors_naming_the_segment(leg, files):
     back = dict(d, t=d["t"][::-1].copy())
     with pytest.raises(m.DataError, match="not after"):
         m.identify(leg, back)
+
+
+def test_the_real_kuka_runs_as_the_command_line_identifies_them(cli):
+    """python/examples/kuka_lwr4.py's identification: the KUKA LWR4+'s archives read
+    with numpy.load (raw: filtered and differentiated), held out on run 3."""
+    from conftest import ROOT
+
+    kuka = ROOT / "robots" / "kuka-lwr4"
+    robot = m.Robot.from_urdf(kuka / "kuka_lwr4.urdf", sidecar=kuka / "kuka_lwr4.toml")
+
+    def run(k):
+        z = np.load(kuka / "data" / f"measurements_{k}.npz")
+        return dict(t=z["times"], q=z["positions"], tau=z["torques"])
+
+    opts = dict(constraints="ellipsoid", friction="viscous,coulomb,offset,load,stribeck",
+                regularizer="entropic", weight=1e-2)
+    mine = m.identify(robot, [run(1), run(2)], validate=run(3), **opts)
+    runs = [kuka / "data" / f"measurements_{k}.npz" for k in (1, 2, 3)]
+    theirs = json.loads(cli("identify", "--robot", kuka / "kuka_lwr4.urdf", "--data", runs[0], "--data", runs[1],
+                            "--validate", runs[2], "--friction", opts["friction"], "--constraints", "ellipsoid",
+                            "--regularizer", "entropic", "--weight", "1e-2", "--json").stdout)
+    assert np.allclose(mine["validation_rms"], theirs["validation_rms"], rtol=1e-6)
+    assert mine["all_bodies_consistent"] and 0.30 < np.mean(mine["validation_rms"]) < 0.36

@@ -1,0 +1,28 @@
+"""The diagnosis of arrays is the command line's report of the same file."""
+
+import json
+
+import pytest
+
+import momentlmi as m
+from conftest import read_csv
+
+
+def test_diagnose_equals_diagnose_json(cli, tmp_path):
+    leg = m.Robot.builtin("cheetah3-leg")
+    log = tmp_path / "backlash.csv"
+    cli("simulate", "--robot", "cheetah3-leg", "--seconds", 5, "--effects", "backlash", "--seed", 3, "--out", log)
+    t, q, qd, qdd, tau = read_csv(log, leg.joint_names)
+    mine = m.diagnose(leg, dict(t=t, q=q, qd=qd, qdd=qdd, tau=tau))
+    theirs = json.loads(cli("diagnose", "--robot", "cheetah3-leg", "--data", log, "--json").stdout)
+    assert json.dumps(mine, sort_keys=True) == json.dumps(theirs, sort_keys=True)
+    assert "backlash" in mine["accepted"], mine["accepted"]
+
+
+def test_bad_diagnoses_are_errors(tmp_path):
+    leg = m.Robot.builtin("cheetah3-leg")
+    d = m.simulate(leg, 0.5)
+    with pytest.raises(ValueError, match="repeats: 1 segments"):
+        m.diagnose(leg, d, repeats=[d])
+    with pytest.raises(m.MomentlmiError, match="nominal: .*missing.json"):
+        m.diagnose(leg, d, nominal=tmp_path / "missing.json")
