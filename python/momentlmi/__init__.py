@@ -248,6 +248,17 @@ class Robot:
         :attr:`parameter_names`)."""
         return self._r.regressor(_floats(q, "q"), _floats(v, "v"), _floats(a, "a"))
 
+    def predict(self, params, q, v, a) -> np.ndarray:
+        """Joint torques (N·m), (N, n), of the model with identified parameters: `params`
+        an :func:`identify` report (a dict) or a parameter file's path; links, rotors and
+        every friction term, as ``momentlmi predict --params FILE`` predicts them."""
+        if isinstance(params, dict):
+            text = json.dumps(params)
+        else:
+            with open(os.fspath(params), encoding="utf-8") as f:
+                text = f.read()
+        return self._r.predict(text, _floats(q, "q"), _floats(v, "v"), _floats(a, "a"))
+
     def __repr__(self) -> str:
         return repr(self._r)
 

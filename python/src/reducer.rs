@@ -63,6 +63,9 @@ impl Reducer {
             }
             rest.push(x);
         }
+        if rows == 0 {
+            return Ok(()); // nothing to add (no sums of zero samples are kept)
+        }
         let (model, first) = (&self.robot.model, self.samples());
         let part = py.detach(|| {
             let mut r = StreamReducer::starting_at(model, CHUNK, first);

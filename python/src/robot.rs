@@ -60,6 +60,19 @@ impl Robot {
     }
 }
 
+/// `values` (rows of `k`), unless one is not finite (states too large for
+/// the model): an error naming the sample, never an inf or NaN returned.
+fn finite_out(what: &str, values: Vec<f64>, k: usize) -> PyResult<Vec<f64>> {
+    match values.iter().position(|v| !v.is_finite()) {
+        None => Ok(values),
+        Some(i) => Err(MomentlmiError::new_err(format!(
+            "sample {}: a {what} is not finite ({}): the states are too large for the model",
+            i / k.max(1),
+            values[i]
+        ))),
+    }
+}
+
 #[pymethods]
 impl Robot {
     /// A built-in robot by name (`cheetah3-leg`).
@@ -145,7 +158,7 @@ impl Robot {
             }
             Ok::<_, momentlmi::dynamics::DynamicsError>(out)
         });
-        array(py, tau.or_py()?, &[rows, n])
+        array(py, finite_out("torque", tau.or_py()?, n)?, &[rows, n])
     }
 
     /// The regressor Y with τ = Y θ (θ: 10 per body, then friction), (N, n, p).
@@ -159,7 +172,42 @@ impl Robot {
         let (rows, [q, v, a]) = self.states(&q, &v, &a)?;
         let model = &self.robot.model;
         let y = py.detach(|| regressor_batch(model, &q, &v, &a)).or_py()?;
+        let y = finite_out(
+            "regressor value",
+            y,
+            model.dof() * model.regressor_columns(),
+        )?;
         array(py, y, &[rows, model.dof(), model.regressor_columns()])
+    }
+
+    /// Joint torques (N·m), (N, n), of the model with the identified
+    /// parameters `params` (an identification's report, or a parameter
+    /// file's JSON text): links, rotors and every friction term, as
+    /// `momentlmi predict --params FILE` predicts them.
+    fn predict<'py>(
+        &self,
+        py: Python<'py>,
+        params: &str,
+        q: PyReadonlyArrayDyn<f64>,
+        v: PyReadonlyArrayDyn<f64>,
+        a: PyReadonlyArrayDyn<f64>,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        use momentlmi::dynamics::params_file::ParamsFile;
+        let (rows, [q, v, a]) = self.states(&q, &v, &a)?;
+        let file: ParamsFile = serde_json::from_str(params)
+            .map_err(|e| MomentlmiError::new_err(format!("params: not a parameter file ({e})")))?;
+        let mut model = self.robot.model.clone();
+        let friction = file.apply(&mut model, "params").or_py()?;
+        let n = model.dof();
+        let rows_of = |x: Vec<f64>| {
+            momentlmi::data::Samples::from_flat(n, x)
+                .unwrap_or_else(|| momentlmi::data::Samples::new(n))
+        };
+        let (q, v, a) = (rows_of(q), rows_of(v), rows_of(a));
+        let tau = py.detach(|| {
+            momentlmi::dynamics::predict::predict_torques(&model, &friction, &q, &v, &a)
+        });
+        array(py, tau.or_py()?.as_flat().to_vec(), &[rows, n])
     }
 
     fn __repr__(&self) -> String {

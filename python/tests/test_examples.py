@@ -23,6 +23,13 @@ def test_the_leg_example_identifies_at_every_level():
     assert "ellipsoid   [0.3" in out and "6/6" in out
 
 
+def test_the_leg_example_draws_fig_4(tmp_path):
+    pytest.importorskip("matplotlib", reason="Matplotlib is not installed: the figure is not drawn")
+    png = tmp_path / "fig4.png"
+    assert "wrote" in run("leg.py", "--plot", str(png))
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 20_000
+
+
 def test_the_urdf_example_checks_the_panda(tmp_path):
     out = run("check_urdf.py", "robots/panda/panda.urdf", "--repair", str(tmp_path / "p.urdf"))
     assert out.count(" kg ") == 13 and "wrote" in out

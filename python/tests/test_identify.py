@@ -111,3 +111,13 @@ def test_the_real_kuka_runs_as_the_command_line_identifies_them(cli):
                             "--regularizer", "entropic", "--weight", "1e-2", "--json").stdout)
     assert np.allclose(mine["validation_rms"], theirs["validation_rms"], rtol=1e-6)
     assert mine["all_bodies_consistent"] and 0.30 < np.mean(mine["validation_rms"]) < 0.36
+
+
+def test_predict_with_the_identified_parameters_gives_the_held_out_rms(leg):
+    train, held_out = m.simulate(leg, 3.0, seed=1), m.simulate(leg, 1.0, seed=2)
+    r = m.identify(leg, train, validate=held_out, friction="viscous,coulomb,offset")
+    tau = leg.predict(r, held_out["q"], held_out["qd"], held_out["qdd"])
+    rms = np.sqrt(np.mean((held_out["tau"] - tau) ** 2, axis=0))
+    assert np.allclose(rms, r["validation_rms"], rtol=1e-9)
+    with pytest.raises(m.MomentlmiError, match="params: not a parameter file"):
+        leg._r.predict("{}", held_out["q"], held_out["qd"], held_out["qdd"])

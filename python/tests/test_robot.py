@@ -62,3 +62,16 @@ def test_unknown_robots_and_files_are_momentlmi_errors(tmp_path):
         m.Robot.builtin("arm")
     with pytest.raises(m.ModelError, match="no-such.urdf"):
         m.Robot.from_urdf(tmp_path / "no-such.urdf")
+
+
+def test_states_too_large_are_errors_not_infinities(leg):
+    big = np.full((2, 3), 1e300)
+    for f in (leg.rnea, leg.regressor):
+        with pytest.raises(m.MomentlmiError, match="sample 0: a .* is not finite"):
+            f(big, big, np.zeros((2, 3)))
+    empty = np.zeros((0, 3))
+    assert leg.rnea(empty, empty, empty).shape == (0, 3)
+    r = m.Reducer(leg).update(empty, empty, empty, empty)
+    assert r.samples == 0
+    with pytest.raises(m.IdentifyError, match="no samples yet"):
+        r.to_bytes()
