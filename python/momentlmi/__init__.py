@@ -50,6 +50,7 @@ __all__ = [
     "REDUCED_FORMAT_VERSION",
     "DataError",
     "IdentifyError",
+    "IdentifyResult",
     "InertiaError",
     "ModelError",
     "MomentlmiError",
@@ -252,7 +253,9 @@ class Robot:
         """Joint torques (N·m), (N, n), of the model with identified parameters: `params`
         an :func:`identify` report (a dict) or a parameter file's path; links, rotors and
         every friction term, as ``momentlmi predict --params FILE`` predicts them."""
-        if isinstance(params, dict):
+        if isinstance(params, IdentifyResult):
+            text = params.to_json()
+        elif isinstance(params, dict):
             text = json.dumps(params)
         else:
             with open(os.fspath(params), encoding="utf-8") as f:
@@ -311,10 +314,34 @@ def _segments(data, joints: list, name: str) -> list:
     return [_segment(d, joints, f"{name}[{k}]" if many else name) for k, d in enumerate(data if many else [data])]
 
 
+class IdentifyResult(dict):
+    """An identification's report, as ``momentlmi identify --json`` writes it: a dict
+    (``bodies``, ``friction``, ``training_rms``, ``validation_rms``, ``status`` …) with
+    the parameters as arrays and the command line's file text."""
+
+    def __init__(self, text: str):
+        super().__init__(json.loads(text))
+        self._text = text
+
+    @property
+    def params(self) -> np.ndarray:
+        """Each body's identified π, (bodies, 10), the paper's order, in ``body_names``' order."""
+        return np.array([b["params"] for b in self["bodies"]])
+
+    @property
+    def body_names(self) -> list:
+        return [b["name"] for b in self["bodies"]]
+
+    def to_json(self) -> str:
+        """The report as the command line writes it (``identify --json > model.json``): a
+        parameter file ``--params`` / ``--prior`` / ``--nominal`` and :meth:`Robot.predict` take."""
+        return self._text
+
+
 def identify(robot: Robot, data, constraints: str = "ellipsoid", prior: str = "cad",
              weight: Union[float, str] = 1e-6, regularizer: str = "euclidean", validate=None,
              cutoff_hz: Optional[float] = None, velocity: str = "differentiate",
-             friction: Optional[str] = None) -> dict:
+             friction: Optional[str] = None) -> IdentifyResult:
     """The identification of `robot` from `data`, as ``momentlmi identify --json``
     reports it (``bodies`` with each body's ``params``, ``training_rms``,
     ``validation_rms`` …).
@@ -335,9 +362,9 @@ def identify(robot: Robot, data, constraints: str = "ellipsoid", prior: str = "c
         w = None
     else:
         w = float(weight)
-    return json.loads(_native.identify(robot._r, _segments(data, joints, "data"), _segments(validate, joints, "validate"),
-                                       constraints, os.fspath(prior), w, regularizer,
-                                       None if cutoff_hz is None else float(cutoff_hz), velocity, friction))
+    return IdentifyResult(_native.identify(robot._r, _segments(data, joints, "data"), _segments(validate, joints, "validate"),
+                                           constraints, os.fspath(prior), w, regularizer,
+                                           None if cutoff_hz is None else float(cutoff_hz), velocity, friction))
 
 
 def diagnose(robot: Robot, data, nominal: Optional[str] = None, repeats=None) -> dict:
@@ -394,8 +421,8 @@ class Reducer:
         return Reducer(robot, _native.Reducer.from_bytes(robot._r, bytes(data)))
 
     def solve(self, constraints: str = "ellipsoid", weight: float = 1e-6,
-              regularizer: str = "euclidean") -> dict:
+              regularizer: str = "euclidean") -> IdentifyResult:
         """The identification on the sums, as ``momentlmi identify --json`` reports it
-        (``params``, ``bodies``, ``rms_residual`` …): `constraints` none, semi,
-        consistent or ellipsoid; toward the robot's prior with `weight`."""
-        return json.loads(self._r.solve(constraints, float(weight), regularizer))
+        (:class:`IdentifyResult`): `constraints` none, semi, consistent or ellipsoid;
+        toward the robot's prior with `weight`."""
+        return IdentifyResult(self._r.solve(constraints, float(weight), regularizer))

@@ -155,5 +155,5 @@ fn identify(
         Ok::<_, String>(r)
     });
     let r = result.map_err(IdentifyError::new_err)?;
-    serde_json::to_string(&r).map_err(|e| IdentifyError::new_err(e.to_string()))
+    serde_json::to_string_pretty(&r).map_err(|e| IdentifyError::new_err(e.to_string()))
 }

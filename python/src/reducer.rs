@@ -143,7 +143,7 @@ impl Reducer {
             id.fit_streamed(red).map_err(|e| e.to_string())
         });
         let result = result.map_err(IdentifyError::new_err)?;
-        serde_json::to_string(&result).map_err(|e| IdentifyError::new_err(e.to_string()))
+        serde_json::to_string_pretty(&result).map_err(|e| IdentifyError::new_err(e.to_string()))
     }
 }
 

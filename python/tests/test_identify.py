@@ -121,3 +121,18 @@ def test_predict_with_the_identified_parameters_gives_the_held_out_rms(leg):
     assert np.allclose(rms, r["validation_rms"], rtol=1e-9)
     with pytest.raises(m.MomentlmiError, match="params: not a parameter file"):
         leg._r.predict("{}", held_out["q"], held_out["qd"], held_out["qdd"])
+
+
+def test_the_result_is_the_command_lines_file(leg, files, cli, tmp_path):
+    r = m.identify(leg, arrays(files["train"], leg.joint_names))
+    assert isinstance(r, dict) and r.params.shape == (6, 10) and r.body_names == leg.body_names
+    model = tmp_path / "model.json"
+    model.write_text(r.to_json())
+    # the command line takes it as a parameter file, and predicts what Python predicts
+    out = tmp_path / "pred.csv"
+    cli("predict", "--robot", "cheetah3-leg", "--params", model, "--data", files["val"], "--out", out)
+    t, q, qd, qdd, _ = read_csv(files["val"], leg.joint_names)
+    theirs = np.genfromtxt(out, delimiter=",", names=True)
+    mine = leg.predict(model, q, qd, qdd)
+    for j, name in enumerate(leg.joint_names):
+        assert np.allclose(theirs[f"tau_{name}"], mine[:, j], rtol=0, atol=1e-9), name
