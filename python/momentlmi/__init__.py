@@ -299,6 +299,12 @@ def _segment(d, joints: list, name: str) -> tuple:
         if unknown:
             raise ValueError(f"{name}: unknown keys {sorted(unknown)} (t, q, qd, qdd, tau)")
         arrays = {k: None if d.get(k) is None else _floats(d[k], f"{name}: {k}") for k in ("t", "q", "qd", "qdd", "tau")}
+        if d.get("joints") is not None and list(d["joints"]) != list(joints):
+            given = list(d["joints"])
+            if sorted(given) != sorted(joints):
+                raise ValueError(f"{name}: joints {given} are not the robot's {list(joints)}")
+            order = [given.index(j) for j in joints]  # the columns into the robot's order
+            arrays = {k: (v if k == "t" or v is None else v[..., order]) for k, v in arrays.items()}
     else:
         raise ValueError(f"{name}: a dict of arrays or a DataFrame, not {type(d).__name__}")
     for k in ("t", "q"):
@@ -408,6 +414,8 @@ class Reducer:
 
     def merge(self, other: "Reducer") -> "Reducer":
         """Adds the sums of `other` (the same robot's)."""
+        if other is self or other._r is self._r:
+            raise ValueError("other: a reducer cannot be merged into itself (its samples would count twice)")
         self._r.merge(other._r)
         return self
 

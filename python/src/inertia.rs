@@ -25,6 +25,17 @@ pub(crate) fn add(m: &Bound<'_, PyModule>) -> PyResult<()> {
     Ok(())
 }
 
+/// A tolerance: finite and ≥ 0.
+fn tolerance(tol: f64) -> PyResult<f64> {
+    if tol.is_finite() && tol >= 0.0 {
+        Ok(tol)
+    } else {
+        Err(pyo3::exceptions::PyValueError::new_err(format!(
+            "tol: {tol} is not a finite number ≥ 0"
+        )))
+    }
+}
+
 fn params(pi: &PyReadonlyArrayDyn<f64>) -> PyResult<InertialParams> {
     Ok(InertialParams(vector::<10>("pi", pi)?))
 }
@@ -42,7 +53,7 @@ fn pseudo_inertia<'py>(
 /// The consistency report (JSON): verdict, margins, `consistent`.
 #[pyfunction]
 fn consistency(pi: PyReadonlyArrayDyn<f64>, tol: f64) -> PyResult<String> {
-    let r = check_consistency(&params(&pi)?, tol);
+    let r = check_consistency(&params(&pi)?, tolerance(tol)?);
     Ok(serde_json::to_string(&r).unwrap_or_default())
 }
 
@@ -61,7 +72,7 @@ fn realizability(
     let r = matrix::<3>("rotation", &rotation)?;
     let r = Matrix3::from_fn(|i, j| r[i][j]);
     let e = Ellipsoid::with_rotation(c, a, r).or_py()?;
-    let rep = check_realizable(&params(&pi)?, &e, tol);
+    let rep = check_realizable(&params(&pi)?, &e, tolerance(tol)?);
     Ok(serde_json::to_string(&rep).unwrap_or_default())
 }
 

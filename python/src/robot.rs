@@ -60,6 +60,10 @@ impl Robot {
     }
 }
 
+/// The largest regressor returned at once (bytes): more is refused, not
+/// an allocation that could abort the interpreter.
+const MAX_REGRESSOR_BYTES: usize = 4_000_000_000;
+
 /// `values` (rows of `k`), unless one is not finite (states too large for
 /// the model): an error naming the sample, never an inf or NaN returned.
 fn finite_out(what: &str, values: Vec<f64>, k: usize) -> PyResult<Vec<f64>> {
@@ -171,6 +175,16 @@ impl Robot {
     ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         let (rows, [q, v, a]) = self.states(&q, &v, &a)?;
         let model = &self.robot.model;
+        let bytes =
+            (rows.checked_mul(model.dof() * model.regressor_columns() * 8)).unwrap_or(usize::MAX);
+        if bytes > MAX_REGRESSOR_BYTES {
+            let m = format!(
+                "q: {rows} samples make a regressor of {:.1} GB (at most {} GB at once; reduce them with Reducer instead)",
+                bytes as f64 / 1e9,
+                MAX_REGRESSOR_BYTES / 1_000_000_000
+            );
+            return Err(pyo3::exceptions::PyValueError::new_err(m));
+        }
         let y = py.detach(|| regressor_batch(model, &q, &v, &a)).or_py()?;
         let y = finite_out(
             "regressor value",
@@ -181,8 +195,8 @@ impl Robot {
     }
 
     /// Joint torques (N·m), (N, n), of the model with the identified
-    /// parameters `params` (an identification's report, or a parameter
-    /// file's JSON text): links, rotors and every friction term, as
+    /// parameters `params` (the text of an identification's report or
+    /// parameter file; the package passes a dict's or a path's): links, rotors and every friction term, as
     /// `momentlmi predict --params FILE` predicts them.
     fn predict<'py>(
         &self,

@@ -136,3 +136,12 @@ def test_the_result_is_the_command_lines_file(leg, files, cli, tmp_path):
     mine = leg.predict(model, q, qd, qdd)
     for j, name in enumerate(leg.joint_names):
         assert np.allclose(theirs[f"tau_{name}"], mine[:, j], rtol=0, atol=1e-9), name
+
+
+def test_a_segments_joints_put_its_columns_in_the_robots_order(leg, files):
+    d = arrays(files["train"], leg.joint_names)
+    turned = {k: (v[:, ::-1] if k != "t" else v) for k, v in d.items()}
+    turned["joints"] = leg.joint_names[::-1]
+    assert np.array_equal(m.identify(leg, turned).params, m.identify(leg, d).params)
+    with pytest.raises(ValueError, match="are not the robot's"):
+        m.identify(leg, dict(d, joints=["a", "b", "c"]))

@@ -91,3 +91,9 @@ def test_library_errors_are_momentlmi_errors():
     with pytest.raises(m.InertiaError, match="semi-axes must be positive"):
         m.realizable_in(np.ones(10), [0, 0, 0], [1, -1, 1])
     assert issubclass(m.InertiaError, m.MomentlmiError)
+
+
+def test_a_tolerance_must_be_a_finite_number():
+    for tol in (np.nan, np.inf, -1.0):
+        with pytest.raises(ValueError, match="tol: "):
+            m.is_consistent(box(1.0, (0.1, 0.1, 0.1)), tol=tol)

@@ -101,3 +101,13 @@ def test_the_dask_example_merges_what_one_reducer_sums(cli):
     assert r.returncode == 0, r.stderr
     assert "4 files, 4000 samples; merged sums equal one reducer's" in r.stdout
     assert "status solved" in r.stdout and "| 2 Dask workers |" in r.stdout
+
+
+def test_sums_that_overflow_or_merge_into_themselves_are_errors(leg):
+    z = np.zeros((1, 3))
+    big = np.array([[1.3e154, 0.0, 0.0]])  # each part finite, their sum not
+    r = m.Reducer(leg).update(z, z, z, big)
+    with pytest.raises(m.IdentifyError, match="not finite"):
+        r.update(z, z, z, big)
+    with pytest.raises(ValueError, match="into itself"):
+        r.merge(r)

@@ -16,6 +16,17 @@ use crate::dynamics::Model;
 use faer::Mat;
 
 const MAGIC: &[u8; 8] = b"MLMIRED\0";
+/// The most samples sums may hold (10¹⁵: a thousand robots for thirty
+/// years at 1 kHz), so that counts never overflow.
+pub const MAX_SAMPLES: usize = 1_000_000_000_000_000;
+
+/// The first entry of `g` that is not finite.
+fn not_finite(g: &Mat<f64>) -> Option<(usize, usize)> {
+    (0..g.ncols())
+        .flat_map(|j| (0..g.nrows()).map(move |i| (i, j)))
+        .find(|&(i, j)| !g[(i, j)].is_finite())
+}
+
 /// The version of the bytes [`Reduced::to_bytes`] writes.
 pub const REDUCED_FORMAT_VERSION: u32 = 1;
 
@@ -36,20 +47,31 @@ pub fn signature(model: &Model) -> String {
 
 impl Reduced {
     /// The sums of `other` (samples of the same robot reduced apart)
-    /// added; the per-joint matrices are kept only if both have them.
+    /// added; the per-joint matrices are kept only if both have them. An
+    /// error if the sums stop being finite or the count passes [`MAX_SAMPLES`].
     pub fn merge(mut self, other: &Reduced) -> Result<Self, IdentifyError> {
         if other.p != self.p {
             let message = format!("{} regressor columns added to {}", other.p, self.p);
             return Err(IdentifyError::Stored(message));
         }
+        let samples = (self.samples.checked_add(other.samples))
+            .filter(|&k| k <= MAX_SAMPLES)
+            .ok_or_else(|| {
+                IdentifyError::Stored(format!("more than {MAX_SAMPLES} samples in all"))
+            })?;
         self.gram += &other.gram;
+        if let Some((i, j)) = not_finite(&self.gram) {
+            let m =
+                format!("entry ({i}, {j}) of the sums is not finite: the samples are too large");
+            return Err(IdentifyError::Stored(m));
+        }
         if self.joint_grams.len() == other.joint_grams.len() {
             let pairs = self.joint_grams.iter_mut().zip(&other.joint_grams);
             pairs.for_each(|(a, b)| *a += b);
         } else {
             self.joint_grams.clear();
         }
-        self.samples += other.samples;
+        self.samples = samples;
         self.reduce_time_s += other.reduce_time_s;
         Ok(self)
     }
@@ -95,7 +117,8 @@ impl Reduced {
         }
         let [samples, p, joints] = [(); 3].map(|_| r.u64());
         let (samples, p, joints) = (samples?, p?, joints?);
-        if p != model.regressor_columns() || joints > model.dof() || samples == 0 {
+        let joints_ok = joints == 0 || joints == model.dof();
+        if p != model.regressor_columns() || !joints_ok || samples == 0 || samples > MAX_SAMPLES {
             let m = format!("{samples} samples, {p} columns, {joints} joints' matrices");
             return Err(bad(format!("{m}: not this robot's sums")));
         }
@@ -207,6 +230,14 @@ mod tests {
         let mut v2 = bytes.clone();
         v2[8] = 2;
         assert!(err(&v2).contains("format version 2"));
+        // a part of the joints' matrices, or a count past the limit, is refused
+        let n_at = 8 + 4 + 4 + super::signature(model).len() + 16;
+        let mut one = bytes.clone();
+        one[n_at..n_at + 8].copy_from_slice(&1u64.to_le_bytes());
+        assert!(err(&one).contains("not this robot's sums"));
+        let mut many = bytes.clone();
+        many[n_at - 16..n_at - 8].copy_from_slice(&u64::MAX.to_le_bytes());
+        assert!(err(&many).contains("not this robot's sums"));
         let mut nan = bytes.clone();
         let end = nan.len();
         nan[end - 8..].copy_from_slice(&f64::NAN.to_le_bytes());
