@@ -137,8 +137,8 @@ fn too_few_samples_warn_and_stay_consistent() {
     let all = data(0.02, 0.3, "rotor_inertia,coulomb,viscous", 3);
     let model = cheetah3::model();
     let r = identify(&model, &all, None, &opts(Level::Consistent, 0.0)).unwrap();
-    assert!(r.rank < 66);
-    assert!(!r.unidentifiable_directions.is_empty());
+    assert!(r.identifiability.rank < 66);
+    assert!(!r.identifiability.directions.is_empty());
     assert!(
         r.bodies.iter().all(|b| b.consistent),
         "the constrained answer is still consistent"

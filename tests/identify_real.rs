@@ -52,6 +52,9 @@ fn the_reported_rank_is_the_stacked_regressors() {
     let s = m.singular_values().unwrap();
     let rank = s.iter().filter(|&&v| v > 1e-8 * s[0]).count();
     assert_eq!(rank, 58, "singular values {s:?}");
-    assert_eq!((r.rank, r.num_parameters), (rank, p));
-    assert_eq!(r.unidentifiable_directions.len(), p - rank);
+    assert_eq!(
+        (r.identifiability.rank, r.identifiability.columns),
+        (rank, p)
+    );
+    assert_eq!(r.identifiability.directions.len(), p - rank);
 }

@@ -315,6 +315,16 @@ enum Command {
         /// The memory identification may plan for (GiB); a larger problem is refused before it starts.
         #[arg(long, default_value_t = 8.0)]
         max_memory_gib: f64,
+        /// Each parameter's range (minimum and maximum) over every model that satisfies the
+        /// constraints and fits the data with a residual norm at most (1 + DELTA) × the
+        /// estimate's: pinned by the data, by the physics, or unknown. DELTA: a number, or auto
+        /// (the default): the data's 95 % confidence region, (1 + δ)² = 1 + χ²_rank(0.95) / (rows
+        /// − rank). Two conic problems per parameter, solved in parallel.
+        #[arg(long, value_name = "DELTA", num_args = 0..=1, default_missing_value = "auto")]
+        bounds: Option<String>,
+        /// The directions the data do not excite, one per line (else one summary line).
+        #[arg(long)]
+        verbose: bool,
         /// The identified model exported too (as `momentlmi export` would).
         #[command(flatten)]
         export: ExportOutArgs,
@@ -512,6 +522,8 @@ pub fn main() -> i32 {
             total_mass,
             equal,
             max_memory_gib,
+            bounds,
+            verbose,
             export,
         } => identify::run(&identify::IdentifyArgs {
             export: export.outputs(),
@@ -534,6 +546,8 @@ pub fn main() -> i32 {
             total_mass,
             equal: &equal,
             max_memory_gib,
+            bounds: bounds.as_deref(),
+            verbose,
         }),
         Command::Diagnose {
             robot:

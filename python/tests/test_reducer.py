@@ -54,7 +54,7 @@ def test_the_solve_equals_the_command_lines(leg, data, leg_csv, cli):
     pb = np.array([b["params"] for b in theirs["bodies"]])
     assert np.abs(pa - pb).max() <= 1e-6 * np.abs(pb).max()
     assert np.allclose(mine["training_rms"], theirs["training_rms"], rtol=1e-9)
-    assert mine["rank"] == theirs["rank"] and mine["status"] == theirs["status"] == "solved"
+    assert mine["identifiability"]["rank"] == theirs["identifiability"]["rank"] and mine["status"] == theirs["status"] == "solved"
 
 
 def test_bytes_are_checked(leg, data):

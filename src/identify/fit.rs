@@ -258,9 +258,8 @@ impl Identification<'_> {
                 .chain(weights_warning)
                 .collect(),
             iterations: solved.iterations,
-            rank: solved.rank,
-            num_parameters: theta.len(),
-            unidentifiable_directions: solved.unidentifiable.clone(),
+            identifiability: solved.identifiability.clone(),
+            bounds: None,
             training_samples: red.samples,
             training_rms,
             validation_rms: None,

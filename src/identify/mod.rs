@@ -8,19 +8,21 @@
 //! checks every body with `moments`, and validates on held-out data.
 //!
 //! Files: `options` (levels, regulariser, options, tolerances), `error`,
-//! `warning`, `reduce`, `builder` (assembling), `robot_facts` (a robot's
+//! `warning`, `reduce`, `identifiability` (rank, base parameters, standard deviations), `bounds` (each parameter's range over the models that fit), `builder` (assembling), `robot_facts` (a robot's
 //! set-up), `solved` (the answer, by name), `solve` (solving), `fit`
 //! (the end-to-end identification), `result` (its report), `stream` (training logs
 //! reduced while they are read), `weighting` (per-joint
 //! weighted least squares), `choose_weight` (the prior's weight by
 //! cross-validation).
 
+pub mod bounds;
 mod builder;
 pub mod choose_weight;
 mod error;
 mod fit;
 pub mod fleet;
 mod gram;
+pub mod identifiability;
 mod options;
 pub mod reduce;
 pub mod result;
@@ -31,10 +33,12 @@ pub mod stream;
 mod warning;
 pub mod weighting;
 
+pub use bounds::{ParamRange, ParameterBounds, PinnedBy, confidence_delta};
 pub use builder::{Identification, Vars};
 pub use choose_weight::{WEIGHT_GRID, WeightChoice};
 pub use error::{GramProblem, IdentifyError};
 pub use fit::{LOAD_PASSES, identify};
+pub use identifiability::{BaseParameter, Identifiability};
 pub use options::{CHECK_TOL, IdentifyOptions, Level, Regularizer, default_settings};
 pub use reduce::{Cost, Reduced, StreamReducer, cost, reduce_samples};
 pub use result::{

@@ -145,12 +145,14 @@ pub struct IdentifyResult {
     pub warnings: Vec<IdentifyWarning>,
     /// Interior-point iterations.
     pub iterations: u32,
-    /// Numerical rank of the regressor / number of parameters.
-    pub rank: usize,
-    /// Number of parameters.
-    pub num_parameters: usize,
-    /// Parameter directions the data do not excite.
-    pub unidentifiable_directions: Vec<String>,
+    /// What the data can tell: the rank of the regressor, its base
+    /// parameters with their standard deviations, the parameters that
+    /// enter no torque and the directions the data do not excite.
+    pub identifiability: super::identifiability::Identifiability,
+    /// Each parameter's range over the models that fit almost as well
+    /// ([`Identification::parameter_bounds`]; the caller sets it).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bounds: Option<super::bounds::ParameterBounds>,
     /// Training samples.
     pub training_samples: usize,
     /// Training RMS per joint (N·m).

@@ -20,6 +20,7 @@
 
 use super::builder::{Identification, Vars};
 use super::error::IdentifyError;
+use super::identifiability::Identifiability;
 use super::options::{IdentifyOptions, Level, MassWeight, Regularizer};
 use super::reduce::Reduced;
 use super::solved::{Solved, parameter_names};
@@ -58,23 +59,24 @@ impl Identification<'_> {
         self.check()?;
         let (r, d) = red.r_d()?;
         // the identifiability analysis (an SVD) runs beside the solve
-        std::thread::scope(|s| {
-            let ident = s.spawn(|| identifiability(&r, &parameter_names(model)));
+        let mut solved = std::thread::scope(|s| {
+            let ident = s.spawn(|| Identifiability::of(&r, &parameter_names(model)));
             let solved = self.solve_factored(&r, &d, red.samples);
-            let (rank, unidentifiable) =
-                ident.join().unwrap_or(Err(IdentifyError::Factorisation {
-                    what: "the identifiability analysis (its thread panicked)",
-                }))?;
+            let identifiability = ident.join().unwrap_or(Err(IdentifyError::Factorisation {
+                what: "the identifiability analysis (its thread panicked)",
+            }))?;
             solved.map(|s| Solved {
-                rank,
-                unidentifiable,
+                identifiability,
                 ..s
             })
-        })
+        })?;
+        let rows = red.samples * model.dof();
+        (solved.identifiability).estimate(&r, &d, &solved.theta, rows)?;
+        Ok(solved)
     }
 
-    /// Solves on the factor `(R, d)` of `samples` samples; the rank and the
-    /// unidentifiable directions are left for the caller.
+    /// Solves on the factor `(R, d)` of `samples` samples; the
+    /// identifiability report is left for the caller.
     fn solve_factored(
         &self,
         r: &Mat<f64>,
@@ -83,7 +85,6 @@ impl Identification<'_> {
     ) -> Result<Solved, IdentifyError> {
         let model = self.model;
         let nb = model.num_bodies();
-        let (rank, unidentifiable) = (0, vec![]);
         let ns = samples as f64;
         let t0 = std::time::Instant::now();
         let reg = Prior {
@@ -101,8 +102,7 @@ impl Identification<'_> {
                 status: Status::Solved,
                 iterations: 0,
                 solve_time_s: t0.elapsed().as_secs_f64(),
-                unidentifiable,
-                rank,
+                identifiability: Identifiability::default(),
             });
         }
         let (mut prob, theta) = scaled_problem(&r, &d, ns, reg, nb, !self.entropic())?;
@@ -132,8 +132,7 @@ impl Identification<'_> {
                 status: sol.status,
                 iterations: sol.iterations,
                 solve_time_s: sol.setup_time_s + sol.solve_time_s,
-                unidentifiable,
-                rank,
+                identifiability: Identifiability::default(),
             }),
             s if s.is_primal_infeasible() => Err(self.explain_infeasible(s)?),
             s => Err(IdentifyError::Solver(s)),
@@ -141,7 +140,7 @@ impl Identification<'_> {
     }
 
     /// The hook's view of θ.
-    fn vars(&self, theta: &[AffExpr]) -> Vars {
+    pub(super) fn vars(&self, theta: &[AffExpr]) -> Vars {
         let model = self.model;
         let nb = model.num_bodies();
         Vars {
@@ -163,7 +162,7 @@ impl Identification<'_> {
     }
 
     /// Each body's level: `I ⪰ εI`, `J ⪰ εI`, and `tr(JQ) ≥ 0` (+ the CoM LMI).
-    fn add_body_constraints(
+    pub(super) fn add_body_constraints(
         &self,
         prob: &mut Problem,
         bodies: &[BodyVars],
@@ -251,50 +250,6 @@ impl Identification<'_> {
         }
         Ok(IdentifyError::Solver(status))
     }
-}
-
-/// Rank and unexcited directions of R (columns scaled to unit norm).
-fn identifiability(r: &Mat<f64>, names: &[String]) -> Result<(usize, Vec<String>), IdentifyError> {
-    let p = r.ncols();
-    let scale: Vec<f64> = (0..p)
-        .map(|j| {
-            (0..r.nrows())
-                .map(|i| r[(i, j)].powi(2))
-                .sum::<f64>()
-                .sqrt()
-        })
-        .collect();
-    let mut rs = Mat::<f64>::zeros(r.nrows().max(p), p);
-    for j in 0..p {
-        let s = if scale[j] > 0.0 { 1.0 / scale[j] } else { 0.0 };
-        for i in 0..r.nrows() {
-            rs[(i, j)] = r[(i, j)] * s;
-        }
-    }
-    let svd = rs.svd().map_err(|_| IdentifyError::Factorisation {
-        what: "SVD of the reduced regressor (identifiability)",
-    })?;
-    let s = svd.S().column_vector();
-    let smax = (0..s.nrows()).map(|i| s[i]).fold(0.0, f64::max);
-    let tol = 1e-8 * smax.max(f64::MIN_POSITIVE);
-    let rank = (0..s.nrows()).filter(|&i| s[i] > tol).count();
-    let v = svd.V();
-    let mut dirs = Vec::new();
-    for k in 0..p {
-        if k < s.nrows() && s[k] > tol {
-            continue;
-        }
-        let mut comp: Vec<(usize, f64)> = (0..p).map(|j| (j, v[(j, k)])).collect();
-        comp.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
-        let terms: Vec<String> = comp
-            .iter()
-            .take(3)
-            .filter(|c| c.1.abs() > 0.05)
-            .map(|&(j, c)| format!("{c:+.2}·{}", names[j]))
-            .collect();
-        dirs.push(terms.join(" "));
-    }
-    Ok((rank, dirs))
 }
 
 /// The prior's terms of the objective: `w ‖π − π̂‖²` (Euclidean) and the

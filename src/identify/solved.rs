@@ -25,10 +25,9 @@ pub struct Solved {
     pub iterations: u32,
     /// Solve time (s).
     pub solve_time_s: f64,
-    /// Parameter directions the data do not excite (named by their largest components).
-    pub unidentifiable: Vec<String>,
-    /// Numerical rank of the reduced regressor.
-    pub rank: usize,
+    /// What the data can tell: rank, base parameters, their standard
+    /// deviations, the parameters that enter no torque.
+    pub identifiability: super::identifiability::Identifiability,
 }
 
 /// Parameter names: `<body>.<m|hx|…>`, then `<term>.<joint>` for each

@@ -50,6 +50,10 @@ pub struct IdentifyArgs<'a> {
     pub equal: &'a [String],
     /// The memory limit (GiB).
     pub max_memory_gib: f64,
+    /// Each parameter's range with this residual margin δ (a number or auto).
+    pub bounds: Option<&'a str>,
+    /// Every unexcited direction on its own line.
+    pub verbose: bool,
     /// Where the identified model is exported.
     pub export: super::export::Outputs<'a>,
 }
@@ -85,7 +89,7 @@ pub fn run(a: &IdentifyArgs) -> i32 {
                 eprintln!("warning: {w}");
             }
             warn_bodies(&r);
-            warn_unexcited(&r.unidentifiable_directions);
+            warn_unexcited(&r.identifiability, a.verbose);
             if let Some(staged) = staged
                 && let Err(e) = export(staged, &robot, &r, a)
             {
@@ -164,20 +168,25 @@ fn warn_bodies(r: &IdentifyResult) {
     }
 }
 
-/// The directions the data do not excite: each when there are few, else
-/// their number and the first three (the JSON has them all).
-fn warn_unexcited(dirs: &[String]) {
-    const LIST: usize = 5;
-    if dirs.len() <= LIST {
-        for d in dirs {
-            eprintln!("warning: not excited by the data (set by the prior/constraints): {d}");
+/// The directions the data do not excite: one summary line, or with
+/// `verbose` each direction too (the JSON has them all).
+fn warn_unexcited(id: &momentlmi::identify::Identifiability, verbose: bool) {
+    if id.rank == id.columns && id.unidentifiable.is_empty() {
+        return;
+    }
+    eprintln!(
+        "warning: {}; {}",
+        id.summary(),
+        if verbose {
+            "the directions:"
+        } else {
+            "the directions with --verbose or in --json (identifiability.directions)"
         }
-    } else {
-        eprintln!(
-            "warning: {} parameter directions are not excited by the data and are set by the prior and the constraints, e.g. {}; all in --json (unidentifiable_directions)",
-            dirs.len(),
-            dirs[..3].join("; ")
-        );
+    );
+    if verbose {
+        for d in &id.directions {
+            eprintln!("  {d}");
+        }
     }
 }
 
@@ -337,6 +346,12 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
             .join()
             .unwrap_or_else(|_| Err("reading the validation data failed".to_string()))?;
         let mut r = fitted?;
+        if let Some(delta) = a.bounds {
+            let rows = red.samples * robot.model.dof();
+            let delta = parse_delta(delta, r.identifiability.rank, rows)?;
+            let b = id.parameter_bounds(&red, &r.theta, &r.identifiability, delta);
+            r.bounds = Some(b.map_err(|e| format!("--bounds: {}", explain(e)))?);
+        }
         if let Some(v) = &val {
             super::report_reading("--validate", v);
             r.validate(&robot.model, &v.data).map_err(explain)?;
@@ -412,6 +427,18 @@ fn training(
         }
     }
     read(a.data).map(Training::Whole)
+}
+
+/// `--bounds`: a number ≥ 0, or `auto` (the 95 % confidence region).
+fn parse_delta(s: &str, rank: usize, rows: usize) -> Result<f64, String> {
+    if s.trim() == "auto" {
+        return momentlmi::identify::confidence_delta(rank, rows, 0.95)
+            .map_err(|e| format!("--bounds auto: {e}"));
+    }
+    match s.trim().parse::<f64>() {
+        Ok(d) if d >= 0.0 && d.is_finite() => Ok(d),
+        _ => Err(format!("--bounds: '{s}' is neither a number ≥ 0 nor auto")),
+    }
 }
 
 /// `--weight`: a number, or `auto` (None).
@@ -492,8 +519,8 @@ pub fn print_report(r: &IdentifyResult) {
             String::new()
         },
         r.training_samples,
-        r.rank,
-        r.num_parameters
+        r.identifiability.rank,
+        r.identifiability.columns
     );
     if let Some(c) = &r.weight_choice {
         print_weight_choice(c);
@@ -555,6 +582,10 @@ pub fn print_report(r: &IdentifyResult) {
         "status {}, {} iterations, constraints satisfied: {}",
         r.status, r.iterations, r.constraints_satisfied
     );
+    print_base_parameters(&r.identifiability);
+    if let Some(b) = &r.bounds {
+        print_bounds(b);
+    }
     print_timings(&r.timings);
 }
 
@@ -574,4 +605,52 @@ fn print_timings(t: &momentlmi::identify::Timings) {
         ms(t.validate_s),
         ms(t.total_s)
     );
+}
+
+/// The base parameters: value ± standard deviation, best determined first.
+fn print_base_parameters(id: &momentlmi::identify::Identifiability) {
+    println!(
+        "base parameters ({} of {} columns; condition number {:.3e}; σ from the residual):",
+        id.rank, id.columns, id.condition_number
+    );
+    for b in &id.base_parameters {
+        let sd = b.std_dev.map_or_else(|| "-".into(), |s| format!("{s:.3e}"));
+        let rel = (b.std_dev)
+            .filter(|_| b.value != 0.0)
+            .map_or_else(String::new, |s| {
+                format!(" ({:.1} %)", 100.0 * s / b.value.abs())
+            });
+        println!("  {:>12.5e} ± {sd}{rel:<10}  {}", b.value, b.combination);
+    }
+}
+
+/// Each parameter's range over the models that fit almost as well.
+fn print_bounds(b: &momentlmi::identify::ParameterBounds) {
+    println!(
+        "parameter ranges over the constrained models with residual ≤ (1 + {}) × {:.4e}:",
+        b.delta, b.residual
+    );
+    println!(
+        "  {:<24} {:>12} {:>12} {:>12} {:>12}  pinned by",
+        "parameter", "estimate", "prior", "min", "max"
+    );
+    let v = |x: Option<f64>, none: &str| x.map_or_else(|| none.to_string(), |x| format!("{x:.5e}"));
+    for p in &b.ranges {
+        println!(
+            "  {:<24} {:>12.5e} {:>12} {:>12} {:>12}  {}{}",
+            p.name,
+            p.estimate,
+            v(p.prior, "-"),
+            v(p.min, "-∞"),
+            v(p.max, "+∞"),
+            match p.pinned_by {
+                momentlmi::identify::PinnedBy::Data => "data",
+                momentlmi::identify::PinnedBy::Physics => "physics",
+                momentlmi::identify::PinnedBy::Unknown => "unknown",
+            },
+            p.note
+                .as_ref()
+                .map_or_else(String::new, |n| format!(" ({n})"))
+        );
+    }
 }

@@ -1,0 +1,393 @@
+//! What the data can tell: the numerical rank of the reduced regressor, its
+//! base parameters (named combinations), its condition number, the
+//! parameters that do not enter the data, and the standard deviations of
+//! the identified base parameters.
+//!
+//! With `R` (r × p) the reduced regressor ([`super::Reduced::r_d`]) and `S`
+//! the diagonal of its inverse column norms, everything is read off the
+//! column-scaled `R S` (units drop out):
+//! - the **rank** is the number of singular values of `R S` above
+//!   [`RANK_TOL`] × the largest (the reduced factor already dropped
+//!   directions below `√((p + 1) ε)` of a unit column);
+//! - the **condition number** is the largest over the smallest of those;
+//! - the **base parameters**: a column-pivoted QR `R S P = Q [R₁ R₂]` picks
+//!   `rank` independent columns `b`; every other column `d` is a combination
+//!   of them (`R_d = R_b K`, `K = S_b R₁⁻¹ R₂ S_d⁻¹`), so the data see θ only
+//!   through `β = θ_b + K θ_d` (Gautier's base parameters);
+//! - **unidentifiable**: the parameters whose column is zero
+//!   (norm ≤ [`ZERO_COLUMN_TOL`] × the largest), which enter no torque;
+//! - **directions**: a basis of the null space (from the SVD), each named by
+//!   its largest components;
+//! - the base parameters' **standard deviations**: `σ̂² (R_bᵀ R_b)⁻¹` with
+//!   `σ̂² = ‖R θ − d‖² / (rows − rank)`, the unconstrained least-squares
+//!   covariance (active constraints narrow it further).
+
+use super::error::IdentifyError;
+use faer::Mat;
+use serde::Serialize;
+
+/// Singular values of the column-scaled reduced regressor above this
+/// fraction of the largest count toward the rank.
+pub const RANK_TOL: f64 = 1e-8;
+
+/// A column whose norm is at most this fraction of the largest column's
+/// enters no torque: its parameter is unidentifiable.
+pub const ZERO_COLUMN_TOL: f64 = 1e-10;
+
+/// A dependent column's coefficient (in the scaled columns) below this is
+/// left out of a base parameter's combination.
+const TERM_TOL: f64 = 1e-6;
+
+/// One base parameter: an identified column plus the dependent ones it
+/// stands for.
+#[derive(Clone, Debug, Serialize)]
+pub struct BaseParameter {
+    /// The combination, e.g. `link2.hx + 0.3·link3.m` (coefficients in SI
+    /// units: the dependent parameter's unit over the column's).
+    pub combination: String,
+    /// Its value at the identified θ.
+    pub value: f64,
+    /// Its standard deviation (same unit); `None` without residual degrees
+    /// of freedom.
+    pub std_dev: Option<f64>,
+}
+
+/// The identifiability report.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Identifiability {
+    /// Numerical rank of the reduced regressor (all columns: links, rotors,
+    /// friction).
+    pub rank: usize,
+    /// Its number of columns.
+    pub columns: usize,
+    /// Condition number of the base columns (scaled to unit norm).
+    pub condition_number: f64,
+    /// The rank tolerance ([`RANK_TOL`]).
+    pub rank_tolerance: f64,
+    /// The base parameters, in pivot order (best determined first).
+    pub base_parameters: Vec<BaseParameter>,
+    /// Parameters that enter no torque of the data.
+    pub unidentifiable: Vec<String>,
+    /// The parameter directions the data do not excite (p − rank of them),
+    /// each named by its largest components; set by the prior and the
+    /// constraints.
+    pub directions: Vec<String>,
+    /// The base columns (indices into θ), in pivot order.
+    #[serde(skip)]
+    pub base_columns: Vec<usize>,
+    /// `K` (rank × p): base parameter k is `Σ_j K[k][j] θ_j`.
+    #[serde(skip)]
+    pub combinations: Vec<Vec<f64>>,
+    /// An orthonormal basis of the null space of the column-scaled
+    /// regressor (p − rank vectors of p).
+    #[serde(skip)]
+    pub null_space: Vec<Vec<f64>>,
+}
+
+/// Column norms of `r`.
+fn column_norms(r: &Mat<f64>) -> Vec<f64> {
+    (0..r.ncols())
+        .map(|j| {
+            (0..r.nrows())
+                .map(|i| r[(i, j)].powi(2))
+                .sum::<f64>()
+                .sqrt()
+        })
+        .collect()
+}
+
+/// `r` with unit columns (zero columns stay zero), padded with zero rows
+/// to at least p rows.
+fn scaled(r: &Mat<f64>, norms: &[f64]) -> Mat<f64> {
+    let p = r.ncols();
+    Mat::from_fn(r.nrows().max(p), p, |i, j| {
+        if i < r.nrows() && norms[j] > 0.0 {
+            r[(i, j)] / norms[j]
+        } else {
+            0.0
+        }
+    })
+}
+
+impl Identifiability {
+    /// The structure of the reduced regressor `r` (r × p) whose columns are
+    /// the parameters `names` (p of them).
+    pub fn of(r: &Mat<f64>, names: &[String]) -> Result<Self, IdentifyError> {
+        let p = r.ncols();
+        if names.len() != p {
+            return Err(IdentifyError::Columns {
+                expected: p,
+                found: names.len(),
+            });
+        }
+        let norms = column_norms(r);
+        let nmax = norms.iter().cloned().fold(0.0, f64::max);
+        let rs = scaled(r, &norms);
+        let svd = rs.svd().map_err(|_| IdentifyError::Factorisation {
+            what: "SVD of the reduced regressor (identifiability)",
+        })?;
+        let s = svd.S().column_vector();
+        let s: Vec<f64> = (0..s.nrows()).map(|i| s[i]).collect();
+        let smax = s.iter().cloned().fold(0.0, f64::max);
+        let tol = RANK_TOL * smax.max(f64::MIN_POSITIVE);
+        let rank = s.iter().filter(|&&v| v > tol).count();
+        let smin = s
+            .iter()
+            .cloned()
+            .filter(|&v| v > tol)
+            .fold(f64::INFINITY, f64::min);
+        let directions = null_directions(svd.V(), &s, tol, names);
+        let v = svd.V();
+        let null_space = (0..p)
+            .filter(|&k| k >= s.len() || s[k] <= tol)
+            .map(|k| (0..p).map(|j| v[(j, k)]).collect())
+            .collect();
+        let (base_columns, combinations) = base_columns(&rs, &norms, rank)?;
+        let unidentifiable = (0..p)
+            .filter(|&j| norms[j] <= ZERO_COLUMN_TOL * nmax)
+            .map(|j| names[j].clone())
+            .collect();
+        let base_parameters = (base_columns.iter().zip(&combinations))
+            .map(|(&b, k)| BaseParameter {
+                combination: combination_name(b, k, names),
+                value: f64::NAN,
+                std_dev: None,
+            })
+            .collect();
+        Ok(Self {
+            rank,
+            columns: p,
+            condition_number: if rank > 0 { smax / smin } else { f64::INFINITY },
+            rank_tolerance: RANK_TOL,
+            base_parameters,
+            unidentifiable,
+            directions,
+            base_columns,
+            combinations,
+            null_space,
+        })
+    }
+
+    /// Whether parameter `k` is determined by the data alone (its unit
+    /// vector is orthogonal to the null space, to 1e-6).
+    pub fn determined_alone(&self, k: usize) -> bool {
+        self.null_space.iter().map(|n| n[k] * n[k]).sum::<f64>() < 1e-12
+    }
+
+    /// The base parameters' values at θ and their standard deviations from
+    /// the residual `‖r θ − d‖²` over `rows` rows of data (samples × joints).
+    pub fn estimate(
+        &mut self,
+        r: &Mat<f64>,
+        d: &[f64],
+        theta: &[f64],
+        rows: usize,
+    ) -> Result<(), IdentifyError> {
+        let rss: f64 = (0..r.nrows())
+            .map(|i| ((0..r.ncols()).map(|j| r[(i, j)] * theta[j]).sum::<f64>() - d[i]).powi(2))
+            .sum();
+        let dof = rows.saturating_sub(self.rank);
+        let variances = base_variances(r, &self.base_columns)?;
+        for (bp, (k, var)) in
+            (self.base_parameters.iter_mut()).zip(self.combinations.iter().zip(variances))
+        {
+            bp.value = k.iter().zip(theta).map(|(a, b)| a * b).sum();
+            bp.std_dev = (dof > 0).then(|| (rss / dof as f64 * var).sqrt());
+        }
+        Ok(())
+    }
+
+    /// The one-line summary: rank, condition number, the parameters that
+    /// enter no torque.
+    pub fn summary(&self) -> String {
+        let mut s = format!(
+            "{} of {} parameter directions identified by the data (condition number {:.3e})",
+            self.rank, self.columns, self.condition_number
+        );
+        if self.rank < self.columns {
+            s += &format!(
+                "; {} set by the prior and the constraints",
+                self.columns - self.rank
+            );
+        }
+        if !self.unidentifiable.is_empty() {
+            s += &format!(
+                "; {} parameters enter no torque ({})",
+                self.unidentifiable.len(),
+                abbreviated(&self.unidentifiable, 6)
+            );
+        }
+        s
+    }
+}
+
+/// The first `most` names, then how many more.
+fn abbreviated(names: &[String], most: usize) -> String {
+    if names.len() <= most {
+        return names.join(", ");
+    }
+    format!(
+        "{}, … {} more",
+        names[..most].join(", "),
+        names.len() - most
+    )
+}
+
+/// The null-space columns of V (singular value ≤ tol), each named by its
+/// up to three largest components.
+fn null_directions(v: faer::MatRef<f64>, s: &[f64], tol: f64, names: &[String]) -> Vec<String> {
+    let p = v.nrows();
+    (0..p)
+        .filter(|&k| k >= s.len() || s[k] <= tol)
+        .map(|k| {
+            let mut comp: Vec<(usize, f64)> = (0..p).map(|j| (j, v[(j, k)])).collect();
+            comp.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
+            let terms: Vec<String> = (comp.iter().take(3))
+                .filter(|c| c.1.abs() > 0.05)
+                .map(|&(j, c)| format!("{c:+.2}·{}", names[j]))
+                .collect();
+            terms.join(" ")
+        })
+        .collect()
+}
+
+/// The `rank` pivot columns of a column-pivoted QR of the scaled `rs`, and
+/// per base column its row of `K` in SI units (1 at itself).
+fn base_columns(
+    rs: &Mat<f64>,
+    norms: &[f64],
+    rank: usize,
+) -> Result<(Vec<usize>, Vec<Vec<f64>>), IdentifyError> {
+    let p = rs.ncols();
+    let qr = rs.col_piv_qr();
+    let (fwd, _) = qr.P().arrays();
+    let order: Vec<usize> = fwd.to_vec();
+    let rr = qr.R();
+    let r1 = Mat::from_fn(rank, rank, |i, j| rr[(i, j)]);
+    let r2 = Mat::from_fn(rank, p - rank, |i, j| rr[(i, rank + j)]);
+    // K_s = R₁⁻¹ R₂ (upper triangular R₁: back substitution)
+    let mut ks = r2.clone();
+    for c in 0..p - rank {
+        for i in (0..rank).rev() {
+            let mut v = ks[(i, c)];
+            for j in i + 1..rank {
+                v -= r1[(i, j)] * ks[(j, c)];
+            }
+            if r1[(i, i)] == 0.0 {
+                return Err(IdentifyError::Factorisation {
+                    what: "the base parameters' triangular solve (a zero pivot)",
+                });
+            }
+            ks[(i, c)] = v / r1[(i, i)];
+        }
+    }
+    let base: Vec<usize> = order[..rank].to_vec();
+    let rows = (0..rank)
+        .map(|i| {
+            let mut k = vec![0.0; p];
+            k[base[i]] = 1.0;
+            for (c, &dj) in order[rank..].iter().enumerate() {
+                if ks[(i, c)].abs() > TERM_TOL && norms[base[i]] > 0.0 {
+                    k[dj] = ks[(i, c)] * norms[dj] / norms[base[i]];
+                }
+            }
+            k
+        })
+        .collect();
+    Ok((base, rows))
+}
+
+/// `base's name + Σ coef·name`, coefficients to 4 significant digits.
+fn combination_name(b: usize, k: &[f64], names: &[String]) -> String {
+    let mut s = names[b].clone();
+    for (j, &c) in k.iter().enumerate() {
+        if j == b || c == 0.0 {
+            continue;
+        }
+        let sign = if c < 0.0 { '−' } else { '+' };
+        s += &format!(" {sign} {}·{}", crate::numfmt::sig4(c.abs()), names[j]);
+    }
+    s
+}
+
+/// The diagonal of `(R_bᵀ R_b)⁻¹` (R_b: the base columns of r), from the
+/// SVD of R_b.
+fn base_variances(r: &Mat<f64>, base: &[usize]) -> Result<Vec<f64>, IdentifyError> {
+    let k = base.len();
+    if k == 0 {
+        return Ok(vec![]);
+    }
+    let rb = Mat::from_fn(r.nrows().max(k), k, |i, j| {
+        if i < r.nrows() { r[(i, base[j])] } else { 0.0 }
+    });
+    let svd = rb.svd().map_err(|_| IdentifyError::Factorisation {
+        what: "SVD of the base columns (standard deviations)",
+    })?;
+    let (s, v) = (svd.S().column_vector(), svd.V());
+    Ok((0..k)
+        .map(|j| {
+            (0..k)
+                .filter(|&i| s[i] > 0.0)
+                .map(|i| (v[(j, i)] / s[i]).powi(2))
+                .sum()
+        })
+        .collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn names(p: usize) -> Vec<String> {
+        (0..p).map(|j| format!("x{j}")).collect()
+    }
+
+    #[test]
+    fn a_dependent_column_becomes_a_combination_and_a_zero_one_unidentifiable() {
+        // columns: a, b, 2a + 3b (scaled by 10), 0
+        let r = Mat::from_fn(5, 4, |i, j| {
+            let a = [1.0, 0.0, 2.0, -1.0, 0.5][i];
+            let b = [0.0, 1.0, 1.0, 3.0, -2.0][i];
+            match j {
+                0 => a,
+                1 => b,
+                2 => 10.0 * (2.0 * a + 3.0 * b),
+                _ => 0.0,
+            }
+        });
+        let id = Identifiability::of(&r, &names(4)).unwrap();
+        assert_eq!((id.rank, id.columns), (2, 4));
+        assert_eq!(id.unidentifiable, vec!["x3".to_string()]);
+        assert_eq!(id.directions.len(), 2);
+        // R θ = R_b β for any θ
+        let theta = [0.3, -1.2, 0.7, 5.0];
+        let beta: Vec<f64> = (id.combinations.iter())
+            .map(|k| k.iter().zip(&theta).map(|(a, b)| a * b).sum())
+            .collect();
+        for i in 0..5 {
+            let full: f64 = (0..4).map(|j| r[(i, j)] * theta[j]).sum();
+            let base: f64 = (id.base_columns.iter().zip(&beta))
+                .map(|(&j, b)| r[(i, j)] * b)
+                .sum();
+            assert!((full - base).abs() < 1e-12, "row {i}: {full} vs {base}");
+        }
+        assert!(!id.combinations.iter().any(|k| k[3] != 0.0));
+    }
+
+    #[test]
+    fn standard_deviations_match_the_least_squares_covariance() {
+        // one column x, data y = 2x + noise: σ(β) = σ̂ / ‖x‖
+        let x = [1.0, 2.0, -1.0, 0.5];
+        let y = [2.1, 3.9, -2.05, 1.0];
+        let r = Mat::from_fn(4, 1, |i, _| x[i]);
+        let mut id = Identifiability::of(&r, &names(1)).unwrap();
+        let xx: f64 = x.iter().map(|v| v * v).sum();
+        let beta = x.iter().zip(&y).map(|(a, b)| a * b).sum::<f64>() / xx;
+        let rss: f64 = x.iter().zip(&y).map(|(a, b)| (a * beta - b).powi(2)).sum();
+        id.estimate(&r, &y, &[beta], 4).unwrap();
+        let want = (rss / 3.0 / xx).sqrt();
+        let got = id.base_parameters[0].std_dev.unwrap();
+        assert!((got - want).abs() < 1e-12 * want, "{got} vs {want}");
+        assert!((id.base_parameters[0].value - beta).abs() < 1e-15);
+    }
+}
