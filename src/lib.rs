@@ -25,6 +25,7 @@ pub mod data;
 pub mod diagnose;
 pub mod dynamics;
 pub mod effects;
+pub mod excite;
 pub mod export;
 pub mod identify;
 mod io;

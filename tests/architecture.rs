@@ -398,7 +398,7 @@ fn find_cycle(g: &BTreeMap<ModPath, BTreeMap<ModPath, String>>) -> Option<Vec<St
 }
 
 /// The layers, lowest first: a file may use its own layer and those below.
-const LAYERS: [&[&str]; 13] = [
+const LAYERS: [&[&str]; 14] = [
     &["faer_lapack", "numfmt", "io", "linalg", "warning"],
     &["conic"],
     &["sdpa"],
@@ -409,6 +409,7 @@ const LAYERS: [&[&str]; 13] = [
     &["sim"],
     &["export"],
     &["identify"],
+    &["excite"],
     &["effects"],
     &["diagnose"],
     &[],

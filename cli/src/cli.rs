@@ -2,7 +2,7 @@
 //! library. Every command returns an exit code; errors are printed, never
 //! panicked.
 
-use crate::cmd::{check, demo, diagnose, export, identify, predict, sdpa, simulate};
+use crate::cmd::{check, demo, diagnose, excite, export, identify, predict, sdpa, simulate};
 use clap::{Args, Parser, Subcommand};
 use momentlmi::data::Velocity;
 use momentlmi::effects::Library;
@@ -237,6 +237,43 @@ enum Command {
         /// the defaults come from the robot's description.
         #[arg(long = "effect-param", value_name = "NAME=VALUE", long_help = effect_param_help())]
         effect_param: Vec<String>,
+    },
+    /// Design an exciting trajectory: a periodic Fourier series per joint within the joint
+    /// limits, optimised for the base parameters' information (docs/identification.md).
+    Excite {
+        #[command(flatten)]
+        robot: RobotArgs,
+        /// Length (s): a whole number of periods.
+        #[arg(long, default_value_t = 10.0)]
+        seconds: f64,
+        /// What is maximised: d (log det of the information), e (its smallest eigenvalue) or
+        /// cond (minus the log of its condition number).
+        #[arg(long, default_value = "d")]
+        criterion: String,
+        /// Harmonics per joint.
+        #[arg(long, default_value_t = 5)]
+        harmonics: usize,
+        /// The wished base frequency (Hz), rounded so that --seconds holds whole periods.
+        #[arg(long, default_value_t = 0.2)]
+        base_hz: f64,
+        /// Random seeds the search starts from.
+        #[arg(long, default_value_t = 8)]
+        seeds: usize,
+        /// The first seed.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Random candidate motions of the convex D- or E-optimal pool design (0: none).
+        #[arg(long, default_value_t = 0)]
+        pool: usize,
+        /// Output CSV (t, q, qd, qdd per joint) and a JSON report beside it.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Sample rate of --out (Hz).
+        #[arg(long, default_value_t = 1000.0)]
+        rate: f64,
+        /// Print the report as JSON.
+        #[arg(long)]
+        json: bool,
     },
     /// Identify link and rotor inertias and friction from data (the paper's SDP (25)).
     Identify {
@@ -497,6 +534,42 @@ pub fn main() -> i32 {
             noise,
             cutoff,
             link_encoder_bits,
+        }),
+        Command::Excite {
+            robot:
+                RobotArgs {
+                    robot,
+                    sidecar,
+                    package_path,
+                    no_sidecar,
+                },
+            seconds,
+            criterion,
+            harmonics,
+            base_hz,
+            seeds,
+            seed,
+            pool,
+            out,
+            rate,
+            json,
+        } => excite::run(&excite::ExciteArgs {
+            robot: &robot,
+            sidecar: own_sidecar(&robot, sidecar, no_sidecar).as_deref(),
+            package_paths: &package_path,
+            options: momentlmi::excite::ExciteOptions {
+                seconds,
+                harmonics,
+                base_hz,
+                seeds,
+                seed,
+                pool,
+                ..Default::default()
+            },
+            criterion: &criterion,
+            out: out.as_deref(),
+            rate_hz: rate,
+            json,
         }),
         Command::Identify {
             robot:

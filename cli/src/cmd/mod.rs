@@ -6,6 +6,7 @@ pub mod demo;
 pub mod demo_arm;
 pub mod demo_real;
 pub mod diagnose;
+pub mod excite;
 pub mod export;
 pub mod identify;
 pub mod predict;

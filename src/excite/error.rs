@@ -1,0 +1,59 @@
+//! Errors of the experiment design.
+
+/// What can stop a design.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ExciteError {
+    /// A pool that cannot be designed over.
+    #[error("experiment design pool: {problem}")]
+    Pool {
+        /// What is wrong.
+        problem: &'static str,
+    },
+    /// A setting out of its range.
+    #[error("experiment design setting '{setting}' = {value}: {requirement}")]
+    Setting {
+        /// The setting.
+        setting: &'static str,
+        /// Its value.
+        value: f64,
+        /// What it must be.
+        requirement: &'static str,
+    },
+    /// A joint with no room to move.
+    #[error("joint '{joint}' has no room to move: {why}")]
+    NoRoom {
+        /// The joint.
+        joint: String,
+        /// Why.
+        why: String,
+    },
+    /// A written sample beyond a limit (a bug: the design keeps a margin).
+    #[error(
+        "the designed trajectory leaves joint '{joint}''s {what} limit at t = {t} s ({value} against {limit})"
+    )]
+    Limit {
+        /// The joint.
+        joint: String,
+        /// position, velocity or acceleration.
+        what: &'static str,
+        /// Time (s).
+        t: f64,
+        /// The value.
+        value: f64,
+        /// The limit.
+        limit: f64,
+    },
+    /// The design's conic problem did not solve.
+    #[error("the design's conic problem ended with status {}", .0.as_str())]
+    Solver(crate::conic::Status),
+    /// From `conic`.
+    #[error(transparent)]
+    Conic(#[from] crate::conic::ConicError),
+    /// From `dynamics`.
+    #[error(transparent)]
+    Dynamics(#[from] crate::dynamics::DynamicsError),
+    /// From `identify`.
+    #[error(transparent)]
+    Identify(#[from] crate::identify::IdentifyError),
+}

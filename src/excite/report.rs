@@ -1,0 +1,319 @@
+//! The design itself: the search, the pool bound, the report and the
+//! samples written.
+
+use super::ExciteOptions;
+use super::design::{Criterion, optimal_weights};
+use super::error::ExciteError;
+use super::fourier::{Coefficients, exact_state};
+use super::information::{InfoBasis, condition_number, score};
+use super::limits::{JointLimits, joint_limits};
+use crate::data::Dataset;
+use crate::dynamics::{RobotDescription, Samples};
+use crate::sim::trajectory::Trajectory;
+use faer::Mat;
+use rand::{RngExt, SeedableRng};
+use rayon::prelude::*;
+use serde::Serialize;
+
+/// Samples per period and harmonic the information is taken on.
+const INFO_SAMPLES: usize = 40;
+
+/// The convex pool's bound.
+#[derive(Clone, Debug, Serialize)]
+pub struct PoolReport {
+    /// Candidates (random motions fitted to the limits, and the designed one).
+    pub candidates: usize,
+    /// The optimum over mixtures of the candidates (the criterion's value;
+    /// λ_min for E and cond).
+    pub bound: f64,
+    /// The designed motion's value of the same quantity.
+    pub designed: f64,
+    /// D: `exp((log det F − bound) / k)`, the designed motion's
+    /// D-efficiency against the best mixture; E/cond: designed / bound.
+    pub efficiency: f64,
+    /// The weight of each candidate (the designed one last).
+    pub weights: Vec<f64>,
+}
+
+/// A designed excitation and what it gives.
+#[derive(Clone, Debug, Serialize)]
+pub struct Designed {
+    /// The robot.
+    pub robot: String,
+    /// The settings.
+    pub options: ExciteOptions,
+    /// How it was designed.
+    pub method: String,
+    /// The motion (its Fourier coefficients; `simulate` replays them).
+    pub trajectory: Trajectory,
+    /// Base parameters the information is taken on.
+    pub base_parameters: usize,
+    /// The criterion's value (larger is better).
+    pub value: f64,
+    /// `log det F` of the design.
+    pub log_det: f64,
+    /// The condition number of the scaled base regressor.
+    pub condition_number: f64,
+    /// The criterion's value of the best random seed before the search.
+    pub best_seed_value: f64,
+    /// The limits kept.
+    pub limits: Vec<JointLimits>,
+    /// Per joint, the smallest margin to each limit, as a fraction of it:
+    /// `[position, velocity, acceleration]`.
+    pub margins: Vec<[f64; 3]>,
+    /// The convex pool's bound (with `pool > 0`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pool: Option<PoolReport>,
+}
+
+/// `F` of a Fourier trajectory over one period.
+fn info_of(
+    basis: &InfoBasis,
+    traj: &Trajectory,
+    harmonics: usize,
+) -> Result<Mat<f64>, ExciteError> {
+    let Trajectory::Fourier { omega, .. } = traj else {
+        return Err(ExciteError::Pool {
+            problem: "a Fourier trajectory is needed",
+        });
+    };
+    let m = INFO_SAMPLES * harmonics.max(1);
+    let period = 2.0 * std::f64::consts::PI / omega;
+    let mut s = [vec![], vec![], vec![]];
+    for i in 0..m {
+        let st = exact_state(traj, period * i as f64 / m as f64).unwrap_or_default();
+        for (v, x) in s.iter_mut().zip(st) {
+            v.extend(x);
+        }
+    }
+    basis.information(&s[0], &s[1], &s[2])
+}
+
+/// Random coefficients (uniform in ±1/k for harmonic k).
+fn random_coefficients(n: usize, h: usize, omega: f64, seed: u64) -> Coefficients {
+    let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
+    let ab = (0..n)
+        .map(|_| {
+            (0..2 * h)
+                .map(|i| rng.random_range(-1.0..1.0) / (i % h + 1) as f64)
+                .collect()
+        })
+        .collect();
+    Coefficients { omega, ab }
+}
+
+/// The compass search from `start`: (value, coefficients, start's value).
+fn search(
+    basis: &InfoBasis,
+    limits: &[JointLimits],
+    start: Coefficients,
+    opts: &ExciteOptions,
+) -> Result<(f64, Coefficients, f64), ExciteError> {
+    let eval = |c: &Coefficients| -> Result<f64, ExciteError> {
+        let f = info_of(basis, &c.fitted(limits)?, opts.harmonics)?;
+        Ok(score(&f, opts.criterion))
+    };
+    let (mut best, mut x) = (eval(&start)?, start);
+    let first = best;
+    let (mut step, mut evals) = (0.25, 1);
+    while evals < opts.evaluations && step > 1e-3 {
+        let mut improved = false;
+        for j in 0..x.ab.len() {
+            for i in 0..x.ab[j].len() {
+                for sign in [1.0, -1.0] {
+                    let mut y = x.clone();
+                    y.ab[j][i] += sign * step;
+                    let v = eval(&y)?;
+                    evals += 1;
+                    if v > best {
+                        (best, x, improved) = (v, y, true);
+                        break;
+                    }
+                }
+            }
+        }
+        if !improved {
+            step *= 0.5;
+        }
+    }
+    Ok((best, x, first))
+}
+
+/// The base frequency: `base_hz` rounded so that `seconds` holds a whole
+/// number (≥ 1) of periods.
+fn omega_for(opts: &ExciteOptions) -> Result<f64, ExciteError> {
+    let ok = |v: f64| v > 0.0 && v.is_finite();
+    if !ok(opts.seconds) || !ok(opts.base_hz) || opts.harmonics == 0 || opts.seeds == 0 {
+        return Err(ExciteError::Setting {
+            setting: "seconds, base_hz, harmonics, seeds",
+            value: opts.seconds,
+            requirement: "each must be positive (and finite)",
+        });
+    }
+    let periods = (opts.seconds * opts.base_hz).round().max(1.0);
+    Ok(2.0 * std::f64::consts::PI * periods / opts.seconds)
+}
+
+/// Designs an excitation for `robot` with `opts`.
+pub fn design(robot: &RobotDescription, opts: &ExciteOptions) -> Result<Designed, ExciteError> {
+    let omega = omega_for(opts)?;
+    let basis = InfoBasis::of(&robot.model)?;
+    let limits = joint_limits(robot);
+    let n = robot.model.dof();
+    let runs: Vec<_> = (0..opts.seeds as u64)
+        .into_par_iter()
+        .map(|s| {
+            let start = random_coefficients(n, opts.harmonics, omega, opts.seed + s);
+            search(&basis, &limits, start, opts)
+        })
+        .collect::<Result<_, _>>()?;
+    let best_seed_value = runs.iter().map(|r| r.2).fold(f64::NEG_INFINITY, f64::max);
+    let (value, coef, _) = (runs.into_iter())
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+        .ok_or(ExciteError::Pool { problem: "no seed" })?;
+    let trajectory = coef.fitted(&limits)?;
+    let f = info_of(&basis, &trajectory, opts.harmonics)?;
+    let pool = (opts.pool > 0)
+        .then(|| pool_bound(&basis, &limits, (&trajectory, &f), opts, omega))
+        .transpose()?;
+    Ok(Designed {
+        robot: robot.source.clone(),
+        options: opts.clone(),
+        method: format!(
+            "compass search of {} Fourier coefficients per joint from {} random seeds, {} evaluations each at most; the criterion on the information of {} base parameters over one period",
+            2 * opts.harmonics,
+            opts.seeds,
+            opts.evaluations,
+            basis.len()
+        ),
+        margins: margins(&trajectory, &limits, omega),
+        base_parameters: basis.len(),
+        value,
+        log_det: score(&f, Criterion::D),
+        condition_number: condition_number(&f),
+        best_seed_value,
+        limits,
+        trajectory,
+        pool,
+    })
+}
+
+/// The convex design over `opts.pool` random candidates and the designed
+/// motion.
+fn pool_bound(
+    basis: &InfoBasis,
+    limits: &[JointLimits],
+    (designed, f): (&Trajectory, &Mat<f64>),
+    opts: &ExciteOptions,
+    omega: f64,
+) -> Result<PoolReport, ExciteError> {
+    let n = limits.len();
+    let mut pool: Vec<Mat<f64>> = (0..opts.pool as u64)
+        .into_par_iter()
+        .map(|s| {
+            let c = random_coefficients(n, opts.harmonics, omega, 1_000_003 + opts.seed + s);
+            info_of(basis, &c.fitted(limits)?, opts.harmonics)
+        })
+        .collect::<Result<_, ExciteError>>()?;
+    let _ = designed;
+    pool.push(f.clone());
+    let convex = if opts.criterion == Criterion::D {
+        Criterion::D
+    } else {
+        Criterion::E
+    };
+    let d = optimal_weights(&pool, convex)?;
+    let mine = score(f, convex);
+    let k = f.nrows() as f64;
+    Ok(PoolReport {
+        candidates: pool.len(),
+        bound: d.optimum,
+        designed: mine,
+        efficiency: if convex == Criterion::D {
+            ((mine - d.optimum) / k).exp()
+        } else {
+            mine / d.optimum
+        },
+        weights: d.weights,
+    })
+}
+
+/// Per joint, the smallest relative margin to its position, velocity and
+/// acceleration limits over one period at 64 points per harmonic.
+fn margins(traj: &Trajectory, limits: &[JointLimits], omega: f64) -> Vec<[f64; 3]> {
+    let period = 2.0 * std::f64::consts::PI / omega;
+    let steps = 64
+        * traj
+            .top_hz()
+            .map_or(1, |f| (f * period).round().max(1.0) as usize);
+    let mut m = vec![[1.0f64; 3]; limits.len()];
+    for i in 0..steps {
+        let Some([q, qd, qdd]) = exact_state(traj, period * i as f64 / steps as f64) else {
+            break;
+        };
+        for (j, l) in limits.iter().enumerate() {
+            let half = 0.5 * (l.position.1 - l.position.0);
+            let mid = 0.5 * (l.position.1 + l.position.0);
+            m[j][0] = m[j][0].min(1.0 - (q[j] - mid).abs() / half);
+            m[j][1] = m[j][1].min(1.0 - qd[j].abs() / l.velocity);
+            m[j][2] = m[j][2].min(1.0 - qdd[j].abs() / l.acceleration);
+        }
+    }
+    m
+}
+
+/// The designed motion sampled at `rate_hz` over its `seconds` (exact
+/// derivatives), each sample checked against the limits.
+pub fn samples(d: &Designed, rate_hz: f64) -> Result<Dataset, ExciteError> {
+    if !(rate_hz > 0.0 && rate_hz <= 1e5) {
+        return Err(ExciteError::Setting {
+            setting: "rate_hz",
+            value: rate_hz,
+            requirement: "must be in (0, 1e5]",
+        });
+    }
+    let names: Vec<&str> = d.limits.iter().map(|l| l.joint.as_str()).collect();
+    let mut out = Dataset::empty(&names);
+    let count = (d.options.seconds * rate_hz).round() as usize;
+    for i in 0..count {
+        let t = i as f64 / rate_hz;
+        let [q, qd, qdd] = exact_state(&d.trajectory, t).ok_or(ExciteError::Pool {
+            problem: "a Fourier trajectory is needed",
+        })?;
+        check_sample(&d.limits, t, [&q, &qd, &qdd])?;
+        out.t.push(t);
+        out.q.push(&q);
+        out.qd.push(&qd);
+        out.qdd.push(&qdd);
+    }
+    out.tau = Samples::new(names.len());
+    Ok(out)
+}
+
+/// A sample within every limit, else the first one it leaves.
+fn check_sample(limits: &[JointLimits], t: f64, s: [&[f64]; 3]) -> Result<(), ExciteError> {
+    for (j, l) in limits.iter().enumerate() {
+        let bad = |what, value: f64, limit: f64| ExciteError::Limit {
+            joint: l.joint.clone(),
+            what,
+            t,
+            value,
+            limit,
+        };
+        if s[0][j] < l.position.0 || s[0][j] > l.position.1 {
+            let lim = if s[0][j] < l.position.0 {
+                l.position.0
+            } else {
+                l.position.1
+            };
+            return Err(bad("position", s[0][j], lim));
+        }
+        if s[1][j].abs() > l.velocity {
+            return Err(bad("velocity", s[1][j], l.velocity));
+        }
+        if s[2][j].abs() > l.acceleration {
+            return Err(bad("acceleration", s[2][j], l.acceleration));
+        }
+    }
+    Ok(())
+}

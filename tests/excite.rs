@@ -1,0 +1,101 @@
+//! `excite`: a designed motion stays inside every limit in the samples it
+//! writes, improves on its random start, and never beats the convex bound
+//! of a pool that contains it.
+
+use momentlmi::dynamics::robots::load_robot;
+use momentlmi::excite::{Criterion, ExciteOptions, design, samples};
+
+fn quick(seconds: f64, pool: usize) -> ExciteOptions {
+    ExciteOptions {
+        seconds,
+        seeds: 2,
+        evaluations: 120,
+        pool,
+        ..ExciteOptions::default()
+    }
+}
+
+#[test]
+fn the_written_samples_keep_every_limit() {
+    let leg = load_robot("cheetah3-leg", None).unwrap();
+    let d = design(&leg, &quick(4.0, 0)).unwrap();
+    let data = samples(&d, 1000.0).unwrap();
+    assert_eq!(data.len(), 4000);
+    for (k, ((q, qd), qdd)) in data.q.iter().zip(&data.qd).zip(&data.qdd).enumerate() {
+        for (j, joint) in leg.model.joints.iter().enumerate() {
+            let l = &d.limits[j];
+            let (lo, hi) = joint.limits;
+            assert!(
+                q[j] >= lo && q[j] <= hi,
+                "row {k} joint {j}: q {} outside the model's [{lo}, {hi}]",
+                q[j]
+            );
+            assert!(
+                q[j] >= l.position.0 && q[j] <= l.position.1,
+                "row {k} joint {j}"
+            );
+            assert!(qd[j].abs() <= l.velocity, "row {k} joint {j}: q̇ {}", qd[j]);
+            assert!(
+                qdd[j].abs() <= l.acceleration,
+                "row {k} joint {j}: q̈ {}",
+                qdd[j]
+            );
+        }
+    }
+    // the exact derivatives: q̇ is the difference quotient of q
+    let (q, qd) = (&data.q, &data.qd);
+    let fd = (q[101][1] - q[99][1]) / 0.002;
+    assert!(
+        (fd - qd[100][1]).abs() < 1e-3 * (1.0 + qd[100][1].abs()),
+        "{fd} vs {}",
+        qd[100][1]
+    );
+    assert!(
+        d.value > d.best_seed_value,
+        "the search did not improve on its start"
+    );
+    assert!(
+        d.margins
+            .iter()
+            .all(|m| m.iter().all(|&x| (0.0..=1.0).contains(&x)))
+    );
+}
+
+#[test]
+fn the_design_is_never_above_the_convex_bound_of_its_pool() {
+    let arm_dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/panda");
+    let arm = load_robot(
+        arm_dir.join("panda.urdf").to_str().unwrap(),
+        Some(&arm_dir.join("panda.toml")),
+    )
+    .unwrap();
+    for criterion in [Criterion::D, Criterion::E] {
+        let opts = ExciteOptions {
+            criterion,
+            ..quick(5.0, 12)
+        };
+        let d = design(&arm, &opts).unwrap();
+        let p = d.pool.as_ref().unwrap();
+        assert_eq!(p.candidates, 13);
+        assert!(
+            p.designed <= p.bound + 1e-6 * p.bound.abs().max(1.0),
+            "{criterion:?}: {p:?}"
+        );
+        assert!(p.efficiency > 0.0 && p.efficiency <= 1.0 + 1e-6, "{p:?}");
+        assert!((p.weights.iter().sum::<f64>() - 1.0).abs() < 1e-6);
+    }
+}
+
+#[test]
+fn bad_settings_are_named() {
+    let leg = load_robot("cheetah3-leg", None).unwrap();
+    let e = design(&leg, &quick(-1.0, 0)).unwrap_err().to_string();
+    assert!(e.contains("seconds"), "{e}");
+    let d = design(&leg, &quick(1.0, 0)).unwrap();
+    assert!(
+        samples(&d, 0.0)
+            .unwrap_err()
+            .to_string()
+            .contains("rate_hz")
+    );
+}
