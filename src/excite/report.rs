@@ -44,7 +44,7 @@ pub struct Designed {
     pub options: ExciteOptions,
     /// How it was designed.
     pub method: String,
-    /// The motion (its Fourier coefficients; `simulate` replays them).
+    /// The motion (its Fourier coefficients).
     pub trajectory: Trajectory,
     /// Base parameters the information is taken on.
     pub base_parameters: usize,
