@@ -111,11 +111,6 @@ fn print_report(d: &Designed, out: Option<&Path>) {
         );
     }
     if let Some(out) = out {
-        println!(
-            "wrote {} and {} (simulate --trajectory {} replays it)",
-            out.display(),
-            record_path(out).display(),
-            out.display()
-        );
+        println!("wrote {} and {}", out.display(), record_path(out).display());
     }
 }

@@ -615,8 +615,9 @@ fn print_base_parameters(id: &momentlmi::identify::Identifiability) {
     );
     for b in &id.base_parameters {
         let sd = b.std_dev.map_or_else(|| "-".into(), |s| format!("{s:.3e}"));
+        // relative only where the value stands out of its σ
         let rel = (b.std_dev)
-            .filter(|_| b.value != 0.0)
+            .filter(|s| *s < b.value.abs())
             .map_or_else(String::new, |s| {
                 format!(" ({:.1} %)", 100.0 * s / b.value.abs())
             });
