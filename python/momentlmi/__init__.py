@@ -61,6 +61,7 @@ __all__ = [
     "check_urdf",
     "check_urdf_report",
     "diagnose",
+    "excite",
     "four_point_masses",
     "identify",
     "from_pinocchio",
@@ -347,7 +348,8 @@ class IdentifyResult(dict):
 def identify(robot: Robot, data, constraints: str = "ellipsoid", prior: str = "cad",
              weight: Union[float, str] = 1e-6, regularizer: str = "euclidean", validate=None,
              cutoff_hz: Optional[float] = None, velocity: str = "differentiate",
-             friction: Optional[str] = None) -> IdentifyResult:
+             friction: Optional[str] = None,
+             bounds: Union[None, float, str] = None) -> IdentifyResult:
     """The identification of `robot` from `data`, as ``momentlmi identify --json``
     reports it (``bodies`` with each body's ``params``, ``training_rms``,
     ``validation_rms`` …).
@@ -360,8 +362,15 @@ def identify(robot: Robot, data, constraints: str = "ellipsoid", prior: str = "c
     `constraints`: none, semi, consistent or ellipsoid; `prior`: cad, true or a
     parameter file; `weight`: a number or ``"auto"`` (cross-validation);
     `regularizer`: euclidean or entropic; `friction`: the friction terms identified
-    (``"viscous,coulomb,offset,load,stribeck"``; None: the robot's)."""
+    (``"viscous,coulomb,offset,load,stribeck"``; None: the robot's); `bounds`: each
+    parameter's range over the constrained models whose residual is at most (1 + bounds)
+    × the estimate's (``"auto"``: the 95 % confidence region; None: not computed), in
+    ``result["bounds"]``. ``result["identifiability"]`` has the rank, the base
+    parameters with their standard deviations and the parameters that enter no torque."""
     joints = robot.joint_names
+    if bounds is not None and not (bounds == "auto" or (not isinstance(bounds, str) and float(bounds) >= 0)):
+        raise ValueError(f"bounds: {bounds!r} is not a number >= 0 or 'auto'")
+    b = None if bounds is None else ("auto" if bounds == "auto" else repr(float(bounds)))
     if isinstance(weight, str):
         if weight != "auto":
             raise ValueError(f"weight: '{weight}' is not a number or 'auto'")
@@ -370,7 +379,26 @@ def identify(robot: Robot, data, constraints: str = "ellipsoid", prior: str = "c
         w = float(weight)
     return IdentifyResult(_native.identify(robot._r, _segments(data, joints, "data"), _segments(validate, joints, "validate"),
                                            constraints, os.fspath(prior), w, regularizer,
-                                           None if cutoff_hz is None else float(cutoff_hz), velocity, friction))
+                                           None if cutoff_hz is None else float(cutoff_hz), velocity, friction, b))
+
+
+def excite(robot: Robot, seconds: float = 10.0, criterion: str = "d", harmonics: int = 5,
+           base_hz: float = 0.2, seeds: int = 8, seed: int = 1, pool: int = 0,
+           rate_hz: float = 1000.0) -> dict:
+    """A designed excitation of `robot`, as ``momentlmi excite --json`` reports it: a
+    periodic Fourier series per joint within the joints' limits, optimised for
+    `criterion` (``"d"`` log det, ``"e"`` smallest eigenvalue, ``"cond"`` condition
+    number) of the base parameters' information; `pool` random candidates give the
+    convex design's bound. The report's ``"samples"`` holds ``t`` (N,), ``q``, ``qd``,
+    ``qdd`` (N, n) at `rate_hz`, ready for :func:`simulate`'s robot or a controller."""
+    if criterion not in ("d", "e", "cond"):
+        raise ValueError(f"criterion: '{criterion}' is not one of d, e, cond")
+    text, (t, q, qd, qdd) = _native.excite(robot._r, float(seconds), criterion, int(harmonics),
+                                           float(base_hz), int(seeds), int(seed), int(pool),
+                                           float(rate_hz))
+    report = json.loads(text)
+    report["samples"] = {"t": t, "q": q, "qd": qd, "qdd": qdd}
+    return report
 
 
 def diagnose(robot: Robot, data, nominal: Optional[str] = None, repeats=None) -> dict:

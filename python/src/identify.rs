@@ -89,9 +89,11 @@ pub(crate) fn prepared(
 /// a parameter file) with `weight` (None: chosen by cross-validation, as
 /// `--weight auto`), `regularizer` euclidean or entropic; `cutoff_hz` and
 /// `velocity` (differentiate, file) prepare raw segments; `friction` the
-/// friction terms identified (None: the robot's).
+/// friction terms identified (None: the robot's); `bounds` each
+/// parameter's range with that residual margin δ (`auto`: the 95 %
+/// confidence region; None: none).
 #[pyfunction]
-#[pyo3(signature = (robot, data, validate, constraints, prior, weight, regularizer, cutoff_hz, velocity, friction))]
+#[pyo3(signature = (robot, data, validate, constraints, prior, weight, regularizer, cutoff_hz, velocity, friction, bounds))]
 #[allow(clippy::too_many_arguments)]
 fn identify(
     py: Python<'_>,
@@ -105,6 +107,7 @@ fn identify(
     cutoff_hz: Option<f64>,
     velocity: &str,
     friction: Option<&str>,
+    bounds: Option<&str>,
 ) -> PyResult<String> {
     let setup = crate::setup::Setup::parse(constraints, regularizer, weight)?;
     let velocity = match velocity {
@@ -146,6 +149,18 @@ fn identify(
         if let Some(v) = &val {
             r.validate(&desc.model, &v.data)
                 .map_err(|e| e.to_string())?;
+        }
+        if let Some(b) = bounds {
+            let rows = red.samples * desc.model.dof();
+            let delta = match b {
+                "auto" => momentlmi::identify::confidence_delta(r.identifiability.rank, rows, 0.95)
+                    .map_err(|e| e.to_string())?,
+                x => x
+                    .parse::<f64>()
+                    .map_err(|_| format!("bounds: '{x}' is not a number or auto"))?,
+            };
+            let pb = id.parameter_bounds(&red, &r.theta, &r.identifiability, delta);
+            r.bounds = Some(pb.map_err(|e| e.to_string())?);
         }
         r.weight_choice = choice;
         r.data_preparation = DataPreparation {

@@ -7,6 +7,7 @@ mod arrays;
 mod check;
 mod diagnose;
 mod errors;
+mod excite;
 mod identify;
 mod inertia;
 mod reducer;
@@ -24,6 +25,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     simulate::add(m)?;
     identify::add(m)?;
     diagnose::add(m)?;
+    excite::add(m)?;
     m.add_class::<robot::Robot>()?;
     m.add_class::<reducer::Reducer>()?;
     m.add(
