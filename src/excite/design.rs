@@ -53,6 +53,7 @@ pub fn optimal_weights(pool: &[Mat<f64>], criterion: Criterion) -> Result<PoolDe
             problem: "needs at least one candidate, each a square information matrix of one size",
         });
     }
+    check_size(k, criterion)?;
     let mut p = Problem::new();
     let w = p.vector("w", pool.len());
     p.add_nonneg(w.iter().map(|&v| AffExpr::term(v, 1.0)).collect::<Vec<_>>())?;
@@ -94,6 +95,26 @@ pub fn optimal_weights(pool: &[Mat<f64>], criterion: Criterion) -> Result<PoolDe
         weights: sol.values(&w)?.iter().map(|v| v.max(0.0)).collect(),
         optimum: sol.value(t)?,
     })
+}
+
+/// The most memory the design's conic problem may plan for: Clarabel keeps
+/// a PSD block of svec size s as a dense s × s part of its KKT matrix and
+/// factor (≈ 16 s² bytes).
+pub const MAX_DESIGN_BYTES: f64 = 4e9;
+
+/// Refuses a design whose PSD block would pass [`MAX_DESIGN_BYTES`]: log det
+/// needs a 2k × 2k block, λ_min a k × k one.
+fn check_size(k: usize, criterion: Criterion) -> Result<(), ExciteError> {
+    let n = if criterion == Criterion::D { 2 * k } else { k } as f64;
+    let svec = n * (n + 1.0) / 2.0;
+    let bytes = 16.0 * svec * svec;
+    if bytes > MAX_DESIGN_BYTES {
+        return Err(ExciteError::TooLarge {
+            parameters: k,
+            gib: bytes / f64::from(1u32 << 30),
+        });
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -140,5 +161,9 @@ mod tests {
             "{d:?}"
         );
         assert!(optimal_weights(&[], Criterion::D).is_err());
+        // 100 base parameters: log det would need a 200 × 200 block (≈ 6 GiB)
+        let big = Mat::<f64>::identity(100, 100);
+        let e = optimal_weights(std::slice::from_ref(&big), Criterion::D).unwrap_err();
+        assert!(e.to_string().contains("100 base parameters"), "{e}");
     }
 }

@@ -44,6 +44,16 @@ pub enum ExciteError {
         /// The limit.
         limit: f64,
     },
+    /// A pool design too large to solve in memory.
+    #[error(
+        "the convex pool design over {parameters} base parameters would need about {gib:.1} GiB (a dense PSD block in the solver): use the E criterion (a block half the size), or no pool"
+    )]
+    TooLarge {
+        /// Base parameters.
+        parameters: usize,
+        /// The memory it would need (GiB).
+        gib: f64,
+    },
     /// The design's conic problem did not solve.
     #[error("the design's conic problem ended with status {}", .0.as_str())]
     Solver(crate::conic::Status),

@@ -51,10 +51,12 @@ impl InfoBasis {
         let y = regressor_batch(&model, &s[0], &s[1], &s[2])?;
         let p = model.regressor_columns();
         let rows = y.len() / p;
-        let r = Mat::from_fn(rows, p, |i, j| y[i * p + j]);
+        let full = Mat::from_fn(rows, p, |i, j| y[i * p + j]);
+        // the thin QR's R (p × p) has the regressor's column space and norms
+        let r = full.qr().thin_R().to_owned();
         let id = Identifiability::of(&r, &parameter_names(&model))?;
         let scale = (id.base_columns.iter())
-            .map(|&j| ((0..rows).map(|i| r[(i, j)].powi(2)).sum::<f64>() / rows as f64).sqrt())
+            .map(|&j| ((0..rows).map(|i| full[(i, j)].powi(2)).sum::<f64>() / rows as f64).sqrt())
             .collect();
         Ok(Self {
             model,

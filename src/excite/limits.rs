@@ -24,6 +24,9 @@ pub struct JointLimits {
     pub acceleration: f64,
     /// Where the velocity limit comes from: `urdf` or `default excitation`.
     pub velocity_from: &'static str,
+    /// The URDF's effort limit (N·m or N), where given: checked, not
+    /// enforced ([`super::Designed::torque_margins`]).
+    pub effort: Option<f64>,
 }
 
 /// The peaks of the default excitation per joint: (min q, max q, max |q̇|,
@@ -47,23 +50,26 @@ fn default_peaks(robot: &RobotDescription, seconds: f64) -> Vec<[f64; 4]> {
     peaks
 }
 
-/// The URDF's velocity limits by joint name (none for a built-in robot or
-/// a joint without one).
-fn urdf_velocities(robot: &RobotDescription) -> Vec<(String, f64)> {
+/// The URDF's velocity and effort limits by joint name (none for a
+/// built-in robot or a joint without one; 0 or absent: not given).
+fn urdf_limits(robot: &RobotDescription) -> Vec<(String, Option<f64>, Option<f64>)> {
     let path = std::path::Path::new(&robot.source);
     let Ok((_, urdf)) = crate::urdf::read_file(path) else {
         return vec![];
     };
+    let given = |v: f64| (v > 0.0 && v.is_finite()).then_some(v);
     (urdf.joints.iter())
-        .filter_map(|j| j.limit.map(|l| (j.name.clone(), l.velocity)))
-        .filter(|(_, v)| *v > 0.0 && v.is_finite())
+        .filter_map(|j| {
+            j.limit
+                .map(|l| (j.name.clone(), given(l.velocity), given(l.effort)))
+        })
         .collect()
 }
 
 /// Every joint's limits for `robot`.
 pub fn joint_limits(robot: &RobotDescription) -> Vec<JointLimits> {
     let peaks = default_peaks(robot, 20.0);
-    let urdf = urdf_velocities(robot);
+    let urdf = urdf_limits(robot);
     (robot.model.joints.iter().zip(peaks))
         .map(|(j, p)| {
             let (lo, hi) = j.limits;
@@ -73,7 +79,8 @@ pub fn joint_limits(robot: &RobotDescription) -> Vec<JointLimits> {
             } else {
                 (p[0], p[1])
             };
-            let from_urdf = urdf.iter().find(|(n, _)| *n == j.name).map(|(_, v)| *v);
+            let own = urdf.iter().find(|(n, ..)| *n == j.name);
+            let from_urdf = own.and_then(|u| u.1);
             JointLimits {
                 joint: j.name.clone(),
                 position,
@@ -84,6 +91,7 @@ pub fn joint_limits(robot: &RobotDescription) -> Vec<JointLimits> {
                 } else {
                     "default excitation"
                 },
+                effort: own.and_then(|u| u.2),
             }
         })
         .collect()

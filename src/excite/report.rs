@@ -61,6 +61,11 @@ pub struct Designed {
     /// Per joint, the smallest margin to each limit, as a fraction of it:
     /// `[position, velocity, acceleration]`.
     pub margins: Vec<[f64; 3]>,
+    /// Per joint with an effort limit, `1 − peak |τ| / limit` of the
+    /// description's model (rigid bodies, rotors, nominal friction) along the
+    /// motion: negative where the motion needs more torque than the joint
+    /// has (checked, not enforced).
+    pub torque_margins: Vec<Option<f64>>,
     /// The convex pool's bound (with `pool > 0`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub pool: Option<PoolReport>,
@@ -187,6 +192,7 @@ pub fn design(robot: &RobotDescription, opts: &ExciteOptions) -> Result<Designed
             basis.len()
         ),
         margins: margins(&trajectory, &limits, omega),
+        torque_margins: torque_margins(robot, &trajectory, &limits, omega)?,
         base_parameters: basis.len(),
         value,
         log_det: score(&f, Criterion::D),
@@ -260,6 +266,39 @@ fn margins(traj: &Trajectory, limits: &[JointLimits], omega: f64) -> Vec<[f64; 3
         }
     }
     m
+}
+
+/// Per joint with an effort limit, its margin to the peak torque of the
+/// description's model over one period (64 points per harmonic).
+fn torque_margins(
+    robot: &RobotDescription,
+    traj: &Trajectory,
+    limits: &[JointLimits],
+    omega: f64,
+) -> Result<Vec<Option<f64>>, ExciteError> {
+    if limits.iter().all(|l| l.effort.is_none()) {
+        return Ok(vec![None; limits.len()]);
+    }
+    let period = 2.0 * std::f64::consts::PI / omega;
+    let steps = 64
+        * traj
+            .top_hz()
+            .map_or(1, |f| (f * period).round().max(1.0) as usize);
+    let mut data = crate::dynamics::Data::new(&robot.model);
+    let mut peak = vec![0.0f64; limits.len()];
+    for i in 0..steps {
+        let Some([q, qd, qdd]) = exact_state(traj, period * i as f64 / steps as f64) else {
+            break;
+        };
+        let tau = crate::dynamics::rnea(&robot.model, &mut data, &q, &qd, &qdd)?;
+        for (j, p) in peak.iter_mut().enumerate() {
+            let f = robot.friction.torque(j, qd[j], tau[j]);
+            *p = p.max((tau[j] + f).abs());
+        }
+    }
+    Ok((limits.iter().zip(peak))
+        .map(|(l, p)| l.effort.map(|e| 1.0 - p / e))
+        .collect())
 }
 
 /// The designed motion sampled at `rate_hz` over its `seconds` (exact

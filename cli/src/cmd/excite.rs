@@ -101,6 +101,16 @@ fn print_report(d: &Designed, out: Option<&Path>) {
             l.velocity_from
         );
     }
+    for (l, m) in d.limits.iter().zip(&d.torque_margins) {
+        if let Some(m) = m.filter(|m| *m < 0.0) {
+            eprintln!(
+                "warning: joint '{}' needs {:.0} % more torque than its effort limit {} along the motion (the description's model; checked, not enforced)",
+                l.joint,
+                -100.0 * m,
+                l.effort.unwrap_or(f64::NAN)
+            );
+        }
+    }
     if let Some(p) = &d.pool {
         println!(
             "convex pool design over {} candidates (the design among them): bound {:.4}, design {:.4}, efficiency {:.1} %",
