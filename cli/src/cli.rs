@@ -213,6 +213,17 @@ enum Command {
         /// Duration in seconds (1 kHz sampling).
         #[arg(long, default_value_t = 20.0)]
         seconds: f64,
+        /// Drive the robot along the trajectory in FILE instead of its default excitation:
+        /// a CSV with columns t, q_<joint>…, qd_<joint>…, qdd_<joint>… for every joint of the
+        /// robot (s, rad, rad/s, rad/s²; m for prismatic joints), uniformly sampled,
+        /// interpolated by quintic Hermite polynomials. If its last sample continues into its
+        /// first one step later it is periodic and repeats (write one period, t = 0 … T − dt);
+        /// otherwise it must span --seconds plus the 0.5 s edges simulated before and after
+        /// the data (none with --noise 0), and the data start that far after its first sample
+        /// (a delay or compliance effect needs a little more). The cut-off default becomes
+        /// 30 Hz. Columns, units and tolerances: docs/inputs.md, "Trajectory files".
+        #[arg(long, value_name = "FILE")]
+        trajectory: Option<PathBuf>,
         /// Comma-separated effects the true robot has (`momentlmi::effects`).
         #[arg(long, value_parser = effect_names(), value_delimiter = ',')]
         effects: Vec<String>,
@@ -226,7 +237,8 @@ enum Command {
         #[arg(long)]
         noise: Option<f64>,
         /// Cut-off (Hz) of the offline filter of q, q̇, q̈ (default: 30 Hz, or 10× the top
-        /// frequency of a multi-sine excitation when lower, at least 5 Hz).
+        /// frequency of a multi-sine excitation when lower, at least 5 Hz; 30 Hz with
+        /// --trajectory).
         #[arg(long, value_name = "HZ")]
         cutoff: Option<f64>,
         /// Bits per turn of the link-side encoders of revolute joints without a rotor
@@ -515,6 +527,7 @@ pub fn main() -> i32 {
                     no_sidecar,
                 },
             seconds,
+            trajectory,
             effects,
             out,
             seed,
@@ -527,6 +540,7 @@ pub fn main() -> i32 {
             sidecar: own_sidecar(&robot, sidecar, no_sidecar).as_deref(),
             package_paths: &package_path,
             seconds,
+            trajectory: trajectory.as_deref(),
             effects: &effects,
             effect_params: &effect_param,
             out: &out,

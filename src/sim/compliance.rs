@@ -20,6 +20,10 @@ use super::error::SimError;
 use super::trajectory::Trajectory;
 use crate::dynamics::{Data, Model, forward_dynamics};
 
+/// Seconds of the link side integrated before the first sample, so that
+/// the start-up transient has decayed (the trajectory is needed from then).
+pub const PRE_ROLL_S: f64 = 0.5;
+
 /// Spring, damper and dead band (joint side).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Compliance {
@@ -43,8 +47,9 @@ impl Compliance {
     }
 }
 
-/// Link-side states and transmitted torques at `times` (s): `(q_L, q̇_L, τ_s)`
-/// per sample, the motor side following the trajectory exactly.
+/// Link-side states and transmitted torques at `times` (s, the trajectory's
+/// clock): `(q_L, q̇_L, τ_s)` per sample, the motor side following the
+/// trajectory exactly from [`PRE_ROLL_S`] before the first time.
 pub fn simulate_link_side(
     links: &Model,
     traj: &Trajectory,
@@ -56,7 +61,7 @@ pub fn simulate_link_side(
             .map(|(q, qd, _)| (q, qd))
             .ok_or(SimError::Workspace { t })
     };
-    integrate(links, &motor, times, c, 0.5, 1e-4)
+    integrate(links, &motor, times, c, PRE_ROLL_S, 1e-4)
 }
 
 fn integrate(

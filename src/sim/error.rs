@@ -1,5 +1,6 @@
 //! Errors of the simulator.
 
+use crate::data::DataError;
 use crate::dynamics::DynamicsError;
 
 /// What can stop a simulation; nothing is written when one happens.
@@ -125,6 +126,18 @@ pub enum SimError {
         /// The configuration's.
         config: Vec<String>,
     },
+    /// A trajectory file that cannot be read (the reader's error names the
+    /// file, row and column).
+    #[error(transparent)]
+    Data(#[from] DataError),
+    /// A trajectory file (or data set) that cannot drive the simulation.
+    #[error("trajectory file {path}: {problem}")]
+    TrajectoryFile {
+        /// The file.
+        path: String,
+        /// What is wrong with it.
+        problem: TrajectoryProblem,
+    },
     /// The compliant link-side simulation diverged.
     #[error("the compliant link simulation diverged at t = {t} s")]
     Diverged {
@@ -150,6 +163,106 @@ impl std::fmt::Display for OverrideProblem {
             OverrideProblem::NoEquals => f.write_str("expected NAME=VALUE"),
             OverrideProblem::NoName => f.write_str("no parameter name before '='"),
             OverrideProblem::NotANumber(v) => write!(f, "'{v}' is not a number"),
+        }
+    }
+}
+
+/// What is wrong with a trajectory file ([`super::sampled::SampledTrajectory`]).
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum TrajectoryProblem {
+    /// No `qdd_<joint>` columns (q̈ is needed for every joint).
+    NoAccelerations,
+    /// Fewer than two samples.
+    TooFewSamples {
+        /// The samples found.
+        samples: usize,
+    },
+    /// A column for a joint the robot does not have.
+    UnknownJoint {
+        /// The column.
+        column: String,
+        /// The robot's joints.
+        joints: Vec<String>,
+    },
+    /// A joint of the robot without samples.
+    MissingJoint {
+        /// The joint.
+        joint: String,
+    },
+    /// Time stamps not uniform (or not increasing).
+    NotUniform {
+        /// 1-based data row (the header is row 0).
+        row: usize,
+        /// Its time (s).
+        t: f64,
+        /// The time a uniform grid puts there (s).
+        expected: f64,
+        /// The grid's step (s).
+        step: f64,
+    },
+    /// Not periodic, and shorter than the simulation needs.
+    TooShort {
+        /// The file's first time (s).
+        first_s: f64,
+        /// Its last time (s).
+        last_s: f64,
+        /// The time needed before the data's start (s): the dropped edge,
+        /// and any delay or compliance pre-roll.
+        before_s: f64,
+        /// The time needed from the data's start (s): the data and the
+        /// dropped edge after them.
+        after_s: f64,
+    },
+}
+
+impl std::fmt::Display for TrajectoryProblem {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        // seconds to the microsecond
+        let short = |x: f64| crate::numfmt::short((x * 1e6).round() / 1e6);
+        match self {
+            Self::NoAccelerations => {
+                f.write_str("no qdd_<joint> columns: a trajectory gives q, q̇ and q̈ of every joint")
+            }
+            Self::TooFewSamples { samples } => {
+                write!(f, "{samples} sample(s); a trajectory needs at least 2")
+            }
+            Self::UnknownJoint { column, joints } => write!(
+                f,
+                "column '{column}' is for a joint the robot does not have (its joints: {})",
+                joints.join(", ")
+            ),
+            Self::MissingJoint { joint } => write!(f, "no samples of joint '{joint}'"),
+            Self::NotUniform {
+                row,
+                t,
+                expected,
+                step,
+            } => write!(
+                f,
+                "row {row}, column 't': time {t} s is not on the uniform grid of step {} s \
+                 (expected {} s, to 1 % of a step): a trajectory is sampled at one rate",
+                short(*step),
+                short(*expected)
+            ),
+            Self::TooShort {
+                first_s,
+                last_s,
+                before_s,
+                after_s,
+            } => write!(
+                f,
+                "not periodic (its last sample does not continue into its first), and it spans \
+                 t = {} … {} s ({} s); the simulation needs {} s of it ({} s before the data's \
+                 start: the dropped edge, and any delay or compliance pre-roll; {} s from it: \
+                 the data and the edge after them)",
+                short(*first_s),
+                short(*last_s),
+                short(last_s - first_s),
+                short(before_s + after_s),
+                short(*before_s),
+                short(*after_s)
+            ),
         }
     }
 }

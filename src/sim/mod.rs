@@ -15,13 +15,15 @@
 pub mod compliance;
 pub mod effects;
 mod error;
+pub mod sampled;
 pub mod simulate;
 pub mod trajectory;
 pub mod truth;
 mod warning;
 
 pub use effects::Effects;
-pub use error::{OverrideProblem, SimError};
+pub use error::{OverrideProblem, SimError, TrajectoryProblem};
+pub use sampled::SampledTrajectory;
 pub use simulate::{SimConfig, simulate_with};
 pub use truth::{JointState, TorqueTerm, TrueRobot, Truth};
 pub use warning::SimWarning;

@@ -52,7 +52,9 @@ pub struct SimConfig {
     pub seconds: f64,
     /// Sampling rate (Hz).
     pub rate_hz: f64,
-    /// The excitation.
+    /// The excitation. A sampled one that does not wrap is read from the
+    /// dropped edge before the data (and any delay or compliance pre-roll)
+    /// on: the data's time 0 is that far after its first sample.
     pub trajectory: Trajectory,
     /// Effects of the true robot.
     pub effects: Effects,
@@ -74,7 +76,7 @@ pub struct SimConfig {
     pub linear_resolution_m: Option<f64>,
     /// Cut-off (Hz) of the zero-phase filter of the offline processing
     /// (default: 30 Hz, or 10× the top frequency of a multi-sine excitation
-    /// when that is lower, at least 5 Hz).
+    /// when that is lower, at least 5 Hz; 30 Hz for a sampled trajectory).
     pub cutoff_hz: f64,
     /// Seconds simulated and processed before and after the data and then
     /// dropped, as an offline pipeline drops its filter's edges (default
@@ -96,9 +98,7 @@ impl SimConfig {
     /// 0.5 s edges, the description's excitation.
     pub fn for_robot(robot: &RobotDescription, seconds: f64, effects: Effects, seed: u64) -> Self {
         let trajectory = Trajectory::for_excitation(&robot.excitation, &robot.model, seed);
-        let cutoff_hz = trajectory
-            .top_hz()
-            .map_or(30.0, |f| (10.0 * f).clamp(5.0, 30.0));
+        let cutoff_hz = default_cutoff(&trajectory);
         Self {
             robot: robot.source.clone(),
             sidecar: None,
@@ -115,6 +115,39 @@ impl SimConfig {
             seed,
             processed: true,
         }
+    }
+
+    /// Drives the simulation along `trajectory` instead, with the cut-off
+    /// default for it (30 Hz, or 10× a multi-sine's top frequency when that
+    /// is lower, at least 5 Hz; 30 Hz for samples).
+    pub fn with_trajectory(mut self, trajectory: Trajectory) -> Self {
+        self.cutoff_hz = default_cutoff(&trajectory);
+        self.trajectory = trajectory;
+        self
+    }
+
+    /// Where the simulation's time 0 is on the trajectory's clock when it
+    /// is needed from `before` s before time 0 to `after` s after (0 but
+    /// for samples that do not wrap:
+    /// [`super::sampled::SampledTrajectory::start_for`]).
+    fn trajectory_start(&self, before: f64, after: f64) -> Result<f64, SimError> {
+        match &self.trajectory {
+            Trajectory::Sampled(s) => s.start_for(before, after),
+            _ => Ok(0.0),
+        }
+    }
+
+    /// The seconds of trajectory simulated before the data's time 0 (the
+    /// dropped edge, when processed) and from it (the data and the edge
+    /// after them; the last sample is one step before the end).
+    fn time_around(&self, samples: usize) -> (f64, f64) {
+        let edge = if self.processed {
+            self.edge_samples()
+        } else {
+            0
+        };
+        let dt = 1.0 / self.rate_hz;
+        (edge as f64 * dt, (samples + edge - 1) as f64 * dt)
     }
 
     /// Joint `j`'s position resolution (rad or m; 0: exact) and where its
@@ -166,6 +199,8 @@ impl SimConfig {
                 requirement: "the leg shell drives the built-in leg's foot through its inverse kinematics; this model does not have that leg's joints",
             });
         }
+        let (before, after) = self.time_around(samples);
+        self.trajectory_start(before, after)?;
         Ok(samples)
     }
 
@@ -271,15 +306,17 @@ struct States {
     delayed: [Samples; 3],
 }
 
+/// The states at the samples `first..first + samples` (times k / rate),
+/// the trajectory read at `start` s on its own clock at time 0.
 fn sample_states(
     model: &Model,
     cfg: &SimConfig,
     (first, samples): (isize, usize),
-    delay: f64,
+    (delay, start): (f64, f64),
     progress: &mut impl FnMut(usize, usize),
 ) -> Result<States, SimError> {
     let dt = 1.0 / cfg.rate_hz;
-    let state = |t: f64| cfg.trajectory.state(t).ok_or(SimError::Workspace { t });
+    let state = |t: f64| (cfg.trajectory.state(start + t)).ok_or(SimError::Workspace { t });
     let rows = || Samples::with_capacity(model.dof(), samples);
     let mut s = States {
         t: Vec::with_capacity(samples),
@@ -325,7 +362,7 @@ fn sample_states(
 fn add_compliance(
     robot: &TrueRobot,
     cfg: &SimConfig,
-    s: &States,
+    (s, start): (&States, f64),
     tau: &mut Samples,
 ) -> Result<(), SimError> {
     let Some(c) = robot.compliance() else {
@@ -335,7 +372,7 @@ fn add_compliance(
     let nj = links.dof();
     let [qs, qds, qdds] = &s.delayed;
     let rigid = predict_torques(&links, &Friction::zeros(nj), qs, qds, qdds)?;
-    let times: Vec<f64> = s.t.iter().map(|t| t - robot.delay()).collect();
+    let times: Vec<f64> = s.t.iter().map(|t| start + t - robot.delay()).collect();
     let link_side = super::compliance::simulate_link_side(&links, &cfg.trajectory, &times, &c)?;
     let gain = robot.gain();
     for (k, row) in tau.iter_mut().enumerate() {
@@ -405,10 +442,11 @@ pub fn simulate_with(
     }
     let edge = if cfg.processed { cfg.edge_samples() } else { 0 };
     let span = (-(edge as isize), samples + 2 * edge);
-    let states = sample_states(model, cfg, span, truth.delay(), &mut progress)?;
+    let start = trajectory_start(cfg, truth, samples)?;
+    let states = sample_states(model, cfg, span, (truth.delay(), start), &mut progress)?;
     let [qs, qds, qdds] = &states.delayed;
     let mut tau = truth.torques_at(&states.t, qs, qds, qdds)?;
-    add_compliance(truth, cfg, &states, &mut tau)?;
+    add_compliance(truth, cfg, (&states, start), &mut tau)?;
     add_noise(cfg, &mut tau);
     let [q, qd, qdd] = states.exact;
     let mut d = Dataset {
@@ -430,6 +468,27 @@ pub fn simulate_with(
     // the total counts the dropped edges too
     progress(span.1, span.1);
     Ok(d)
+}
+
+/// Where the data's time 0 is on the trajectory's clock: the trajectory is
+/// needed from the dropped edge before it, less the delay and the compliant
+/// link side's pre-roll, to the edge after the data.
+fn trajectory_start(cfg: &SimConfig, truth: &TrueRobot, samples: usize) -> Result<f64, SimError> {
+    let (mut before, mut after) = cfg.time_around(samples);
+    let delay = truth.delay();
+    before += delay.max(0.0);
+    after += (-delay).max(0.0);
+    if truth.compliance().is_some() {
+        before += super::compliance::PRE_ROLL_S;
+    }
+    cfg.trajectory_start(before, after)
+}
+
+/// The default cut-off of the offline filter for `trajectory` (Hz).
+fn default_cutoff(trajectory: &Trajectory) -> f64 {
+    trajectory
+        .top_hz()
+        .map_or(30.0, |f| (10.0 * f).clamp(5.0, 30.0))
 }
 
 /// The data must be readable back: every value finite and within the CSV

@@ -3,7 +3,10 @@
 //! multi-sine (Fourier series) per joint for any robot; a robot
 //! description's [`Excitation`] says which. Both give exact q(t); q̇ and q̈ come from 4th-order central
 //! differences of it with a 0.1 ms step (error far below any noise level).
+//! A third kind, [`SampledTrajectory`], is samples of (q, q̇, q̈) read from a
+//! file and interpolated.
 
+pub use super::sampled::SampledTrajectory;
 use crate::dynamics::Model;
 pub use crate::dynamics::leg_kinematics::{Shell, cheetah_ik};
 use crate::dynamics::sidecar::{Excitation, MultiSine};
@@ -27,6 +30,9 @@ pub enum Trajectory {
         /// Cosine coefficients.
         b: Vec<Vec<f64>>,
     },
+    /// Samples of (q, q̇, q̈) interpolated (a trajectory file); t is the
+    /// time since its first sample.
+    Sampled(SampledTrajectory),
 }
 
 impl Trajectory {
@@ -86,6 +92,7 @@ impl Trajectory {
         match self {
             Trajectory::Shell(_) => 3,
             Trajectory::Fourier { offset, .. } => offset.len(),
+            Trajectory::Sampled(s) => s.joints(),
         }
     }
 
@@ -93,6 +100,7 @@ impl Trajectory {
     pub fn q(&self, t: f64) -> Option<Vec<f64>> {
         match self {
             Trajectory::Shell(s) => cheetah_ik(&s.foot(t)).map(|q| q.to_vec()),
+            Trajectory::Sampled(s) => s.state(t).map(|(q, _, _)| q),
             Trajectory::Fourier {
                 omega,
                 offset,
@@ -118,19 +126,24 @@ impl Trajectory {
         }
     }
 
-    /// The top frequency (Hz) of a multi-sine; `None` for the shell.
+    /// The top frequency (Hz) of a multi-sine; `None` for the shell and
+    /// samples (not estimated: the default cut-off is then 30 Hz).
     pub fn top_hz(&self) -> Option<f64> {
         match self {
             Trajectory::Fourier { omega, a, .. } => {
                 let harmonics = a.iter().map(Vec::len).max().unwrap_or(0);
                 Some(omega.abs() * harmonics as f64 / (2.0 * std::f64::consts::PI))
             }
-            Trajectory::Shell(_) => None,
+            Trajectory::Shell(_) | Trajectory::Sampled(_) => None,
         }
     }
 
-    /// (q, q̇, q̈) at t by 4th-order central differences of q.
+    /// (q, q̇, q̈) at t by 4th-order central differences of q (samples: their
+    /// interpolant's, [`SampledTrajectory::state`]).
     pub fn state(&self, t: f64) -> Option<(Vec<f64>, Vec<f64>, Vec<f64>)> {
+        if let Trajectory::Sampled(s) = self {
+            return s.state(t);
+        }
         let h = 1e-4;
         let qs: Vec<Vec<f64>> = [-2.0, -1.0, 0.0, 1.0, 2.0]
             .iter()

@@ -1,9 +1,10 @@
 //! `momentlmi simulate --robot MODEL --seconds S --effects a,b --out FILE.csv
-//! [--seed N] [--noise SIGMA] [--effect-param NAME=VALUE …]`.
+//! [--trajectory FILE.csv] [--seed N] [--noise SIGMA] [--effect-param NAME=VALUE …]`.
 
 use momentlmi::data::{Staged, record_path, stage_with_record};
 use momentlmi::effects::Library;
-use momentlmi::sim::{Effects, SimConfig, simulate_with};
+use momentlmi::sim::trajectory::Trajectory;
+use momentlmi::sim::{Effects, SampledTrajectory, SimConfig, SimError, simulate_with};
 use std::path::Path;
 
 /// Arguments of `simulate`.
@@ -16,6 +17,8 @@ pub struct SimulateArgs<'a> {
     pub package_paths: &'a [std::path::PathBuf],
     /// Duration (s).
     pub seconds: f64,
+    /// A trajectory file to drive the robot along (default: its excitation).
+    pub trajectory: Option<&'a Path>,
     /// Effects, by name.
     pub effects: &'a [String],
     /// NAME=VALUE overrides.
@@ -45,7 +48,7 @@ pub fn run(a: &SimulateArgs) -> i32 {
 
 /// The outputs (the CSV and its record), refused early if either is an input.
 fn staged_outputs(a: &SimulateArgs) -> Result<Staged, String> {
-    let files: Vec<&Path> = a.sidecar.into_iter().collect();
+    let files: Vec<&Path> = a.sidecar.into_iter().chain(a.trajectory).collect();
     let staged = Staged::protecting(super::input_files(&files, &[a.robot]));
     for p in [a.out, &record_path(a.out)] {
         staged.claim(p).map_err(|e| e.to_string())?;
@@ -53,14 +56,27 @@ fn staged_outputs(a: &SimulateArgs) -> Result<Staged, String> {
     Ok(staged)
 }
 
-fn run_inner(a: &SimulateArgs) -> Result<(), String> {
-    let mut staged = staged_outputs(a)?;
-    let robot = super::load_robot(a.robot, a.sidecar, a.package_paths)?;
-    let library = Library::builtin();
-    let effects =
-        Effects::parse(&a.effects.join(","), a.effect_params).map_err(|e| e.to_string())?;
-    library.check(&effects).map_err(|e| e.to_string())?;
-    let mut cfg = SimConfig::for_robot(&robot, a.seconds, effects, a.seed);
+/// A simulation's error; one of the trajectory file's says it is that file.
+fn sim_error(e: SimError) -> String {
+    match e {
+        SimError::TrajectoryFile { .. } | SimError::Data(_) => format!("--trajectory: {e}"),
+        e => e.to_string(),
+    }
+}
+
+/// The configuration the arguments ask for, checked (with its number of
+/// samples).
+fn sim_config(
+    a: &SimulateArgs,
+    robot: &momentlmi::dynamics::RobotDescription,
+    effects: Effects,
+) -> Result<(SimConfig, usize), String> {
+    let mut cfg = SimConfig::for_robot(robot, a.seconds, effects, a.seed);
+    if let Some(path) = a.trajectory {
+        let sampled =
+            SampledTrajectory::read(path, &robot.model.joint_names()).map_err(sim_error)?;
+        cfg = cfg.with_trajectory(Trajectory::Sampled(sampled));
+    }
     cfg.sidecar = a.sidecar.map(|p| p.display().to_string());
     if let Some(s) = a.noise {
         cfg.noise_sigma = s;
@@ -75,7 +91,34 @@ fn run_inner(a: &SimulateArgs) -> Result<(), String> {
     if let Some(b) = a.link_encoder_bits {
         cfg.link_encoder_bits = Some(b);
     }
-    let samples = cfg.validate(&robot.model).map_err(|e| e.to_string())?;
+    let samples = cfg.validate(&robot.model).map_err(sim_error)?;
+    if let Trajectory::Sampled(s) = &cfg.trajectory {
+        eprintln!(
+            "note: --trajectory {}: {} samples at {} Hz, {}",
+            s.source,
+            s.samples,
+            (s.rate_hz * 1e6).round() / 1e6,
+            if s.wraps {
+                "periodic (repeats)".to_string()
+            } else {
+                format!(
+                    "not periodic: the data start {} s after its first sample (more with a delay or compliance)",
+                    if cfg.processed { cfg.edge_seconds } else { 0.0 }
+                )
+            }
+        );
+    }
+    Ok((cfg, samples))
+}
+
+fn run_inner(a: &SimulateArgs) -> Result<(), String> {
+    let mut staged = staged_outputs(a)?;
+    let robot = super::load_robot(a.robot, a.sidecar, a.package_paths)?;
+    let library = Library::builtin();
+    let effects =
+        Effects::parse(&a.effects.join(","), a.effect_params).map_err(|e| e.to_string())?;
+    library.check(&effects).map_err(|e| e.to_string())?;
+    let (cfg, samples) = sim_config(a, &robot, effects)?;
     super::warn_robot(&robot);
     let truth = library
         .true_robot(&robot, &cfg.effects)
@@ -92,7 +135,7 @@ fn run_inner(a: &SimulateArgs) -> Result<(), String> {
         bar.set_length(total as u64);
         bar.set_position(done as u64)
     })
-    .map_err(|e| e.to_string())?;
+    .map_err(sim_error)?;
     bar.finish_and_clear();
     // the record states what the robot description filled in
     let magnitudes = library
