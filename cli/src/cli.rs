@@ -256,7 +256,7 @@ enum Command {
         #[command(flatten)]
         robot: RobotArgs,
         /// Length (s): a whole number of periods.
-        #[arg(long, default_value_t = 10.0)]
+        #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
         seconds: f64,
         /// What is maximised: d (log det of the information), e (its smallest eigenvalue) or
         /// cond (minus the log of its condition number).

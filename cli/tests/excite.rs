@@ -1,0 +1,116 @@
+//! `momentlmi excite`: its file, read back, keeps every limit its report
+//! states, and `simulate --trajectory` replays it; bad settings exit 2 with
+//! the setting named and nothing written.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_momentlmi"))
+}
+
+fn dir() -> PathBuf {
+    let d = std::env::temp_dir().join(format!("momentlmi-cli-excite-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+#[test]
+fn the_written_file_keeps_the_limits_and_simulate_replays_it() {
+    let d = dir();
+    let out = d.join("ex.csv");
+    let r = bin()
+        .args([
+            "excite",
+            "--robot",
+            "cheetah3-leg",
+            "--seconds",
+            "4",
+            "--seeds",
+            "2",
+            "--rate",
+            "500",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("ex.json")).unwrap()).unwrap();
+    let limits = report["limits"].as_array().unwrap();
+    let text = std::fs::read_to_string(&out).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let mut rows = 0;
+    for line in lines {
+        let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        for (j, l) in limits.iter().enumerate() {
+            let name = l["joint"].as_str().unwrap();
+            let col = |p: &str| {
+                header
+                    .iter()
+                    .position(|h| *h == format!("{p}_{name}"))
+                    .unwrap()
+            };
+            let (lo, hi) = (
+                l["position"][0].as_f64().unwrap(),
+                l["position"][1].as_f64().unwrap(),
+            );
+            let q = v[col("q")];
+            assert!(
+                lo <= q && q <= hi,
+                "row {rows} joint {j}: {q} outside [{lo}, {hi}]"
+            );
+            assert!(
+                v[col("qd")].abs() <= l["velocity"].as_f64().unwrap(),
+                "row {rows} joint {j}"
+            );
+            assert!(
+                v[col("qdd")].abs() <= l["acceleration"].as_f64().unwrap(),
+                "row {rows} joint {j}"
+            );
+        }
+        rows += 1;
+    }
+    assert_eq!(rows, 2000);
+    let sim = d.join("sim.csv");
+    let r = bin()
+        .args([
+            "simulate",
+            "--robot",
+            "cheetah3-leg",
+            "--seconds",
+            "6",
+            "--trajectory",
+        ])
+        .arg(&out)
+        .arg("--out")
+        .arg(&sim)
+        .output()
+        .unwrap();
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    assert_eq!(std::fs::read_to_string(&sim).unwrap().lines().count(), 6001);
+}
+
+#[test]
+fn bad_settings_exit_2_naming_them() {
+    let d = dir();
+    let out = d.join("bad.csv");
+    for (args, word) in [
+        (vec!["--criterion", "x"], "--criterion"),
+        (vec!["--seconds", "-1"], "seconds"),
+        (vec!["--rate", "0"], "rate_hz"),
+    ] {
+        let r = bin()
+            .args(["excite", "--robot", "cheetah3-leg", "--seeds", "1", "--out"])
+            .arg(&out)
+            .args(&args)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert_eq!(r.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(word), "{args:?}: {err}");
+        assert!(!out.exists(), "{args:?} wrote a file");
+    }
+}
