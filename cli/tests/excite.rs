@@ -114,3 +114,58 @@ fn bad_settings_exit_2_naming_them() {
         assert!(!out.exists(), "{args:?} wrote a file");
     }
 }
+
+/// The route: `identify --friction none --json` on the Panda (the
+/// sidecar locks the fingers) reports 44 base parameters of 70 columns, the
+/// count a rank on random states gives (tests/identifiability.rs) and
+/// Pinocchio's regressor gives too.
+#[test]
+fn the_panda_identified_by_the_command_reports_44_base_parameters() {
+    let d = dir();
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../robots/panda");
+    let (urdf, sidecar) = (root.join("panda.urdf"), root.join("panda.toml"));
+    let data = d.join("panda3.csv");
+    let sim = bin()
+        .arg("simulate")
+        .arg("--robot")
+        .arg(&urdf)
+        .arg("--sidecar")
+        .arg(&sidecar)
+        .args(["--seconds", "3", "--out"])
+        .arg(&data)
+        .output()
+        .unwrap();
+    assert!(
+        sim.status.success(),
+        "{}",
+        String::from_utf8_lossy(&sim.stderr)
+    );
+    let r = bin()
+        .arg("identify")
+        .arg("--robot")
+        .arg(&urdf)
+        .arg("--sidecar")
+        .arg(&sidecar)
+        .arg("--data")
+        .arg(&data)
+        .args(["--friction", "none", "--json"])
+        .output()
+        .unwrap();
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&r.stdout).unwrap();
+    let id = &v["identifiability"];
+    assert_eq!(
+        (id["rank"].as_u64(), id["columns"].as_u64()),
+        (Some(44), Some(70))
+    );
+    assert_eq!(id["base_parameters"].as_array().unwrap().len(), 44);
+    // one summary line on stderr, not one per unexcited direction
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert_eq!(
+        err.lines()
+            .filter(|l| l.contains("parameter directions"))
+            .count(),
+        1,
+        "{err}"
+    );
+}
