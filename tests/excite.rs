@@ -99,3 +99,42 @@ fn bad_settings_are_named() {
             .contains("rate_hz")
     );
 }
+
+#[test]
+fn the_sidecars_rate_limits_are_kept_and_bad_ones_named() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/panda");
+    let text = std::fs::read_to_string(dir.join("panda.toml")).unwrap();
+    let tmp = std::env::temp_dir().join(format!("momentlmi-excite-{}", std::process::id()));
+    std::fs::create_dir_all(&tmp).unwrap();
+    let with = |extra: &str| {
+        let side = tmp.join("panda.toml");
+        let t = text.replacen(
+            "name = \"panda_joint2\"\n",
+            &format!("name = \"panda_joint2\"\n{extra}\n"),
+            1,
+        );
+        assert_ne!(t, text, "the sidecar has no panda_joint2 entry");
+        std::fs::write(&side, t).unwrap();
+        // the sidecar's mapping and meshes are found beside the URDF
+        load_robot(dir.join("panda.urdf").to_str().unwrap(), Some(&side))
+    };
+    let arm = with("max_velocity = 0.5\nmax_acceleration = 1.5\nmax_effort = 1.0").unwrap();
+    let d = design(&arm, &quick(5.0, 0)).unwrap();
+    let l = &d.limits[1];
+    assert_eq!((l.velocity, l.acceleration), (0.5, 1.5));
+    assert_eq!(
+        (l.velocity_from, l.acceleration_from),
+        ("description", "description")
+    );
+    // gravity alone needs more than 1 N·m at the shoulder
+    assert!(d.torque_margins[1].unwrap() < 0.0, "{:?}", d.torque_margins);
+    let data = samples(&d, 500.0).unwrap();
+    assert!(
+        data.qd.iter().all(|r| r[1].abs() <= 0.5) && data.qdd.iter().all(|r| r[1].abs() <= 1.5)
+    );
+    let e = with("max_velocity = -1").unwrap_err().to_string();
+    assert!(
+        e.contains("panda_joint2") && e.contains("max_velocity"),
+        "{e}"
+    );
+}

@@ -57,6 +57,8 @@ pub struct RobotDescription {
     /// The default column mapping of its logs (the sidecar's `[data]
     /// mapping`, resolved against the sidecar's folder).
     pub data_mapping: Option<PathBuf>,
+    /// Per joint, its rate and effort limits ([`Self::rates`]).
+    pub(super) rates: Vec<super::rates::JointRates>,
 }
 
 /// Known facts for the identification: per-body levels (as named in the
@@ -154,6 +156,7 @@ impl RobotDescription {
             return Err(err(format!("[effects]: '{k}' = {v} is not finite")));
         }
         let identification = identification_facts(&model, sidecar, &bodies, &err)?;
+        let rates = super::rates::joint_rates(&model, sidecar, urdf, &err)?;
         Ok(Self {
             source: source.to_string(),
             sidecar: None,
@@ -166,7 +169,14 @@ impl RobotDescription {
             identification,
             warnings,
             data_mapping: None,
+            rates,
         })
+    }
+
+    /// Joint `j`'s rate and effort limits: the sidecar's, else the URDF's
+    /// (all `None` past the last joint).
+    pub fn rates(&self, j: usize) -> super::rates::JointRates {
+        self.rates.get(j).copied().unwrap_or_default()
     }
 
     /// Bounds, from the URDF's geometry, every link body the sidecar gives

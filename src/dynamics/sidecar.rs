@@ -7,7 +7,7 @@
 //! - the robot description ([`super::RobotDescription`]), read the same way
 //!   for a URDF robot and for the built-in leg (whose own sidecar is
 //!   `src/dynamics/cheetah3-leg.toml`): `[tool]`, `[[joint]]` (nominal
-//!   friction, limits), `[[body]]` (CAD prior, bounding ellipsoids, an
+//!   friction, limits, rate and effort limits), `[[body]]` (CAD prior, bounding ellipsoids, an
 //!   identification level), `[excitation]`, `[effects]` (default effect
 //!   magnitudes), `[identify]` (known total mass, bodies forced equal, the
 //!   masses' extra weight toward the prior).
@@ -137,6 +137,12 @@ pub struct SidecarJoint {
     /// bound the default excitation.
     #[serde(default, deserialize_with = "exact::opt")]
     pub limits: Option<[f64; 2]>,
+    /// Largest |q̇| (rad/s or m/s), replacing the URDF's `<limit velocity>`.
+    pub max_velocity: Option<f64>,
+    /// Largest |q̈| (rad/s² or m/s²); a URDF has none.
+    pub max_acceleration: Option<f64>,
+    /// Largest |τ| (N·m or N), replacing the URDF's `<limit effort>`.
+    pub max_effort: Option<f64>,
 }
 
 /// One body's facts (a link by its URDF link name, or a rotor by its name).

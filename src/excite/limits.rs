@@ -1,6 +1,7 @@
 //! The limits a designed trajectory keeps: each joint's position range
-//! (the model's, less a margin), its velocity limit (the URDF's
-//! `<limit velocity>`, where given) and, where none is given, the peaks of
+//! (the model's, less a margin), its velocity and acceleration limits (the
+//! description's: the sidecar's `max_velocity`, `max_acceleration`, else
+//! the URDF's `<limit velocity>`) and, where none is given, the peaks of
 //! the robot's default excitation — so that a designed motion is never
 //! more violent than the one the robot is simulated with by default.
 
@@ -22,8 +23,13 @@ pub struct JointLimits {
     pub velocity: f64,
     /// Largest |q̈| (rad/s² or m/s²).
     pub acceleration: f64,
-    /// Where the velocity limit comes from: `urdf` or `default excitation`.
+    /// Where the velocity limit comes from: `description` (the sidecar's
+    /// `max_velocity`, else the URDF's `<limit velocity>`) or `default
+    /// excitation`.
     pub velocity_from: &'static str,
+    /// Where the acceleration limit comes from: `description` (the
+    /// sidecar's `max_acceleration`) or `default excitation`.
+    pub acceleration_from: &'static str,
     /// The URDF's effort limit (N·m or N), where given: checked, not
     /// enforced ([`super::Designed::torque_margins`]).
     pub effort: Option<f64>,
@@ -50,28 +56,19 @@ fn default_peaks(robot: &RobotDescription, seconds: f64) -> Vec<[f64; 4]> {
     peaks
 }
 
-/// The URDF's velocity and effort limits by joint name (none for a
-/// built-in robot or a joint without one; 0 or absent: not given).
-fn urdf_limits(robot: &RobotDescription) -> Vec<(String, Option<f64>, Option<f64>)> {
-    let path = std::path::Path::new(&robot.source);
-    let Ok((_, urdf)) = crate::urdf::read_file(path) else {
-        return vec![];
-    };
-    let given = |v: f64| (v > 0.0 && v.is_finite()).then_some(v);
-    (urdf.joints.iter())
-        .filter_map(|j| {
-            j.limit
-                .map(|l| (j.name.clone(), given(l.velocity), given(l.effort)))
-        })
-        .collect()
-}
-
 /// Every joint's limits for `robot`.
 pub fn joint_limits(robot: &RobotDescription) -> Vec<JointLimits> {
     let peaks = default_peaks(robot, 20.0);
-    let urdf = urdf_limits(robot);
+    let source = |v: Option<f64>| {
+        if v.is_some() {
+            "description"
+        } else {
+            "default excitation"
+        }
+    };
     (robot.model.joints.iter().zip(peaks))
-        .map(|(j, p)| {
+        .enumerate()
+        .map(|(k, (j, p))| {
             let (lo, hi) = j.limits;
             let position = if lo.is_finite() && hi.is_finite() {
                 let m = POSITION_MARGIN * (hi - lo);
@@ -79,19 +76,15 @@ pub fn joint_limits(robot: &RobotDescription) -> Vec<JointLimits> {
             } else {
                 (p[0], p[1])
             };
-            let own = urdf.iter().find(|(n, ..)| *n == j.name);
-            let from_urdf = own.and_then(|u| u.1);
+            let rates = robot.rates(k);
             JointLimits {
                 joint: j.name.clone(),
                 position,
-                velocity: from_urdf.unwrap_or(p[2]),
-                acceleration: p[3],
-                velocity_from: if from_urdf.is_some() {
-                    "urdf"
-                } else {
-                    "default excitation"
-                },
-                effort: own.and_then(|u| u.2),
+                velocity: rates.velocity.unwrap_or(p[2]),
+                acceleration: rates.acceleration.unwrap_or(p[3]),
+                velocity_from: source(rates.velocity),
+                acceleration_from: source(rates.acceleration),
+                effort: rates.effort,
             }
         })
         .collect()

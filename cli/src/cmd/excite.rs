@@ -89,7 +89,7 @@ fn print_report(d: &Designed, out: Option<&Path>) {
     );
     for (l, m) in d.limits.iter().zip(&d.margins) {
         println!(
-            "{:<16} [{:>9.4}, {:>9.4}] {:>14.4} {:>14.4}   {:.1} %, {:.1} %, {:.1} % (velocity limit from the {})",
+            "{:<16} [{:>9.4}, {:>9.4}] {:>14.4} {:>14.4}   {:.1} %, {:.1} %, {:.1} % (velocity limit from the {}, acceleration from the {})",
             l.joint,
             l.position.0,
             l.position.1,
@@ -98,7 +98,8 @@ fn print_report(d: &Designed, out: Option<&Path>) {
             100.0 * m[0],
             100.0 * m[1],
             100.0 * m[2],
-            l.velocity_from
+            l.velocity_from,
+            l.acceleration_from
         );
     }
     for (l, m) in d.limits.iter().zip(&d.torque_margins) {
