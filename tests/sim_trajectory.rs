@@ -422,3 +422,45 @@ fn bad_files_are_named_errors() {
         other => panic!("{other:?}"),
     }
 }
+
+/// One period at `rate` Hz with 9 significant digits, the last row's first
+/// joint's q moved by `jump` rad.
+fn rounded_period(rate: f64, jump: f64) -> String {
+    let (tr, period) = leg_fourier();
+    let names = leg_joints();
+    let rows = (period * rate).round() as usize;
+    let mut s = String::from("t");
+    for p in ["q", "qd", "qdd"] {
+        for j in &names {
+            s += &format!(",{p}_{j}");
+        }
+    }
+    s += "\n";
+    for k in 0..rows {
+        let t = k as f64 / rate;
+        let mut x = exact(&tr, t);
+        if k + 1 == rows {
+            x[0][0] += jump;
+        }
+        s += &format!("{t}");
+        for q in &x {
+            for v in q {
+                s += &format!(",{v:.8e}");
+            }
+        }
+        s += "\n";
+    }
+    s
+}
+
+#[test]
+fn rounding_in_the_digits_wraps_and_a_jump_does_not() {
+    // 9 digits at 1 kHz: the extrapolated q̈ was off by ~0.4 rad/s² and the
+    // file was called not periodic
+    let p = write("rounded.csv", &rounded_period(1000.0, 0.0));
+    assert!(read(&p).unwrap().wraps, "a period written with 9 digits does not wrap");
+    // a last sample 2.5 mrad off (0.8 % of the range): the wrap would carry
+    // a q̈ of ~1.5e4 rad/s²
+    let p = write("jump.csv", &rounded_period(1000.0, 2.5e-3));
+    assert!(!read(&p).unwrap().wraps, "a jump of 2.5 mrad wraps");
+}

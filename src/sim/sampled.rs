@@ -16,10 +16,9 @@
 //! so q(t) = p(s), q̇ = p′(s)/h, q̈ = p″(s)/h² (consistent with each other,
 //! continuous to q̈ across samples, exact for quintics).
 //!
-//! **Periodic** motion (the last sample continues into the first one step
-//! later: the last interval's quintic, extrapolated one step, gives the
-//! first sample's q, q̇, q̈ within [`PERIODIC_TOLERANCE`] of each quantity's
-//! scale) has period N·h for N samples, and time wraps modulo it (a last
+//! **Periodic** motion (the last sample leads into the first one step later
+//! without a jump: the quintic between them stays within [`WRAP_FACTOR`] ×
+//! each joint's largest |q̇| and |q̈|) has period N·h for N samples, and time wraps modulo it (a last
 //! sample that repeats the first, t = 0 … T inclusive, is dropped and the
 //! rest is checked so).
 //! Otherwise the trajectory exists only on [t₀, t_{N−1}]: the simulation
@@ -35,10 +34,15 @@ use std::path::Path;
 pub const UNIFORM_TOLERANCE: f64 = 0.01;
 
 /// How close (a fraction of each quantity's scale: the largest deviation of
-/// any joint's q, q̇ or q̈ from that joint's mean) the last sample's
-/// continuation one step on must come to the first sample for the motion
-/// to count as periodic.
+/// any joint's q, q̇ or q̈ from that joint's mean) a last sample must come
+/// to the first to be taken as its repeat (a file from t = 0 to T
+/// inclusive).
 pub const PERIODIC_TOLERANCE: f64 = 1e-2;
+
+/// The wrap from the last sample to the first may reach this multiple of a
+/// joint's largest |q̇| and |q̈| in the file, no more
+/// (`continues_into_first`).
+pub const WRAP_FACTOR: f64 = 1.5;
 
 /// (q, q̇, q̈) of every joint at a uniform rate; [`Self::state`] interpolates.
 ///
@@ -229,12 +233,21 @@ impl SampledTrajectory {
         (q, qd, qdd)
     }
 
-    /// Whether the last interval's quintic, one step past the last sample,
-    /// gives the first sample (q, q̇, q̈ each within [`PERIODIC_TOLERANCE`]
-    /// of its scale).
+    /// Whether the last sample leads into the first one step later without
+    /// a jump: on the wrap interval's quintic (from the last sample's q, q̇,
+    /// q̈ to the first's) no joint's |q̇| or |q̈| passes [`WRAP_FACTOR`] ×
+    /// that joint's largest in the file. A jump of δ in q makes |q̈| ≈ 6δ/h²
+    /// there; rounding in the written digits does not.
     fn continues_into_first(&self) -> bool {
         let n = self.q.len();
-        self.near_first(self.hermite(n - 2, n - 1, 2.0))
+        let peak = |s: &Samples, j: usize| s.iter().map(|r| r[j].abs()).fold(0.0, f64::max);
+        let limits: Vec<(f64, f64)> = (0..self.joints())
+            .map(|j| (WRAP_FACTOR * peak(&self.qd, j) + 1e-9, WRAP_FACTOR * peak(&self.qdd, j) + 1e-9))
+            .collect();
+        (0..=16).all(|i| {
+            let (_, qd, qdd) = self.hermite(n - 1, 0, i as f64 / 16.0);
+            (qd.iter().zip(&qdd).zip(&limits)).all(|((v, a), (lv, la))| v.abs() <= *lv && a.abs() <= *la)
+        })
     }
 
     /// Whether the last sample is the first again (a file from t = 0 to T
