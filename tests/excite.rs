@@ -138,3 +138,45 @@ fn the_sidecars_rate_limits_are_kept_and_bad_ones_named() {
         "{e}"
     );
 }
+
+/// A one-joint arm whose position range binds (its velocity limit is
+/// generous): the peak between grid points must not pass the limit.
+#[test]
+fn a_binding_position_limit_is_kept_between_grid_points() {
+    let tmp = std::env::temp_dir().join(format!("momentlmi-excite-one-{}", std::process::id()));
+    std::fs::create_dir_all(&tmp).unwrap();
+    let urdf = tmp.join("one.urdf");
+    std::fs::write(
+        &urdf,
+        r#"<robot name="one"><link name="base"/>
+<link name="arm"><inertial><origin xyz="0.2 0 0"/><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.02"/></inertial></link>
+<joint name="j1" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" velocity="20" effort="10"/></joint></robot>"#,
+    )
+    .unwrap();
+    let arm = load_robot(urdf.to_str().unwrap(), None).unwrap();
+    for seed in 1..4 {
+        // a slow motion: neither its speed nor its acceleration binds
+        let slow = ExciteOptions {
+            seed,
+            base_hz: 0.05,
+            harmonics: 3,
+            ..quick(20.0, 0)
+        };
+        let d = design(&arm, &slow).unwrap();
+        assert!(
+            d.margins[0][0] < 0.1,
+            "the position does not bind: {:?}",
+            d.margins
+        );
+        samples(&d, 1000.0).unwrap();
+    }
+    let e = design(
+        &arm,
+        &ExciteOptions {
+            base_hz: 1e9,
+            ..quick(10.0, 0)
+        },
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("base_hz"), "{e}");
+}

@@ -458,7 +458,10 @@ fn rounding_in_the_digits_wraps_and_a_jump_does_not() {
     // 9 digits at 1 kHz: the extrapolated q̈ was off by ~0.4 rad/s² and the
     // file was called not periodic
     let p = write("rounded.csv", &rounded_period(1000.0, 0.0));
-    assert!(read(&p).unwrap().wraps, "a period written with 9 digits does not wrap");
+    assert!(
+        read(&p).unwrap().wraps,
+        "a period written with 9 digits does not wrap"
+    );
     // a last sample 2.5 mrad off (0.8 % of the range): the wrap would carry
     // a q̈ of ~1.5e4 rad/s²
     let p = write("jump.csv", &rounded_period(1000.0, 2.5e-3));

@@ -44,6 +44,15 @@ pub enum ExciteError {
         /// The limit.
         limit: f64,
     },
+    /// A motion whose information is singular: some base parameter is not
+    /// excited at all (a joint that cannot move, a rate too coarse).
+    #[error(
+        "the designed motion leaves the information of the {parameters} base parameters singular (a joint with no room to move, or settings that sample it too coarsely)"
+    )]
+    Singular {
+        /// Base parameters.
+        parameters: usize,
+    },
     /// A pool design too large to solve in memory.
     #[error(
         "the convex pool design over {parameters} base parameters would need about {gib:.1} GiB (a dense PSD block in the solver): use the E criterion (a block half the size), or no pool"

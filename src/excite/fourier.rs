@@ -8,9 +8,12 @@ use super::error::ExciteError;
 use super::limits::JointLimits;
 use crate::sim::trajectory::Trajectory;
 
-/// The fraction of the velocity and acceleration limits kept free (for the
-/// peaks between grid points).
+/// The fraction of the position range and of the velocity and acceleration
+/// limits kept free (for the peaks between grid points).
 pub const RATE_MARGIN: f64 = 0.03;
+
+/// Grid points per period and harmonic on which peaks are taken.
+pub const GRID: usize = 64;
 
 /// One joint's oscillation: sine and cosine coefficients per harmonic.
 #[derive(Clone, Debug)]
@@ -40,7 +43,7 @@ impl Coefficients {
     /// The motion scaled into `limits` and centred, as a [`Trajectory`].
     pub fn fitted(&self, limits: &[JointLimits]) -> Result<Trajectory, ExciteError> {
         let h = self.ab.first().map_or(0, |v| v.len() / 2);
-        let grid = 64 * h.max(1);
+        let grid = GRID * h.max(1);
         let period = 2.0 * std::f64::consts::PI / self.omega;
         let (mut offset, mut a, mut b) = (vec![], vec![], vec![]);
         for (ab, lim) in self.ab.iter().zip(limits) {
@@ -68,7 +71,7 @@ impl Coefficients {
             };
             let s = [
                 1.0,
-                ratio(room, hi - lo),
+                ratio(keep * room, hi - lo),
                 ratio(keep * lim.velocity, v),
                 ratio(keep * lim.acceleration, acc),
             ]

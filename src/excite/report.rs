@@ -126,6 +126,9 @@ fn search(
         for j in 0..x.ab.len() {
             for i in 0..x.ab[j].len() {
                 for sign in [1.0, -1.0] {
+                    if evals >= opts.evaluations {
+                        return Ok((best, x, first));
+                    }
                     let mut y = x.clone();
                     y.ab[j][i] += sign * step;
                     let v = eval(&y)?;
@@ -147,13 +150,20 @@ fn search(
 /// The base frequency: `base_hz` rounded so that `seconds` holds a whole
 /// number (≥ 1) of periods.
 fn omega_for(opts: &ExciteOptions) -> Result<f64, ExciteError> {
-    let ok = |v: f64| v > 0.0 && v.is_finite();
-    if !ok(opts.seconds) || !ok(opts.base_hz) || opts.harmonics == 0 || opts.seeds == 0 {
-        return Err(ExciteError::Setting {
-            setting: "seconds, base_hz, harmonics, seeds",
-            value: opts.seconds,
-            requirement: "each must be positive (and finite)",
-        });
+    let checks = [
+        ("seconds", opts.seconds, 1e6),
+        ("base_hz", opts.base_hz, 100.0),
+        ("harmonics", opts.harmonics as f64, 50.0),
+        ("seeds", opts.seeds as f64, 1e4),
+    ];
+    for (setting, value, most) in checks {
+        if !(value > 0.0 && value <= most) {
+            return Err(ExciteError::Setting {
+                setting,
+                value,
+                requirement: "must be positive and within its range (seconds ≤ 1e6, base_hz ≤ 100, harmonics ≤ 50, seeds ≤ 1e4)",
+            });
+        }
     }
     let periods = (opts.seconds * opts.base_hz).round().max(1.0);
     Ok(2.0 * std::f64::consts::PI * periods / opts.seconds)
@@ -178,8 +188,13 @@ pub fn design(robot: &RobotDescription, opts: &ExciteOptions) -> Result<Designed
         .ok_or(ExciteError::Pool { problem: "no seed" })?;
     let trajectory = coef.fitted(&limits)?;
     let f = info_of(&basis, &trajectory, opts.harmonics)?;
+    if !(value.is_finite() && score(&f, Criterion::D).is_finite()) {
+        return Err(ExciteError::Singular {
+            parameters: basis.len(),
+        });
+    }
     let pool = (opts.pool > 0)
-        .then(|| pool_bound(&basis, &limits, (&trajectory, &f), opts, omega))
+        .then(|| pool_bound(&basis, &limits, &f, opts, omega))
         .transpose()?;
     Ok(Designed {
         robot: robot.source.clone(),
@@ -209,7 +224,7 @@ pub fn design(robot: &RobotDescription, opts: &ExciteOptions) -> Result<Designed
 fn pool_bound(
     basis: &InfoBasis,
     limits: &[JointLimits],
-    (designed, f): (&Trajectory, &Mat<f64>),
+    f: &Mat<f64>,
     opts: &ExciteOptions,
     omega: f64,
 ) -> Result<PoolReport, ExciteError> {
@@ -221,7 +236,6 @@ fn pool_bound(
             info_of(basis, &c.fitted(limits)?, opts.harmonics)
         })
         .collect::<Result<_, ExciteError>>()?;
-    let _ = designed;
     pool.push(f.clone());
     let convex = if opts.criterion == Criterion::D {
         Criterion::D
@@ -248,7 +262,7 @@ fn pool_bound(
 /// acceleration limits over one period at 64 points per harmonic.
 fn margins(traj: &Trajectory, limits: &[JointLimits], omega: f64) -> Vec<[f64; 3]> {
     let period = 2.0 * std::f64::consts::PI / omega;
-    let steps = 64
+    let steps = super::fourier::GRID
         * traj
             .top_hz()
             .map_or(1, |f| (f * period).round().max(1.0) as usize);
@@ -280,7 +294,7 @@ fn torque_margins(
         return Ok(vec![None; limits.len()]);
     }
     let period = 2.0 * std::f64::consts::PI / omega;
-    let steps = 64
+    let steps = super::fourier::GRID
         * traj
             .top_hz()
             .map_or(1, |f| (f * period).round().max(1.0) as usize);
@@ -312,8 +326,16 @@ pub fn samples(d: &Designed, rate_hz: f64) -> Result<Dataset, ExciteError> {
         });
     }
     let names: Vec<&str> = d.limits.iter().map(|l| l.joint.as_str()).collect();
+    let count = (d.options.seconds * rate_hz).round();
+    if count > crate::sim::simulate::MAX_SAMPLES as f64 {
+        return Err(ExciteError::Setting {
+            setting: "seconds × rate_hz (samples)",
+            value: count,
+            requirement: "must be at most 1e7 samples",
+        });
+    }
+    let count = count as usize;
     let mut out = Dataset::empty(&names);
-    let count = (d.options.seconds * rate_hz).round() as usize;
     for i in 0..count {
         let t = i as f64 / rate_hz;
         let [q, qd, qdd] = exact_state(&d.trajectory, t).ok_or(ExciteError::Pool {

@@ -242,11 +242,17 @@ impl SampledTrajectory {
         let n = self.q.len();
         let peak = |s: &Samples, j: usize| s.iter().map(|r| r[j].abs()).fold(0.0, f64::max);
         let limits: Vec<(f64, f64)> = (0..self.joints())
-            .map(|j| (WRAP_FACTOR * peak(&self.qd, j) + 1e-9, WRAP_FACTOR * peak(&self.qdd, j) + 1e-9))
+            .map(|j| {
+                (
+                    WRAP_FACTOR * peak(&self.qd, j) + 1e-9,
+                    WRAP_FACTOR * peak(&self.qdd, j) + 1e-9,
+                )
+            })
             .collect();
         (0..=16).all(|i| {
             let (_, qd, qdd) = self.hermite(n - 1, 0, i as f64 / 16.0);
-            (qd.iter().zip(&qdd).zip(&limits)).all(|((v, a), (lv, la))| v.abs() <= *lv && a.abs() <= *la)
+            (qd.iter().zip(&qdd).zip(&limits))
+                .all(|((v, a), (lv, la))| v.abs() <= *lv && a.abs() <= *la)
         })
     }
 
