@@ -116,11 +116,11 @@ fn bad_settings_exit_2_naming_them() {
 }
 
 /// The route: `identify --friction none --json` on the Panda (the
-/// sidecar locks the fingers) reports 44 base parameters of 70 columns, the
+/// sidecar locks the fingers) reports 43 base parameters of 70 columns, the
 /// count a rank on random states gives (tests/identifiability.rs) and
 /// Pinocchio's regressor gives too.
 #[test]
-fn the_panda_identified_by_the_command_reports_44_base_parameters() {
+fn the_panda_identified_by_the_command_reports_43_base_parameters() {
     let d = dir();
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../robots/panda");
     let (urdf, sidecar) = (root.join("panda.urdf"), root.join("panda.toml"));
@@ -156,9 +156,9 @@ fn the_panda_identified_by_the_command_reports_44_base_parameters() {
     let id = &v["identifiability"];
     assert_eq!(
         (id["rank"].as_u64(), id["columns"].as_u64()),
-        (Some(44), Some(70))
+        (Some(43), Some(70))
     );
-    assert_eq!(id["base_parameters"].as_array().unwrap().len(), 44);
+    assert_eq!(id["base_parameters"].as_array().unwrap().len(), 43);
     // one summary line on stderr, not one per unexcited direction
     let err = String::from_utf8_lossy(&r.stderr);
     assert_eq!(

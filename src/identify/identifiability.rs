@@ -15,9 +15,12 @@
 //!   of them (`R_d = R_b K`, `K = S_b R₁⁻¹ R₂ S_d⁻¹`), so the data see θ only
 //!   through `β = θ_b + K θ_d` (Gautier's base parameters);
 //! - **unidentifiable**: the parameters whose column is zero
-//!   (norm ≤ [`ZERO_COLUMN_TOL`] × the largest), which enter no torque;
-//! - **directions**: a basis of the null space (from the SVD), each named by
-//!   its largest components;
+//!   (norm ≤ [`ZERO_COLUMN_TOL`] × the largest: a column at rounding level
+//!   counts as zero, not scaled up), which enter no torque; the rank and
+//!   the base are taken on the other columns;
+//! - **directions**: a basis of the null space: each zero column alone,
+//!   then the other columns' null space (from the SVD), each named by its
+//!   largest components;
 //! - the base parameters' **standard deviations**: `σ̂² (R_bᵀ R_b)⁻¹` with
 //!   `σ̂² = ‖R θ − d‖² / (rows − rank)`, the unconstrained least-squares
 //!   covariance (active constraints narrow it further).
@@ -122,8 +125,22 @@ impl Identifiability {
         }
         let norms = column_norms(r);
         let nmax = norms.iter().cloned().fold(0.0, f64::max);
-        let rs = scaled(r, &norms);
-        let svd = rs.svd().map_err(|_| IdentifyError::Factorisation {
+        // a column at rounding level is no column: scaled up it would count
+        let live: Vec<usize> = (0..p)
+            .filter(|&j| norms[j] > ZERO_COLUMN_TOL * nmax)
+            .collect();
+        let norms_live: Vec<f64> = (0..p)
+            .map(|j| if live.contains(&j) { norms[j] } else { 0.0 })
+            .collect();
+        let rs = scaled(r, &norms_live);
+        let rl = Mat::from_fn(rs.nrows().max(live.len()), live.len(), |i, c| {
+            if i < rs.nrows() {
+                rs[(i, live[c])]
+            } else {
+                0.0
+            }
+        });
+        let svd = rl.svd().map_err(|_| IdentifyError::Factorisation {
             what: "SVD of the reduced regressor (identifiability)",
         })?;
         let s = svd.S().column_vector();
@@ -131,20 +148,27 @@ impl Identifiability {
         let smax = s.iter().cloned().fold(0.0, f64::max);
         let tol = RANK_TOL * smax.max(f64::MIN_POSITIVE);
         let rank = s.iter().filter(|&&v| v > tol).count();
-        let smin = s
-            .iter()
-            .cloned()
+        let smin = (s.iter().cloned())
             .filter(|&v| v > tol)
             .fold(f64::INFINITY, f64::min);
-        let directions = null_directions(svd.V(), &s, tol, names);
         let v = svd.V();
-        let null_space = (0..p)
-            .filter(|&k| k >= s.len() || s[k] <= tol)
-            .map(|k| (0..p).map(|j| v[(j, k)]).collect())
+        // the null space: each dead column alone, then the live columns' own
+        let null_space: Vec<Vec<f64>> = ((0..p).filter(|j| !live.contains(j)))
+            .map(|j| (0..p).map(|k| if k == j { 1.0 } else { 0.0 }).collect())
+            .chain((rank..live.len()).map(|k| {
+                let mut x = vec![0.0; p];
+                for (c, &j) in live.iter().enumerate() {
+                    x[j] = v[(c, k)];
+                }
+                x
+            }))
             .collect();
-        let (base_columns, combinations) = base_columns(&rs, &norms, rank)?;
-        let unidentifiable = (0..p)
-            .filter(|&j| norms[j] <= ZERO_COLUMN_TOL * nmax)
+        let directions = null_space
+            .iter()
+            .map(|x| direction_name(x, names))
+            .collect();
+        let (base_columns, combinations) = base_columns(&rs, &norms_live, rank)?;
+        let unidentifiable = ((0..p).filter(|j| !live.contains(j)))
             .map(|j| names[j].clone())
             .collect();
         let base_parameters = (base_columns.iter().zip(&combinations))
@@ -233,22 +257,15 @@ fn abbreviated(names: &[String], most: usize) -> String {
     )
 }
 
-/// The null-space columns of V (singular value ≤ tol), each named by its
-/// up to three largest components.
-fn null_directions(v: faer::MatRef<f64>, s: &[f64], tol: f64, names: &[String]) -> Vec<String> {
-    let p = v.nrows();
-    (0..p)
-        .filter(|&k| k >= s.len() || s[k] <= tol)
-        .map(|k| {
-            let mut comp: Vec<(usize, f64)> = (0..p).map(|j| (j, v[(j, k)])).collect();
-            comp.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
-            let terms: Vec<String> = (comp.iter().take(3))
-                .filter(|c| c.1.abs() > 0.05)
-                .map(|&(j, c)| format!("{c:+.2}·{}", names[j]))
-                .collect();
-            terms.join(" ")
-        })
-        .collect()
+/// A null direction named by its up to three largest components.
+fn direction_name(x: &[f64], names: &[String]) -> String {
+    let mut comp: Vec<(usize, f64)> = x.iter().copied().enumerate().collect();
+    comp.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
+    let terms: Vec<String> = (comp.iter().take(3))
+        .filter(|c| c.1.abs() > 0.05)
+        .map(|&(j, c)| format!("{c:+.2}·{}", names[j]))
+        .collect();
+    terms.join(" ")
 }
 
 /// The `rank` pivot columns of a column-pivoted QR of the scaled `rs`, and
