@@ -275,7 +275,7 @@ enum Command {
         #[arg(long, default_value_t = 1)]
         seed: u64,
         /// Random candidate motions of the convex D- or E-optimal pool design (0: none).
-        #[arg(long, default_value_t = 0)]
+        #[arg(long, default_value_t = 0, allow_negative_numbers = true)]
         pool: usize,
         /// Output CSV (t, q, qd, qdd per joint) and a JSON report beside it.
         #[arg(long)]
@@ -367,9 +367,10 @@ enum Command {
         /// Each parameter's range (minimum and maximum) over every model that satisfies the
         /// constraints and fits the data with a residual norm at most (1 + DELTA) × the
         /// estimate's: pinned by the data, by the physics, or unknown. DELTA: a number, or auto
-        /// (the default): the data's 95 % confidence region, (1 + δ)² = 1 + χ²_rank(0.95) / (rows
-        /// − rank). Two conic problems per parameter, solved in parallel.
-        #[arg(long, value_name = "DELTA", num_args = 0..=1, default_missing_value = "auto")]
+        /// (the default): each parameter's own 95 % interval, (1 + δ)² = 1 + χ²₁(0.95) / (rows −
+        /// rank). Two conic problems per parameter, solved in parallel.
+        #[arg(long, value_name = "DELTA", num_args = 0..=1, default_missing_value = "auto",
+              allow_negative_numbers = true)]
         bounds: Option<String>,
         /// The directions the data do not excite, one per line (else one summary line).
         #[arg(long)]

@@ -153,7 +153,7 @@ fn identify(
         if let Some(b) = bounds {
             let rows = red.samples * desc.model.dof();
             let delta = match b {
-                "auto" => momentlmi::identify::confidence_delta(r.identifiability.rank, rows, 0.95)
+                "auto" => momentlmi::identify::marginal_delta(r.identifiability.rank, rows, 0.95)
                     .map_err(|e| e.to_string())?,
                 x => x
                     .parse::<f64>()

@@ -39,6 +39,10 @@ const RETRY_TOLERANCES: [f64; 3] = [1e-8, 1e-7, 1e-6];
 /// norm), so that an exact fit's set is not a single point.
 pub const FLOOR: f64 = 1e-6;
 
+/// How much every box grows for the second solve: an end that moves with
+/// it is held by a box, not by the data or the physics.
+pub const BOX_GROWTH: f64 = 4.0;
+
 /// A range no wider than this fraction of the parameter's scale is pinned.
 pub const PINNED_FRACTION: f64 = 0.1;
 
@@ -102,6 +106,16 @@ impl Identification<'_> {
                 value: delta,
             });
         }
+        if self.joint_weighting != super::JointWeighting::Equal
+            || self
+                .model
+                .friction_terms()
+                .contains(&crate::dynamics::FrictionTerm::Load)
+        {
+            return Err(IdentifyError::Unsupported {
+                what: "parameter bounds with noise-weighted joints or a load friction term (the estimate comes from other rows than these data)",
+            });
+        }
         let (r, d) = red.r_d()?;
         let residual = residual_norm(&r, &d, theta);
         // a floor keeps an exact fit's set from being a single point
@@ -109,41 +123,19 @@ impl Identification<'_> {
         let radius = ((1.0 + delta) * residual).max(floor);
         let rows = red.samples * self.model.dof();
         let half = self.box_halves(theta, rms_of(&d, rows));
-        let (prob, th) = self.feasible_set((&r, &d), radius, &half)?;
+        // an end that moves when every box grows is held by a box: no end
+        let ends = self.ends((&r, &d), radius, &half)?;
+        let wide: Vec<f64> = half.iter().map(|h| h * BOX_GROWTH).collect();
+        let wider = self.ends((&r, &d), radius, &wide)?;
+        let ends: Vec<End> = (ends.into_iter().zip(wider).enumerate())
+            .map(|(i, (e, w))| match (e.0, w.0) {
+                (Some(a), Some(b)) if (a - b).abs() <= 1e-5 * half[i / 2] => e,
+                (Some(_), _) => (None, Some("unbounded (held only by the box)".into())),
+                _ => e,
+            })
+            .collect();
         let names = super::solved::parameter_names(self.model);
         let nb = self.model.num_bodies();
-        let base = &self.settings;
-        let solve = |k: usize, sense: f64| -> Result<End, IdentifyError> {
-            let mut q = prob.clone();
-            q.minimize(th[k].clone() * sense);
-            let mut note = None;
-            for (i, tol) in RETRY_TOLERANCES.iter().enumerate() {
-                let settings = (base.clone())
-                    .tol_gap_abs(*tol)
-                    .tol_gap_rel(*tol)
-                    .tol_feas(*tol);
-                let sol = q.solve(&settings)?;
-                let at = |v: f64| v.abs() >= (1.0 - 1e-3) * half[k];
-                note = match sol.status {
-                    s if s.is_solved() => {
-                        let v = sol.eval(&th[k])?;
-                        let tol_note = (i > 0).then(|| format!("solved at tolerance {tol:e}"));
-                        return Ok(if at(v) {
-                            (None, Some("unbounded".into()))
-                        } else {
-                            (Some(v), tol_note)
-                        });
-                    }
-                    s if s.is_dual_infeasible() => return Ok((None, Some("unbounded".into()))),
-                    s => Some(format!("solver status {}", s.as_str())),
-                };
-            }
-            Ok((None, note))
-        };
-        let ends: Vec<_> = (0..2 * theta.len())
-            .into_par_iter()
-            .map(|i| solve(i / 2, if i % 2 == 0 { 1.0 } else { -1.0 }))
-            .collect::<Result<_, _>>()?;
         let ranges = (0..theta.len())
             .map(|k| {
                 let ((lo, n1), (hi, n2)) = (ends[2 * k].clone(), ends[2 * k + 1].clone());
@@ -164,6 +156,49 @@ impl Identification<'_> {
             residual,
             ranges,
         })
+    }
+
+    /// Every parameter's minimum and maximum (2p ends, in parallel) over
+    /// the set in the box `half`.
+    fn ends(
+        &self,
+        (r, d): (&Mat<f64>, &[f64]),
+        radius: f64,
+        half: &[f64],
+    ) -> Result<Vec<End>, IdentifyError> {
+        let (prob, th) = self.feasible_set((r, d), radius, half)?;
+        let base = &self.settings;
+        let solve = |k: usize, sense: f64| -> Result<End, IdentifyError> {
+            let mut q = prob.clone();
+            q.minimize(th[k].clone() * sense);
+            let mut note = None;
+            for (i, tol) in RETRY_TOLERANCES.iter().enumerate() {
+                let settings = (base.clone())
+                    .tol_gap_abs(*tol)
+                    .tol_gap_rel(*tol)
+                    .tol_feas(*tol);
+                let sol = q.solve(&settings)?;
+                note = match sol.status {
+                    s if s.is_solved() => {
+                        let v = sol.eval(&th[k])?;
+                        let tol_note = (i > 0).then(|| format!("solved at tolerance {tol:e}"));
+                        let at_box = v.abs() >= (1.0 - 1e-3) * half[k];
+                        return Ok(if at_box {
+                            (None, Some("unbounded".into()))
+                        } else {
+                            (Some(v), tol_note)
+                        });
+                    }
+                    s if s.is_dual_infeasible() => return Ok((None, Some("unbounded".into()))),
+                    s => Some(format!("solver status {}", s.as_str())),
+                };
+            }
+            Ok((None, note))
+        };
+        (0..2 * th.len())
+            .into_par_iter()
+            .map(|i| solve(i / 2, if i % 2 == 0 { 1.0 } else { -1.0 }))
+            .collect()
     }
 
     /// The constraint set with `‖R θ − d‖ ≤ radius`, every parameter in
@@ -250,10 +285,10 @@ fn rms_of(d: &[f64], rows: usize) -> f64 {
     (d.iter().map(|v| v * v).sum::<f64>() / rows.max(1) as f64).sqrt()
 }
 
-/// The margin δ whose set is the data's confidence region at `level`
-/// (e.g. 0.95) for `rank` identified directions and `rows` data rows:
-/// `(1 + δ)² = 1 + χ²_rank(level) / (rows − rank)`, the models an F-test
-/// at that level does not reject (Gaussian, white residuals).
+/// The margin δ whose set is the data's joint confidence region at
+/// `level` (e.g. 0.95) for `rank` identified directions and `rows` data
+/// rows: `(1 + δ)² = 1 + χ²_rank(level) / (rows − rank)` (the χ²
+/// approximation of the F-test's region; Gaussian, white residuals).
 pub fn confidence_delta(rank: usize, rows: usize, level: f64) -> Result<f64, IdentifyError> {
     use statrs::distribution::{ChiSquared, ContinuousCDF};
     let dof = rows.saturating_sub(rank);
@@ -267,6 +302,16 @@ pub fn confidence_delta(rank: usize, rows: usize, level: f64) -> Result<f64, Ide
         what: "the χ² quantile of the bounds' confidence level",
     })?;
     Ok((1.0 + chi.inverse_cdf(level) / dof as f64).sqrt() - 1.0)
+}
+
+/// The margin δ whose range for each parameter is that parameter's own
+/// interval at `level` (e.g. 0.95): the set's projection at
+/// `(1 + δ)² = 1 + χ²₁(level) / (rows − rank)` (≈ ±1.96 σ at 0.95 for a
+/// parameter the data determine). [`confidence_delta`] is the joint region
+/// of all `rank` directions (wider: ±√χ²_rank σ).
+pub fn marginal_delta(rank: usize, rows: usize, level: f64) -> Result<f64, IdentifyError> {
+    let joint = confidence_delta(1, rows.saturating_sub(rank).saturating_add(1), level)?;
+    Ok(joint)
 }
 
 /// ‖R θ − d‖.

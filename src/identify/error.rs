@@ -245,6 +245,12 @@ pub enum IdentifyError {
         /// The body.
         body: String,
     },
+    /// What is not supported (yet).
+    #[error("not supported: {what}")]
+    Unsupported {
+        /// What.
+        what: &'static str,
+    },
     /// The solver ended without a solution.
     #[error("the solver ended with status {0}")]
     Solver(Status),

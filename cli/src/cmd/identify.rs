@@ -284,6 +284,10 @@ fn identification<'r>(
 
 fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), String> {
     parse_level(a.constraints, "--constraints")?;
+    if let Some(b) = a.bounds {
+        // the form is checked before the fit (auto needs the fit's rank)
+        parse_delta(b, 1, 2)?;
+    }
     let mut robot = super::load_robot(a.robot, a.sidecar, a.package_paths)?;
     if let Some(list) = a.friction {
         let terms = FrictionTerm::parse_list(list).map_err(|e| format!("--friction: {e}"))?;
@@ -432,7 +436,7 @@ fn training(
 /// `--bounds`: a number ≥ 0, or `auto` (the 95 % confidence region).
 fn parse_delta(s: &str, rank: usize, rows: usize) -> Result<f64, String> {
     if s.trim() == "auto" {
-        return momentlmi::identify::confidence_delta(rank, rows, 0.95)
+        return momentlmi::identify::marginal_delta(rank, rows, 0.95)
             .map_err(|e| format!("--bounds auto: {e}"));
     }
     match s.trim().parse::<f64>() {
@@ -625,10 +629,15 @@ fn print_base_parameters(id: &momentlmi::identify::Identifiability) {
     }
 }
 
+/// Whether a missing end is unbounded (else its solve failed: the note).
+fn solved_end(p: &momentlmi::identify::ParamRange) -> bool {
+    p.note.as_deref().is_none_or(|n| n.starts_with("unbounded"))
+}
+
 /// Each parameter's range over the models that fit almost as well.
 fn print_bounds(b: &momentlmi::identify::ParameterBounds) {
     println!(
-        "parameter ranges over the constrained models with residual ≤ (1 + {}) × {:.4e}:",
+        "parameter ranges over the constrained models with residual ≤ (1 + {:.3e}) × {:.4e}:",
         b.delta, b.residual
     );
     println!(
@@ -642,8 +651,8 @@ fn print_bounds(b: &momentlmi::identify::ParameterBounds) {
             p.name,
             p.estimate,
             v(p.prior, "-"),
-            v(p.min, "-∞"),
-            v(p.max, "+∞"),
+            v(p.min, if solved_end(p) { "-∞" } else { "?" }),
+            v(p.max, if solved_end(p) { "+∞" } else { "?" }),
             match p.pinned_by {
                 momentlmi::identify::PinnedBy::Data => "data",
                 momentlmi::identify::PinnedBy::Physics => "physics",
