@@ -326,7 +326,15 @@ pub fn samples(d: &Designed, rate_hz: f64) -> Result<Dataset, ExciteError> {
         });
     }
     let names: Vec<&str> = d.limits.iter().map(|l| l.joint.as_str()).collect();
-    let count = (d.options.seconds * rate_hz).round();
+    let exact = d.options.seconds * rate_hz;
+    let count = exact.round();
+    if (exact - count).abs() > 1e-6 * exact.max(1.0) {
+        return Err(ExciteError::Setting {
+            setting: "rate_hz",
+            value: rate_hz,
+            requirement: "must give a whole number of samples over the motion (seconds × rate), so that the written period repeats",
+        });
+    }
     if count > crate::sim::simulate::MAX_SAMPLES as f64 {
         return Err(ExciteError::Setting {
             setting: "seconds × rate_hz (samples)",

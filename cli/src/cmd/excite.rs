@@ -49,6 +49,7 @@ fn run_inner(a: &ExciteArgs) -> Result<(), String> {
         }
     }
     let robot = super::load_robot(a.robot, a.sidecar, a.package_paths)?;
+    super::warn_robot(&robot);
     let opts = ExciteOptions {
         criterion,
         ..a.options.clone()
@@ -67,41 +68,12 @@ fn run_inner(a: &ExciteArgs) -> Result<(), String> {
     } else {
         print_report(&d, a.out);
     }
+    warn_torques(&d);
     Ok(())
 }
 
-fn print_report(d: &Designed, out: Option<&Path>) {
-    println!(
-        "{}: {} s, {:?}-optimal on {} base parameters: value {:.4} (best seed before the search {:.4}), log det {:.4}, condition number {:.3e}",
-        d.robot,
-        d.options.seconds,
-        d.options.criterion,
-        d.base_parameters,
-        d.value,
-        d.best_seed_value,
-        d.log_det,
-        d.condition_number
-    );
-    println!("method: {}", d.method);
-    println!(
-        "{:<16} {:>22} {:>14} {:>14}   margins (position, velocity, acceleration)",
-        "joint", "position [lo, hi]", "|q̇| max", "|q̈| max"
-    );
-    for (l, m) in d.limits.iter().zip(&d.margins) {
-        println!(
-            "{:<16} [{:>9.4}, {:>9.4}] {:>14.4} {:>14.4}   {:.1} %, {:.1} %, {:.1} % (velocity limit from the {}, acceleration from the {})",
-            l.joint,
-            l.position.0,
-            l.position.1,
-            l.velocity,
-            l.acceleration,
-            100.0 * m[0],
-            100.0 * m[1],
-            100.0 * m[2],
-            l.velocity_from,
-            l.acceleration_from
-        );
-    }
+/// A warning per joint whose effort limit the motion passes.
+fn warn_torques(d: &Designed) {
     for (l, m) in d.limits.iter().zip(&d.torque_margins) {
         if let Some(m) = m.filter(|m| *m < 0.0) {
             eprintln!(
@@ -112,6 +84,61 @@ fn print_report(d: &Designed, out: Option<&Path>) {
             );
         }
     }
+}
+
+fn print_report(d: &Designed, out: Option<&Path>) {
+    let hz = match &d.trajectory {
+        momentlmi::sim::trajectory::Trajectory::Fourier { omega, .. } => {
+            omega / (2.0 * std::f64::consts::PI)
+        }
+        _ => f64::NAN,
+    };
+    println!(
+        "{}: {} s ({} periods of {:.4} Hz, {} harmonics), {:?}-optimal on {} base parameters: value {:.4} (best random start {:.4}), log det {:.4}, condition number {:.3e}",
+        d.robot,
+        d.options.seconds,
+        (d.options.seconds * hz).round(),
+        hz,
+        d.options.harmonics,
+        d.options.criterion,
+        d.base_parameters,
+        d.value,
+        d.best_seed_value,
+        d.log_det,
+        d.condition_number
+    );
+    println!("method: {}", d.method);
+    println!(
+        "{:<20} {:>22} {:>10} {:>10} {:>10}   margins: position, velocity, acceleration, torque",
+        "joint", "position [lo, hi]", "|q̇| max", "|q̈| max", "|τ| max"
+    );
+    for ((l, m), t) in d.limits.iter().zip(&d.margins).zip(&d.torque_margins) {
+        let effort = l
+            .effort
+            .map_or_else(|| "-".to_string(), |e| format!("{e:.1}"));
+        let torque = t.map_or_else(|| "-".to_string(), |t| format!("{:.1} %", 100.0 * t));
+        println!(
+            "{:<20} [{:>9.4}, {:>9.4}] {:>10.4} {:>10.4} {:>10}   {:.1} %, {:.1} %, {:.1} %, {torque}",
+            l.joint,
+            l.position.0,
+            l.position.1,
+            l.velocity,
+            l.acceleration,
+            effort,
+            100.0 * m[0],
+            100.0 * m[1],
+            100.0 * m[2]
+        );
+    }
+    let from: Vec<String> = (d.limits.iter())
+        .map(|l| {
+            format!(
+                "{}: velocity from the {}, acceleration from the {}",
+                l.joint, l.velocity_from, l.acceleration_from
+            )
+        })
+        .collect();
+    println!("limits: {}", from.join("; "));
     if let Some(p) = &d.pool {
         println!(
             "convex pool design over {} candidates (the design among them): bound {:.4}, design {:.4}, efficiency {:.1} %",
