@@ -21,7 +21,6 @@ use momentlmi::effects::{Library, simulate};
 use momentlmi::excite::{ExciteOptions, design};
 use momentlmi::identify::{Identification, Level};
 use momentlmi::sim::{Effects, SimConfig, TrueRobot};
-use rand::{RngExt, SeedableRng};
 use std::error::Error;
 
 const SECONDS: [f64; 4] = [2.0, 5.0, 10.0, 20.0];
@@ -42,22 +41,8 @@ fn model_error(
     truth: &TrueRobot,
     est: &[f64],
 ) -> Result<f64, Box<dyn Error>> {
-    let mut rng = rand::rngs::StdRng::seed_from_u64(5);
     let n = robot.model.dof();
-    let mut s = [vec![], vec![], vec![]];
-    for _ in 0..2000 {
-        for j in &robot.model.joints {
-            let (lo, hi) = j.limits;
-            let (lo, hi) = if lo.is_finite() && hi.is_finite() {
-                (lo, hi)
-            } else {
-                (-1.0, 1.0)
-            };
-            s[0].push(rng.random_range(lo..=hi));
-            s[1].push(rng.random_range(-2.0..2.0));
-            s[2].push(rng.random_range(-2.0..2.0));
-        }
-    }
+    let s = momentlmi::dynamics::random_states(&robot.model, 2000, 5);
     let y = regressor_batch(&robot.model, &s[0], &s[1], &s[2])?;
     let flat = |v: &[f64]| Samples::from_flat(n, v.to_vec()).ok_or("ragged states");
     let tau = truth.torques(&flat(&s[0])?, &flat(&s[1])?, &flat(&s[2])?)?;

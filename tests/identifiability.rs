@@ -117,6 +117,7 @@ fn the_panda_and_the_legs_base_parameter_counts_match_a_rank_on_random_states() 
     let id = reported(&arm, &links_only, 8);
     assert_eq!(id.rank, direct);
     assert_eq!(id.base_parameters.len(), direct);
+    assert_eq!(id.structural_rank, Some(direct));
     // the Panda's 7 links: 70 columns, 43 base parameters (Pinocchio 4.1.0's
     // joint torque regressor on 400 random states of the same URDF, fingers
     // locked by buildReducedModel, columns at rounding level dropped, counts

@@ -31,6 +31,7 @@ pub mod leg_kinematics;
 mod model;
 pub mod params_file;
 pub mod predict;
+mod random_states;
 mod rates;
 mod regressor;
 mod rnea;
@@ -49,6 +50,7 @@ pub use error::DynamicsError;
 pub use fault::ModelFault;
 pub use friction::{DEFAULT_STRIBECK_VELOCITY, Friction, FrictionTerm, sign};
 pub use model::{Frame, Joint, JointKind, Model, Rotor, ToolPoint};
+pub use random_states::random_states;
 pub use rates::JointRates;
 pub use regressor::{
     body_regressor, regressor, regressor_batch, regressor_blocks, regressor_row_columns,

@@ -9,7 +9,6 @@ use super::error::ExciteError;
 use crate::dynamics::{FrictionTerm, Model, regressor_batch};
 use crate::identify::{Identifiability, parameter_names};
 use faer::Mat;
-use rand::{RngExt, SeedableRng};
 
 /// The base columns of a model's regressor and their scales.
 #[derive(Clone, Debug)]
@@ -33,21 +32,7 @@ impl InfoBasis {
             .filter(|t| *t != FrictionTerm::Load)
             .collect();
         let model = model.clone().with_friction_terms(&terms);
-        let mut rng = rand::rngs::StdRng::seed_from_u64(1);
-        let mut s = [vec![], vec![], vec![]];
-        for _ in 0..400 {
-            for j in &model.joints {
-                let (lo, hi) = j.limits;
-                let (lo, hi) = if lo.is_finite() && hi.is_finite() {
-                    (lo, hi)
-                } else {
-                    (-1.0, 1.0)
-                };
-                s[0].push(rng.random_range(lo..=hi));
-                s[1].push(rng.random_range(-2.0..2.0));
-                s[2].push(rng.random_range(-2.0..2.0));
-            }
-        }
+        let s = crate::dynamics::random_states(&model, 400, 1);
         let y = regressor_batch(&model, &s[0], &s[1], &s[2])?;
         let p = model.regressor_columns();
         let rows = y.len() / p;

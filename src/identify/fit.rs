@@ -258,7 +258,7 @@ impl Identification<'_> {
                 .chain(weights_warning)
                 .collect(),
             iterations: solved.iterations,
-            identifiability: solved.identifiability.clone(),
+            identifiability: with_structure(&solved, model)?,
             bounds: None,
             training_samples: red.samples,
             training_rms,
@@ -280,6 +280,18 @@ impl Identification<'_> {
             theta: solved.theta,
         })
     }
+}
+
+/// The solve's identifiability report with the model's structural rank.
+fn with_structure(
+    solved: &super::solved::Solved,
+    model: &crate::dynamics::Model,
+) -> Result<super::identifiability::Identifiability, IdentifyError> {
+    let names = super::solved::parameter_names(model);
+    Ok(super::identifiability::Identifiability {
+        structural_rank: super::identifiability::structural_rank(model, &names)?,
+        ..solved.identifiability.clone()
+    })
 }
 
 /// The most passes of a load friction term's identification

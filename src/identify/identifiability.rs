@@ -63,6 +63,10 @@ pub struct Identifiability {
     pub rank: usize,
     /// Its number of columns.
     pub columns: usize,
+    /// The most any data could identify: the rank of the regressor on
+    /// random states ([`structural_rank`]); `None` with a load friction
+    /// term (its column needs torques).
+    pub structural_rank: Option<usize>,
     /// Condition number of the base columns (scaled to unit norm).
     pub condition_number: f64,
     /// The rank tolerance ([`RANK_TOL`]).
@@ -181,6 +185,7 @@ impl Identifiability {
         Ok(Self {
             rank,
             columns: p,
+            structural_rank: None,
             condition_number: if rank > 0 { smax / smin } else { f64::INFINITY },
             rank_tolerance: RANK_TOL,
             base_parameters,
@@ -224,8 +229,11 @@ impl Identifiability {
     /// The one-line summary: rank, condition number, the parameters that
     /// enter no torque.
     pub fn summary(&self) -> String {
+        let most = (self.structural_rank).map_or_else(String::new, |m| {
+            format!(", of the {m} any data could identify")
+        });
         let mut s = format!(
-            "{} of {} parameter directions identified by the data (condition number {:.3e})",
+            "{} of {} parameter directions identified by the data{most} (condition number {:.3e})",
             self.rank, self.columns, self.condition_number
         );
         if self.rank < self.columns {
@@ -243,6 +251,25 @@ impl Identifiability {
         }
         s
     }
+}
+
+/// The rank of `model`'s regressor (its columns `names`) on 400 random states
+/// ([`crate::dynamics::random_states`]): the most any data could
+/// identify; `None` with a load friction term (its column needs torques).
+pub fn structural_rank(
+    model: &crate::dynamics::Model,
+    names: &[String],
+) -> Result<Option<usize>, IdentifyError> {
+    use crate::dynamics::FrictionTerm;
+    if model.friction_terms().contains(&FrictionTerm::Load) {
+        return Ok(None);
+    }
+    let [q, qd, qdd] = crate::dynamics::random_states(model, 400, 1);
+    let y = crate::dynamics::regressor_batch(model, &q, &qd, &qdd)?;
+    let p = model.regressor_columns();
+    let full = Mat::from_fn(y.len() / p, p, |i, j| y[i * p + j]);
+    let r = full.qr().thin_R().to_owned();
+    Ok(Some(Identifiability::of(&r, names)?.rank))
 }
 
 /// The first `most` names, then how many more.

@@ -174,8 +174,14 @@ fn warn_unexcited(id: &momentlmi::identify::Identifiability, verbose: bool) {
     if id.rank == id.columns && id.unidentifiable.is_empty() {
         return;
     }
+    // all the structure allows: a fact of the robot, not of the data
+    let kind = if id.structural_rank == Some(id.rank) {
+        "note"
+    } else {
+        "warning"
+    };
     eprintln!(
-        "warning: {}; {}",
+        "{kind}: {}; {}",
         id.summary(),
         if verbose {
             "the directions:"
