@@ -16,30 +16,7 @@ const RATE: f64 = 200.0;
 
 /// The exact (q, q̇, q̈) of a Fourier trajectory at `t`.
 fn exact(tr: &Trajectory, t: f64) -> [Vec<f64>; 3] {
-    let Trajectory::Fourier {
-        omega,
-        offset,
-        a,
-        b,
-    } = tr
-    else {
-        panic!("not a Fourier trajectory")
-    };
-    let mut out = [
-        offset.clone(),
-        vec![0.0; offset.len()],
-        vec![0.0; offset.len()],
-    ];
-    for j in 0..offset.len() {
-        for k in 0..a[j].len() {
-            let w = (k + 1) as f64 * omega;
-            let (s, c) = (w * t).sin_cos();
-            out[0][j] += a[j][k] * s + b[j][k] * c;
-            out[1][j] += w * (a[j][k] * c - b[j][k] * s);
-            out[2][j] -= w * w * (a[j][k] * s + b[j][k] * c);
-        }
-    }
-    out
+    tr.exact_state(t).expect("a Fourier trajectory")
 }
 
 fn dir() -> PathBuf {

@@ -6,7 +6,7 @@
 
 use super::error::ExciteError;
 use super::limits::JointLimits;
-use crate::sim::trajectory::Trajectory;
+use crate::sim::trajectory::{Trajectory, harmonic_state};
 
 /// The fraction of the position range and of the velocity and acceleration
 /// limits kept free (for the peaks between grid points).
@@ -24,21 +24,6 @@ pub struct Coefficients {
     pub ab: Vec<Vec<f64>>,
 }
 
-/// q, q̇, q̈ of `ab` (one joint, offset 0) at t.
-pub fn joint_state(omega: f64, ab: &[f64], t: f64) -> [f64; 3] {
-    let h = ab.len() / 2;
-    let mut s = [0.0; 3];
-    for k in 0..h {
-        let w = (k + 1) as f64 * omega;
-        let (sn, cs) = (w * t).sin_cos();
-        let (a, b) = (ab[k], ab[h + k]);
-        s[0] += a * sn + b * cs;
-        s[1] += w * (a * cs - b * sn);
-        s[2] -= w * w * (a * sn + b * cs);
-    }
-    s
-}
-
 impl Coefficients {
     /// The motion scaled into `limits` and centred, as a [`Trajectory`].
     pub fn fitted(&self, limits: &[JointLimits]) -> Result<Trajectory, ExciteError> {
@@ -50,7 +35,11 @@ impl Coefficients {
             let (mut lo, mut hi, mut v, mut acc) =
                 (f64::INFINITY, f64::NEG_INFINITY, 0.0f64, 0.0f64);
             for i in 0..grid {
-                let s = joint_state(self.omega, ab, period * i as f64 / grid as f64);
+                let s = harmonic_state(
+                    self.omega,
+                    (&ab[..h], &ab[h..]),
+                    period * i as f64 / grid as f64,
+                );
                 (lo, hi) = (lo.min(s[0]), hi.max(s[0]));
                 (v, acc) = (v.max(s[1].abs()), acc.max(s[2].abs()));
             }
@@ -88,26 +77,4 @@ impl Coefficients {
             b,
         })
     }
-}
-
-/// The exact (q, q̇, q̈) of a Fourier trajectory at t (`None` for another).
-pub fn exact_state(traj: &Trajectory, t: f64) -> Option<[Vec<f64>; 3]> {
-    let Trajectory::Fourier {
-        omega,
-        offset,
-        a,
-        b,
-    } = traj
-    else {
-        return None;
-    };
-    let mut out = [vec![], vec![], vec![]];
-    for j in 0..offset.len() {
-        let ab: Vec<f64> = a[j].iter().chain(&b[j]).copied().collect();
-        let s = joint_state(*omega, &ab, t);
-        out[0].push(offset[j] + s[0]);
-        out[1].push(s[1]);
-        out[2].push(s[2]);
-    }
-    Some(out)
 }

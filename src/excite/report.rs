@@ -4,7 +4,7 @@
 use super::ExciteOptions;
 use super::design::{Criterion, optimal_weights};
 use super::error::ExciteError;
-use super::fourier::{Coefficients, exact_state};
+use super::fourier::Coefficients;
 use super::information::{InfoBasis, condition_number, score};
 use super::limits::{JointLimits, joint_limits};
 use crate::data::Dataset;
@@ -86,7 +86,9 @@ fn info_of(
     let period = 2.0 * std::f64::consts::PI / omega;
     let mut s = [vec![], vec![], vec![]];
     for i in 0..m {
-        let st = exact_state(traj, period * i as f64 / m as f64).unwrap_or_default();
+        let st = traj
+            .exact_state(period * i as f64 / m as f64)
+            .unwrap_or_default();
         for (v, x) in s.iter_mut().zip(st) {
             v.extend(x);
         }
@@ -268,7 +270,7 @@ fn margins(traj: &Trajectory, limits: &[JointLimits], omega: f64) -> Vec<[f64; 3
             .map_or(1, |f| (f * period).round().max(1.0) as usize);
     let mut m = vec![[1.0f64; 3]; limits.len()];
     for i in 0..steps {
-        let Some([q, qd, qdd]) = exact_state(traj, period * i as f64 / steps as f64) else {
+        let Some([q, qd, qdd]) = traj.exact_state(period * i as f64 / steps as f64) else {
             break;
         };
         for (j, l) in limits.iter().enumerate() {
@@ -301,7 +303,7 @@ fn torque_margins(
     let mut data = crate::dynamics::Data::new(&robot.model);
     let mut peak = vec![0.0f64; limits.len()];
     for i in 0..steps {
-        let Some([q, qd, qdd]) = exact_state(traj, period * i as f64 / steps as f64) else {
+        let Some([q, qd, qdd]) = traj.exact_state(period * i as f64 / steps as f64) else {
             break;
         };
         let tau = crate::dynamics::rnea(&robot.model, &mut data, &q, &qd, &qdd)?;
@@ -346,7 +348,7 @@ pub fn samples(d: &Designed, rate_hz: f64) -> Result<Dataset, ExciteError> {
     let mut out = Dataset::empty(&names);
     for i in 0..count {
         let t = i as f64 / rate_hz;
-        let [q, qd, qdd] = exact_state(&d.trajectory, t).ok_or(ExciteError::Pool {
+        let [q, qd, qdd] = d.trajectory.exact_state(t).ok_or(ExciteError::Pool {
             problem: "a Fourier trajectory is needed",
         })?;
         check_sample(&d.limits, t, [&q, &qd, &qdd])?;

@@ -138,6 +138,28 @@ impl Trajectory {
         }
     }
 
+    /// The exact (q, q̇, q̈) of a Fourier series at t (its analytic
+    /// derivatives); `None` for the shell and samples.
+    pub fn exact_state(&self, t: f64) -> Option<[Vec<f64>; 3]> {
+        let Trajectory::Fourier {
+            omega,
+            offset,
+            a,
+            b,
+        } = self
+        else {
+            return None;
+        };
+        let mut out = [vec![], vec![], vec![]];
+        for j in 0..offset.len() {
+            let s = harmonic_state(*omega, (&a[j], &b[j]), t);
+            out[0].push(offset[j] + s[0]);
+            out[1].push(s[1]);
+            out[2].push(s[2]);
+        }
+        Some(out)
+    }
+
     /// (q, q̇, q̈) at t by 4th-order central differences of q (samples: their
     /// interpolant's, [`SampledTrajectory::state`]).
     pub fn state(&self, t: f64) -> Option<(Vec<f64>, Vec<f64>, Vec<f64>)> {
@@ -173,4 +195,18 @@ impl Trajectory {
             .collect();
         Some((qs[2].clone(), qd, qdd))
     }
+}
+
+/// q, q̇, q̈ at t of one joint's `Σₖ aₖ sin(k ω t) + bₖ cos(k ω t)`
+/// (k = 1 … H, offset 0).
+pub fn harmonic_state(omega: f64, (a, b): (&[f64], &[f64]), t: f64) -> [f64; 3] {
+    let mut s = [0.0; 3];
+    for (k, (a, b)) in a.iter().zip(b).enumerate() {
+        let w = (k + 1) as f64 * omega;
+        let (sn, cs) = (w * t).sin_cos();
+        s[0] += a * sn + b * cs;
+        s[1] += w * (a * cs - b * sn);
+        s[2] -= w * w * (a * sn + b * cs);
+    }
+    s
 }
