@@ -47,6 +47,14 @@ pub enum DynamicsError {
         /// What.
         what: String,
     },
+    /// A base orientation quaternion that is not of unit norm.
+    #[error("base quaternion (x, y, z, w) = {values:?} has norm {norm}, not 1 (within 1e-5)")]
+    Quaternion {
+        /// The quaternion as given.
+        values: [f64; 4],
+        /// Its norm.
+        norm: f64,
+    },
     /// The mass matrix is not positive definite (forward dynamics).
     #[error("the mass matrix is not positive definite at this state")]
     SingularMassMatrix,

@@ -12,7 +12,7 @@
 use super::data::{BodyRegressor, Data};
 use super::error::DynamicsError;
 use super::model::Model;
-use super::rnea::{check_len, forward_pass};
+use super::rnea::{Root, check_len, forward_pass_from};
 use crate::moments::skew;
 use nalgebra::{Matrix3, SMatrix, Vector3, Vector6};
 
@@ -96,7 +96,7 @@ pub fn regressor<'a>(
 
 /// With a load friction term, every joint's [`Data::load`] must be finite
 /// (set by the caller).
-fn check_load(model: &Model, data: &Data) -> Result<(), DynamicsError> {
+pub(crate) fn check_load(model: &Model, data: &Data) -> Result<(), DynamicsError> {
     let has_load = model.friction_terms().contains(&super::FrictionTerm::Load);
     match data.load.iter().position(|l| !l.is_finite()) {
         Some(i) if has_load => Err(DynamicsError::NonFinite {
@@ -119,7 +119,8 @@ pub(crate) fn regressor_unchecked(
 ) {
     let mut y = std::mem::take(&mut data.regressor);
     y.as_mut_slice().fill(0.0);
-    regressor_blocks_unchecked(model, data, q, qd, qdd, |row, col0, values| {
+    let root = Root::fixed(model, true);
+    regressor_blocks_from(model, data, [q, qd, qdd], &root, |row, col0, values| {
         add_row(&mut y, row, col0, values)
     });
     data.regressor = y;
@@ -143,23 +144,24 @@ pub fn regressor_blocks(
     check_len("qd", qd, n)?;
     check_len("qdd", qdd, n)?;
     check_load(model, data)?;
-    regressor_blocks_unchecked(model, data, q, qd, qdd, put);
+    regressor_blocks_from(model, data, [q, qd, qdd], &Root::fixed(model, true), put);
     Ok(())
 }
 
-fn regressor_blocks_unchecked(
+/// [`regressor_blocks`] unchecked, from a moving root (the joint rows
+/// only: what the root's own rows hold is the caller's).
+pub(crate) fn regressor_blocks_from(
     model: &Model,
     data: &mut Data,
-    q: &[f64],
-    qd: &[f64],
-    qdd: &[f64],
+    [q, qd, qdd]: [&[f64]; 3],
+    root: &Root,
     mut put: impl FnMut(usize, usize, &[f64]),
 ) {
     // τⱼ = Σ_k (X_{k←j} Sⱼ)ᵀ A_k π_k over the bodies k that joint j moves:
     // instead of carrying each 6×10 block A_k up the tree, carry the joint
     // axes down to every body (6-vectors are cheap to transform).
     let n = model.dof();
-    forward_pass(model, data, q, qd, qdd, true);
+    forward_pass_from(model, data, [q, qd, qdd], root);
     for i in 0..n {
         let (done, rest) = data.axes.split_at_mut(i);
         let mine = &mut rest[0];

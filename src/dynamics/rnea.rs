@@ -17,29 +17,42 @@ pub(crate) fn check_len(what: &str, v: &[f64], n: usize) -> Result<(), DynamicsE
     Ok(())
 }
 
+/// The motion of the body the tree hangs from, in its own frame: a fixed
+/// base has `v = 0` and `a = (0, −g)` (gravity as a fictitious upward
+/// acceleration); a free-flyer's is its twist and its acceleration minus
+/// gravity, both in base coordinates.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Root {
+    pub v: Vector6<f64>,
+    pub a: Vector6<f64>,
+}
+
+impl Root {
+    /// The fixed base, with or without gravity.
+    pub fn fixed(model: &Model, with_gravity: bool) -> Self {
+        let g = if with_gravity {
+            model.gravity
+        } else {
+            nalgebra::Vector3::zeros()
+        };
+        Root {
+            v: Vector6::zeros(),
+            a: Vector6::new(0.0, 0.0, 0.0, -g.x, -g.y, -g.z),
+        }
+    }
+}
+
 /// Forward pass shared by RNEA and the regressor: fills `x_up`, `v`, `a`
-/// (with −g at the base) for links and rotors. `with_gravity = false` drops it.
-pub(crate) fn forward_pass(
-    model: &Model,
-    data: &mut Data,
-    q: &[f64],
-    qd: &[f64],
-    qdd: &[f64],
-    with_gravity: bool,
-) {
-    let g = if with_gravity {
-        model.gravity
-    } else {
-        nalgebra::Vector3::zeros()
-    };
-    let a0 = Vector6::new(0.0, 0.0, 0.0, -g.x, -g.y, -g.z);
-    let zero = Vector6::zeros();
+/// for links and rotors from the root's motion (a fixed base's carries −g).
+pub(crate) fn forward_pass_from(model: &Model, data: &mut Data, state: [&[f64]; 3], root: &Root) {
+    let [q, qd, qdd] = state;
+    let (v0, a0) = (root.v, root.a);
     for i in 0..model.dof() {
         let x = model.joint_transform(i, q[i]);
         let s = model.subspace(i);
         let (vp, ap) = match model.joints[i].parent {
             Some(p) => (data.v[p], data.a[p]),
-            None => (zero, a0),
+            None => (v0, a0),
         };
         let vj = s * qd[i];
         let v = x.apply_motion(&vp) + vj;
@@ -86,7 +99,20 @@ pub(crate) fn rnea_unchecked(
     qdd: &[f64],
     gravity: bool,
 ) {
-    forward_pass(model, data, q, qd, qdd, gravity);
+    rnea_from(model, data, [q, qd, qdd], &Root::fixed(model, gravity));
+}
+
+/// RNEA from a moving root: writes `data.tau` and returns the force the
+/// tree exerts on its root (root coordinates, `[moment; force]`), what the
+/// fixed base absorbs and a free-flyer's base must balance.
+pub(crate) fn rnea_from(
+    model: &Model,
+    data: &mut Data,
+    state: [&[f64]; 3],
+    root: &Root,
+) -> Vector6<f64> {
+    forward_pass_from(model, data, state, root);
+    let mut f_root = Vector6::zeros();
     for i in 0..model.dof() {
         let p = &model.joints[i].inertia.0;
         data.f[i] =
@@ -103,15 +129,18 @@ pub(crate) fn rnea_unchecked(
             let r = &model.rotors[k];
             let sr = Vector6::new(r.axis.x, r.axis.y, r.axis.z, 0.0, 0.0, 0.0) * r.gear_ratio;
             t += sr.dot(&data.f_rotor[k]);
-            if let Some(pp) = model.joints[i].parent {
-                let fr = data.x_rotor[k].apply_force_transpose(&data.f_rotor[k]);
-                data.f[pp] += fr;
+            let fr = data.x_rotor[k].apply_force_transpose(&data.f_rotor[k]);
+            match model.joints[i].parent {
+                Some(pp) => data.f[pp] += fr,
+                None => f_root += fr,
             }
         }
         data.tau[i] = t;
-        if let Some(pp) = model.joints[i].parent {
-            let fp = data.x_up[i].apply_force_transpose(&data.f[i]);
-            data.f[pp] += fp;
+        let fp = data.x_up[i].apply_force_transpose(&data.f[i]);
+        match model.joints[i].parent {
+            Some(pp) => data.f[pp] += fp,
+            None => f_root += fp,
         }
     }
+    f_root
 }

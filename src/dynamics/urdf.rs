@@ -18,6 +18,7 @@
 pub use super::sidecar::{Sidecar, SidecarRotor};
 
 use super::error::DynamicsError;
+use super::free_flyer::FreeFlyer;
 use super::model::{Frame, Joint, JointKind, Model, Rotor};
 use super::spatial::Transform;
 use crate::moments::{InertialParams, rpy_rotation};
@@ -123,25 +124,33 @@ fn model_joint(
     })
 }
 
+/// What a walk of the URDF tree makes: the joints, the frames, and the
+/// inertia of everything fixed to the root (in the root frame).
+type Walked = (Vec<Joint>, Vec<Frame>, InertialParams);
+
 /// Joints and frames from a depth-first walk from the root (children in name
-/// order): each link is attached to a model body (`None`: the base) through
+/// order, joints numbered as reached): each link is attached to a model body (`None`: the base) through
 /// a fixed transform (body frame → link frame) and its inertia is merged
 /// into that body.
-fn walk(
-    tree: &Tree,
-    locked: &HashSet<&str>,
-    path: &str,
-) -> Result<(Vec<Joint>, Vec<Frame>), DynamicsError> {
+fn walk(tree: &Tree, locked: &HashSet<&str>, path: &str) -> Result<Walked, DynamicsError> {
     let n = tree.robot().links.len();
     let mut joints: Vec<Joint> = Vec::new();
     let mut frames: Vec<Frame> = Vec::with_capacity(n);
-    let mut stack = vec![(tree.root(), None::<usize>, Transform::identity())];
-    while let Some((li, body, x)) = stack.pop() {
+    let mut base = InertialParams([0.0; 10]);
+    // a joint is numbered when its child is reached: depth first, so that
+    // every branch's joints are consecutive (Pinocchio's order)
+    let mut stack = vec![(tree.root(), None::<usize>, Transform::identity(), None)];
+    while let Some((li, mut body, x, joint)) = stack.pop() {
+        if let Some(j) = joint {
+            joints.push(j);
+            body = Some(joints.len() - 1);
+        }
         let link = tree.link(li);
-        if let Some(b) = body {
-            // x maps body → link: x_body = Eᵀ x_link + r
-            let moved = inertial_of(link).transformed(&x.e.transpose(), &x.r);
-            joints[b].inertia = joints[b].inertia.plus(&moved);
+        // x maps body → link: x_body = Eᵀ x_link + r
+        let moved = inertial_of(link).transformed(&x.e.transpose(), &x.r);
+        match body {
+            Some(b) => joints[b].inertia = joints[b].inertia.plus(&moved),
+            None => base = base.plus(&moved),
         }
         frames.push(Frame {
             name: link.name.clone(),
@@ -156,15 +165,15 @@ fn walk(
             let origin = pose(&j.origin).compose(&x); // body → joint frame
             let child = tree.child_link(ji);
             match joint_kind(j, locked.contains(j.name.as_str()), path)? {
-                None => stack.push((child, body, origin)),
+                None => stack.push((child, body, origin, None)),
                 Some(kind) => {
-                    joints.push(model_joint(j, kind, body, origin, path)?);
-                    stack.push((child, Some(joints.len() - 1), Transform::identity()));
+                    let joint = model_joint(j, kind, body, origin, path)?;
+                    stack.push((child, None, Transform::identity(), Some(joint)));
                 }
             }
         }
     }
-    Ok((joints, frames))
+    Ok((joints, frames, base))
 }
 
 /// One sidecar rotor on the model's joints.
@@ -282,12 +291,43 @@ pub fn model_from_robot(
     path: &str,
     sidecar: Option<&Sidecar>,
 ) -> Result<Model, DynamicsError> {
+    tree_from_robot(robot, path, sidecar).map(|(model, _)| model)
+}
+
+/// The URDF as a floating-base robot: its root link (and every link fixed
+/// to it) is the free base, the rest as [`model_from_robot`] makes it.
+pub fn free_flyer_from_robot(
+    robot: &Robot,
+    path: &str,
+    sidecar: Option<&Sidecar>,
+) -> Result<FreeFlyer, DynamicsError> {
+    let (tree, base) = tree_from_robot(robot, path, sidecar)?;
+    let t = format::validate(robot, path)?;
+    let name = t.link(t.root()).name.clone();
+    FreeFlyer::new(tree, &name, base).map_err(|e| ferr(path, e.to_string()))
+}
+
+/// Reads a URDF file (and an optional sidecar) as a floating-base robot.
+pub fn free_flyer_from_urdf_file(
+    path: &Path,
+    sidecar: Option<&Path>,
+) -> Result<FreeFlyer, DynamicsError> {
+    let (_, robot) = crate::urdf::read_file(path)?;
+    let sc = sidecar.map(Sidecar::read).transpose()?;
+    free_flyer_from_robot(&robot, &path.display().to_string(), sc.as_ref())
+}
+
+fn tree_from_robot(
+    robot: &Robot,
+    path: &str,
+    sidecar: Option<&Sidecar>,
+) -> Result<(Model, InertialParams), DynamicsError> {
     let empty = Sidecar::default();
     let sc = sidecar.unwrap_or(&empty);
     let tree = format::validate(robot, path)?;
     format::validate_masses(robot, path)?;
     let locked = locks(&tree, sc, path)?;
-    let (joints, frames) = walk(&tree, &locked, path)?;
+    let (joints, frames, base) = walk(&tree, &locked, path)?;
     let index: HashMap<&str, usize> = joints
         .iter()
         .enumerate()
@@ -315,6 +355,7 @@ pub fn model_from_robot(
     };
     Model::new(name, joints, rotors, g)
         .and_then(|m| m.with_frames(frames))
+        .map(|m| (m, base))
         .map_err(|e| ferr(path, e.to_string()))
 }
 

@@ -1,0 +1,211 @@
+//! A floating-base robot: a [`Model`] (the joint tree) hanging from a free
+//! body, the base, that moves with six degrees of freedom.
+//!
+//! Conventions (Pinocchio's free-flyer, so that logs from it read as they are):
+//!
+//! - configuration `q` (7 + n): the base origin `p` in the world (m), the
+//!   base orientation as a unit quaternion `(x, y, z, w)` whose rotation `R`
+//!   maps base coordinates to world coordinates, then the n joint positions;
+//! - velocity `v` (6 + n): the base origin's linear velocity and the base's
+//!   angular velocity, **both in base coordinates** (m/s, rad/s), then q̇;
+//! - acceleration `a` (6 + n): the time derivative of `v` (its base part is
+//!   the base's spatial acceleration in base coordinates: the classical
+//!   acceleration of the base origin is `v̇ + ω × v`);
+//! - generalized force (6 + n): the wrench on the base in base coordinates,
+//!   force (N) then moment about the base origin (N·m), then joint torques.
+//!
+//! The base frame is the URDF root link's frame; gravity ([`Model::gravity`])
+//! is in world coordinates. The equation of motion is
+//! `M(q) a + h(q, v) = [0; τ] + Σ_c J_cᵀ w_c`: [`rnea`](FreeFlyer::rnea)
+//! gives its left side, [`contact_force`](FreeFlyer::contact_force) the
+//! contact part of its right side.
+
+use super::data::Data;
+use super::error::DynamicsError;
+use super::model::Model;
+use super::rnea::{Root, check_len};
+use super::spatial::Transform;
+use crate::moments::InertialParams;
+use nalgebra::{DMatrix, DVector, Matrix3, Quaternion, UnitQuaternion, Vector3, Vector6};
+
+/// The largest `|‖quaternion‖ − 1|` accepted (a float32 log of a unit
+/// quaternion is within 1e-7); the quaternion is normalised.
+pub const QUATERNION_TOLERANCE: f64 = 1e-5;
+
+/// A floating-base robot: the base body and the joint tree on it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FreeFlyer {
+    /// The joint tree (joints whose parent is `None` hang from the base);
+    /// its gravity is in world coordinates.
+    pub tree: Model,
+    /// The base's name (the URDF root link).
+    pub base_name: String,
+    /// The base's inertial parameters in the base frame (paper order),
+    /// every link fixed to the root merged in.
+    pub base: InertialParams,
+}
+
+/// The base's pose and motion at one sample, as the algorithms use them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BaseState {
+    /// Base origin in the world (m).
+    pub position: Vector3<f64>,
+    /// Base orientation (base → world).
+    pub orientation: UnitQuaternion<f64>,
+    /// Linear velocity (m/s) then angular velocity (rad/s), base coordinates.
+    pub velocity: Vector6<f64>,
+    /// Their time derivative.
+    pub acceleration: Vector6<f64>,
+}
+
+/// Buffers for one [`FreeFlyer`] (its tree's [`Data`] and its own).
+#[derive(Clone, Debug)]
+pub struct FreeFlyerData {
+    /// The tree's buffers.
+    pub tree: Data,
+    /// Per body: base frame → body frame, at the last state.
+    pub x_base: Vec<Transform>,
+    /// Generalized force (6 + n) from [`FreeFlyer::rnea`].
+    pub tau: DVector<f64>,
+    /// Mass matrix ((6 + n)²) from [`FreeFlyer::crba`].
+    pub mass_matrix: DMatrix<f64>,
+    /// Regressor ((6 + n) × [`FreeFlyer::regressor_columns`]).
+    pub regressor: DMatrix<f64>,
+}
+
+impl FreeFlyerData {
+    /// Buffers sized for `ff`.
+    pub fn new(ff: &FreeFlyer) -> Self {
+        let n = ff.nv();
+        Self {
+            tree: Data::new(&ff.tree),
+            x_base: vec![Transform::identity(); ff.tree.dof()],
+            tau: DVector::zeros(n),
+            mass_matrix: DMatrix::zeros(n, n),
+            regressor: DMatrix::zeros(n, ff.regressor_columns()),
+        }
+    }
+}
+
+impl FreeFlyer {
+    /// A free-flyer from its tree and base; the base parameters are checked.
+    pub fn new(tree: Model, base_name: &str, base: InertialParams) -> Result<Self, DynamicsError> {
+        base.validate().map_err(|e| DynamicsError::Description {
+            source_name: tree.name.clone(),
+            message: format!("base '{base_name}': {e}"),
+        })?;
+        Ok(Self {
+            tree,
+            base_name: base_name.to_string(),
+            base,
+        })
+    }
+
+    /// Configuration size `7 + n`.
+    pub fn nq(&self) -> usize {
+        7 + self.tree.dof()
+    }
+
+    /// Velocity size `6 + n` (rows of the dynamics).
+    pub fn nv(&self) -> usize {
+        6 + self.tree.dof()
+    }
+
+    /// Bodies: the base, then the tree's links and rotors.
+    pub fn num_bodies(&self) -> usize {
+        1 + self.tree.num_bodies()
+    }
+
+    /// Regressor columns: the base's 10, then the tree's
+    /// ([`Model::regressor_columns`], friction included).
+    pub fn regressor_columns(&self) -> usize {
+        10 + self.tree.regressor_columns()
+    }
+
+    /// Every body's parameters: the base's, then [`Model::params`].
+    pub fn params(&self) -> Vec<f64> {
+        let mut p = self.base.0.to_vec();
+        p.extend(self.tree.params());
+        p
+    }
+
+    /// The index of a named frame (a URDF link) in the tree's frames, for a
+    /// [`ContactWrench`](super::ContactWrench); an unknown name is an error
+    /// listing the known ones.
+    pub fn frame_index(&self, name: &str) -> Result<usize, DynamicsError> {
+        let frames = &self.tree.frames;
+        frames
+            .iter()
+            .position(|f| f.name == name)
+            .ok_or_else(|| DynamicsError::UnknownName {
+                what: "contact frame",
+                name: name.to_string(),
+                valid: frames
+                    .iter()
+                    .map(|f| f.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            })
+    }
+
+    /// The base state of a configuration, velocity and acceleration (each
+    /// checked for length; the quaternion for unit norm within
+    /// [`QUATERNION_TOLERANCE`]).
+    pub fn base_state(&self, q: &[f64], v: &[f64], a: &[f64]) -> Result<BaseState, DynamicsError> {
+        check_len("q", q, self.nq())?;
+        check_len("v", v, self.nv())?;
+        check_len("a", a, self.nv())?;
+        let quat = Quaternion::new(q[6], q[3], q[4], q[5]);
+        let norm = quat.norm();
+        if !((norm - 1.0).abs() <= QUATERNION_TOLERANCE) {
+            return Err(DynamicsError::Quaternion {
+                values: [q[3], q[4], q[5], q[6]],
+                norm,
+            });
+        }
+        Ok(BaseState {
+            position: Vector3::new(q[0], q[1], q[2]),
+            orientation: UnitQuaternion::from_quaternion(quat),
+            velocity: Vector6::from_column_slice(&v[..6]),
+            acceleration: Vector6::from_column_slice(&a[..6]),
+        })
+    }
+
+    /// The root motion the tree algorithms start from: `[ω; v]` and
+    /// `[ω̇; v̇] − (0, Rᵀ g)` in base coordinates.
+    pub(crate) fn root(&self, s: &BaseState, with_gravity: bool) -> Root {
+        let swap = |x: &Vector6<f64>| Vector6::new(x[3], x[4], x[5], x[0], x[1], x[2]);
+        let mut a = swap(&s.acceleration);
+        if with_gravity {
+            let g = s.orientation.inverse_transform_vector(&self.tree.gravity);
+            for k in 0..3 {
+                a[3 + k] -= g[k];
+            }
+        }
+        Root {
+            v: swap(&s.velocity),
+            a,
+        }
+    }
+
+    /// World → base as a spatial transform.
+    pub fn base_transform(s: &BaseState) -> Transform {
+        let rot: Matrix3<f64> = s.orientation.to_rotation_matrix().into_inner();
+        Transform::from_pose(&rot, &s.position)
+    }
+
+    /// Fills `data.x_base` (base → each body) from the tree's `x_up`.
+    pub(crate) fn chain_to_base(&self, data: &mut FreeFlyerData) {
+        for i in 0..self.tree.dof() {
+            data.x_base[i] = match self.tree.joints[i].parent {
+                Some(p) => data.tree.x_up[i].compose(&data.x_base[p]),
+                None => data.tree.x_up[i],
+            };
+        }
+    }
+}
+
+/// `[n; f]` (the spatial order) to `[f; n]` (the generalized-force order).
+pub(crate) fn force_first(w: &Vector6<f64>) -> [f64; 6] {
+    [w[3], w[4], w[5], w[0], w[1], w[2]]
+}
