@@ -61,7 +61,10 @@ fn solo12_matches_pinocchio_free_flyer() {
         .map(|n| n.as_str().unwrap())
         .collect();
     assert_eq!(ff.tree.joint_names(), names);
-    assert_eq!((ff.nq(), ff.nv(), ff.regressor_columns()), (19, 18, 130 + 24)); // + viscous and Coulomb per joint
+    assert_eq!(
+        (ff.nq(), ff.nv(), ff.regressor_columns()),
+        (19, 18, 130 + 24)
+    ); // + viscous and Coulomb per joint
     let mut data = FreeFlyerData::new(&ff);
     for (k, c) in r["cases"].as_array().unwrap().iter().enumerate() {
         let (q, v, a) = (floats(&c["q"]), floats(&c["v"]), floats(&c["a"]));

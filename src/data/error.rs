@@ -24,6 +24,21 @@ pub enum DataError {
         /// The header found.
         header: String,
     },
+    /// A floating-base log that does not fit its robot.
+    #[error("floating-base log: {message}")]
+    Log {
+        /// What is wrong, naming the array.
+        message: String,
+    },
+    /// A sample the robot's dynamics refuse (a non-unit quaternion, …).
+    #[error("floating-base log, sample {sample}: {source}")]
+    Sample {
+        /// The sample (0-based).
+        sample: usize,
+        /// Why.
+        #[source]
+        source: crate::dynamics::DynamicsError,
+    },
     /// A bad value.
     #[error("{path}: row {row}, column '{column}': {message}")]
     Value {

@@ -26,6 +26,8 @@ pub mod csv;
 mod dataset;
 mod error;
 pub mod filter;
+pub mod floating;
+pub mod floating_csv;
 pub mod mapping;
 pub mod npz;
 pub mod prepare;

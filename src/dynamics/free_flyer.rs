@@ -122,6 +122,15 @@ impl FreeFlyer {
         10 + self.tree.regressor_columns()
     }
 
+    /// The regressor's column layout by name (the base first), with `rows`
+    /// rows per sample (6 + n for every row).
+    pub fn layout(&self, rows: usize) -> super::ParamLayout {
+        let mut l = self.tree.layout();
+        l.bodies.insert(0, self.base_name.clone());
+        l.rows = rows;
+        l
+    }
+
     /// Every body's parameters: the base's, then [`Model::params`].
     pub fn params(&self) -> Vec<f64> {
         let mut p = self.base.0.to_vec();
@@ -146,6 +155,33 @@ impl FreeFlyer {
                     .collect::<Vec<_>>()
                     .join(", "),
             })
+    }
+
+    /// Sets every body's parameters (10 per body: the base, then the
+    /// tree's, [`Model::set_params`]).
+    pub fn set_params(&mut self, p: &[f64]) -> Result<(), DynamicsError> {
+        check_len("free-flyer parameters", p, 10 * self.num_bodies())?;
+        self.tree.set_params(&p[10..])?;
+        self.base = InertialParams(std::array::from_fn(|k| p[k]));
+        Ok(())
+    }
+
+    /// The whole robot at configuration `q`: its mass (kg), centre of mass
+    /// (m) and rotational inertia about it (kg·m²), in base coordinates
+    /// (from the mass matrix's base block, the composite inertia).
+    pub fn centroidal(
+        &self,
+        data: &mut FreeFlyerData,
+        q: &[f64],
+    ) -> Result<(f64, Vector3<f64>, Matrix3<f64>), DynamicsError> {
+        let m6 = self.crba(data, q)?.fixed_view::<6, 6>(0, 0).into_owned();
+        let mass = m6[(0, 0)];
+        // M_bb = [[m 1, −m [c]×], [m [c]×, I_o]] in (linear, angular) order
+        let mc = m6.fixed_view::<3, 3>(3, 0).into_owned();
+        let c = Vector3::new(mc[(2, 1)], mc[(0, 2)], mc[(1, 0)]) / mass;
+        let sc = crate::moments::skew(&c);
+        let io = m6.fixed_view::<3, 3>(3, 3).into_owned();
+        Ok((mass, c, io + mass * sc * sc))
     }
 
     /// The base state of a configuration, velocity and acceleration (each

@@ -391,6 +391,16 @@ impl Model {
         self.joints.iter().position(|j| j.name == name)
     }
 
+    /// The regressor's column layout by name (rows: one per joint).
+    pub fn layout(&self) -> super::ParamLayout {
+        super::ParamLayout {
+            bodies: self.body_names(),
+            joints: self.joint_names().iter().map(|j| j.to_string()).collect(),
+            terms: self.friction_terms().to_vec(),
+            rows: self.dof(),
+        }
+    }
+
     /// The regressor's column count ([`crate::dynamics::regressor`]): 10 per
     /// body, then one per joint and friction term.
     pub fn regressor_columns(&self) -> usize {

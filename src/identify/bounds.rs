@@ -108,8 +108,8 @@ impl Identification<'_> {
         }
         if self.joint_weighting != super::JointWeighting::Equal
             || self
-                .model
-                .friction_terms()
+                .layout
+                .terms
                 .contains(&crate::dynamics::FrictionTerm::Load)
         {
             return Err(IdentifyError::Unsupported {
@@ -121,7 +121,7 @@ impl Identification<'_> {
         // a floor keeps an exact fit's set from being a single point
         let floor = FLOOR * d.iter().map(|v| v * v).sum::<f64>().sqrt();
         let radius = ((1.0 + delta) * residual).max(floor);
-        let rows = red.samples * self.model.dof();
+        let rows = red.samples * self.layout.rows;
         let half = self.box_halves(theta, rms_of(&d, rows));
         // an end that moves when every box grows is held by a box: no end
         let ends = self.ends((&r, &d), radius, &half)?;
@@ -134,8 +134,8 @@ impl Identification<'_> {
                 _ => e,
             })
             .collect();
-        let names = super::solved::parameter_names(self.model);
-        let nb = self.model.num_bodies();
+        let names = self.layout.parameter_names();
+        let nb = self.layout.num_bodies();
         let ranges = (0..theta.len())
             .map(|k| {
                 let ((lo, n1), (hi, n2)) = (ends[2 * k].clone(), ends[2 * k + 1].clone());
@@ -211,7 +211,7 @@ impl Identification<'_> {
         radius: f64,
         half: &[f64],
     ) -> Result<(Problem, Vec<AffExpr>), IdentifyError> {
-        let (p, nb, n) = (r.ncols(), self.model.num_bodies(), self.model.dof());
+        let p = r.ncols();
         let mut prob = Problem::new();
         let z = prob.vector("z", p);
         let theta: Vec<AffExpr> = (0..p).map(|j| AffExpr::term(z[j], half[j])).collect();
@@ -231,12 +231,8 @@ impl Identification<'_> {
         prob.add_soc(AffExpr::constant(1.0), rows)?;
         let vars = self.vars(&theta);
         let bodies: Vec<BodyVars> = vars.bodies.iter().map(|(_, b)| b.clone()).collect();
-        self.add_body_constraints(&mut prob, &bodies, &self.model.body_names())?;
-        for (k, t) in self.model.friction_terms().iter().enumerate() {
-            if !t.signed() {
-                prob.add_nonneg(theta[10 * nb + k * n..10 * nb + (k + 1) * n].to_vec())?;
-            }
-        }
+        self.add_body_constraints(&mut prob, &bodies, &self.layout.bodies)?;
+        self.friction_nonneg(&mut prob, &theta)?;
         for h in &self.hooks {
             h(&mut prob, &vars)?;
         }
@@ -250,7 +246,7 @@ impl Identification<'_> {
     /// BOX × M·L² (L the largest CoM distance, at least 1 m), friction
     /// coefficients BOX × the torques' RMS (per unit velocity for viscous).
     fn box_halves(&self, theta: &[f64], tau_rms: f64) -> Vec<f64> {
-        let nb = self.model.num_bodies();
+        let nb = self.layout.num_bodies();
         let total = |v: &[f64]| {
             (0..nb.min(v.len() / 10))
                 .map(|b| v[10 * b].abs())

@@ -112,6 +112,9 @@ pub(super) struct BodySpec {
 /// ellipsoids, a prior, solver settings and the caller's constraints.
 pub struct Identification<'m> {
     pub(super) model: &'m Model,
+    /// The regressor's columns by name and rows per sample (the model's,
+    /// or a free-flyer's: [`Identification::for_free_flyer`]).
+    pub(super) layout: crate::dynamics::ParamLayout,
     pub(super) common: Level,
     pub(super) bodies: Vec<BodySpec>,
     pub(super) weight: f64,
@@ -134,6 +137,7 @@ impl<'m> Identification<'m> {
     pub fn new(model: &'m Model) -> Self {
         Self {
             model,
+            layout: model.layout(),
             common: Level::Consistent,
             bodies: vec![
                 BodySpec {
@@ -154,6 +158,16 @@ impl<'m> Identification<'m> {
             hooks: vec![],
             robot: None,
         }
+    }
+
+    /// A floating-base robot's problem: its base and tree bodies (every one
+    /// consistent), fitted on the `rows` of its dynamics, on data reduced by
+    /// [`reduce_floating`](super::floating::reduce_floating) with the same rows.
+    pub fn for_free_flyer(ff: &'m crate::dynamics::FreeFlyer, rows: super::Rows) -> Self {
+        let mut s = Self::new(&ff.tree);
+        s.layout = ff.layout(rows.range(ff.tree.dof()).len());
+        s.bodies = vec![s.bodies[0]; s.layout.num_bodies()];
+        s
     }
 
     /// The set-up of [`IdentifyOptions`] (one level for every body).
@@ -231,7 +245,7 @@ impl<'m> Identification<'m> {
     }
 
     fn body_index(&self, body: &str) -> Result<usize, IdentifyError> {
-        let names = self.model.body_names();
+        let names = self.layout.bodies.clone();
         names
             .iter()
             .position(|n| n == body)
@@ -258,7 +272,7 @@ impl<'m> Identification<'m> {
     /// finite (0: off), the prior finite.
     pub fn prior(mut self, weight: f64, prior: Vec<f64>) -> Result<Self, IdentifyError> {
         let o = IdentifyOptions::new(Level::None).with_prior(weight, prior)?;
-        let nb = self.model.num_bodies();
+        let nb = self.layout.num_bodies();
         if o.weight > 0.0 && o.prior.len() != 10 * nb {
             return Err(IdentifyError::PriorLength {
                 found: o.prior.len(),
@@ -326,7 +340,7 @@ impl<'m> Identification<'m> {
         {
             return None;
         }
-        let names = self.model.body_names();
+        let names = self.layout.bodies.clone();
         let outside: Vec<String> = (self.bodies.iter().zip(self.prior.chunks_exact(10)))
             .zip(&names)
             .filter_map(|((b, p), name)| {
@@ -415,7 +429,7 @@ impl<'m> Identification<'m> {
 
     /// The prior fits the model and every body that needs an ellipsoid has one.
     pub(super) fn check(&self) -> Result<(), IdentifyError> {
-        let names = self.model.body_names();
+        let names = self.layout.bodies.clone();
         let nb = names.len();
         let w_m = self.mass_weight();
         if (self.weight > 0.0 || w_m > 0.0) && self.prior.len() != 10 * nb {

@@ -122,10 +122,10 @@ impl Identification<'_> {
         train: &Dataset,
         grid: &[f64],
     ) -> Result<WeightChoice, IdentifyError> {
-        let nb = self.model.num_bodies();
+        let nb = self.layout.num_bodies();
         if self.prior.len() != 10 * nb {
             return Err(IdentifyError::NoPrior {
-                body: self.model.body_names().first().cloned().unwrap_or_default(),
+                body: self.layout.bodies.first().cloned().unwrap_or_default(),
             });
         }
         let mut weights: Vec<f64> = grid.to_vec();

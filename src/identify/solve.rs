@@ -23,7 +23,7 @@ use super::error::IdentifyError;
 use super::identifiability::Identifiability;
 use super::options::{IdentifyOptions, Level, MassWeight, Regularizer};
 use super::reduce::Reduced;
-use super::solved::{Solved, parameter_names};
+use super::solved::Solved;
 use crate::conic::{AffExpr, Problem, Status};
 use crate::dynamics::Model;
 use crate::moments::{MomentsError, add_entropic_divergence, lmi::BodyVars};
@@ -42,8 +42,8 @@ pub fn solve_identification(
 impl Identification<'_> {
     /// Solves on reduced data.
     pub fn solve(&self, red: &Reduced) -> Result<Solved, IdentifyError> {
-        let model = self.model;
-        let p = model.regressor_columns();
+        let layout = &self.layout;
+        let p = layout.columns();
         if red.p != p {
             return Err(IdentifyError::Columns {
                 expected: p,
@@ -60,7 +60,7 @@ impl Identification<'_> {
         let (r, d) = red.r_d()?;
         // the identifiability analysis (an SVD) runs beside the solve
         let mut solved = std::thread::scope(|s| {
-            let ident = s.spawn(|| Identifiability::of(&r, &parameter_names(model)));
+            let ident = s.spawn(|| Identifiability::of(&r, &layout.parameter_names()));
             let solved = self.solve_factored(&r, &d, red.samples);
             let identifiability = ident.join().unwrap_or(Err(IdentifyError::Factorisation {
                 what: "the identifiability analysis (its thread panicked)",
@@ -70,7 +70,7 @@ impl Identification<'_> {
                 ..s
             })
         })?;
-        let rows = red.samples * model.dof();
+        let rows = red.samples * layout.rows;
         (solved.identifiability).estimate(&r, &d, &solved.theta, rows)?;
         Ok(solved)
     }
@@ -83,8 +83,8 @@ impl Identification<'_> {
         d: &[f64],
         samples: usize,
     ) -> Result<Solved, IdentifyError> {
-        let model = self.model;
-        let nb = model.num_bodies();
+        let layout = &self.layout;
+        let nb = layout.num_bodies();
         let ns = samples as f64;
         let t0 = std::time::Instant::now();
         let reg = Prior {
@@ -96,9 +96,9 @@ impl Identification<'_> {
         if direct && self.bodies.iter().all(|b| b.level == Level::None) {
             return Ok(Solved {
                 theta: solve_direct(&r, &d, ns, reg, nb)?,
-                terms: model.friction_terms().to_vec(),
-                bodies: model.body_names(),
-                joints: model.joint_names().iter().map(|s| s.to_string()).collect(),
+                terms: layout.terms.clone(),
+                bodies: layout.bodies.clone(),
+                joints: layout.joints.clone(),
                 status: Status::Solved,
                 iterations: 0,
                 solve_time_s: t0.elapsed().as_secs_f64(),
@@ -108,17 +108,11 @@ impl Identification<'_> {
         let (mut prob, theta) = scaled_problem(&r, &d, ns, reg, nb, !self.entropic())?;
         let vars = self.vars(&theta);
         let bodies: Vec<BodyVars> = vars.bodies.iter().map(|(_, b)| b.clone()).collect();
-        self.add_body_constraints(&mut prob, &bodies, &model.body_names())?;
+        self.add_body_constraints(&mut prob, &bodies, &layout.bodies)?;
         if self.entropic() {
-            self.add_entropic(&mut prob, &bodies, &model.body_names())?;
+            self.add_entropic(&mut prob, &bodies, &layout.bodies)?;
         }
-        // every friction coefficient ≥ 0 but an offset's
-        let n = model.dof();
-        for (k, t) in model.friction_terms().iter().enumerate() {
-            if !t.signed() {
-                prob.add_nonneg(theta[10 * nb + k * n..10 * nb + (k + 1) * n].to_vec())?;
-            }
-        }
+        self.friction_nonneg(&mut prob, &theta)?;
         for h in &self.hooks {
             h(&mut prob, &vars)?;
         }
@@ -126,9 +120,9 @@ impl Identification<'_> {
         match sol.status {
             s if s.is_solved() => Ok(Solved {
                 theta: sol.eval_all(&theta)?,
-                terms: model.friction_terms().to_vec(),
-                bodies: model.body_names(),
-                joints: model.joint_names().iter().map(|s| s.to_string()).collect(),
+                terms: layout.terms.clone(),
+                bodies: layout.bodies.clone(),
+                joints: layout.joints.clone(),
                 status: sol.status,
                 iterations: sol.iterations,
                 solve_time_s: sol.setup_time_s + sol.solve_time_s,
@@ -139,13 +133,28 @@ impl Identification<'_> {
         }
     }
 
+    /// Every friction coefficient ≥ 0 but an offset's.
+    pub(super) fn friction_nonneg(
+        &self,
+        prob: &mut Problem,
+        theta: &[AffExpr],
+    ) -> Result<(), IdentifyError> {
+        let (l, n) = (&self.layout, self.layout.joints.len());
+        for (k, t) in l.terms.iter().enumerate() {
+            if !t.signed() {
+                let c0 = l.friction_start(k);
+                prob.add_nonneg(theta[c0..c0 + n].to_vec())?;
+            }
+        }
+        Ok(())
+    }
+
     /// The hook's view of θ.
     pub(super) fn vars(&self, theta: &[AffExpr]) -> Vars {
-        let model = self.model;
-        let nb = model.num_bodies();
+        let layout = &self.layout;
+        let nb = layout.num_bodies();
         Vars {
-            bodies: model
-                .body_names()
+            bodies: (layout.bodies.clone())
                 .into_iter()
                 .enumerate()
                 .map(|(b, name)| {
@@ -155,9 +164,9 @@ impl Identification<'_> {
                     )
                 })
                 .collect(),
-            joints: model.joint_names().iter().map(|j| j.to_string()).collect(),
+            joints: layout.joints.clone(),
             friction: theta[10 * nb..].to_vec(),
-            terms: model.friction_terms().to_vec(),
+            terms: layout.terms.clone(),
         }
     }
 
@@ -224,11 +233,12 @@ impl Identification<'_> {
     /// After an infeasible solve: the first body whose own constraint set is
     /// empty, else the status itself (the caller's constraints conflict).
     fn explain_infeasible(&self, status: Status) -> Result<IdentifyError, IdentifyError> {
-        for (b, name) in self.model.body_names().iter().enumerate() {
+        for (b, name) in self.layout.bodies.iter().enumerate() {
             let mut q = Problem::new();
             let v = BodyVars::new(&mut q, name);
             let alone = Identification {
                 model: self.model,
+                layout: self.layout.clone(),
                 common: self.common,
                 bodies: vec![self.bodies[b]],
                 weight: 0.0,

@@ -33,23 +33,7 @@ pub struct Solved {
 /// Parameter names: `<body>.<m|hx|…>`, then `<term>.<joint>` for each
 /// friction term of the model (`viscous.<joint>`, `coulomb.<joint>`, …).
 pub fn parameter_names(model: &Model) -> Vec<String> {
-    const P: [&str; 10] = [
-        "m", "hx", "hy", "hz", "Ixx", "Ixy", "Ixz", "Iyy", "Iyz", "Izz",
-    ];
-    let mut v: Vec<String> = model
-        .body_names()
-        .iter()
-        .flat_map(|b| P.iter().map(move |p| format!("{b}.{p}")))
-        .collect();
-    for t in model.friction_terms() {
-        v.extend(
-            model
-                .joint_names()
-                .iter()
-                .map(|j| format!("{}.{j}", t.name())),
-        );
-    }
-    v
+    model.layout().parameter_names()
 }
 
 impl Solved {

@@ -15,6 +15,7 @@
 pub mod compliance;
 pub mod effects;
 mod error;
+pub mod floating;
 pub mod sampled;
 pub mod simulate;
 pub mod trajectory;

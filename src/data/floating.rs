@@ -1,0 +1,121 @@
+//! A floating-base log: the base's pose and motion (motion capture or an
+//! estimator and an IMU), the joints' encoders and torques, and the
+//! wrenches measured at contact frames (force plates, a harness load cell,
+//! foot sensors). Conventions: [`FreeFlyer`]'s (`q` 7 + n with the
+//! quaternion `x, y, z, w`; `v`, `a` 6 + n, base part linear then angular
+//! in base coordinates).
+
+use super::error::DataError;
+use crate::dynamics::{ContactWrench, DynamicsError, FreeFlyer, WrenchFrame};
+
+/// The wrenches measured at one frame over a log.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ContactChannel {
+    /// The frame (a URDF link of the robot) where the wrench acts.
+    pub frame: String,
+    /// The axes the wrench is expressed in.
+    pub expressed: WrenchFrame,
+    /// Per sample, force (N) then moment about the frame origin (N·m):
+    /// `samples × 6`, sample-major.
+    pub wrench: Vec<f64>,
+}
+
+/// Samples of a floating-base robot, sample-major.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FloatingLog {
+    /// Sample times (s).
+    pub t: Vec<f64>,
+    /// Configurations, `samples × (7 + n)`.
+    pub q: Vec<f64>,
+    /// Velocities, `samples × (6 + n)`.
+    pub v: Vec<f64>,
+    /// Accelerations, `samples × (6 + n)`.
+    pub a: Vec<f64>,
+    /// Joint torques, `samples × n` (N·m or N); `None` when not measured
+    /// (only the base rows can be used).
+    pub tau: Option<Vec<f64>>,
+    /// The contact wrenches (every external wrench on the robot).
+    pub contacts: Vec<ContactChannel>,
+}
+
+impl FloatingLog {
+    /// Number of samples.
+    pub fn samples(&self) -> usize {
+        self.t.len()
+    }
+
+    /// Checks the log against the robot: every array's length, every value
+    /// finite, every quaternion of unit norm, every contact frame one of
+    /// the robot's; the error names the array, sample or frame.
+    pub fn check(&self, ff: &FreeFlyer) -> Result<(), DataError> {
+        let s = self.samples();
+        let n = ff.tree.dof();
+        let arrays = [
+            ("q", Some(&self.q), 7 + n),
+            ("v", Some(&self.v), 6 + n),
+            ("a", Some(&self.a), 6 + n),
+            ("tau", self.tau.as_ref(), n),
+        ];
+        for (name, x, width) in arrays {
+            if let Some(x) = x {
+                check_array(name, x, s, width)?;
+            }
+        }
+        for c in &self.contacts {
+            ff.frame_index(&c.frame).map_err(|e| bad(0, e))?;
+            check_array(&format!("wrench of '{}'", c.frame), &c.wrench, s, 6)?;
+        }
+        let (nq, nv) = (ff.nq(), ff.nv());
+        for k in 0..s {
+            let q = &self.q[k * nq..(k + 1) * nq];
+            let v = &self.v[k * nv..(k + 1) * nv];
+            ff.base_state(q, v, &self.a[k * nv..(k + 1) * nv])
+                .map_err(|e| bad(k, e))?;
+        }
+        Ok(())
+    }
+
+    /// Sample `k`'s contact wrenches, for [`FreeFlyer::contact_force`].
+    pub fn contacts_at(
+        &self,
+        ff: &FreeFlyer,
+        k: usize,
+    ) -> Result<Vec<ContactWrench>, DynamicsError> {
+        self.contacts
+            .iter()
+            .map(|c| {
+                Ok(ContactWrench {
+                    frame: ff.frame_index(&c.frame)?,
+                    wrench: std::array::from_fn(|i| c.wrench[6 * k + i]),
+                    expressed: c.expressed,
+                })
+            })
+            .collect()
+    }
+}
+
+fn bad(sample: usize, source: DynamicsError) -> DataError {
+    DataError::Sample { sample, source }
+}
+
+fn check_array(name: &str, x: &[f64], samples: usize, width: usize) -> Result<(), DataError> {
+    if x.len() != samples * width {
+        return Err(DataError::Log {
+            message: format!(
+                "{name}: {} values, expected {samples} samples × {width}",
+                x.len()
+            ),
+        });
+    }
+    if let Some(i) = x.iter().position(|v| !v.is_finite()) {
+        return Err(DataError::Log {
+            message: format!(
+                "{name}: sample {}, entry {}: {} is not finite",
+                i / width,
+                i % width,
+                x[i]
+            ),
+        });
+    }
+    Ok(())
+}

@@ -1,0 +1,307 @@
+//! The CSV form of a [`FloatingLog`] (docs/inputs.md, "Floating-base logs"):
+//!
+//! - `t`; the base pose `base_x, base_y, base_z` (world, m) and
+//!   `base_qx, base_qy, base_qz, base_qw` (base → world); its twist
+//!   `base_vx, base_vy, base_vz, base_wx, base_wy, base_wz` and the twist's
+//!   derivative `base_dvx, …, base_dwz` (base coordinates, SI);
+//! - per joint `q_<j>, qd_<j>, qdd_<j>` and, when measured, `tau_<j>`;
+//! - per contact frame (a URDF link) `force_<frame>_<x|y|z>` and optionally
+//!   `moment_<frame>_<x|y|z>` (N, N·m about the frame origin) in the
+//!   frame's own axes, or `world_force_…`, `world_moment_…` in world-aligned
+//!   axes at the frame origin (a force plate's).
+//!
+//! Any column order; every other column is an error naming it.
+
+use super::error::DataError;
+use super::floating::{ContactChannel, FloatingLog};
+use super::raw::MAX_ROWS;
+use crate::dynamics::{FreeFlyer, WrenchFrame};
+use std::collections::HashMap;
+
+const BASE_Q: [&str; 7] = ["x", "y", "z", "qx", "qy", "qz", "qw"];
+const BASE_V: [&str; 6] = ["vx", "vy", "vz", "wx", "wy", "wz"];
+const AXES: [&str; 3] = ["x", "y", "z"];
+
+/// What a column holds: (array, width, index) or a contact's entry.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Slot {
+    Q(usize),
+    V(usize),
+    A(usize),
+    Tau(usize),
+    T,
+    /// Contact c's wrench entry (0..3 force, 3..6 moment).
+    Wrench(usize, usize),
+}
+
+fn prefix_of(expressed: WrenchFrame) -> &'static str {
+    match expressed {
+        WrenchFrame::Local => "",
+        WrenchFrame::WorldAligned => "world_",
+    }
+}
+
+/// The column names of `log` for the robot `ff` (contacts: forces, then
+/// moments).
+pub fn floating_header(ff: &FreeFlyer, log: &FloatingLog) -> Vec<String> {
+    let joints = ff.tree.joint_names();
+    let mut h = vec!["t".to_string()];
+    h.extend(BASE_Q.iter().map(|c| format!("base_{c}")));
+    h.extend(BASE_V.iter().map(|c| format!("base_{c}")));
+    h.extend(BASE_V.iter().map(|c| format!("base_d{c}")));
+    let mut families = vec!["q", "qd", "qdd"];
+    if log.tau.is_some() {
+        families.push("tau");
+    }
+    for p in families {
+        h.extend(joints.iter().map(|j| format!("{p}_{j}")));
+    }
+    for c in &log.contacts {
+        let w = prefix_of(c.expressed);
+        for kind in ["force", "moment"] {
+            h.extend(AXES.iter().map(|a| format!("{w}{kind}_{}_{a}", c.frame)));
+        }
+    }
+    h
+}
+
+impl FloatingLog {
+    /// The CSV text (every value in full precision).
+    pub fn to_csv(&self, ff: &FreeFlyer) -> String {
+        let mut s = floating_header(ff, self).join(",");
+        s.push('\n');
+        let (nq, nv, n) = (ff.nq(), ff.nv(), ff.tree.dof());
+        for k in 0..self.samples() {
+            let mut row: Vec<f64> = vec![self.t[k]];
+            row.extend(&self.q[k * nq..(k + 1) * nq][..7]);
+            row.extend(&self.v[k * nv..k * nv + 6]);
+            row.extend(&self.a[k * nv..k * nv + 6]);
+            row.extend(&self.q[k * nq + 7..(k + 1) * nq]);
+            row.extend(&self.v[k * nv + 6..(k + 1) * nv]);
+            row.extend(&self.a[k * nv + 6..(k + 1) * nv]);
+            if let Some(t) = &self.tau {
+                row.extend(&t[k * n..(k + 1) * n]);
+            }
+            for c in &self.contacts {
+                row.extend(&c.wrench[6 * k..6 * k + 6]);
+            }
+            let text: Vec<String> = row.iter().map(|x| format!("{x:e}")).collect();
+            s += &text.join(",");
+            s.push('\n');
+        }
+        s
+    }
+}
+
+/// Every column's slot, the contacts found, and whether torques are there;
+/// an unknown, repeated or missing column is an error naming it.
+fn slots(
+    ff: &FreeFlyer,
+    header: &[String],
+    path: &str,
+) -> Result<(Vec<Slot>, Vec<(String, WrenchFrame)>, bool), DataError> {
+    let joints = ff.tree.joint_names();
+    let mut known: HashMap<String, Slot> = HashMap::new();
+    known.insert("t".into(), Slot::T);
+    for (i, c) in BASE_Q.iter().enumerate() {
+        known.insert(format!("base_{c}"), Slot::Q(i));
+    }
+    for (i, c) in BASE_V.iter().enumerate() {
+        known.insert(format!("base_{c}"), Slot::V(i));
+        known.insert(format!("base_d{c}"), Slot::A(i));
+    }
+    for (i, j) in joints.iter().enumerate() {
+        known.insert(format!("q_{j}"), Slot::Q(7 + i));
+        known.insert(format!("qd_{j}"), Slot::V(6 + i));
+        known.insert(format!("qdd_{j}"), Slot::A(6 + i));
+        known.insert(format!("tau_{j}"), Slot::Tau(i));
+    }
+    let mut contacts: Vec<(String, WrenchFrame)> = Vec::new();
+    let mut out = Vec::with_capacity(header.len());
+    for name in header {
+        let slot = match known.get(name) {
+            Some(s) => *s,
+            None => contact_slot(ff, name, &mut contacts).ok_or_else(|| DataError::Value {
+                path: path.into(),
+                row: 0,
+                column: name.clone(),
+                message: "not a column of a floating-base log (docs/inputs.md)".into(),
+            })?,
+        };
+        if out.contains(&slot) {
+            return Err(DataError::Value {
+                path: path.into(),
+                row: 0,
+                column: name.clone(),
+                message: "given twice".into(),
+            });
+        }
+        out.push(slot);
+    }
+    let has_tau = out.iter().any(|s| matches!(s, Slot::Tau(_)));
+    let mut need: Vec<(Slot, String)> = vec![(Slot::T, "t".into())];
+    for (name, slot) in &known {
+        let required = !matches!(slot, Slot::T | Slot::Tau(_)) || has_tau;
+        if required && !matches!(slot, Slot::T) {
+            need.push((*slot, name.clone()));
+        }
+    }
+    need.sort_by(|a, b| a.1.cmp(&b.1));
+    if let Some((_, missing)) = need.iter().find(|(s, _)| !out.contains(s)) {
+        return Err(DataError::MissingColumn {
+            path: path.into(),
+            column: missing.clone(),
+            header: header.join(","),
+        });
+    }
+    Ok((out, contacts, has_tau))
+}
+
+/// A `[world_]force_<frame>_<axis>` or `[world_]moment_…` column's slot.
+fn contact_slot(
+    ff: &FreeFlyer,
+    name: &str,
+    contacts: &mut Vec<(String, WrenchFrame)>,
+) -> Option<Slot> {
+    let (expressed, rest) = match name.strip_prefix("world_") {
+        Some(r) => (WrenchFrame::WorldAligned, r),
+        None => (WrenchFrame::Local, name),
+    };
+    let (offset, rest) = if let Some(r) = rest.strip_prefix("force_") {
+        (0, r)
+    } else {
+        (3, rest.strip_prefix("moment_")?)
+    };
+    let axis = AXES.iter().position(|a| rest.ends_with(&format!("_{a}")))?;
+    let frame = &rest[..rest.len() - 2];
+    ff.frame_index(frame).ok()?;
+    let c = match contacts
+        .iter()
+        .position(|(f, e)| f == frame && *e == expressed)
+    {
+        Some(c) => c,
+        None => {
+            contacts.push((frame.to_string(), expressed));
+            contacts.len() - 1
+        }
+    };
+    Some(Slot::Wrench(c, offset + axis))
+}
+
+/// Reads the CSV text of a floating-base log of the robot `ff`; `path`
+/// names it in errors (row numbers 1-based, data rows). A contact without
+/// moment columns has zero moment (a point contact); a contact with some
+/// but not all three force columns is an error.
+pub fn floating_from_csv(ff: &FreeFlyer, text: &str, path: &str) -> Result<FloatingLog, DataError> {
+    let mut rdr = ::csv::ReaderBuilder::new()
+        .trim(::csv::Trim::All)
+        .from_reader(text.as_bytes());
+    let row_err = |row, message: String| DataError::Row {
+        path: path.into(),
+        row,
+        message,
+    };
+    let header: Vec<String> = (rdr.headers().map_err(|e| row_err(0, e.to_string()))?)
+        .iter()
+        .map(str::to_string)
+        .collect();
+    let (slots, contacts, has_tau) = slots(ff, &header, path)?;
+    check_forces(&slots, &contacts, path)?;
+    let mut log = empty_log(&contacts, has_tau);
+    for (r, rec) in rdr.records().enumerate() {
+        let rec = rec.map_err(|e| row_err(r + 1, e.to_string()))?;
+        if r >= MAX_ROWS {
+            return Err(row_err(r + 1, format!("more than {MAX_ROWS} rows")));
+        }
+        push_row(&mut log, ff, &slots, &rec, (path, r + 1), &header)?;
+    }
+    Ok(log)
+}
+
+fn empty_log(contacts: &[(String, WrenchFrame)], has_tau: bool) -> FloatingLog {
+    FloatingLog {
+        t: vec![],
+        q: vec![],
+        v: vec![],
+        a: vec![],
+        tau: has_tau.then(Vec::new),
+        contacts: (contacts.iter())
+            .map(|(frame, expressed)| ContactChannel {
+                frame: frame.clone(),
+                expressed: *expressed,
+                wrench: vec![],
+            })
+            .collect(),
+    }
+}
+
+/// Every contact has its three force columns.
+fn check_forces(
+    slots: &[Slot],
+    contacts: &[(String, WrenchFrame)],
+    path: &str,
+) -> Result<(), DataError> {
+    for (c, (frame, e)) in contacts.iter().enumerate() {
+        for (i, a) in AXES.iter().enumerate() {
+            if !slots.contains(&Slot::Wrench(c, i)) {
+                return Err(DataError::MissingColumn {
+                    path: path.into(),
+                    column: format!("{}force_{frame}_{a}", prefix_of(*e)),
+                    header: "the other force columns of that contact".into(),
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+fn push_row(
+    log: &mut FloatingLog,
+    ff: &FreeFlyer,
+    slots: &[Slot],
+    rec: &::csv::StringRecord,
+    (path, row): (&str, usize),
+    header: &[String],
+) -> Result<(), DataError> {
+    if rec.len() != slots.len() {
+        return Err(DataError::Row {
+            path: path.into(),
+            row,
+            message: format!("{} fields, the header has {}", rec.len(), slots.len()),
+        });
+    }
+    let (nq, nv, n) = (ff.nq(), ff.nv(), ff.tree.dof());
+    let (q0, v0) = (log.q.len(), log.v.len());
+    log.q.resize(q0 + nq, 0.0);
+    log.v.resize(v0 + nv, 0.0);
+    log.a.resize(v0 + nv, 0.0);
+    let t0 = log.tau.as_ref().map_or(0, Vec::len);
+    if let Some(t) = &mut log.tau {
+        t.resize(t0 + n, 0.0);
+    }
+    let w0: Vec<usize> = log.contacts.iter().map(|c| c.wrench.len()).collect();
+    log.contacts
+        .iter_mut()
+        .for_each(|c| c.wrench.resize(c.wrench.len() + 6, 0.0));
+    for ((field, slot), name) in rec.iter().zip(slots).zip(header) {
+        let x: f64 = field
+            .parse()
+            .ok()
+            .filter(|x: &f64| x.is_finite())
+            .ok_or_else(|| DataError::Value {
+                path: path.into(),
+                row,
+                column: name.clone(),
+                message: format!("'{field}' is not a finite number"),
+            })?;
+        match *slot {
+            Slot::T => log.t.push(x),
+            Slot::Q(i) => log.q[q0 + i] = x,
+            Slot::V(i) => log.v[v0 + i] = x,
+            Slot::A(i) => log.a[v0 + i] = x,
+            Slot::Tau(i) => log.tau.as_mut().expect("tau columns")[t0 + i] = x,
+            Slot::Wrench(c, i) => log.contacts[c].wrench[w0[c] + i] = x,
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,143 @@
+//! A floating-base robot's data reduced for identification: the chosen rows
+//! ([`Rows`]) of `Y(q, v, a) π = [0; τ] + Σ_c J_cᵀ w_c` stacked over the
+//! samples of a [`FloatingLog`] and reduced to their Gram matrix (as
+//! [`reduce`](super::reduce) does for a fixed base), for
+//! [`Identification::for_free_flyer`](super::Identification::for_free_flyer).
+//!
+//! The base rows need no joint torque: the contact wrenches alone balance
+//! them (Ayusawa et al.), so they identify a robot with no torque sensing.
+
+use super::error::IdentifyError;
+use super::reduce::Reduced;
+use crate::data::floating::FloatingLog;
+use crate::dynamics::{FreeFlyer, FreeFlyerData};
+use faer::Mat;
+use rayon::prelude::*;
+
+/// Which rows of the floating-base dynamics the identification fits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Rows {
+    /// The six base rows: the contact wrenches balance the whole robot's
+    /// Newton–Euler equations (no joint torque needed).
+    Base,
+    /// The joint rows: joint torques plus the contacts' share.
+    Joints,
+    /// Every row (the base rows in N and N·m, the joints' in N·m, unweighted).
+    All,
+}
+
+impl Rows {
+    /// The rows of the generalized force (6 + n) these are.
+    pub fn range(self, joints: usize) -> std::ops::Range<usize> {
+        match self {
+            Rows::Base => 0..6,
+            Rows::Joints => 6..6 + joints,
+            Rows::All => 0..6 + joints,
+        }
+    }
+
+    /// The name (`base`, `joints`, `all`).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Rows::Base => "base",
+            Rows::Joints => "joints",
+            Rows::All => "all",
+        }
+    }
+}
+
+/// Samples per chunk of the reduction.
+const CHUNK: usize = 256;
+
+/// The Gram matrix `[A b]ᵀ[A b]` of the chosen rows of every sample of
+/// `log` (checked against `ff` first): A the regressor
+/// ([`FreeFlyer::regressor`]), b the measured generalized force.
+pub fn reduce_floating(
+    ff: &FreeFlyer,
+    log: &FloatingLog,
+    rows: Rows,
+) -> Result<Reduced, IdentifyError> {
+    log.check(ff)?;
+    let samples = log.samples();
+    if rows != Rows::Base && log.tau.is_none() {
+        return Err(IdentifyError::NoTrainingData {
+            samples,
+            torques: 0,
+        });
+    }
+    let p1 = ff.regressor_columns() + 1;
+    let chunks: Vec<usize> = (0..samples).step_by(CHUNK).collect();
+    let grams = chunks
+        .par_iter()
+        .map(|&s0| chunk_gram(ff, log, rows, s0..(s0 + CHUNK).min(samples)))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut gram = Mat::<f64>::zeros(p1, p1);
+    for g in grams {
+        gram += g;
+    }
+    Reduced::from_gram(gram, samples)
+}
+
+/// One chunk's `XᵀX`, X its rows `[A b]`.
+fn chunk_gram(
+    ff: &FreeFlyer,
+    log: &FloatingLog,
+    rows: Rows,
+    range: std::ops::Range<usize>,
+) -> Result<Mat<f64>, IdentifyError> {
+    let (n, p) = (ff.tree.dof(), ff.regressor_columns());
+    let r = rows.range(n);
+    let mut x = Mat::<f64>::zeros(range.len() * r.len(), p + 1);
+    let mut data = FreeFlyerData::new(ff);
+    for (local, k) in range.enumerate() {
+        let b = measured(ff, &mut data, log, k)?;
+        let y = sample_regressor(ff, &mut data, log, k)?;
+        for (i, row) in r.clone().enumerate() {
+            let at = local * r.len() + i;
+            for c in 0..p {
+                x[(at, c)] = y[(row, c)];
+            }
+            x[(at, p)] = b[row];
+        }
+    }
+    Ok(x.transpose() * &x)
+}
+
+fn sample_regressor<'d>(
+    ff: &FreeFlyer,
+    data: &'d mut FreeFlyerData,
+    log: &FloatingLog,
+    k: usize,
+) -> Result<&'d nalgebra::DMatrix<f64>, IdentifyError> {
+    let (nq, nv) = (ff.nq(), ff.nv());
+    let at = |x: &[f64], w: usize| x[k * w..(k + 1) * w].to_vec();
+    let load = log.tau.as_ref().map(|t| at(t, ff.tree.dof()));
+    if let Some(load) = load {
+        data.tree.load.copy_from_slice(&load);
+    }
+    let (q, v, a) = (at(&log.q, nq), at(&log.v, nv), at(&log.a, nv));
+    ff.regressor(data, &q, &v, &a)
+        .map_err(|source| IdentifyError::Regressor { sample: k, source })
+}
+
+/// Sample k's measured generalized force `[0; τ] + Σ_c J_cᵀ w_c` (6 + n;
+/// the joint part zero without torques).
+pub fn measured(
+    ff: &FreeFlyer,
+    data: &mut FreeFlyerData,
+    log: &FloatingLog,
+    k: usize,
+) -> Result<nalgebra::DVector<f64>, IdentifyError> {
+    let (nq, n) = (ff.nq(), ff.tree.dof());
+    let fail = |source| IdentifyError::Regressor { sample: k, source };
+    let contacts = log.contacts_at(ff, k).map_err(fail)?;
+    let q = &log.q[k * nq..(k + 1) * nq];
+    let mut b = ff.contact_force(data, q, &contacts).map_err(fail)?;
+    if let Some(tau) = &log.tau {
+        for j in 0..n {
+            b[6 + j] += tau[k * n + j];
+        }
+    }
+    Ok(b)
+}

@@ -1,0 +1,261 @@
+//! A floating-base robot moved while suspended from a harness: the base
+//! follows a smooth random twist (its pose integrated from it), the joints
+//! a random Fourier motion, and a six-axis load cell between harness and
+//! base measures the one contact wrench, the base rows of the inverse
+//! dynamics (`M a + h = [w; τ]`). Noise: on the wrench (the load cell), the
+//! base twist and its derivative (the IMU), the joint states (encoders) and
+//! the joint torques; the quaternion stays of unit norm.
+
+use super::error::SimError;
+use super::trajectory::harmonic_state;
+use crate::data::floating::{ContactChannel, FloatingLog};
+use crate::dynamics::{FreeFlyer, FreeFlyerData, WrenchFrame};
+use nalgebra::{UnitQuaternion, Vector3};
+use rand::rngs::StdRng;
+use rand::{RngExt, SeedableRng};
+use rand_distr::{Distribution, Normal};
+
+/// Noise standard deviations of the suspended log's sensors.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FloatingNoise {
+    /// Load cell force (N) and moment (N·m).
+    pub force: f64,
+    /// Load cell moment (N·m).
+    pub moment: f64,
+    /// Gyroscope and base linear velocity (rad/s, m/s).
+    pub twist: f64,
+    /// Base acceleration, linear and angular (m/s², rad/s²).
+    pub twist_rate: f64,
+    /// Joint positions (rad), velocities ×10, accelerations ×100.
+    pub encoder: f64,
+    /// Joint torques (N·m).
+    pub torque: f64,
+}
+
+impl Default for FloatingNoise {
+    /// A small robot's sensors: 0.2 N and 0.01 N·m on the load cell, 0.01
+    /// rad/s, 0.05 m/s², 1e-4 rad and 0.02 N·m.
+    fn default() -> Self {
+        Self {
+            force: 0.2,
+            moment: 0.01,
+            twist: 0.01,
+            twist_rate: 0.05,
+            encoder: 1e-4,
+            torque: 0.02,
+        }
+    }
+}
+
+/// The motion's amplitudes and the log's rate and length.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SuspendedConfig {
+    /// Seconds of log.
+    pub seconds: f64,
+    /// Samples per second.
+    pub rate: f64,
+    /// Random seed of the motion and the noise.
+    pub seed: u64,
+    /// Joint amplitude per harmonic (rad).
+    pub joint_amplitude: f64,
+    /// Base angular velocity amplitude per harmonic (rad/s); the linear
+    /// velocity's is a tenth of it in m/s.
+    pub base_amplitude: f64,
+    /// Sensor noise.
+    pub noise: FloatingNoise,
+}
+
+impl Default for SuspendedConfig {
+    fn default() -> Self {
+        Self {
+            seconds: 20.0,
+            rate: 200.0,
+            seed: 1,
+            joint_amplitude: 0.3,
+            base_amplitude: 0.6,
+            noise: FloatingNoise::default(),
+        }
+    }
+}
+
+const HARMONICS: usize = 4;
+const BASE_FREQUENCY: f64 = 0.1;
+
+/// Random Fourier coefficients (a, b) for `channels` signals.
+fn coefficients(rng: &mut StdRng, channels: usize, amplitude: f64) -> Vec<[Vec<f64>; 2]> {
+    let mut c = || {
+        (0..HARMONICS)
+            .map(|_| amplitude * rng.random_range(-1.0..1.0))
+            .collect()
+    };
+    (0..channels).map(|_| [c(), c()]).collect()
+}
+
+/// The exact `[x, ẋ, ẍ]` of every channel at t.
+fn channels(coef: &[[Vec<f64>; 2]], t: f64) -> Vec<[f64; 3]> {
+    let omega = 2.0 * std::f64::consts::PI * BASE_FREQUENCY;
+    (coef.iter())
+        .map(|[a, b]| harmonic_state(omega, (a, b), t))
+        .collect()
+}
+
+/// The exact motion (`q`, `v`, `a` of the free-flyer) at the log's times;
+/// the orientation integrated from the body-frame angular velocity (RK4
+/// on the quaternion, 20 steps a sample, renormalised).
+fn motion(ff: &FreeFlyer, cfg: &SuspendedConfig, rng: &mut StdRng) -> [Vec<f64>; 3] {
+    let n = ff.tree.dof();
+    let joints = coefficients(rng, n, cfg.joint_amplitude);
+    let mut base = coefficients(rng, 6, cfg.base_amplitude);
+    base[..3]
+        .iter_mut()
+        .flatten()
+        .flatten()
+        .for_each(|x| *x *= 0.1);
+    let samples = (cfg.seconds * cfg.rate).round() as usize;
+    let dt = 1.0 / cfg.rate;
+    let (mut p, mut rot) = (Vector3::new(0.0, 0.0, 0.5), UnitQuaternion::identity());
+    let [mut q, mut v, mut a] = [Vec::new(), Vec::new(), Vec::new()];
+    for k in 0..samples {
+        let t = k as f64 * dt;
+        let (b, j) = (channels(&base, t), channels(&joints, t));
+        let c = rot.coords;
+        q.extend([p.x, p.y, p.z, c.x, c.y, c.z, c.w]);
+        q.extend(j.iter().map(|s| s[0]));
+        v.extend(b.iter().map(|s| s[1]).chain(j.iter().map(|s| s[1])));
+        a.extend(b.iter().map(|s| s[2]).chain(j.iter().map(|s| s[2])));
+        (p, rot) = integrate_pose(&base, (p, rot), t, dt);
+    }
+    [q, v, a]
+}
+
+/// The pose at `t + dt` from the pose at t: `ṗ = R v`, `Ṙ = R [ω]×`.
+fn integrate_pose(
+    base: &[[Vec<f64>; 2]],
+    (mut p, mut rot): (Vector3<f64>, UnitQuaternion<f64>),
+    t: f64,
+    dt: f64,
+) -> (Vector3<f64>, UnitQuaternion<f64>) {
+    const STEPS: usize = 20;
+    let h = dt / STEPS as f64;
+    let twist = |t: f64| {
+        let s = channels(base, t);
+        (
+            Vector3::new(s[0][1], s[1][1], s[2][1]),
+            Vector3::new(s[3][1], s[4][1], s[5][1]),
+        )
+    };
+    for i in 0..STEPS {
+        let t0 = t + i as f64 * h;
+        // midpoint twist over the step: exact exponential of a constant ω
+        let (vl, w) = twist(t0 + 0.5 * h);
+        let step = UnitQuaternion::from_scaled_axis(w * h);
+        let mid = rot * UnitQuaternion::from_scaled_axis(w * (0.5 * h));
+        p += mid * vl * h;
+        rot = rot * step;
+    }
+    (p, rot)
+}
+
+/// A suspended log of the robot `ff` (the truth): the harness wrench at
+/// the base frame (local axes) and the joint torques, with noise.
+pub fn simulate_suspended(ff: &FreeFlyer, cfg: &SuspendedConfig) -> Result<FloatingLog, SimError> {
+    let samples = cfg.seconds * cfg.rate;
+    if !(cfg.rate > 0.0 && (10.0..=1e7).contains(&samples)) {
+        return Err(SimError::Setting {
+            setting: "seconds × rate",
+            value: samples,
+            requirement: "between 10 and 1e7 samples at a positive rate",
+        });
+    }
+    let mut rng = StdRng::seed_from_u64(cfg.seed);
+    let [q, v, a] = motion(ff, cfg, &mut rng);
+    let (nq, nv, n) = (ff.nq(), ff.nv(), ff.tree.dof());
+    let samples = q.len() / nq;
+    let mut data = FreeFlyerData::new(ff);
+    let (mut wrench, mut tau) = (
+        Vec::with_capacity(6 * samples),
+        Vec::with_capacity(n * samples),
+    );
+    for k in 0..samples {
+        let g = ff.rnea(
+            &mut data,
+            &q[k * nq..(k + 1) * nq],
+            &v[k * nv..(k + 1) * nv],
+            &a[k * nv..(k + 1) * nv],
+        )?;
+        wrench.extend(g.iter().take(6));
+        tau.extend(g.iter().skip(6));
+    }
+    let (nf, nm, nt) = (
+        normal(cfg.noise.force)?,
+        normal(cfg.noise.moment)?,
+        normal(cfg.noise.torque)?,
+    );
+    for (i, w) in wrench.iter_mut().enumerate() {
+        *w += if i % 6 < 3 {
+            nf.sample(&mut rng)
+        } else {
+            nm.sample(&mut rng)
+        };
+    }
+    tau.iter_mut().for_each(|x| *x += nt.sample(&mut rng));
+    let (v, a) = (
+        add_state_noise(v, nv, [cfg.noise.twist, 10.0 * cfg.noise.encoder], &mut rng)?,
+        add_state_noise(
+            a,
+            nv,
+            [cfg.noise.twist_rate, 100.0 * cfg.noise.encoder],
+            &mut rng,
+        )?,
+    );
+    let ne = normal(cfg.noise.encoder)?;
+    let mut q = q;
+    for k in 0..samples {
+        q[k * nq + 7..(k + 1) * nq]
+            .iter_mut()
+            .for_each(|x| *x += ne.sample(&mut rng));
+    }
+    Ok(FloatingLog {
+        t: (0..samples).map(|k| k as f64 / cfg.rate).collect(),
+        q,
+        v,
+        a,
+        tau: Some(tau),
+        contacts: vec![ContactChannel {
+            frame: ff.base_name.clone(),
+            expressed: WrenchFrame::Local,
+            wrench,
+        }],
+    })
+}
+
+/// Noise of σ `[base, joints]` on a `samples × width` array (the base's
+/// six first).
+fn add_state_noise(
+    mut x: Vec<f64>,
+    width: usize,
+    [base, joints]: [f64; 2],
+    rng: &mut StdRng,
+) -> Result<Vec<f64>, SimError> {
+    let (nb, nj) = (normal(base)?, normal(joints)?);
+    for (i, v) in x.iter_mut().enumerate() {
+        *v += if i % width < 6 {
+            nb.sample(rng)
+        } else {
+            nj.sample(rng)
+        };
+    }
+    Ok(x)
+}
+
+/// A normal distribution of standard deviation `sigma` (finite, ≥ 0).
+fn normal(sigma: f64) -> Result<Normal<f64>, SimError> {
+    Normal::new(0.0, sigma)
+        .ok()
+        .filter(|_| sigma.is_finite())
+        .ok_or(SimError::Setting {
+            setting: "noise",
+            value: sigma,
+            requirement: "a finite standard deviation ≥ 0",
+        })
+}

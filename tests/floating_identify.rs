@@ -1,0 +1,149 @@
+//! Identification of a floating-base robot (Solo12, suspended from a
+//! harness with a load cell) from its base rows and contact wrench alone,
+//! and from its joint rows: held-out errors at the noise floor, every body
+//! consistent, the whole robot's mass, CoM and centroidal inertia as the
+//! truth's.
+
+use momentlmi::data::floating::FloatingLog;
+use momentlmi::dynamics::urdf::free_flyer_from_urdf_file;
+use momentlmi::dynamics::{FreeFlyer, FreeFlyerData};
+use momentlmi::identify::floating::measured;
+use momentlmi::identify::{Identification, Rows, reduce_floating};
+use momentlmi::moments::InertialParams;
+use momentlmi::sim::floating::{SuspendedConfig, simulate_suspended};
+use std::path::Path;
+
+fn solo() -> FreeFlyer {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    free_flyer_from_urdf_file(&root.join("robots/solo12/solo12.urdf"), None).unwrap()
+}
+
+/// RMS over the samples of `log` of the chosen rows of (measured − Y θ).
+fn held_out_rms(ff: &FreeFlyer, log: &FloatingLog, theta: &[f64], rows: Rows) -> f64 {
+    let mut data = FreeFlyerData::new(ff);
+    let (nq, nv) = (ff.nq(), ff.nv());
+    let (mut sum, mut count) = (0.0, 0usize);
+    for k in 0..log.samples() {
+        let b = measured(ff, &mut data, log, k).unwrap();
+        let (q, v, a) = (
+            &log.q[k * nq..(k + 1) * nq],
+            &log.v[k * nv..(k + 1) * nv],
+            &log.a[k * nv..(k + 1) * nv],
+        );
+        let y = ff.regressor(&mut data, q, v, a).unwrap();
+        for i in rows.range(ff.tree.dof()) {
+            let pred: f64 = (0..theta.len()).map(|j| y[(i, j)] * theta[j]).sum();
+            sum += (b[i] - pred).powi(2);
+            count += 1;
+        }
+    }
+    (sum / count as f64).sqrt()
+}
+
+fn logs(ff: &FreeFlyer) -> (FloatingLog, FloatingLog) {
+    // two minutes of training (the centroidal inertia of a 2.5 kg robot,
+    // ≈ 0.03 kg·m², is what needs them: 1.6 % off after 20 s, 1.0 % after 60 s)
+    let cfg = |seconds, seed| SuspendedConfig {
+        seconds,
+        seed,
+        ..SuspendedConfig::default()
+    };
+    (
+        simulate_suspended(ff, &cfg(120.0, 1)).unwrap(),
+        simulate_suspended(ff, &cfg(20.0, 2)).unwrap(),
+    )
+}
+
+fn truth(ff: &FreeFlyer) -> Vec<f64> {
+    let mut t = ff.params();
+    t.resize(ff.regressor_columns(), 0.0); // no friction in the simulation
+    t
+}
+
+#[test]
+fn base_rows_alone_identify_the_whole_robot() {
+    let ff = solo();
+    let (train, test) = logs(&ff);
+    let red = reduce_floating(&ff, &train, Rows::Base).unwrap();
+    let solved = Identification::for_free_flyer(&ff, Rows::Base)
+        .solve(&red)
+        .unwrap();
+    let theta = solved.theta.clone();
+    let fit = held_out_rms(&ff, &test, &theta, Rows::Base);
+    let floor = held_out_rms(&ff, &test, &truth(&ff), Rows::Base);
+    println!("held-out base wrench RMS {fit:.5} (floor {floor:.5})");
+    assert!(fit <= 1.10 * floor, "{fit} vs floor {floor}");
+    for (b, name) in solved.bodies.iter().enumerate() {
+        let p = InertialParams(std::array::from_fn(|k| theta[10 * b + k]));
+        let min_eig = p.pseudo_inertia().symmetric_eigenvalues().min();
+        assert!(
+            min_eig >= -1e-9,
+            "body {name}: J has eigenvalue {min_eig:e}"
+        );
+    }
+    // the whole robot, at two configurations
+    let mut fitted = ff.clone();
+    fitted.set_params(&theta[..10 * ff.num_bodies()]).unwrap();
+    let mut data = FreeFlyerData::new(&ff);
+    for k in [0, 1234] {
+        let q = &test.q[k * ff.nq()..(k + 1) * ff.nq()];
+        let (m0, c0, i0) = ff.centroidal(&mut data, q).unwrap();
+        let (m1, c1, i1) = fitted.centroidal(&mut data, q).unwrap();
+        let rel = (i1 - i0).norm() / i0.norm();
+        println!(
+            "sample {k}: mass {m1:.4} / {m0:.4}, CoM {:.4?} / {:.4?}, inertia off by {rel:.4}",
+            c1.as_slice(),
+            c0.as_slice()
+        );
+        assert!((m1 - m0).abs() <= 0.01 * m0, "mass {m1} vs {m0}");
+        // a CoM within 1 % of the robot's size (its base is 0.39 m long)
+        assert!((c1 - c0).norm() <= 0.01 * 0.39, "CoM {c1:?} vs {c0:?}");
+        assert!(rel <= 0.01, "centroidal inertia off by {rel:.4}");
+    }
+}
+
+#[test]
+fn joint_rows_reach_their_floor_too() {
+    let ff = solo();
+    let (train, test) = logs(&ff);
+    for rows in [Rows::Joints, Rows::All] {
+        let red = reduce_floating(&ff, &train, rows).unwrap();
+        let solved = Identification::for_free_flyer(&ff, rows)
+            .solve(&red)
+            .unwrap();
+        let fit = held_out_rms(&ff, &test, &solved.theta, Rows::Joints);
+        let floor = held_out_rms(&ff, &test, &truth(&ff), Rows::Joints);
+        println!("{rows:?}: held-out joint torque RMS {fit:.5} (floor {floor:.5})");
+        assert!(fit <= 1.10 * floor, "{rows:?}: {fit} vs floor {floor}");
+    }
+}
+
+#[test]
+fn a_log_that_does_not_fit_is_named() {
+    let ff = solo();
+    let (mut log, _) = logs(&ff);
+    log.contacts[0].frame = "harness".into();
+    let e = reduce_floating(&ff, &log, Rows::Base)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("contact frame 'harness'"), "{e}");
+    let (mut log, _) = logs(&ff);
+    log.q[19 * 7 + 6] = 0.5; // sample 7's quaternion w
+    let e = reduce_floating(&ff, &log, Rows::Base)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("sample 7") && e.contains("norm"), "{e}");
+    let (mut log, _) = logs(&ff);
+    log.contacts[0].wrench.truncate(60);
+    let e = reduce_floating(&ff, &log, Rows::Base)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("wrench of 'base_link'"), "{e}");
+    let (mut log, _) = logs(&ff);
+    log.tau = None;
+    assert!(reduce_floating(&ff, &log, Rows::Base).is_ok());
+    let e = reduce_floating(&ff, &log, Rows::Joints)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("torques"), "{e}");
+}
