@@ -77,6 +77,17 @@ fn bad_files_are_named() {
     // a wrench column missing
     let e = err(&text.replace(",force_base_link_y", ",moment_x_y"));
     assert!(e.contains("moment_x_y"), "{e}");
+    // a moment with one axis only: the others are missing, not zero
+    let rows: Vec<Vec<&str>> = text.lines().map(|l| l.split(',').collect()).collect();
+    let keep: Vec<usize> = (0..rows[0].len())
+        .filter(|&c| !matches!(rows[0][c], "moment_base_link_y" | "moment_base_link_z"))
+        .collect();
+    let partial: String = rows
+        .iter()
+        .map(|r| keep.iter().map(|&c| r[c]).collect::<Vec<_>>().join(",") + "\n")
+        .collect();
+    let e = err(&partial);
+    assert!(e.contains("missing column 'moment_base_link_y'"), "{e}");
     // a value that is not a number, named by row and column
     let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
     let mut fields: Vec<&str> = lines[3].split(',').collect();

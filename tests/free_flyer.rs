@@ -158,3 +158,32 @@ fn bad_floating_base_input_is_named() {
     };
     assert!(ff.contact_force(&mut data, &q, &[bad]).is_err());
 }
+
+#[test]
+fn the_centroidal_quantities_are_the_weight_and_its_moment() {
+    // at rest, the base rows of the RNEA hold the support of the weight:
+    // force (0, 0, m g) and moment c × f about the base origin — another
+    // route (RNEA) to what `centroidal` reads off the mass matrix (CRBA)
+    let ff = solo();
+    let mut data = FreeFlyerData::new(&ff);
+    let r = reference();
+    let mut q = floats(&r["cases"][0]["q"]);
+    q[3..7].copy_from_slice(&[0.0, 0.0, 0.0, 1.0]);
+    let (m, c, i) = ff.centroidal(&mut data, &q).unwrap();
+    let tau = ff
+        .rnea(&mut data, &q, &[0.0; 18], &[0.0; 18])
+        .unwrap()
+        .clone();
+    let f = nalgebra::Vector3::new(tau[0], tau[1], tau[2]);
+    let n = nalgebra::Vector3::new(tau[3], tau[4], tau[5]);
+    assert!((f.z - 9.81 * m).abs() < 1e-12, "{f:?} vs m = {m}");
+    assert!(
+        (n - c.cross(&f)).norm() < 1e-12,
+        "{n:?} vs {:?}",
+        c.cross(&f)
+    );
+    assert!(c.norm() > 1e-3, "a CoM off the base origin: {c:?}");
+    // the centroidal inertia is symmetric positive definite
+    assert!((i - i.transpose()).norm() < 1e-15);
+    assert!(i.symmetric_eigenvalues().min() > 0.0);
+}

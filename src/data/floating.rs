@@ -45,7 +45,7 @@ impl FloatingLog {
     }
 
     /// Checks the log against the robot: every array's length, every value
-    /// finite, every quaternion of unit norm, every contact frame one of
+    /// finite (times too), every quaternion of unit norm, every contact frame one of
     /// the robot's; the error names the array, sample or frame.
     pub fn check(&self, ff: &FreeFlyer) -> Result<(), DataError> {
         let s = self.samples();
@@ -56,13 +56,16 @@ impl FloatingLog {
             ("a", Some(&self.a), 6 + n),
             ("tau", self.tau.as_ref(), n),
         ];
+        check_array("t", &self.t, s, 1)?;
         for (name, x, width) in arrays {
             if let Some(x) = x {
                 check_array(name, x, s, width)?;
             }
         }
         for c in &self.contacts {
-            ff.frame_index(&c.frame).map_err(|e| bad(0, e))?;
+            ff.frame_index(&c.frame).map_err(|e| DataError::Log {
+                message: e.to_string(),
+            })?;
             check_array(&format!("wrench of '{}'", c.frame), &c.wrench, s, 6)?;
         }
         let (nq, nv) = (ff.nq(), ff.nv());
@@ -75,12 +78,39 @@ impl FloatingLog {
         Ok(())
     }
 
+    /// Whether sample `k` exists in every array (their lengths as `ff`
+    /// needs them), for the per-sample readers that run without [`check`](Self::check).
+    pub fn sample_fits(&self, ff: &FreeFlyer, k: usize) -> Result<(), DynamicsError> {
+        let n = ff.tree.dof();
+        let need = |what: &str, x: &[f64], w: usize| {
+            if x.len() < (k + 1) * w {
+                return Err(DynamicsError::Dimension {
+                    what: format!("floating-base log, sample {k}: {what}"),
+                    expected: (k + 1) * w,
+                    found: x.len(),
+                });
+            }
+            Ok(())
+        };
+        need("q", &self.q, ff.nq())?;
+        need("v", &self.v, ff.nv())?;
+        need("a", &self.a, ff.nv())?;
+        if let Some(t) = &self.tau {
+            need("tau", t, n)?;
+        }
+        for c in &self.contacts {
+            need(&format!("wrench of '{}'", c.frame), &c.wrench, 6)?;
+        }
+        Ok(())
+    }
+
     /// Sample `k`'s contact wrenches, for [`FreeFlyer::contact_force`].
     pub fn contacts_at(
         &self,
         ff: &FreeFlyer,
         k: usize,
     ) -> Result<Vec<ContactWrench>, DynamicsError> {
+        self.sample_fits(ff, k)?;
         self.contacts
             .iter()
             .map(|c| {

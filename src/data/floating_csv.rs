@@ -242,13 +242,17 @@ fn check_forces(
     path: &str,
 ) -> Result<(), DataError> {
     for (c, (frame, e)) in contacts.iter().enumerate() {
+        let has_moment = (3..6).any(|i| slots.contains(&Slot::Wrench(c, i)));
         for (i, a) in AXES.iter().enumerate() {
-            if !slots.contains(&Slot::Wrench(c, i)) {
-                return Err(DataError::MissingColumn {
-                    path: path.into(),
-                    column: format!("{}force_{frame}_{a}", prefix_of(*e)),
-                    header: "the other force columns of that contact".into(),
-                });
+            // every force axis; the moment's all or none (a point contact)
+            for (kind, offset, needed) in [("force", 0, true), ("moment", 3, has_moment)] {
+                if needed && !slots.contains(&Slot::Wrench(c, offset + i)) {
+                    return Err(DataError::MissingColumn {
+                        path: path.into(),
+                        column: format!("{}{kind}_{frame}_{a}", prefix_of(*e)),
+                        header: format!("the other {kind} columns of that contact"),
+                    });
+                }
             }
         }
     }

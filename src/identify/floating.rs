@@ -76,6 +76,8 @@ pub fn reduce_floating(
     for g in grams {
         gram += g;
     }
+    // XᵀX is symmetric in exact arithmetic; make it so in floating point
+    let gram = Mat::from_fn(p1, p1, |i, j| 0.5 * (gram[(i, j)] + gram[(j, i)]));
     Reduced::from_gram(gram, samples)
 }
 
@@ -112,9 +114,12 @@ fn sample_regressor<'d>(
 ) -> Result<&'d nalgebra::DMatrix<f64>, IdentifyError> {
     let (nq, nv) = (ff.nq(), ff.nv());
     let at = |x: &[f64], w: usize| x[k * w..(k + 1) * w].to_vec();
-    let load = log.tau.as_ref().map(|t| at(t, ff.tree.dof()));
-    if let Some(load) = load {
-        data.tree.load.copy_from_slice(&load);
+    log.sample_fits(ff, k)
+        .map_err(|source| IdentifyError::Regressor { sample: k, source })?;
+    // without torques only the base rows are fitted, where no friction acts
+    match &log.tau {
+        Some(t) => data.tree.load.copy_from_slice(&at(t, ff.tree.dof())),
+        None => data.tree.load.fill(0.0),
     }
     let (q, v, a) = (at(&log.q, nq), at(&log.v, nv), at(&log.a, nv));
     ff.regressor(data, &q, &v, &a)
@@ -131,7 +136,7 @@ pub fn measured(
 ) -> Result<nalgebra::DVector<f64>, IdentifyError> {
     let (nq, n) = (ff.nq(), ff.tree.dof());
     let fail = |source| IdentifyError::Regressor { sample: k, source };
-    let contacts = log.contacts_at(ff, k).map_err(fail)?;
+    let contacts = log.contacts_at(ff, k).map_err(fail)?; // (checks sample k's lengths)
     let q = &log.q[k * nq..(k + 1) * nq];
     let mut b = ff.contact_force(data, q, &contacts).map_err(fail)?;
     if let Some(tau) = &log.tau {

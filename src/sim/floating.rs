@@ -18,7 +18,7 @@ use rand_distr::{Distribution, Normal};
 /// Noise standard deviations of the suspended log's sensors.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FloatingNoise {
-    /// Load cell force (N) and moment (N·m).
+    /// Load cell force (N).
     pub force: f64,
     /// Load cell moment (N·m).
     pub moment: f64,
@@ -100,8 +100,9 @@ fn channels(coef: &[[Vec<f64>; 2]], t: f64) -> Vec<[f64; 3]> {
 }
 
 /// The exact motion (`q`, `v`, `a` of the free-flyer) at the log's times;
-/// the orientation integrated from the body-frame angular velocity (RK4
-/// on the quaternion, 20 steps a sample, renormalised).
+/// the pose integrated from the body-frame twist (20 steps a sample, each
+/// the exact rotation of the step's midpoint angular velocity, so the
+/// quaternion stays of unit norm).
 fn motion(ff: &FreeFlyer, cfg: &SuspendedConfig, rng: &mut StdRng) -> [Vec<f64>; 3] {
     let n = ff.tree.dof();
     let joints = coefficients(rng, n, cfg.joint_amplitude);
