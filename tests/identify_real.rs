@@ -1,6 +1,9 @@
 //! Identification on the KUKA LWR4+'s real runs copied into
 //! `robots/kuka-lwr4` (no test here needs `../shared`).
 
+#[path = "support/rank.rs"]
+mod rank;
+
 use momentlmi::data::{Mapping, ReadOptions, read_logs};
 use momentlmi::dynamics::{RobotDescription, regressor_batch};
 use momentlmi::identify::{Identification, Level};
@@ -42,22 +45,8 @@ fn the_reported_rank_is_the_stacked_regressors() {
     let flat = |s: &momentlmi::dynamics::Samples| s.as_flat().to_vec();
     let y = regressor_batch(&robot.model, &flat(&d.q), &flat(&d.qd), &flat(&d.qdd)).unwrap();
     let p = robot.model.regressor_columns();
-    let rows = y.len() / p;
-    let mut m = faer::Mat::<f64>::from_fn(rows, p, |i, j| y[i * p + j]);
-    let norms: Vec<f64> = (0..p)
-        .map(|j| (0..rows).map(|i| m[(i, j)].powi(2)).sum::<f64>().sqrt())
-        .collect();
-    let largest = norms.iter().cloned().fold(0.0, f64::max);
-    for (j, &norm) in norms.iter().enumerate() {
-        // lwr_2_link.hy's column is rounding (~6e-15): zero, not scaled up
-        let s = if norm > 1e-10 * largest {
-            1.0 / norm
-        } else {
-            0.0
-        };
-        (0..rows).for_each(|i| m[(i, j)] *= s);
-    }
-    let s = m.singular_values().unwrap();
+    // lwr_2_link.hy's column is rounding (~6e-15): zero, not scaled up
+    let s = rank::scaled_singular_values(&y, p);
     let rank = s.iter().filter(|&&v| v > 1e-8 * s[0]).count();
     assert_eq!(rank, 57, "singular values {s:?}");
     assert_eq!(

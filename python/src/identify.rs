@@ -152,13 +152,10 @@ fn identify(
         }
         if let Some(b) = bounds {
             let rows = red.samples * desc.model.dof();
-            let delta = match b {
-                "auto" => momentlmi::identify::marginal_delta(r.identifiability.rank, rows, 0.95)
-                    .map_err(|e| e.to_string())?,
-                x => x
-                    .parse::<f64>()
-                    .map_err(|_| format!("bounds: '{x}' is not a number or auto"))?,
-            };
+            let delta = momentlmi::identify::Margin::parse(b)
+                .ok_or_else(|| format!("bounds: '{b}' is not a number ≥ 0 or auto"))?
+                .delta(r.identifiability.rank, rows)
+                .map_err(|e| e.to_string())?;
             let pb = id.parameter_bounds(&red, &r.theta, &r.identifiability, delta);
             r.bounds = Some(pb.map_err(|e| e.to_string())?);
         }

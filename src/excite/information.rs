@@ -7,7 +7,7 @@
 use super::design::Criterion;
 use super::error::ExciteError;
 use crate::dynamics::{FrictionTerm, Model, regressor_batch};
-use crate::identify::{Identifiability, parameter_names};
+use crate::identify::identifiability::on_random_states;
 use faer::Mat;
 
 /// The base columns of a model's regressor and their scales.
@@ -32,17 +32,8 @@ impl InfoBasis {
             .filter(|t| *t != FrictionTerm::Load)
             .collect();
         let model = model.clone().with_friction_terms(&terms);
-        let s = crate::dynamics::random_states(&model, 400, 1);
-        let y = regressor_batch(&model, &s[0], &s[1], &s[2])?;
-        let p = model.regressor_columns();
-        let rows = y.len() / p;
-        let full = Mat::from_fn(rows, p, |i, j| y[i * p + j]);
-        // the thin QR's R (p × p) has the regressor's column space and norms
-        let r = full.qr().thin_R().to_owned();
-        let id = Identifiability::of(&r, &parameter_names(&model))?;
-        let scale = (id.base_columns.iter())
-            .map(|&j| ((0..rows).map(|i| full[(i, j)].powi(2)).sum::<f64>() / rows as f64).sqrt())
-            .collect();
+        let (id, rms) = on_random_states(&model)?;
+        let scale = id.base_columns.iter().map(|&j| rms[j]).collect();
         Ok(Self {
             model,
             base: id.base_columns,

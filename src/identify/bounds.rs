@@ -117,7 +117,7 @@ impl Identification<'_> {
             });
         }
         let (r, d) = red.r_d()?;
-        let residual = residual_norm(&r, &d, theta);
+        let residual = super::identifiability::rss(&r, &d, theta).sqrt();
         // a floor keeps an exact fit's set from being a single point
         let floor = FLOOR * d.iter().map(|v| v * v).sum::<f64>().sqrt();
         let radius = ((1.0 + delta) * residual).max(floor);
@@ -310,12 +310,37 @@ pub fn marginal_delta(rank: usize, rows: usize, level: f64) -> Result<f64, Ident
     Ok(joint)
 }
 
-/// ‖R θ − d‖.
-fn residual_norm(r: &Mat<f64>, d: &[f64], theta: &[f64]) -> f64 {
-    (0..r.nrows())
-        .map(|i| ((0..r.ncols()).map(|j| r[(i, j)] * theta[j]).sum::<f64>() - d[i]).powi(2))
-        .sum::<f64>()
-        .sqrt()
+/// The margin of [`Identification::parameter_bounds`] as a user writes
+/// it: a number δ ≥ 0, or `auto` (the 95 % [`marginal_delta`], which needs
+/// the fit's rank).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Margin {
+    /// Each parameter's own 95 % interval.
+    Auto,
+    /// A given δ.
+    Delta(f64),
+}
+
+impl Margin {
+    /// `auto` or a finite number ≥ 0 (surrounding spaces ignored).
+    pub fn parse(s: &str) -> Option<Self> {
+        match s.trim() {
+            "auto" => Some(Margin::Auto),
+            t => t
+                .parse::<f64>()
+                .ok()
+                .filter(|d| *d >= 0.0 && d.is_finite())
+                .map(Margin::Delta),
+        }
+    }
+
+    /// δ for a fit of `rank` on `rows` rows.
+    pub fn delta(self, rank: usize, rows: usize) -> Result<f64, IdentifyError> {
+        match self {
+            Margin::Auto => marginal_delta(rank, rows, 0.95),
+            Margin::Delta(d) => Ok(d),
+        }
+    }
 }
 
 /// Parameter k's scale: the largest of its estimate, its prior and its

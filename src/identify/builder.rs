@@ -130,6 +130,9 @@ pub struct Identification<'m> {
     /// The robot whose bounding volumes fill in the bodies that need one
     /// ([`Identification::for_robot`]): computed only then.
     pub(super) robot: Option<&'m crate::dynamics::RobotDescription>,
+    /// The model's structural rank, computed at the first fit and kept
+    /// for the others (the weight's folds, a load term's passes).
+    pub(super) structural_rank: std::sync::OnceLock<Option<usize>>,
 }
 
 impl<'m> Identification<'m> {
@@ -157,6 +160,7 @@ impl<'m> Identification<'m> {
             max_memory: crate::identify::reduce::DEFAULT_MAX_MEMORY_BYTES,
             hooks: vec![],
             robot: None,
+            structural_rank: std::sync::OnceLock::new(),
         }
     }
 

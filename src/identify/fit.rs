@@ -258,7 +258,7 @@ impl Identification<'_> {
                 .chain(weights_warning)
                 .collect(),
             iterations: solved.iterations,
-            identifiability: with_structure(&solved, model)?,
+            identifiability: self.with_structure(&solved)?,
             bounds: None,
             training_samples: red.samples,
             training_rms,
@@ -282,16 +282,25 @@ impl Identification<'_> {
     }
 }
 
-/// The solve's identifiability report with the model's structural rank.
-fn with_structure(
-    solved: &super::solved::Solved,
-    model: &crate::dynamics::Model,
-) -> Result<super::identifiability::Identifiability, IdentifyError> {
-    let names = super::solved::parameter_names(model);
-    Ok(super::identifiability::Identifiability {
-        structural_rank: super::identifiability::structural_rank(model, &names)?,
-        ..solved.identifiability.clone()
-    })
+impl Identification<'_> {
+    /// The solve's identifiability report with the model's structural
+    /// rank (computed once per identification).
+    fn with_structure(
+        &self,
+        solved: &super::solved::Solved,
+    ) -> Result<super::identifiability::Identifiability, IdentifyError> {
+        let rank = match self.structural_rank.get() {
+            Some(rank) => *rank,
+            None => {
+                let rank = super::identifiability::structural_rank(self.model)?;
+                *self.structural_rank.get_or_init(|| rank)
+            }
+        };
+        Ok(super::identifiability::Identifiability {
+            structural_rank: rank,
+            ..solved.identifiability.clone()
+        })
+    }
 }
 
 /// The most passes of a load friction term's identification

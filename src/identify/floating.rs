@@ -106,23 +106,23 @@ fn chunk_gram(
     Ok(x.transpose() * &x)
 }
 
+/// Sample k's regressor; call after [`measured`] (which checks the
+/// sample's lengths).
 fn sample_regressor<'d>(
     ff: &FreeFlyer,
     data: &'d mut FreeFlyerData,
     log: &FloatingLog,
     k: usize,
 ) -> Result<&'d nalgebra::DMatrix<f64>, IdentifyError> {
+    // (sample k's lengths were checked by `measured`, called first)
     let (nq, nv) = (ff.nq(), ff.nv());
-    let at = |x: &[f64], w: usize| x[k * w..(k + 1) * w].to_vec();
-    log.sample_fits(ff, k)
-        .map_err(|source| IdentifyError::Regressor { sample: k, source })?;
     // without torques only the base rows are fitted, where no friction acts
     match &log.tau {
-        Some(t) => data.tree.load.copy_from_slice(&at(t, ff.tree.dof())),
+        Some(t) => data.tree.load.copy_from_slice(row(t, k, ff.tree.dof())),
         None => data.tree.load.fill(0.0),
     }
-    let (q, v, a) = (at(&log.q, nq), at(&log.v, nv), at(&log.a, nv));
-    ff.regressor(data, &q, &v, &a)
+    let (q, v, a) = (row(&log.q, k, nq), row(&log.v, k, nv), row(&log.a, k, nv));
+    ff.regressor(data, q, v, a)
         .map_err(|source| IdentifyError::Regressor { sample: k, source })
 }
 
@@ -145,4 +145,9 @@ pub fn measured(
         }
     }
     Ok(b)
+}
+
+/// Sample k's row of a `samples × width` array.
+fn row(x: &[f64], k: usize, width: usize) -> &[f64] {
+    &x[k * width..(k + 1) * width]
 }

@@ -212,9 +212,7 @@ impl Identifiability {
         theta: &[f64],
         rows: usize,
     ) -> Result<(), IdentifyError> {
-        let rss: f64 = (0..r.nrows())
-            .map(|i| ((0..r.ncols()).map(|j| r[(i, j)] * theta[j]).sum::<f64>() - d[i]).powi(2))
-            .sum();
+        let rss = rss(r, d, theta);
         let dof = rows.saturating_sub(self.rank);
         let variances = base_variances(r, &self.base_columns)?;
         for (bp, (k, var)) in
@@ -253,23 +251,44 @@ impl Identifiability {
     }
 }
 
-/// The rank of `model`'s regressor (its columns `names`) on 400 random states
-/// ([`crate::dynamics::random_states`]): the most any data could
-/// identify; `None` with a load friction term (its column needs torques).
-pub fn structural_rank(
-    model: &crate::dynamics::Model,
-    names: &[String],
-) -> Result<Option<usize>, IdentifyError> {
+/// The rank of `model`'s regressor on 400 random states
+/// ([`on_random_states`]): the most any data could identify; `None` with a
+/// load friction term (its column needs torques).
+pub fn structural_rank(model: &crate::dynamics::Model) -> Result<Option<usize>, IdentifyError> {
     use crate::dynamics::FrictionTerm;
     if model.friction_terms().contains(&FrictionTerm::Load) {
         return Ok(None);
     }
+    Ok(Some(on_random_states(model)?.0.rank))
+}
+
+/// The identifiability of `model`'s regressor on 400 random states
+/// ([`crate::dynamics::random_states`]: positions within the limits or ±1,
+/// velocities and accelerations ±2), the structure any data share, and
+/// each column's RMS over those states. A load friction term's columns are
+/// not finite without torques: drop the term first.
+pub fn on_random_states(
+    model: &crate::dynamics::Model,
+) -> Result<(Identifiability, Vec<f64>), IdentifyError> {
     let [q, qd, qdd] = crate::dynamics::random_states(model, 400, 1);
     let y = crate::dynamics::regressor_batch(model, &q, &qd, &qdd)?;
     let p = model.regressor_columns();
-    let full = Mat::from_fn(y.len() / p, p, |i, j| y[i * p + j]);
+    let rows = y.len() / p;
+    let full = Mat::from_fn(rows, p, |i, j| y[i * p + j]);
+    // the thin QR's R (p × p) has the regressor's column space and norms
     let r = full.qr().thin_R().to_owned();
-    Ok(Some(Identifiability::of(&r, names)?.rank))
+    let id = Identifiability::of(&r, &model.layout().parameter_names())?;
+    let rms = (0..p)
+        .map(|j| ((0..rows).map(|i| full[(i, j)].powi(2)).sum::<f64>() / rows as f64).sqrt())
+        .collect();
+    Ok((id, rms))
+}
+
+/// `‖R θ − d‖²`: the residual sum of squares of reduced data.
+pub(super) fn rss(r: &Mat<f64>, d: &[f64], theta: &[f64]) -> f64 {
+    (0..r.nrows())
+        .map(|i| ((0..r.ncols()).map(|j| r[(i, j)] * theta[j]).sum::<f64>() - d[i]).powi(2))
+        .sum::<f64>()
 }
 
 /// The first `most` names, then how many more.

@@ -34,7 +34,7 @@ pub mod stream;
 mod warning;
 pub mod weighting;
 
-pub use bounds::{ParamRange, ParameterBounds, PinnedBy, confidence_delta, marginal_delta};
+pub use bounds::{Margin, ParamRange, ParameterBounds, PinnedBy, confidence_delta, marginal_delta};
 pub use builder::{Identification, Vars};
 pub use choose_weight::{WEIGHT_GRID, WeightChoice};
 pub use error::{GramProblem, IdentifyError};

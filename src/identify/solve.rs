@@ -252,6 +252,7 @@ impl Identification<'_> {
                 max_memory: self.max_memory,
                 hooks: vec![],
                 robot: None,
+                structural_rank: std::sync::OnceLock::new(),
             };
             alone.add_body_constraints(&mut q, &[v], std::slice::from_ref(name))?;
             if q.solve(&self.settings)?.status.is_primal_infeasible() {

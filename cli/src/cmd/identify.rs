@@ -441,14 +441,11 @@ fn training(
 
 /// `--bounds`: a number ≥ 0, or `auto` (the 95 % confidence region).
 fn parse_delta(s: &str, rank: usize, rows: usize) -> Result<f64, String> {
-    if s.trim() == "auto" {
-        return momentlmi::identify::marginal_delta(rank, rows, 0.95)
-            .map_err(|e| format!("--bounds auto: {e}"));
-    }
-    match s.trim().parse::<f64>() {
-        Ok(d) if d >= 0.0 && d.is_finite() => Ok(d),
-        _ => Err(format!("--bounds: '{s}' is neither a number ≥ 0 nor auto")),
-    }
+    let margin = momentlmi::identify::Margin::parse(s)
+        .ok_or_else(|| format!("--bounds: '{s}' is neither a number ≥ 0 nor auto"))?;
+    margin
+        .delta(rank, rows)
+        .map_err(|e| format!("--bounds auto: {e}"))
 }
 
 /// `--weight`: a number, or `auto` (None).
