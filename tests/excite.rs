@@ -91,6 +91,12 @@ fn bad_settings_are_named() {
     let leg = load_robot("cheetah3-leg", None).unwrap();
     let e = design(&leg, &quick(-1.0, 0)).unwrap_err().to_string();
     assert!(e.contains("seconds"), "{e}");
+    // a pool of 10⁸ candidates (≈ 1 TB of information matrices) is refused
+    // before any is made, not grown until the memory runs out
+    let e = design(&leg, &quick(1.0, 100_000_000))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("100000001 candidates"), "{e}");
     let d = design(&leg, &quick(1.0, 0)).unwrap();
     assert!(
         samples(&d, 0.0)

@@ -53,7 +53,7 @@ pub fn optimal_weights(pool: &[Mat<f64>], criterion: Criterion) -> Result<PoolDe
             problem: "needs at least one candidate, each a square information matrix of one size",
         });
     }
-    check_size(k, criterion)?;
+    check_size(k, pool.len(), criterion)?;
     let mut p = Problem::new();
     let w = p.vector("w", pool.len());
     p.add_nonneg(w.iter().map(|&v| AffExpr::term(v, 1.0)).collect::<Vec<_>>())?;
@@ -103,15 +103,25 @@ pub fn optimal_weights(pool: &[Mat<f64>], criterion: Criterion) -> Result<PoolDe
 /// 2 × 70 block of a 9-joint Panda, s = 9,870).
 pub const MAX_DESIGN_BYTES: f64 = 4e9;
 
-/// Refuses a design whose PSD block would pass [`MAX_DESIGN_BYTES`]: log det
-/// needs a 2k × 2k block, λ_min a k × k one.
-fn check_size(k: usize, criterion: Criterion) -> Result<(), ExciteError> {
+/// Refuses a design over `candidates` motions of `k` base parameters that
+/// would pass [`MAX_DESIGN_BYTES`]: its PSD block (log det needs a 2k × 2k
+/// one, λ_min a k × k one), and per candidate its k × k information matrix
+/// and its svec(k) coefficients in the constraint matrix (value and index).
+/// Checked before the candidates are made.
+pub(super) fn check_size(
+    k: usize,
+    candidates: usize,
+    criterion: Criterion,
+) -> Result<(), ExciteError> {
     let n = if criterion == Criterion::D { 2 * k } else { k } as f64;
     let svec = n * (n + 1.0) / 2.0;
-    let bytes = 64.0 * svec * svec;
+    let kf = k as f64;
+    let per_candidate = 8.0 * kf * kf + 16.0 * kf * (kf + 1.0) / 2.0;
+    let bytes = 64.0 * svec * svec + candidates as f64 * per_candidate;
     if bytes > MAX_DESIGN_BYTES {
         return Err(ExciteError::TooLarge {
             parameters: k,
+            candidates,
             gib: bytes / f64::from(1u32 << 30),
         });
     }

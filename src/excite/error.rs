@@ -55,11 +55,13 @@ pub enum ExciteError {
     },
     /// A pool design too large to solve in memory.
     #[error(
-        "the convex pool design over {parameters} base parameters would need about {gib:.1} GiB (a dense PSD block in the solver): use the E criterion (a block half the size), or no pool"
+        "the convex pool design over {parameters} base parameters and {candidates} candidates would need about {gib:.1} GiB (a dense PSD block in the solver, and each candidate's information matrix): use fewer candidates, the E criterion (a block half the size), or no pool"
     )]
     TooLarge {
         /// Base parameters.
         parameters: usize,
+        /// Candidate motions.
+        candidates: usize,
         /// The memory it would need (GiB).
         gib: f64,
     },

@@ -2,7 +2,7 @@
 //! samples written.
 
 use super::ExciteOptions;
-use super::design::{Criterion, optimal_weights};
+use super::design::{Criterion, check_size, optimal_weights};
 use super::error::ExciteError;
 use super::fourier::Coefficients;
 use super::information::{InfoBasis, condition_number, score};
@@ -171,10 +171,24 @@ fn omega_for(opts: &ExciteOptions) -> Result<f64, ExciteError> {
     Ok(2.0 * std::f64::consts::PI * periods / opts.seconds)
 }
 
+/// The convex criterion a pool design uses for `c` (D, or E for E and cond).
+fn convex_of(c: Criterion) -> Criterion {
+    if c == Criterion::D {
+        Criterion::D
+    } else {
+        Criterion::E
+    }
+}
+
 /// Designs an excitation for `robot` with `opts`.
 pub fn design(robot: &RobotDescription, opts: &ExciteOptions) -> Result<Designed, ExciteError> {
     let omega = omega_for(opts)?;
     let basis = InfoBasis::of(&robot.model)?;
+    if opts.pool > 0 {
+        // before the search: the pool (+ the designed motion) must fit
+        let k = basis.len();
+        check_size(k, opts.pool.saturating_add(1), convex_of(opts.criterion))?;
+    }
     let limits = joint_limits(robot);
     let n = robot.model.dof();
     let runs: Vec<_> = (0..opts.seeds as u64)
@@ -231,6 +245,7 @@ fn pool_bound(
     omega: f64,
 ) -> Result<PoolReport, ExciteError> {
     let n = limits.len();
+    let convex = convex_of(opts.criterion);
     let mut pool: Vec<Mat<f64>> = (0..opts.pool as u64)
         .into_par_iter()
         .map(|s| {
@@ -239,11 +254,6 @@ fn pool_bound(
         })
         .collect::<Result<_, ExciteError>>()?;
     pool.push(f.clone());
-    let convex = if opts.criterion == Criterion::D {
-        Criterion::D
-    } else {
-        Criterion::E
-    };
     let d = optimal_weights(&pool, convex)?;
     let mine = score(f, convex);
     let k = f.nrows() as f64;
