@@ -52,7 +52,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         simulate_suspended(&ff, &cfg(20.0, 2))?,
     );
     if let Some(out) = std::env::args().nth(1) {
-        momentlmi::data::write_whole(Path::new(&out), &train.to_csv(&ff))?;
+        momentlmi::data::write_whole(Path::new(&out), &train.to_csv(&ff)?)?;
     }
     let red = reduce_floating(&ff, &train, Rows::Base)?;
     let solved = Identification::for_free_flyer(&ff, Rows::Base).solve(&red)?;

@@ -147,3 +147,28 @@ fn a_log_that_does_not_fit_is_named() {
         .to_string();
     assert!(e.contains("torques"), "{e}");
 }
+
+#[test]
+fn rows_and_set_ups_that_do_not_match_are_named() {
+    let ff = solo();
+    let cfg = SuspendedConfig {
+        seconds: 2.0,
+        ..SuspendedConfig::default()
+    };
+    let log = simulate_suspended(&ff, &cfg).unwrap();
+    let red = reduce_floating(&ff, &log, Rows::Base).unwrap();
+    let e = Identification::for_free_flyer(&ff, Rows::All)
+        .solve(&red)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("6 rows per sample") && e.contains("18"), "{e}");
+    // the fixed-base steps refuse a free-flyer's set-up (its columns are
+    // not its tree's)
+    let names = ff.tree.joint_names();
+    let d = momentlmi::data::Dataset::empty(&names);
+    let e = Identification::for_free_flyer(&ff, Rows::Base)
+        .fit(&d)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("needs a fixed-base model"), "{e}");
+}

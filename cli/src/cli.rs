@@ -2,121 +2,14 @@
 //! library. Every command returns an exit code; errors are printed, never
 //! panicked.
 
+use crate::args::{
+    ExportOutArgs, FloatingArgs, ReadArgs, RobotArgs, effect_names, effect_param_help, own_sidecar,
+};
 use crate::cmd::{check, demo, diagnose, excite, export, identify, predict, sdpa, simulate};
-use clap::{Args, Parser, Subcommand};
-use momentlmi::data::Velocity;
-use momentlmi::effects::Library;
+use clap::{Parser, Subcommand};
 use momentlmi::identify::{JointWeighting, Regularizer};
 use momentlmi::moments::urdf_check::{RepairOptions, RepairTarget};
 use std::path::PathBuf;
-
-/// Which robot: a built-in name or a URDF with its sidecar.
-#[derive(Args, Debug)]
-struct RobotArgs {
-    /// Built-in robot (cheetah3-leg) or a URDF file.
-    #[arg(long)]
-    robot: String,
-    /// TOML sidecar for a URDF: rotors, locked joints, prior, bounding
-    /// ellipsoids, friction, tool point (docs/robots.md).
-    /// [default: NAME.toml beside NAME.urdf, if there is one]
-    #[arg(long, conflicts_with = "no_sidecar")]
-    sidecar: Option<PathBuf>,
-    /// Use no sidecar, not even the one beside the URDF.
-    #[arg(long)]
-    no_sidecar: bool,
-    /// A folder where a URDF's `package://NAME/…` meshes are found (repeatable; searched after
-    /// the folders above the URDF, before ROS_PACKAGE_PATH); meshes outside the URDF's folder
-    /// and these folders are not read.
-    #[arg(long = "package-path", value_name = "DIR")]
-    package_path: Vec<PathBuf>,
-}
-
-/// The sidecar: the one given, else (unless `--no-sidecar`) `NAME.toml`
-/// beside a `NAME.urdf`, said on stderr.
-fn own_sidecar(robot: &str, given: Option<PathBuf>, none: bool) -> Option<PathBuf> {
-    if none || given.is_some() {
-        return given;
-    }
-    let beside = crate::cmd::sidecar_beside(robot)?;
-    eprintln!(
-        "note: using the sidecar beside the URDF, {} (--sidecar FILE for another, --no-sidecar for none)",
-        beside.display()
-    );
-    Some(beside)
-}
-
-/// How log files are read (docs/inputs.md).
-#[derive(Args, Debug)]
-struct ReadArgs {
-    /// Column mapping (TOML): which array, column or field is q, q̇, q̈, τ of which joint, and
-    /// units [default: the sidecar's [data] mapping, else each format's own names]
-    /// (docs/inputs.md, "Column mappings").
-    #[arg(long, value_name = "FILE")]
-    mapping: Option<PathBuf>,
-    /// Low-pass cut-off (Hz) applied to q and τ alike of raw logs (files without q̈)
-    /// [default: chosen from the data's spectrum, and reported].
-    #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
-    cutoff_hz: Option<f64>,
-    /// Where a raw log's q̇ comes from: differentiate (the filtered q; a logged velocity is
-    /// often filtered by the drive and lags) or file (the file's, through the same low-pass).
-    #[arg(long, value_enum, default_value_t = Velocity::Differentiate)]
-    velocity: Velocity,
-}
-
-impl ReadArgs {
-    fn choice(&self) -> crate::cmd::ReadChoice<'_> {
-        crate::cmd::ReadChoice {
-            mapping: self.mapping.as_deref(),
-            cutoff_hz: self.cutoff_hz,
-            velocity: self.velocity,
-        }
-    }
-}
-
-/// Where a model is exported (docs/export.md).
-#[derive(Args, Debug)]
-struct ExportOutArgs {
-    /// A URDF to write: the robot's own with each body's <inertial> and each joint's
-    /// <dynamics> replaced (a built-in robot: one written from its model).
-    #[arg(long, value_name = "OUT.urdf")]
-    urdf_out: Option<PathBuf>,
-    /// The sidecar written with --urdf-out (rotors, friction, the prior)
-    /// [default: beside it, OUT.toml].
-    #[arg(long, value_name = "OUT.toml", requires = "urdf_out")]
-    sidecar_out: Option<PathBuf>,
-    /// A MuJoCo model (MJCF) to write: rotors as joint armature, viscous friction as
-    /// damping, Coulomb as frictionloss.
-    #[arg(long, value_name = "OUT.xml")]
-    mjcf_out: Option<PathBuf>,
-}
-
-impl ExportOutArgs {
-    fn outputs(&self) -> export::Outputs<'_> {
-        export::Outputs {
-            urdf: self.urdf_out.as_deref(),
-            sidecar: self.sidecar_out.as_deref(),
-            mjcf: self.mjcf_out.as_deref(),
-        }
-    }
-}
-
-/// `simulate --help`'s list of effect parameters.
-fn effect_param_help() -> String {
-    format!(
-        "Effect parameter override NAME=VALUE (repeatable), e.g. `stiffness=300`; a parameter of an effect that is not switched on is an error. The robot's sidecar [effects] table replaces the built-in defaults below.\n{}",
-        Library::builtin().param_help()
-    )
-}
-
-/// The built-in effects' names, each with its summary, for `--effects`.
-fn effect_names() -> clap::builder::PossibleValuesParser {
-    let lib = Library::builtin();
-    clap::builder::PossibleValuesParser::new(
-        lib.effects()
-            .iter()
-            .map(|e| clap::builder::PossibleValue::new(e.name()).help(e.summary())),
-    )
-}
 
 /// Physically consistent inertial parameter identification and SDP tools.
 #[derive(Parser, Debug)]
@@ -205,6 +98,8 @@ enum Command {
         /// passive and constraint forces.
         #[arg(long)]
         mujoco_view: bool,
+        #[command(flatten)]
+        floating: FloatingArgs,
     },
     /// Simulate a robot with switchable unmodelled effects and write a data file.
     Simulate {
@@ -249,6 +144,12 @@ enum Command {
         /// the defaults come from the robot's description.
         #[arg(long = "effect-param", value_name = "NAME=VALUE", long_help = effect_param_help())]
         effect_param: Vec<String>,
+        #[command(flatten)]
+        floating: FloatingArgs,
+        /// A floating base's contacts: suspended (a load cell at the base, the default) or
+        /// standing (the sidecar's [floating_base] feet on force plates, in its stance).
+        #[arg(long, value_enum)]
+        contacts: Option<crate::cmd::floating::Contacts>,
     },
     /// Design an exciting trajectory: a periodic Fourier series per joint within the joint
     /// limits, optimised for the base parameters' information (docs/identification.md).
@@ -378,6 +279,13 @@ enum Command {
         /// The identified model exported too (as `momentlmi export` would).
         #[command(flatten)]
         export: ExportOutArgs,
+        #[command(flatten)]
+        floating: FloatingArgs,
+        /// A floating base's rows fitted: base (the contact wrenches balance the whole robot;
+        /// no joint torque needed), joints, or all [default: all when every log has joint
+        /// torques, else base].
+        #[arg(long, value_enum)]
+        rows: Option<momentlmi::identify::Rows>,
     },
     /// Diagnose the gap between a nominal model and measured data: where it lies, which unmodelled
     /// effect explains it, how far it shrinks (docs/diagnosis.md).
@@ -508,7 +416,9 @@ pub fn main() -> i32 {
             out,
             json,
             mujoco_view,
+            floating,
         } => predict::run(&predict::PredictArgs {
+            floating_base: floating.floating_base,
             mujoco_view,
             read: read.choice(),
             robot: &robot,
@@ -536,7 +446,11 @@ pub fn main() -> i32 {
             cutoff,
             link_encoder_bits,
             effect_param,
+            floating,
+            contacts,
         } => simulate::run(&simulate::SimulateArgs {
+            floating_base: floating.floating_base,
+            contacts,
             robot: &robot,
             sidecar: own_sidecar(&robot, sidecar, no_sidecar).as_deref(),
             package_paths: &package_path,
@@ -613,7 +527,11 @@ pub fn main() -> i32 {
             bounds,
             verbose,
             export,
+            floating,
+            rows,
         } => identify::run(&identify::IdentifyArgs {
+            floating_base: floating.floating_base,
+            rows,
             export: export.outputs(),
             read: read.choice(),
             robot: &robot,

@@ -66,8 +66,10 @@ pub fn floating_header(ff: &FreeFlyer, log: &FloatingLog) -> Vec<String> {
 }
 
 impl FloatingLog {
-    /// The CSV text (every value in full precision).
-    pub fn to_csv(&self, ff: &FreeFlyer) -> String {
+    /// The CSV text (every value in full precision); the log is checked
+    /// against `ff` first ([`FloatingLog::check`]).
+    pub fn to_csv(&self, ff: &FreeFlyer) -> Result<String, DataError> {
+        self.check(ff)?;
         let mut s = floating_header(ff, self).join(",");
         s.push('\n');
         let (nq, nv, n) = (ff.nq(), ff.nv(), ff.tree.dof());
@@ -89,7 +91,7 @@ impl FloatingLog {
             s += &text.join(",");
             s.push('\n');
         }
-        s
+        Ok(s)
     }
 }
 
@@ -121,12 +123,22 @@ fn slots(
     for name in header {
         let slot = match known.get(name) {
             Some(s) => *s,
-            None => contact_slot(ff, name, &mut contacts).ok_or_else(|| DataError::Value {
-                path: path.into(),
-                row: 0,
-                column: name.clone(),
-                message: "not a column of a floating-base log (docs/inputs.md)".into(),
-            })?,
+            None => {
+                let value = |message| DataError::Value {
+                    path: path.into(),
+                    row: 0,
+                    column: name.clone(),
+                    message,
+                };
+                match contact_slot(ff, name, &mut contacts).map_err(value)? {
+                    Some(s) => s,
+                    None => {
+                        return Err(value(
+                            "not a column of a floating-base log (docs/inputs.md)".into(),
+                        ));
+                    }
+                }
+            }
         };
         if out.contains(&slot) {
             return Err(DataError::Value {
@@ -157,12 +169,34 @@ fn slots(
     Ok((out, contacts, has_tau))
 }
 
-/// A `[world_]force_<frame>_<axis>` or `[world_]moment_…` column's slot.
+/// A `[world_]force_<frame>_<axis>` or `[world_]moment_…` column's slot;
+/// `None` for a name of another form, an error for a frame the robot does
+/// not have.
 fn contact_slot(
     ff: &FreeFlyer,
     name: &str,
     contacts: &mut Vec<(String, WrenchFrame)>,
-) -> Option<Slot> {
+) -> Result<Option<Slot>, String> {
+    let Some((expressed, offset, axis, frame)) = contact_column(name) else {
+        return Ok(None);
+    };
+    ff.frame_index(frame).map_err(|e| e.to_string())?;
+    let c = match contacts
+        .iter()
+        .position(|(f, e)| f == frame && *e == expressed)
+    {
+        Some(c) => c,
+        None => {
+            contacts.push((frame.to_string(), expressed));
+            contacts.len() - 1
+        }
+    };
+    Ok(Some(Slot::Wrench(c, offset + axis)))
+}
+
+/// A contact column's parts: how it is expressed, 0 (force) or 3
+/// (moment), the axis and the frame's name.
+fn contact_column(name: &str) -> Option<(WrenchFrame, usize, usize, &str)> {
     let (expressed, rest) = match name.strip_prefix("world_") {
         Some(r) => (WrenchFrame::WorldAligned, r),
         None => (WrenchFrame::Local, name),
@@ -174,18 +208,7 @@ fn contact_slot(
     };
     let axis = AXES.iter().position(|a| rest.ends_with(&format!("_{a}")))?;
     let frame = &rest[..rest.len() - 2];
-    ff.frame_index(frame).ok()?;
-    let c = match contacts
-        .iter()
-        .position(|(f, e)| f == frame && *e == expressed)
-    {
-        Some(c) => c,
-        None => {
-            contacts.push((frame.to_string(), expressed));
-            contacts.len() - 1
-        }
-    };
-    Some(Slot::Wrench(c, offset + axis))
+    (!frame.is_empty()).then_some((expressed, offset, axis, frame))
 }
 
 /// Reads the CSV text of a floating-base log of the robot `ff`; `path`
@@ -193,9 +216,29 @@ fn contact_slot(
 /// moment columns has zero moment (a point contact); a contact with some
 /// but not all three force columns is an error.
 pub fn floating_from_csv(ff: &FreeFlyer, text: &str, path: &str) -> Result<FloatingLog, DataError> {
+    floating_from_reader(ff, text.as_bytes(), path)
+}
+
+/// Reads a floating-base log's CSV file (streamed, within the readers' row limit),
+/// as [`floating_from_csv`].
+pub fn read_floating_csv(ff: &FreeFlyer, path: &std::path::Path) -> Result<FloatingLog, DataError> {
+    let name = path.display().to_string();
+    let file = std::fs::File::open(path).map_err(|source| DataError::Io {
+        path: name.clone(),
+        source,
+    })?;
+    floating_from_reader(ff, std::io::BufReader::new(file), &name)
+}
+
+/// [`floating_from_csv`] from any reader.
+fn floating_from_reader(
+    ff: &FreeFlyer,
+    reader: impl std::io::Read,
+    path: &str,
+) -> Result<FloatingLog, DataError> {
     let mut rdr = ::csv::ReaderBuilder::new()
         .trim(::csv::Trim::All)
-        .from_reader(text.as_bytes());
+        .from_reader(reader);
     let row_err = |row, message: String| DataError::Row {
         path: path.into(),
         row,

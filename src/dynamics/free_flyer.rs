@@ -231,6 +231,40 @@ impl FreeFlyer {
     }
 
     /// Fills `data.x_base` (base → each body) from the tree's `x_up`.
+    /// The origins of `frames` (indices into the tree's
+    /// [`frames`](Model::frames)) in base coordinates (m), at joint
+    /// positions `joints` (n): the forward kinematics of contact points.
+    pub fn frames_in_base(
+        &self,
+        data: &mut FreeFlyerData,
+        joints: &[f64],
+        frames: &[usize],
+    ) -> Result<Vec<Vector3<f64>>, DynamicsError> {
+        check_len("joint positions", joints, self.tree.dof())?;
+        for (i, &x) in joints.iter().enumerate() {
+            data.tree.x_up[i] = self.tree.joint_transform(i, x);
+        }
+        self.chain_to_base(data);
+        let known = self.tree.frames.len();
+        (frames.iter())
+            .map(|&f| {
+                let frame = self
+                    .tree
+                    .frames
+                    .get(f)
+                    .ok_or_else(|| DynamicsError::UnknownName {
+                        what: "frame index",
+                        name: f.to_string(),
+                        valid: format!("0..{known}"),
+                    })?;
+                Ok(match frame.body {
+                    Some(b) => frame.placement.compose(&data.x_base[b]).r,
+                    None => frame.placement.r,
+                })
+            })
+            .collect()
+    }
+
     pub(crate) fn chain_to_base(&self, data: &mut FreeFlyerData) {
         for i in 0..self.tree.dof() {
             data.x_base[i] = match self.tree.joints[i].parent {

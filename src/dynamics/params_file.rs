@@ -87,33 +87,71 @@ impl ParamsFile {
             path: path.into(),
             message: m,
         };
-        if self.robot != model.name {
-            return Err(err(format!(
-                "parameters for robot '{}', but the model is '{}'",
-                self.robot, model.name
-            )));
+        self.check_header(&model.name).map_err(err)?;
+        let p = self.body_params(&model.body_names()).map_err(err)?;
+        model.set_params(&p)?;
+        self.friction_of(&model.joint_names()).map_err(err)
+    }
+
+    /// [`apply`](Self::apply) to a floating-base robot: its base (by its
+    /// name) and its tree's bodies.
+    pub fn apply_free_flyer(
+        &self,
+        ff: &mut super::FreeFlyer,
+        path: &str,
+    ) -> Result<Friction, DynamicsError> {
+        let err = |m: String| DynamicsError::File {
+            path: path.into(),
+            message: m,
+        };
+        self.check_header(&ff.tree.name).map_err(err)?;
+        let mut names = vec![ff.base_name.clone()];
+        names.extend(ff.tree.body_names());
+        let p = self.body_params(&names).map_err(err)?;
+        ff.set_params(&p)?;
+        self.friction_of(&ff.tree.joint_names()).map_err(err)
+    }
+
+    /// A floating-base robot's parameters (the base first) and friction.
+    pub fn from_free_flyer(ff: &super::FreeFlyer, friction: Friction) -> Self {
+        let mut file = Self::from_model(&ff.tree, friction);
+        let base = BodyParams {
+            name: ff.base_name.clone(),
+            params: ff.base.0,
+        };
+        file.bodies.insert(0, base);
+        file
+    }
+
+    /// The file is for robot `robot`, in the stated parameter order.
+    fn check_header(&self, robot: &str) -> Result<(), String> {
+        if self.robot != robot {
+            return Err(format!(
+                "parameters for robot '{}', but the model is '{robot}'",
+                self.robot
+            ));
         }
         if self.parameter_order.replace(' ', "") != order().replace(' ', "") {
-            return Err(err(format!(
+            return Err(format!(
                 "parameter_order '{}' is not '{}'",
                 self.parameter_order,
                 order()
-            )));
+            ));
         }
-        let p = self.body_params(&model.body_names()).map_err(err)?;
-        model.set_params(&p)?;
-        let joints = model.joint_names();
+        Ok(())
+    }
+
+    /// The file's friction for the model's `joints` (absent: zeros).
+    fn friction_of(&self, joints: &[&str]) -> Result<Friction, String> {
         let mut f = Friction::zeros(joints.len());
         for t in FrictionTerm::ALL {
-            *f.coefficients_mut(t) = self
-                .joint_values(self.friction.coefficients(t), t, &joints)
-                .map_err(err)?;
+            *f.coefficients_mut(t) = self.joint_values(self.friction.coefficients(t), t, joints)?;
         }
         if let Some(v) = self.friction.stribeck_velocity {
             if !(v.is_finite() && v > 0.0 && v <= MAX_ABS_PARAM) {
-                return Err(err(format!(
+                return Err(format!(
                     "friction.stribeck_velocity = {v:e}: must be positive, ≤ {MAX_ABS_PARAM:e} rad/s"
-                )));
+                ));
             }
             f.stribeck_velocity = Some(v);
         }

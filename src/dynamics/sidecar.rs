@@ -51,6 +51,25 @@ pub struct Sidecar {
     pub identify: Option<SidecarIdentify>,
     /// How this robot's logs are read.
     pub data: Option<SidecarData>,
+    /// The robot's root is free (a legged robot, a drone): the CLI loads it
+    /// as a floating base (as `--floating-base`), and standing simulations
+    /// put these feet on force plates in this stance.
+    pub floating_base: Option<SidecarFloating>,
+}
+
+/// `[floating_base]`: the root link is a free-flyer base
+/// (docs/floating-base.md).
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SidecarFloating {
+    /// Contact frames (URDF links) that stand on force plates in
+    /// `simulate --contacts standing`.
+    #[serde(default)]
+    pub feet: Vec<String>,
+    /// The standing posture: joint positions (rad, m) by joint name; joints
+    /// not named are at 0.
+    #[serde(default)]
+    pub stance: BTreeMap<String, f64>,
 }
 
 /// `[data]`: how this robot's logs are read.

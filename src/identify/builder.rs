@@ -171,6 +171,16 @@ impl<'m> Identification<'m> {
         let mut s = Self::new(&ff.tree);
         s.layout = ff.layout(rows.range(ff.tree.dof()).len());
         s.bodies = vec![s.bodies[0]; s.layout.num_bodies()];
+        if rows == super::Rows::Base {
+            // no friction acts on the base rows: its columns are zero, and
+            // its coefficients pinned to 0 rather than left arbitrary
+            s = s.constrain(|p, v| {
+                if !v.friction.is_empty() {
+                    p.add_zeros(v.friction.iter().cloned())?;
+                }
+                Ok(())
+            });
+        }
         s
     }
 
@@ -429,6 +439,16 @@ impl<'m> Identification<'m> {
     ) -> Self {
         self.hooks.push(Box::new(f));
         self
+    }
+
+    /// An error naming `what` if this set-up is a free-flyer's (whose
+    /// columns are not its tree model's).
+    pub(super) fn fixed_base(&self, what: &'static str) -> Result<(), IdentifyError> {
+        if self.layout == self.model.layout() {
+            Ok(())
+        } else {
+            Err(IdentifyError::FreeFlyerSetUp { what })
+        }
     }
 
     /// The prior fits the model and every body that needs an ellipsoid has one.

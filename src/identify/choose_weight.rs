@@ -122,6 +122,7 @@ impl Identification<'_> {
         train: &Dataset,
         grid: &[f64],
     ) -> Result<WeightChoice, IdentifyError> {
+        self.fixed_base("Identification::choose_weight")?;
         let nb = self.layout.num_bodies();
         if self.prior.len() != 10 * nb {
             return Err(IdentifyError::NoPrior {

@@ -144,6 +144,25 @@ pub enum IdentifyError {
         /// Values found.
         found: usize,
     },
+    /// Reduced data of other rows than the set-up's (a free-flyer's base
+    /// rows solved as all rows).
+    #[error(
+        "reduced data have {found} rows per sample, the identification's set-up {expected} (reduce and solve with the same identify::Rows)"
+    )]
+    RowCount {
+        /// The set-up's rows per sample.
+        expected: usize,
+        /// The reduced data's.
+        found: usize,
+    },
+    /// A fixed-base step asked of a free-flyer's set-up.
+    #[error(
+        "{what} needs a fixed-base model; a free-flyer is identified by Identification::for_free_flyer(..).solve(&reduce_floating(..)) (identify::floating)"
+    )]
+    FreeFlyerSetUp {
+        /// The step.
+        what: &'static str,
+    },
     /// Reduced data of another model.
     #[error("reduced data have {found} columns, the model needs {expected}")]
     Columns {

@@ -162,6 +162,7 @@ impl Identification<'_> {
     /// The first half of [`fit`](Self::fit): `train`'s regressor reduced to
     /// its Gram matrix (in parallel; the memory limit checked first).
     pub fn reduce(&self, train: &Dataset) -> Result<Reduced, IdentifyError> {
+        self.fixed_base("Identification::reduce")?;
         with_torques(train)?;
         self.check_memory(train.len())?;
         reduce_samples(
@@ -209,6 +210,7 @@ impl Identification<'_> {
         train: Option<&Dataset>,
         red: &Reduced,
     ) -> Result<IdentifyResult, IdentifyError> {
+        self.fixed_base("Identification::fit")?;
         let model = self.model();
         let t0 = std::time::Instant::now();
         let (solved, reloaded, load_warning) = self.solve_loaded(train, red)?;

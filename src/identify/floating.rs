@@ -17,6 +17,7 @@ use rayon::prelude::*;
 /// Which rows of the floating-base dynamics the identification fits.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum Rows {
     /// The six base rows: the contact wrenches balance the whole robot's
     /// Newton–Euler equations (no joint torque needed).
@@ -78,7 +79,10 @@ pub fn reduce_floating(
     }
     // XᵀX is symmetric in exact arithmetic; make it so in floating point
     let gram = Mat::from_fn(p1, p1, |i, j| 0.5 * (gram[(i, j)] + gram[(j, i)]));
-    Reduced::from_gram(gram, samples)
+    Ok(Reduced {
+        rows_per_sample: Some(rows.range(ff.tree.dof()).len()),
+        ..Reduced::from_gram(gram, samples)?
+    })
 }
 
 /// One chunk's `XᵀX`, X its rows `[A b]`.
@@ -108,7 +112,7 @@ fn chunk_gram(
 
 /// Sample k's regressor; call after [`measured`] (which checks the
 /// sample's lengths).
-fn sample_regressor<'d>(
+pub(super) fn sample_regressor<'d>(
     ff: &FreeFlyer,
     data: &'d mut FreeFlyerData,
     log: &FloatingLog,

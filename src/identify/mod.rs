@@ -22,6 +22,7 @@ mod error;
 mod fit;
 pub mod fleet;
 pub mod floating;
+pub mod floating_fit;
 mod gram;
 pub mod identifiability;
 mod options;

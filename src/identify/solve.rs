@@ -50,6 +50,12 @@ impl Identification<'_> {
                 found: red.p,
             });
         }
+        if let Some(found) = red.rows_per_sample.filter(|&r| r != layout.rows) {
+            return Err(IdentifyError::RowCount {
+                expected: layout.rows,
+                found,
+            });
+        }
         if red.samples == 0 {
             return Err(IdentifyError::NoTrainingData {
                 samples: 0,

@@ -18,6 +18,15 @@ pub enum SimError {
         /// States given.
         samples: usize,
     },
+    /// A standing robot's contacts cannot follow the motion: a foot out of
+    /// reach, a singular posture, or forces outside the friction cones.
+    #[error("standing on force plates, at t = {time} s: {problem}")]
+    Stance {
+        /// The sample's time (s).
+        time: f64,
+        /// What failed, naming the foot.
+        problem: String,
+    },
     /// A setting out of range.
     #[error("simulation setting '{setting}' = {}: {requirement}", crate::numfmt::short(*value))]
     Setting {

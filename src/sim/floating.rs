@@ -82,7 +82,11 @@ const HARMONICS: usize = 4;
 const BASE_FREQUENCY: f64 = 0.1;
 
 /// Random Fourier coefficients (a, b) for `channels` signals.
-fn coefficients(rng: &mut StdRng, channels: usize, amplitude: f64) -> Vec<[Vec<f64>; 2]> {
+pub(super) fn coefficients(
+    rng: &mut StdRng,
+    channels: usize,
+    amplitude: f64,
+) -> Vec<[Vec<f64>; 2]> {
     let mut c = || {
         (0..HARMONICS)
             .map(|_| amplitude * rng.random_range(-1.0..1.0))
@@ -92,7 +96,7 @@ fn coefficients(rng: &mut StdRng, channels: usize, amplitude: f64) -> Vec<[Vec<f
 }
 
 /// The exact `[x, ẋ, ẍ]` of every channel at t.
-fn channels(coef: &[[Vec<f64>; 2]], t: f64) -> Vec<[f64; 3]> {
+pub(super) fn channels(coef: &[[Vec<f64>; 2]], t: f64) -> Vec<[f64; 3]> {
     let omega = 2.0 * std::f64::consts::PI * BASE_FREQUENCY;
     (coef.iter())
         .map(|[a, b]| harmonic_state(omega, (a, b), t))
@@ -187,36 +191,7 @@ pub fn simulate_suspended(ff: &FreeFlyer, cfg: &SuspendedConfig) -> Result<Float
         wrench.extend(g.iter().take(6));
         tau.extend(g.iter().skip(6));
     }
-    let (nf, nm, nt) = (
-        normal(cfg.noise.force)?,
-        normal(cfg.noise.moment)?,
-        normal(cfg.noise.torque)?,
-    );
-    for (i, w) in wrench.iter_mut().enumerate() {
-        *w += if i % 6 < 3 {
-            nf.sample(&mut rng)
-        } else {
-            nm.sample(&mut rng)
-        };
-    }
-    tau.iter_mut().for_each(|x| *x += nt.sample(&mut rng));
-    let (v, a) = (
-        add_state_noise(v, nv, [cfg.noise.twist, 10.0 * cfg.noise.encoder], &mut rng)?,
-        add_state_noise(
-            a,
-            nv,
-            [cfg.noise.twist_rate, 100.0 * cfg.noise.encoder],
-            &mut rng,
-        )?,
-    );
-    let ne = normal(cfg.noise.encoder)?;
-    let mut q = q;
-    for k in 0..samples {
-        q[k * nq + 7..(k + 1) * nq]
-            .iter_mut()
-            .for_each(|x| *x += ne.sample(&mut rng));
-    }
-    Ok(FloatingLog {
+    let mut log = FloatingLog {
         t: (0..samples).map(|k| k as f64 / cfg.rate).collect(),
         q,
         v,
@@ -227,17 +202,62 @@ pub fn simulate_suspended(ff: &FreeFlyer, cfg: &SuspendedConfig) -> Result<Float
             expressed: WrenchFrame::Local,
             wrench,
         }],
-    })
+    };
+    add_noise(ff, &mut log, &cfg.noise, &mut rng)?;
+    Ok(log)
+}
+
+/// The sensors' noise on an exact log: on every contact's force and
+/// moment, the base twist and its rate, the joint states and torques (the
+/// quaternion and base position are left exact).
+pub(super) fn add_noise(
+    ff: &FreeFlyer,
+    log: &mut FloatingLog,
+    noise: &FloatingNoise,
+    rng: &mut StdRng,
+) -> Result<(), SimError> {
+    let (nf, nm, nt) = (
+        normal(noise.force)?,
+        normal(noise.moment)?,
+        normal(noise.torque)?,
+    );
+    for c in &mut log.contacts {
+        for (i, w) in c.wrench.iter_mut().enumerate() {
+            *w += if i % 6 < 3 {
+                nf.sample(rng)
+            } else {
+                nm.sample(rng)
+            };
+        }
+    }
+    if let Some(tau) = &mut log.tau {
+        tau.iter_mut().for_each(|x| *x += nt.sample(rng));
+    }
+    let (nq, nv) = (ff.nq(), ff.nv());
+    add_state_noise(&mut log.v, nv, [noise.twist, 10.0 * noise.encoder], rng)?;
+    add_state_noise(
+        &mut log.a,
+        nv,
+        [noise.twist_rate, 100.0 * noise.encoder],
+        rng,
+    )?;
+    let ne = normal(noise.encoder)?;
+    for k in 0..log.samples() {
+        log.q[k * nq + 7..(k + 1) * nq]
+            .iter_mut()
+            .for_each(|x| *x += ne.sample(rng));
+    }
+    Ok(())
 }
 
 /// Noise of σ `[base, joints]` on a `samples × width` array (the base's
 /// six first).
 fn add_state_noise(
-    mut x: Vec<f64>,
+    x: &mut [f64],
     width: usize,
     [base, joints]: [f64; 2],
     rng: &mut StdRng,
-) -> Result<Vec<f64>, SimError> {
+) -> Result<(), SimError> {
     let (nb, nj) = (normal(base)?, normal(joints)?);
     for (i, v) in x.iter_mut().enumerate() {
         *v += if i % width < 6 {
@@ -246,7 +266,7 @@ fn add_state_noise(
             nj.sample(rng)
         };
     }
-    Ok(x)
+    Ok(())
 }
 
 /// A normal distribution of standard deviation `sigma` (finite, ≥ 0).

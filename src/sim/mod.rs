@@ -18,6 +18,7 @@ mod error;
 pub mod floating;
 pub mod sampled;
 pub mod simulate;
+pub mod standing;
 pub mod trajectory;
 pub mod truth;
 mod warning;

@@ -56,11 +56,32 @@ pub struct IdentifyArgs<'a> {
     pub verbose: bool,
     /// Where the identified model is exported.
     pub export: super::export::Outputs<'a>,
+    /// `--floating-base` given.
+    pub floating_base: bool,
+    /// A floating base's rows (None: all with torques, else base).
+    pub rows: Option<momentlmi::identify::Rows>,
 }
 
 /// Exit codes: 0 identified (constraints satisfied), 1 identified but a
 /// constraint check failed, 2 bad input or solver failure.
 pub fn run(a: &IdentifyArgs) -> i32 {
+    let robot = super::floating::Robot {
+        spec: a.robot,
+        sidecar: a.sidecar,
+        flag: a.floating_base,
+    };
+    match robot.is_floating() {
+        Ok(true) => return super::floating_identify::run(a, robot),
+        Ok(false) if a.rows.is_some() => {
+            eprintln!("error: --rows is for a floating base (--floating-base)");
+            return 2;
+        }
+        Ok(false) => {}
+        Err(e) => {
+            eprintln!("error: {e}");
+            return 2;
+        }
+    }
     let t0 = std::time::Instant::now();
     let staged = match exports_claimed(a) {
         Ok(s) => s,

@@ -27,11 +27,23 @@ pub struct PredictArgs<'a> {
     /// Predict the model as its MuJoCo export holds it: rotors as joint
     /// armature, no friction (`momentlmi::export::MujocoView`).
     pub mujoco_view: bool,
+    /// `--floating-base` given.
+    pub floating_base: bool,
 }
 
 /// Exit codes: 0 written, 2 bad input or failed write.
 pub fn run(a: &PredictArgs) -> i32 {
-    match run_inner(a) {
+    let robot = super::floating::Robot {
+        spec: a.robot,
+        sidecar: a.sidecar,
+        flag: a.floating_base,
+    };
+    let done = match robot.is_floating() {
+        Ok(true) => super::floating_predict::run(a, robot),
+        Ok(false) => run_inner(a),
+        Err(e) => Err(e),
+    };
+    match done {
         Ok(()) => 0,
         Err(e) => {
             eprintln!("error: {e}");

@@ -33,17 +33,37 @@ pub struct SimulateArgs<'a> {
     pub cutoff: Option<f64>,
     /// Link-side encoder bits.
     pub link_encoder_bits: Option<f64>,
+    /// `--floating-base` given.
+    pub floating_base: bool,
+    /// A floating base's contacts.
+    pub contacts: Option<super::floating::Contacts>,
 }
 
 /// Exit codes: 0 written, 2 bad input or failure (nothing written).
 pub fn run(a: &SimulateArgs) -> i32 {
-    match run_inner(a) {
+    match route(a) {
         Ok(()) => 0,
         Err(e) => {
             eprintln!("error: {e}");
             2
         }
     }
+}
+
+/// A floating-base robot's simulation, or the fixed-base one.
+fn route(a: &SimulateArgs) -> Result<(), String> {
+    let robot = super::floating::Robot {
+        spec: a.robot,
+        sidecar: a.sidecar,
+        flag: a.floating_base,
+    };
+    if robot.is_floating()? {
+        return super::floating_simulate::run(a, robot);
+    }
+    if a.contacts.is_some() {
+        return Err("--contacts is for a floating base (--floating-base)".into());
+    }
+    run_inner(a)
 }
 
 /// The outputs (the CSV and its record), refused early if either is an input.

@@ -1,0 +1,114 @@
+//! `--floating-base`: `simulate`, `identify` and `predict` of a robot whose
+//! root link is free (docs/floating-base.md). Each command routes here when
+//! the flag is given or the sidecar has a `[floating_base]` table; options
+//! that have no floating-base meaning yet are refused by name.
+
+use momentlmi::data::floating::FloatingLog;
+use momentlmi::data::floating_csv::read_floating_csv;
+use momentlmi::dynamics::FreeFlyer;
+use momentlmi::dynamics::sidecar::{Sidecar, SidecarFloating};
+use momentlmi::dynamics::urdf::free_flyer_from_urdf_file;
+use std::path::{Path, PathBuf};
+
+/// How a simulated floating-base robot touches the world.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Contacts {
+    /// Hung from a harness: one six-axis load cell at the base.
+    Suspended,
+    /// Standing on force plates: the sidecar's `[floating_base] feet`, in
+    /// its `stance`, while the base sways and tilts.
+    Standing,
+}
+
+/// A robot given to a floating-base command.
+#[derive(Clone, Copy, Debug)]
+pub struct Robot<'a> {
+    /// The URDF (its root link is the base).
+    pub spec: &'a str,
+    /// Its sidecar.
+    pub sidecar: Option<&'a Path>,
+    /// `--floating-base` was given.
+    pub flag: bool,
+}
+
+impl Robot<'_> {
+    /// Whether the command runs on a floating base: the flag, or the
+    /// sidecar's `[floating_base]` table.
+    pub fn is_floating(&self) -> Result<bool, String> {
+        Ok(self.flag || self.facts()?.is_some())
+    }
+
+    /// The sidecar's `[floating_base]` table, if any.
+    fn facts(&self) -> Result<Option<SidecarFloating>, String> {
+        match self.sidecar {
+            None => Ok(None),
+            Some(p) => Ok(Sidecar::read(p).map_err(|e| e.to_string())?.floating_base),
+        }
+    }
+
+    /// The free-flyer and the sidecar's floating-base facts.
+    pub fn load(&self) -> Result<(FreeFlyer, SidecarFloating), String> {
+        let path = Path::new(self.spec);
+        let is_urdf = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("urdf"));
+        if !is_urdf {
+            return Err(format!(
+                "--floating-base needs a URDF file (its root link is the base); '{}' is not one",
+                self.spec
+            ));
+        }
+        let ff = free_flyer_from_urdf_file(path, self.sidecar).map_err(|e| e.to_string())?;
+        Ok((ff, self.facts()?.unwrap_or_default()))
+    }
+}
+
+/// An error for each option given that a floating-base command does not
+/// take yet: `(name, given)`.
+pub fn refuse(options: &[(&str, bool)]) -> Result<(), String> {
+    match options.iter().find(|(_, given)| *given) {
+        Some((name, _)) => Err(format!(
+            "{name} is not available with --floating-base yet (docs/floating-base.md, \"Not yet built\")"
+        )),
+        None => Ok(()),
+    }
+}
+
+/// Every floating-base CSV log in `paths` (docs/floating-base.md), each
+/// checked against `ff`; `what` names the option in errors.
+pub fn read_logs(
+    ff: &FreeFlyer,
+    paths: &[PathBuf],
+    what: &str,
+) -> Result<Vec<FloatingLog>, String> {
+    (paths.iter())
+        .map(|p| {
+            let log = read_floating_csv(ff, p).map_err(|e| format!("{what}: {e}"))?;
+            log.check(ff)
+                .map_err(|e| format!("{what}: {}: {e}", p.display()))?;
+            Ok(log)
+        })
+        .collect()
+}
+
+/// The stance's joint positions (n) from the sidecar's table; a joint the
+/// robot does not have is an error naming it.
+pub fn stance(ff: &FreeFlyer, facts: &SidecarFloating) -> Result<Vec<f64>, String> {
+    let names = ff.tree.joint_names();
+    let mut q = vec![0.0; names.len()];
+    for (joint, &value) in &facts.stance {
+        let i = names.iter().position(|n| n == joint).ok_or_else(|| {
+            format!(
+                "sidecar [floating_base] stance: joint '{joint}' is not in the robot (joints: {})",
+                names.join(", ")
+            )
+        })?;
+        if !value.is_finite() {
+            return Err(format!(
+                "sidecar [floating_base] stance: joint '{joint}' = {value}"
+            ));
+        }
+        q[i] = value;
+    }
+    Ok(q)
+}

@@ -1,0 +1,252 @@
+//! `identify --floating-base [--rows base|joints|all]`: a floating-base
+//! robot identified from its logs (docs/floating-base.md): the report, or
+//! with `--json` a parameter file (`predict --params` reads it) with the fit.
+
+use super::floating::{Robot, read_logs, refuse};
+use super::identify::IdentifyArgs;
+use momentlmi::dynamics::params_file::ParamsFile;
+use momentlmi::dynamics::{FreeFlyer, FrictionTerm};
+use momentlmi::identify::floating_fit::{FloatingFit, FloatingRms, fit_floating};
+use momentlmi::identify::{CHECK_TOL, Identification, JointWeighting, Level, Regularizer, Rows};
+use std::path::Path;
+
+/// Identifies; exit 0 every body consistent, 1 not, 2 bad input.
+pub fn run(a: &IdentifyArgs, robot: Robot) -> i32 {
+    match fit(a, robot) {
+        Ok(fit) => {
+            let out = if a.json {
+                serde_json::to_string_pretty(&json(&fit)).map_err(|e| e.to_string())
+            } else {
+                Ok(report(&fit))
+            };
+            match out {
+                Ok(text) => println!("{text}"),
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    return 2;
+                }
+            }
+            let worst = fit
+                .min_eigenvalues
+                .iter()
+                .copied()
+                .fold(f64::INFINITY, f64::min);
+            if worst >= -CHECK_TOL { 0 } else { 1 }
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            2
+        }
+    }
+}
+
+fn refused(a: &IdentifyArgs) -> Result<(), String> {
+    refuse(&[
+        ("--level", !a.levels.is_empty()),
+        ("--total-mass", a.total_mass.is_some()),
+        ("--equal", !a.equal.is_empty()),
+        ("--bounds", a.bounds.is_some()),
+        (
+            "--regularizer entropic",
+            a.regularizer != Regularizer::Euclidean,
+        ),
+        ("--prior-mass-weight", a.prior_mass_weight.is_some()),
+        (
+            "--joint-weighting noise",
+            a.joint_weighting != JointWeighting::Equal,
+        ),
+        ("--mapping", a.read.mapping.is_some()),
+        ("--cutoff-hz", a.read.cutoff_hz.is_some()),
+        ("--urdf-out/--mjcf-out", a.export.any()),
+        ("--weight auto", a.weight.trim() == "auto"),
+        (
+            "--stribeck-velocity",
+            a.stribeck_velocity != momentlmi::dynamics::DEFAULT_STRIBECK_VELOCITY,
+        ),
+    ])
+}
+
+/// Reads the logs, sets the problem up as the flags say and solves it.
+fn fit(a: &IdentifyArgs, robot: Robot) -> Result<FloatingFit, String> {
+    refused(a)?;
+    let (mut ff, _) = robot.load()?;
+    if let Some(list) = a.friction {
+        let terms = FrictionTerm::parse_list(list).map_err(|e| format!("--friction: {e}"))?;
+        ff.tree = ff.tree.clone().with_friction_terms(&terms);
+    }
+    let train = read_logs(&ff, a.data, "--data")?;
+    let validate = read_logs(&ff, a.validate, "--validate")?;
+    let rows = rows(a.rows, &train)?;
+    let level = Level::parse(a.constraints).ok_or_else(|| {
+        format!(
+            "--constraints: '{}' is not one of none, semi, consistent",
+            a.constraints
+        )
+    })?;
+    if level == Level::Ellipsoid {
+        return Err("--constraints ellipsoid is not available with --floating-base yet (no bounding volumes are computed for a free-flyer)".into());
+    }
+    let weight: f64 = (a.weight.trim().parse().ok())
+        .filter(|w: &f64| w.is_finite() && *w >= 0.0)
+        .ok_or_else(|| format!("--weight: '{}' is not a number ≥ 0", a.weight))?;
+    let mut id = Identification::for_free_flyer(&ff, rows).level_all(level);
+    if weight > 0.0 {
+        let prior = prior(&ff, a.prior)?;
+        id = id
+            .prior(weight, prior)
+            .map_err(|e| format!("--prior: {e}"))?;
+    }
+    fit_floating(&id, &ff, rows, &train, &validate).map_err(|e| e.to_string())
+}
+
+/// The rows asked, else every row when each log has joint torques, else
+/// the base rows (said on stderr).
+fn rows(
+    asked: Option<Rows>,
+    train: &[momentlmi::data::floating::FloatingLog],
+) -> Result<Rows, String> {
+    let torques = train.iter().all(|l| l.tau.is_some());
+    match asked {
+        Some(r) if r != Rows::Base && !torques => Err(format!(
+            "--rows {}: a --data log has no joint torques (tau_<joint> columns); --rows base needs none",
+            r.as_str()
+        )),
+        Some(r) => Ok(r),
+        None => {
+            let (r, said) = if torques {
+                (Rows::All, "every row (the logs have joint torques)")
+            } else {
+                (Rows::Base, "the base rows (the logs have no joint torques)")
+            };
+            eprintln!("note: fitting {said}; --rows base|joints|all to choose");
+            Ok(r)
+        }
+    }
+}
+
+/// The prior's θ (bodies only; friction 0): the URDF's (cad, true) or a
+/// parameter file's.
+fn prior(ff: &FreeFlyer, choice: Option<&str>) -> Result<Vec<f64>, String> {
+    let mut p = match choice {
+        None | Some("cad") | Some("true") => ff.params(),
+        Some(file) => {
+            let mut fitted = ff.clone();
+            let pf = ParamsFile::read(Path::new(file)).map_err(|e| format!("--prior: {e}"))?;
+            pf.apply_free_flyer(&mut fitted, file)
+                .map_err(|e| format!("--prior: {e}"))?;
+            fitted.params()
+        }
+    };
+    p.truncate(10 * ff.num_bodies());
+    Ok(p)
+}
+
+/// `a/b/c` RMS by row group.
+fn rms_line(r: &FloatingRms) -> String {
+    let joints = if r.joints.is_empty() {
+        "no joint torques".to_string()
+    } else {
+        format!("joints {} N·m", super::per_joint(&r.joints, 4))
+    };
+    format!(
+        "base force {:.4} N, base moment {:.4} N·m, {joints} ({} samples)",
+        r.base_force, r.base_moment, r.samples
+    )
+}
+
+/// The text report.
+fn report(fit: &FloatingFit) -> String {
+    let s = &fit.solved;
+    let w = &fit.whole_body;
+    let mut out = format!(
+        "floating base: {} rows fitted, solver {:?} in {} iterations ({:.2} s)\n",
+        fit.rows.as_str(),
+        s.status,
+        s.iterations,
+        s.solve_time_s
+    );
+    out += &format!("training RMS:  {}\n", rms_line(&fit.train));
+    if let Some(v) = &fit.validation {
+        out += &format!("held-out RMS:  {}\n", rms_line(v));
+    }
+    out += &format!(
+        "whole robot (first training sample, base axes): mass {:.4} kg, CoM [{:.4}, {:.4}, {:.4}] m, centroidal inertia diag [{:.5}, {:.5}, {:.5}] kg·m²\n",
+        w.mass,
+        w.com[0],
+        w.com[1],
+        w.com[2],
+        w.centroidal_inertia[0][0],
+        w.centroidal_inertia[1][1],
+        w.centroidal_inertia[2][2]
+    );
+    out += "body                mass (kg)   CoM (m)                      min eig J\n";
+    for (b, name) in s.bodies.iter().enumerate() {
+        let t = &s.theta[10 * b..10 * b + 10];
+        let m = t[0];
+        let c = if m > 0.0 {
+            [t[1] / m, t[2] / m, t[3] / m]
+        } else {
+            [f64::NAN; 3]
+        };
+        out += &format!(
+            "{name:<18} {m:>10.4}   [{:>7.4}, {:>7.4}, {:>7.4}]   {:>10.2e}\n",
+            c[0], c[1], c[2], fit.min_eigenvalues[b]
+        );
+    }
+    let alone = determined_alone(fit);
+    let shown: Vec<&str> = alone.iter().take(6).map(String::as_str).collect();
+    out += &format!(
+        "identifiability: {}\ndetermined on their own by these rows: {} parameters{}",
+        s.identifiability.summary(),
+        alone.len(),
+        if alone.len() > shown.len() {
+            format!(" ({}, … all in --json: determined_alone)", shown.join(", "))
+        } else if alone.is_empty() {
+            " (only combinations: the base parameters in --json)".into()
+        } else {
+            format!(" ({})", shown.join(", "))
+        }
+    );
+    out
+}
+
+/// The parameters the fitted rows determine on their own.
+fn determined_alone(fit: &FloatingFit) -> Vec<String> {
+    let id = &fit.solved.identifiability;
+    let names = fit
+        .model
+        .layout(fit.rows.range(fit.model.tree.dof()).len())
+        .parameter_names();
+    (names.into_iter().enumerate())
+        .filter(|(k, _)| id.determined_alone(*k))
+        .map(|(_, n)| n)
+        .collect()
+}
+
+/// The JSON: a parameter file (robot, joints, bodies, friction) with the
+/// fit beside it.
+fn json(fit: &FloatingFit) -> serde_json::Value {
+    let file = ParamsFile::from_free_flyer(&fit.model, fit.friction.clone());
+    let mut v = serde_json::to_value(file).unwrap_or_default();
+    if let Some(m) = v.as_object_mut() {
+        m.insert("floating_base".into(), true.into());
+        m.insert("rows".into(), fit.rows.as_str().into());
+        m.insert("status".into(), format!("{:?}", fit.solved.status).into());
+        m.insert(
+            "min_eigenvalues".into(),
+            serde_json::json!(fit.min_eigenvalues),
+        );
+        m.insert("whole_body".into(), serde_json::json!(fit.whole_body));
+        m.insert("train_rms".into(), serde_json::json!(fit.train));
+        m.insert("validation_rms".into(), serde_json::json!(fit.validation));
+        m.insert(
+            "determined_alone".into(),
+            serde_json::json!(determined_alone(fit)),
+        );
+        m.insert(
+            "identifiability".into(),
+            serde_json::json!(fit.solved.identifiability),
+        );
+    }
+    v
+}

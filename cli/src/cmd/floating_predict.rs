@@ -1,0 +1,125 @@
+//! `predict --floating-base`: the generalized force a floating-base model
+//! predicts for every sample of its logs (the contact wrenches' resultant
+//! on the base, then the joint torques), and its residual RMS by row group
+//! against what the logs measured.
+
+use super::floating::{Robot, read_logs, refuse};
+use super::predict::PredictArgs;
+use momentlmi::data::Staged;
+use momentlmi::data::floating::FloatingLog;
+use momentlmi::dynamics::params_file::ParamsFile;
+use momentlmi::dynamics::{FreeFlyer, FreeFlyerData, Friction};
+use momentlmi::identify::floating_fit::floating_rms_of;
+use std::path::Path;
+
+/// Predicts and writes `--out` whole (or nothing).
+pub fn run(a: &PredictArgs, robot: Robot) -> Result<(), String> {
+    refuse(&[
+        ("--mujoco-view", a.mujoco_view),
+        ("--mapping", a.read.mapping.is_some()),
+        ("--cutoff-hz", a.read.cutoff_hz.is_some()),
+    ])?;
+    let files: Vec<&Path> = (a.data.iter().map(|p| p.as_path()))
+        .chain(a.sidecar)
+        .collect();
+    let inputs = super::input_files(&files, &[a.robot, a.params.unwrap_or("")]);
+    let mut staged = Staged::protecting(inputs);
+    staged.claim(a.out).map_err(|e| e.to_string())?;
+    let (mut ff, _) = robot.load()?;
+    let friction = match a.params {
+        None | Some("cad") | Some("true") => Friction::zeros(ff.tree.dof()),
+        Some(file) => {
+            let pf = ParamsFile::read(Path::new(file)).map_err(|e| format!("--params: {e}"))?;
+            pf.apply_free_flyer(&mut ff, file)
+                .map_err(|e| format!("--params: {e}"))?
+        }
+    };
+    let theta = theta_of(&ff, &friction);
+    let logs = read_logs(&ff, a.data, "--data")?;
+    let mut text = header(&ff);
+    for log in &logs {
+        text += &rows(&ff, &theta, log)?;
+    }
+    let rms = floating_rms_of(&ff, &theta, &logs).map_err(|e| e.to_string())?;
+    staged
+        .add(a.out, text.as_bytes())
+        .map_err(|e| e.to_string())?;
+    staged.commit().map_err(|e| e.to_string())?;
+    let summary = serde_json::json!({
+        "out": a.out.display().to_string(),
+        "floating_base": true,
+        "samples": rms.samples,
+        "rms": rms,
+    });
+    if a.json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())?
+        );
+    } else {
+        println!(
+            "wrote {} ({} samples); residual RMS: base force {:.4} N, base moment {:.4} N·m{}",
+            a.out.display(),
+            rms.samples,
+            rms.base_force,
+            rms.base_moment,
+            if rms.joints.is_empty() {
+                String::new()
+            } else {
+                format!(", joints {} N·m", super::per_joint(&rms.joints, 4))
+            }
+        );
+    }
+    Ok(())
+}
+
+/// The regressor's parameter vector: every body's, then each friction
+/// term's coefficients per joint (the model's terms; absent ones 0).
+pub fn theta_of(ff: &FreeFlyer, friction: &Friction) -> Vec<f64> {
+    let mut theta = ff.params();
+    for &term in ff.tree.friction_terms() {
+        let c = friction.coefficients(term);
+        theta.extend((0..ff.tree.dof()).map(|j| c.get(j).copied().unwrap_or(0.0)));
+    }
+    theta
+}
+
+/// `t, base_force_x…z, base_moment_x…z, tau_<joint>…`.
+fn header(ff: &FreeFlyer) -> String {
+    let mut h = vec!["t".to_string()];
+    for kind in ["force", "moment"] {
+        h.extend(["x", "y", "z"].map(|a| format!("base_{kind}_{a}")));
+    }
+    h.extend(ff.tree.joint_names().iter().map(|j| format!("tau_{j}")));
+    h.join(",") + "\n"
+}
+
+/// The predicted `Y θ` of every sample, one CSV row each.
+fn rows(ff: &FreeFlyer, theta: &[f64], log: &FloatingLog) -> Result<String, String> {
+    let (nq, nv) = (ff.nq(), ff.nv());
+    let mut data = FreeFlyerData::new(ff);
+    let th = nalgebra::DVector::from_column_slice(theta);
+    let mut out = String::new();
+    for k in 0..log.samples() {
+        if let Some(tau) = &log.tau {
+            let n = ff.tree.dof();
+            data.tree.load.copy_from_slice(&tau[k * n..(k + 1) * n]);
+        }
+        let (q, v, acc) = (
+            &log.q[k * nq..(k + 1) * nq],
+            &log.v[k * nv..(k + 1) * nv],
+            &log.a[k * nv..(k + 1) * nv],
+        );
+        let y = ff
+            .regressor(&mut data, q, v, acc)
+            .map_err(|e| format!("sample {k}: {e}"))?;
+        let g = y * &th;
+        let cells: Vec<String> = std::iter::once(log.t[k])
+            .chain(g.iter().copied())
+            .map(|x| format!("{x:e}"))
+            .collect();
+        out += &cells.join(",");
+        out.push('\n');
+    }
+    Ok(out)
+}

@@ -1,0 +1,125 @@
+//! `simulate --floating-base [--contacts suspended|standing]`: a
+//! floating-base log (docs/floating-base.md) and its JSON record.
+
+use super::floating::{Contacts, Robot, refuse, stance};
+use super::simulate::SimulateArgs;
+use momentlmi::data::floating::FloatingLog;
+use momentlmi::data::{Staged, record_path};
+use momentlmi::dynamics::FreeFlyer;
+use momentlmi::sim::floating::{FloatingNoise, SuspendedConfig, simulate_suspended};
+use momentlmi::sim::standing::{StandingConfig, simulate_standing};
+
+/// Simulates, writes the CSV and its record whole (or nothing).
+pub fn run(a: &SimulateArgs, robot: Robot) -> Result<(), String> {
+    refuse(&[
+        ("--trajectory", a.trajectory.is_some()),
+        ("--effects", !a.effects.is_empty()),
+        ("--effect-param", !a.effect_params.is_empty()),
+        ("--cutoff", a.cutoff.is_some()),
+        ("--link-encoder-bits", a.link_encoder_bits.is_some()),
+    ])?;
+    let mut staged =
+        Staged::protecting(a.sidecar.into_iter().chain([std::path::Path::new(a.robot)]));
+    let rec = record_path(a.out);
+    for p in [a.out, &rec] {
+        staged.claim(p).map_err(|e| e.to_string())?;
+    }
+    let (ff, facts) = robot.load()?;
+    let noise = noise(a.noise)?;
+    let contacts = a.contacts.unwrap_or(Contacts::Suspended);
+    let log = match contacts {
+        Contacts::Suspended => simulate_suspended(&ff, &SuspendedConfig {
+            seconds: a.seconds,
+            seed: a.seed,
+            noise,
+            ..SuspendedConfig::default()
+        }),
+        Contacts::Standing => {
+            if facts.feet.is_empty() {
+                return Err("--contacts standing needs the feet: the sidecar's [floating_base] feet = [\"LINK\", …] (docs/floating-base.md)".into());
+            }
+            let cfg = StandingConfig {
+                seconds: a.seconds,
+                seed: a.seed,
+                noise,
+                ..StandingConfig::new(facts.feet.clone(), stance(&ff, &facts)?)
+            };
+            simulate_standing(&ff, &cfg)
+        }
+    }
+    .map_err(|e| e.to_string())?;
+    let record = record_of(&ff, &log, contacts, &noise, a);
+    let text = serde_json::to_string_pretty(&record).map_err(|e| e.to_string())?;
+    staged
+        .add(
+            a.out,
+            log.to_csv(&ff).map_err(|e| e.to_string())?.as_bytes(),
+        )
+        .map_err(|e| e.to_string())?;
+    staged
+        .add(&rec, text.as_bytes())
+        .map_err(|e| e.to_string())?;
+    staged.commit().map_err(|e| e.to_string())?;
+    println!(
+        "wrote {} ({} samples, {}, contacts: {}) and {}",
+        a.out.display(),
+        log.samples(),
+        ff.tree.name,
+        (log.contacts.iter())
+            .map(|c| c.frame.as_str())
+            .collect::<Vec<_>>()
+            .join(", "),
+        rec.display()
+    );
+    Ok(())
+}
+
+/// The sensors' noise: the defaults, all zero with `--noise 0`, or the
+/// joint torques' σ (N·m) given.
+fn noise(sigma: Option<f64>) -> Result<FloatingNoise, String> {
+    match sigma {
+        None => Ok(FloatingNoise::default()),
+        Some(s) if !(s.is_finite() && s >= 0.0) => {
+            Err(format!("--noise {s}: a finite σ ≥ 0 (N·m)"))
+        }
+        Some(s) if s == 0.0 => Ok(FloatingNoise {
+            force: 0.0,
+            moment: 0.0,
+            twist: 0.0,
+            twist_rate: 0.0,
+            encoder: 0.0,
+            torque: 0.0,
+        }),
+        Some(s) => Ok(FloatingNoise {
+            torque: s,
+            ..FloatingNoise::default()
+        }),
+    }
+}
+
+/// What the record says of the log: how it was made.
+fn record_of(
+    ff: &FreeFlyer,
+    log: &FloatingLog,
+    contacts: Contacts,
+    noise: &FloatingNoise,
+    a: &SimulateArgs,
+) -> serde_json::Value {
+    serde_json::json!({
+        "generator": format!("momentlmi {}", env!("CARGO_PKG_VERSION")),
+        "floating_base": true,
+        "robot": ff.tree.name,
+        "base": ff.base_name,
+        "samples": log.samples(),
+        "joints": ff.tree.joint_names(),
+        "contacts": format!("{contacts:?}").to_lowercase(),
+        "contact_frames": log.contacts.iter().map(|c| &c.frame).collect::<Vec<_>>(),
+        "seconds": a.seconds,
+        "seed": a.seed,
+        "noise": {
+            "force_n": noise.force, "moment_nm": noise.moment, "twist": noise.twist,
+            "twist_rate": noise.twist_rate, "encoder_rad": noise.encoder, "torque_nm": noise.torque,
+        },
+        "true_params": momentlmi::dynamics::params_file::ParamsFile::from_free_flyer(ff, momentlmi::dynamics::Friction::zeros(ff.tree.dof())),
+    })
+}

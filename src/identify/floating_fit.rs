@@ -1,0 +1,223 @@
+//! A floating-base identification end to end: training logs reduced on the
+//! chosen [`Rows`], solved ([`Identification::for_free_flyer`]), the
+//! fitted robot's residuals by row group on the training and held-out
+//! logs, every body's consistency and the whole robot's mass, CoM and
+//! centroidal inertia. What `momentlmi identify --floating-base` reports.
+
+use super::builder::Identification;
+use super::error::IdentifyError;
+use super::floating::{Rows, measured, reduce_floating};
+use super::reduce::Reduced;
+use super::solved::Solved;
+use crate::data::floating::FloatingLog;
+use crate::dynamics::{FreeFlyer, FreeFlyerData, Friction};
+use crate::moments::InertialParams;
+use rayon::prelude::*;
+
+/// A model's residual RMS on a floating-base log, by row group.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct FloatingRms {
+    /// Samples.
+    pub samples: usize,
+    /// The base's three force rows (N).
+    pub base_force: f64,
+    /// The base's three moment rows (N·m).
+    pub base_moment: f64,
+    /// Per joint (N·m); empty when the log has no joint torques.
+    pub joints: Vec<f64>,
+}
+
+/// The whole robot at one configuration, in base coordinates.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct WholeBody {
+    /// Mass (kg).
+    pub mass: f64,
+    /// Centre of mass (m).
+    pub com: [f64; 3],
+    /// Rotational inertia about the CoM (kg·m²), row by row.
+    pub centroidal_inertia: [[f64; 3]; 3],
+}
+
+/// A floating-base identification's result.
+#[derive(Clone, Debug)]
+pub struct FloatingFit {
+    /// The rows fitted.
+    pub rows: Rows,
+    /// The solver's answer (θ, names, identifiability).
+    pub solved: Solved,
+    /// The robot with the identified bodies.
+    pub model: FreeFlyer,
+    /// The identified friction (zero with the base rows alone).
+    pub friction: Friction,
+    /// Per body (base first): the smallest eigenvalue of its pseudo-inertia
+    /// J (kg·m²; ≥ 0 consistent).
+    pub min_eigenvalues: Vec<f64>,
+    /// The whole robot at the first training sample's configuration.
+    pub whole_body: WholeBody,
+    /// Residuals on the training logs.
+    pub train: FloatingRms,
+    /// Residuals on the held-out logs, if any.
+    pub validation: Option<FloatingRms>,
+}
+
+/// Every training log reduced on `rows`, the Gram matrices summed.
+pub fn reduce_floating_logs(
+    ff: &FreeFlyer,
+    logs: &[FloatingLog],
+    rows: Rows,
+) -> Result<Reduced, IdentifyError> {
+    let mut total: Option<Reduced> = None;
+    for log in logs {
+        let red = reduce_floating(ff, log, rows)?;
+        total = Some(match total {
+            None => red,
+            Some(t) => Reduced {
+                rows_per_sample: t.rows_per_sample,
+                ..Reduced::from_gram(t.gram + red.gram, t.samples + red.samples)?
+            },
+        });
+    }
+    total.ok_or(IdentifyError::NoTrainingData {
+        samples: 0,
+        torques: 0,
+    })
+}
+
+/// Solves `id` (a [`Identification::for_free_flyer`] of `ff` on `rows`)
+/// on the training logs and reports the fit on them and on `validate`.
+pub fn fit_floating(
+    id: &Identification,
+    ff: &FreeFlyer,
+    rows: Rows,
+    train: &[FloatingLog],
+    validate: &[FloatingLog],
+) -> Result<FloatingFit, IdentifyError> {
+    let red = reduce_floating_logs(ff, train, rows)?;
+    for v in validate {
+        v.check(ff)?;
+    }
+    let solved = id.solve(&red)?;
+    let mut model = ff.clone();
+    model.set_params(&solved.theta[..10 * ff.num_bodies()])?;
+    let friction = solved.friction_law(ff.tree.stribeck_velocity());
+    let min_eigenvalues = (0..ff.num_bodies())
+        .map(|b| {
+            let p = InertialParams(std::array::from_fn(|k| solved.theta[10 * b + k]));
+            p.pseudo_inertia().symmetric_eigenvalues().min()
+        })
+        .collect();
+    let whole_body = whole_body(&model, &train[0].q[..ff.nq()])?;
+    let train_rms = floating_rms_of(ff, &solved.theta, train)?;
+    let validation = if validate.is_empty() {
+        None
+    } else {
+        Some(floating_rms_of(ff, &solved.theta, validate)?)
+    };
+    Ok(FloatingFit {
+        rows,
+        solved,
+        model,
+        friction,
+        min_eigenvalues,
+        whole_body,
+        train: train_rms,
+        validation,
+    })
+}
+
+/// The whole robot `ff` at configuration `q`.
+pub fn whole_body(ff: &FreeFlyer, q: &[f64]) -> Result<WholeBody, IdentifyError> {
+    let mut data = FreeFlyerData::new(ff);
+    let (mass, com, inertia) = ff.centroidal(&mut data, q)?;
+    Ok(WholeBody {
+        mass,
+        com: [com.x, com.y, com.z],
+        centroidal_inertia: std::array::from_fn(|i| std::array::from_fn(|j| inertia[(i, j)])),
+    })
+}
+
+/// [`floating_rms`] over several logs together.
+pub fn floating_rms_of(
+    ff: &FreeFlyer,
+    theta: &[f64],
+    logs: &[FloatingLog],
+) -> Result<FloatingRms, IdentifyError> {
+    let n = ff.tree.dof();
+    let mut sums = vec![0.0; 6 + n];
+    let (mut samples, mut torques) = (0, true);
+    for log in logs {
+        let s = squared_residuals(ff, theta, log)?;
+        sums.iter_mut().zip(&s).for_each(|(a, b)| *a += b);
+        samples += log.samples();
+        torques &= log.tau.is_some();
+    }
+    let rms = |range: std::ops::Range<usize>| {
+        let k = (range.len() * samples) as f64;
+        (sums[range].iter().sum::<f64>() / k).sqrt()
+    };
+    Ok(FloatingRms {
+        samples,
+        base_force: rms(0..3),
+        base_moment: rms(3..6),
+        joints: if torques {
+            (6..6 + n).map(|i| rms(i..i + 1)).collect()
+        } else {
+            vec![]
+        },
+    })
+}
+
+/// The residual RMS of the model `theta` (the regressor's columns) on
+/// `log`, by row group.
+pub fn floating_rms(
+    ff: &FreeFlyer,
+    theta: &[f64],
+    log: &FloatingLog,
+) -> Result<FloatingRms, IdentifyError> {
+    floating_rms_of(ff, theta, std::slice::from_ref(log))
+}
+
+/// Per row (6 + n), the sum over the samples of `(measured − Y θ)²`.
+fn squared_residuals(
+    ff: &FreeFlyer,
+    theta: &[f64],
+    log: &FloatingLog,
+) -> Result<Vec<f64>, IdentifyError> {
+    log.check(ff)?;
+    if theta.len() != ff.regressor_columns() {
+        return Err(IdentifyError::Columns {
+            expected: ff.regressor_columns(),
+            found: theta.len(),
+        });
+    }
+    let chunks: Vec<usize> = (0..log.samples()).step_by(256).collect();
+    let parts = (chunks.par_iter())
+        .map(|&s0| {
+            let mut data = FreeFlyerData::new(ff);
+            let mut sums = vec![0.0; ff.nv()];
+            for k in s0..(s0 + 256).min(log.samples()) {
+                let r = residual(ff, &mut data, theta, log, k)?;
+                sums.iter_mut().zip(r.iter()).for_each(|(s, x)| *s += x * x);
+            }
+            Ok(sums)
+        })
+        .collect::<Result<Vec<_>, IdentifyError>>()?;
+    let mut sums = vec![0.0; ff.nv()];
+    for p in parts {
+        sums.iter_mut().zip(&p).for_each(|(a, b)| *a += b);
+    }
+    Ok(sums)
+}
+
+/// Sample k's `measured − Y θ` (6 + n).
+pub fn residual(
+    ff: &FreeFlyer,
+    data: &mut FreeFlyerData,
+    theta: &[f64],
+    log: &FloatingLog,
+    k: usize,
+) -> Result<nalgebra::DVector<f64>, IdentifyError> {
+    let b = measured(ff, data, log, k)?;
+    let y = super::floating::sample_regressor(ff, data, log, k)?;
+    Ok(b - y * nalgebra::DVector::from_column_slice(theta))
+}
