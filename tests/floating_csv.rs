@@ -73,7 +73,10 @@ fn bad_files_are_named() {
     assert!(e.contains("'base_qq'"), "{e}");
     // a contact frame that does not exist
     let e = err(&text.replace("force_base_link", "force_harness"));
-    assert!(e.contains("'force_harness_x'") && e.contains("contact frame 'harness'"), "{e}");
+    assert!(
+        e.contains("'force_harness_x'") && e.contains("contact frame 'harness'"),
+        "{e}"
+    );
     // a wrench column missing
     let e = err(&text.replace(",force_base_link_y", ",moment_x_y"));
     assert!(e.contains("moment_x_y"), "{e}");

@@ -211,3 +211,29 @@ fn the_embedded_arm_is_the_repositorys() {
     );
     let _ = std::fs::remove_dir_all(&tmp);
 }
+
+/// The demo's floating-base part: Solo12 from its embedded files, three
+/// stages, its figure staged (not written before the commit) with both
+/// models' held-out errors.
+#[test]
+fn the_floating_base_part_stages_its_figure() {
+    let out = std::env::temp_dir().join(format!("momentlmi-demo-floating-{}", std::process::id()));
+    std::fs::create_dir_all(&out).unwrap();
+    let mut staged = momentlmi::data::Staged::new();
+    let mut stages = vec![];
+    momentlmi_cli::cmd::demo_floating::run((&out, &mut staged), &mut |s: &str| {
+        stages.push(s.to_string())
+    })
+    .unwrap();
+    assert_eq!(stages.len(), 3, "{stages:?}");
+    assert!(!out.join("floating_errors.svg").exists());
+    staged.commit().unwrap();
+    let fig = std::fs::read_to_string(out.join("floating_errors.svg")).unwrap();
+    assert!(
+        fig.contains("identified from the load cell alone"),
+        "{}",
+        &fig[..200]
+    );
+    assert!(fig.contains("true model (the noise floor)"));
+    let _ = std::fs::remove_dir_all(&out);
+}

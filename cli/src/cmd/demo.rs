@@ -251,7 +251,7 @@ fn run_inner(out: &Path) -> Result<(), String> {
     let d = diagnose_real_leg(&robot, best, (out, &mut staged))
         .map_err(|e| format!("diagnosis: {e}"))?;
     print_diagnosis(&d, out);
-    let bar = indicatif::ProgressBar::new(10);
+    let bar = indicatif::ProgressBar::new(15); // the arm's 5 stages, the real robot's 7, the floating base's 3
     if let Ok(style) = indicatif::ProgressStyle::with_template("   {bar:40} {pos}/{len} {msg}") {
         bar.set_style(style);
     }
@@ -264,6 +264,10 @@ fn run_inner(out: &Path) -> Result<(), String> {
         super::demo_real::run((out, &mut staged), &mut tick)
             .map_err(|e| format!("the real robot: {e}"))
             .map(|_| ())
+    });
+    let real = real.and_then(|()| {
+        super::demo_floating::run((out, &mut staged), &mut tick)
+            .map_err(|e| format!("the floating base: {e}"))
     });
     bar.finish_and_clear();
     real?;

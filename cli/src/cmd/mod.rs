@@ -4,6 +4,7 @@
 pub mod check;
 pub mod demo;
 pub mod demo_arm;
+pub mod demo_floating;
 pub mod demo_real;
 pub mod diagnose;
 pub mod excite;

@@ -1,0 +1,262 @@
+//! `--floating-base` end to end on Solo12 (robots/solo12, whose sidecar
+//! has a `[floating_base]` table): simulate suspended and standing,
+//! identify from the base rows alone, predict with the identified model,
+//! and bad floating-base input named with exit 2 and nothing written.
+
+mod common;
+use common::{TempDir, bin, ok};
+use std::path::{Path, PathBuf};
+
+fn solo() -> String {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    root.join("robots/solo12/solo12.urdf").display().to_string()
+}
+
+fn simulate(dir: &TempDir, name: &str, extra: &[&str]) -> PathBuf {
+    let out = dir.0.join(name);
+    let robot = solo();
+    let mut args = vec![
+        "simulate",
+        "--robot",
+        &robot,
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend(extra);
+    ok(&args);
+    out
+}
+
+/// A JSON number at a path of keys.
+fn num(v: &serde_json::Value, keys: &[&str]) -> f64 {
+    keys.iter().fold(v, |v, k| &v[*k]).as_f64().unwrap()
+}
+
+#[test]
+fn base_rows_alone_identify_solo_and_predict_at_the_floor() {
+    let dir = TempDir::new("floating-cli");
+    // two minutes: the base moment (floor ≈ 0.011 N·m) needs them (40 s: 22 % above)
+    let train = simulate(&dir, "train.csv", &["--seconds", "120", "--seed", "1"]);
+    let test = simulate(&dir, "test.csv", &["--seconds", "10", "--seed", "2"]);
+    let robot = solo();
+    let (train, test) = (train.to_str().unwrap(), test.to_str().unwrap());
+    let out = ok(&[
+        "identify",
+        "--robot",
+        &robot,
+        "--data",
+        train,
+        "--validate",
+        test,
+        "--rows",
+        "base",
+        "--json",
+    ]);
+    let fit: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    assert_eq!(fit["rows"], "base");
+    // the whole robot as the URDF has it: 2.5 kg (its links' masses summed)
+    let mass = num(&fit, &["whole_body", "mass"]);
+    assert!((mass - 2.5).abs() < 0.01 * 2.5, "mass {mass}");
+    for e in fit["min_eigenvalues"].as_array().unwrap() {
+        assert!(
+            e.as_f64().unwrap() >= -1e-9,
+            "a body is not consistent: {e}"
+        );
+    }
+    // held-out base wrench at the floor: the URDF's own model's residual
+    let fitted = dir.0.join("fit.json");
+    std::fs::write(&fitted, &out).unwrap();
+    let predict = |params: Option<&Path>, name: &str| -> serde_json::Value {
+        let pred = dir.0.join(name);
+        let mut args = vec![
+            "predict",
+            "--robot",
+            &robot,
+            "--data",
+            test,
+            "--out",
+            pred.to_str().unwrap(),
+            "--json",
+        ];
+        if let Some(p) = params {
+            args.extend(["--params", p.to_str().unwrap()]);
+        }
+        serde_json::from_slice(&ok(&args)).unwrap()
+    };
+    let (fit_rms, floor) = (
+        predict(Some(&fitted), "pred.csv"),
+        predict(None, "floor.csv"),
+    );
+    for key in ["base_force", "base_moment"] {
+        let (a, b) = (num(&fit_rms, &["rms", key]), num(&floor, &["rms", key]));
+        assert!(a <= 1.1 * b, "{key}: held-out {a} vs floor {b}");
+        assert_eq!(num(&fit["validation_rms"], &[key]), a);
+    }
+    let text = std::fs::read_to_string(dir.0.join("pred.csv")).unwrap();
+    assert!(text.starts_with("t,base_force_x,"), "{}", &text[..80]);
+    assert_eq!(text.lines().count(), 1 + 2000);
+}
+
+#[test]
+fn standing_on_force_plates_writes_one_contact_per_foot() {
+    let dir = TempDir::new("floating-standing");
+    let log = simulate(
+        &dir,
+        "stand.csv",
+        &["--contacts", "standing", "--seconds", "2"],
+    );
+    let text = std::fs::read_to_string(&log).unwrap();
+    let header = text.lines().next().unwrap();
+    for foot in ["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"] {
+        assert!(
+            header.contains(&format!("world_force_{foot}_z")),
+            "{header}"
+        );
+    }
+    let record: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.0.join("stand.json")).unwrap()).unwrap();
+    assert_eq!(record["contacts"], "standing");
+    assert_eq!(record["samples"], 400);
+}
+
+/// Runs `args`; asserts exit 2 and that stderr contains each of `words`.
+fn refused(args: &[&str], words: &[&str]) {
+    let o = bin().args(args).output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{}: {err}", args.join(" "));
+    for w in words {
+        assert!(err.contains(w), "{}: {err} lacks {w}", args.join(" "));
+    }
+}
+
+#[test]
+fn bad_floating_base_input_is_named() {
+    let dir = TempDir::new("floating-bad");
+    let log = simulate(&dir, "log.csv", &["--seconds", "1"]);
+    let text = std::fs::read_to_string(&log).unwrap();
+    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    let robot = solo();
+    let identify = |name: &str, body: String, words: &[&str]| {
+        let p = dir.write(name, &body);
+        refused(
+            &["identify", "--robot", &robot, "--data", p.to_str().unwrap()],
+            words,
+        );
+    };
+    // sample 3's quaternion w
+    let qw = header.iter().position(|c| *c == "base_qw").unwrap();
+    let mut lines: Vec<String> = text.lines().map(String::from).collect();
+    let mut cells: Vec<String> = lines[4].split(',').map(String::from).collect();
+    cells[qw] = "0.5".into();
+    lines[4] = cells.join(",");
+    identify(
+        "quat.csv",
+        lines.join("\n"),
+        &["sample 3", "quaternion", "norm"],
+    );
+    // a contact frame the robot does not have
+    identify(
+        "frame.csv",
+        text.replace("force_base_link", "force_harness"),
+        &["contact frame 'harness'"],
+    );
+    // a wrench column missing
+    let fz = header
+        .iter()
+        .position(|c| *c == "force_base_link_z")
+        .unwrap();
+    let cut: Vec<String> = (text.lines())
+        .map(|l| {
+            l.split(',')
+                .enumerate()
+                .filter(|(i, _)| *i != fz)
+                .map(|(_, c)| c)
+                .collect::<Vec<_>>()
+                .join(",")
+        })
+        .collect();
+    identify(
+        "cut.csv",
+        cut.join("\n"),
+        &["missing column 'force_base_link_z'"],
+    );
+    // joint rows from a log without torques
+    let tau: Vec<usize> = (0..header.len())
+        .filter(|&i| header[i].starts_with("tau_"))
+        .collect();
+    let no_tau: Vec<String> = (text.lines())
+        .map(|l| {
+            l.split(',')
+                .enumerate()
+                .filter(|(i, _)| !tau.contains(i))
+                .map(|(_, c)| c)
+                .collect::<Vec<_>>()
+                .join(",")
+        })
+        .collect();
+    let p = dir.write("notau.csv", &no_tau.join("\n"));
+    refused(
+        &[
+            "identify",
+            "--robot",
+            &robot,
+            "--data",
+            p.to_str().unwrap(),
+            "--rows",
+            "joints",
+        ],
+        &["--rows joints", "no joint torques"],
+    );
+    // a built-in (fixed-base) robot, standing without feet, --rows on a fixed base
+    let out = dir.0.join("out.csv");
+    let out = out.to_str().unwrap();
+    refused(
+        &[
+            "simulate",
+            "--robot",
+            "cheetah3-leg",
+            "--floating-base",
+            "--out",
+            out,
+        ],
+        &["needs a URDF"],
+    );
+    refused(
+        &[
+            "simulate",
+            "--robot",
+            &robot,
+            "--no-sidecar",
+            "--floating-base",
+            "--contacts",
+            "standing",
+            "--out",
+            out,
+        ],
+        &["[floating_base] feet"],
+    );
+    refused(
+        &[
+            "identify",
+            "--robot",
+            "cheetah3-leg",
+            "--data",
+            p.to_str().unwrap(),
+            "--rows",
+            "base",
+        ],
+        &["--rows is for a floating base"],
+    );
+    refused(
+        &[
+            "identify",
+            "--robot",
+            &robot,
+            "--data",
+            log.to_str().unwrap(),
+            "--bounds",
+        ],
+        &["--bounds", "not available with --floating-base"],
+    );
+    assert!(!Path::new(out).exists());
+}
