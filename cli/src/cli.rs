@@ -150,6 +150,12 @@ enum Command {
         /// standing (the sidecar's [floating_base] feet on force plates, in its stance).
         #[arg(long, value_enum)]
         contacts: Option<crate::cmd::floating::Contacts>,
+        /// Effects a floating base's true robot has (comma-separated): joint_friction (0.01
+        /// N·m·s/rad viscous, 0.05 N·m Coulomb per joint), wrench_offset (every contact's
+        /// sensor off by [1, −0.5, 2] N, [0.05, 0.02, −0.03] N·m), payload (0.3 kg on the base
+        /// at [0.05, 0, 0.03] m).
+        #[arg(long, value_enum, value_delimiter = ',')]
+        floating_effects: Vec<crate::cmd::floating::SimEffect>,
     },
     /// Design an exciting trajectory: a periodic Fourier series per joint within the joint
     /// limits, optimised for the base parameters' information (docs/identification.md).
@@ -316,6 +322,8 @@ enum Command {
         /// The memory the diagnosis may plan for (GiB): beyond it the compliance searches are skipped, or the diagnosis refused.
         #[arg(long, default_value_t = 8.0)]
         max_memory_gib: f64,
+        #[command(flatten)]
+        floating: FloatingArgs,
     },
     /// Write a model for a simulator: a copy of the robot's URDF with the parameters (and a
     /// sidecar beside it), and/or a MuJoCo model (docs/export.md).
@@ -448,7 +456,9 @@ pub fn main() -> i32 {
             effect_param,
             floating,
             contacts,
+            floating_effects,
         } => simulate::run(&simulate::SimulateArgs {
+            floating_effects: &floating_effects,
             floating_base: floating.floating_base,
             contacts,
             robot: &robot,
@@ -570,7 +580,9 @@ pub fn main() -> i32 {
             json,
             out,
             max_memory_gib,
+            floating,
         } => diagnose::run(&diagnose::DiagnoseArgs {
+            floating_base: floating.floating_base,
             read: read.choice(),
             robot: &robot,
             sidecar: own_sidecar(&robot, sidecar, no_sidecar).as_deref(),

@@ -212,7 +212,7 @@ fn the_embedded_arm_is_the_repositorys() {
     let _ = std::fs::remove_dir_all(&tmp);
 }
 
-/// The demo's floating-base part: Solo12 from its embedded files, three
+/// The demo's floating-base part: Solo12 from its embedded files, four
 /// stages, its figure staged (not written before the commit) with both
 /// models' held-out errors.
 #[test]
@@ -225,7 +225,7 @@ fn the_floating_base_part_stages_its_figure() {
         stages.push(s.to_string())
     })
     .unwrap();
-    assert_eq!(stages.len(), 3, "{stages:?}");
+    assert_eq!(stages.len(), 4, "{stages:?}");
     assert!(!out.join("floating_errors.svg").exists());
     staged.commit().unwrap();
     let fig = std::fs::read_to_string(out.join("floating_errors.svg")).unwrap();

@@ -260,3 +260,38 @@ fn bad_floating_base_input_is_named() {
     );
     assert!(!Path::new(out).exists());
 }
+
+#[test]
+fn diagnose_finds_a_payload_the_urdf_lacks() {
+    let dir = TempDir::new("floating-diagnose");
+    let log = simulate(
+        &dir,
+        "pay.csv",
+        &["--seconds", "60", "--floating-effects", "payload"],
+    );
+    let robot = solo();
+    let out = dir.0.join("report");
+    let text = ok(&[
+        "diagnose",
+        "--robot",
+        &robot,
+        "--data",
+        log.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let text = String::from_utf8_lossy(&text);
+    assert!(
+        text.contains("accepted: payload: +0.29") || text.contains("accepted: payload: +0.30"),
+        "{text}"
+    );
+    let d: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(out.join("floating_diagnosis.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(d["accepted"], "payload");
+    // the simulation's record holds the truth: the payload in the base
+    let record: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.0.join("pay.json")).unwrap()).unwrap();
+    assert_eq!(record["effects"][0], "payload");
+}

@@ -75,6 +75,10 @@ pub enum DiagnoseError {
     /// The model has no tool point (no moving body) for the payload candidate.
     #[error("the model has no tool point (no moving body) for the payload candidate")]
     NoTool,
+    /// A floating-base log that does not fit the robot, or a sample whose
+    /// dynamics failed.
+    #[error("floating base: {0}")]
+    Floating(String),
 }
 
 /// Why one candidate's fit failed (the candidate is then skipped, with a warning).

@@ -24,6 +24,7 @@ mod candidate;
 mod carry;
 mod error;
 mod fit;
+pub mod floating;
 pub mod floor;
 mod forward;
 mod memory;

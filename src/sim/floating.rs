@@ -47,6 +47,86 @@ impl Default for FloatingNoise {
     }
 }
 
+/// Effects the nominal (URDF) model lacks, put into a floating-base log for
+/// a diagnosis to find.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct FloatingEffects {
+    /// Every joint's viscous (N·m·s/rad) and Coulomb (N·m) friction, in the
+    /// measured joint torques.
+    pub joint_friction: Option<[f64; 2]>,
+    /// A constant bias on every contact's measured wrench (force N, moment
+    /// N·m, in the contact's columns' axes): a load cell's zero drift.
+    pub wrench_offset: Option<[f64; 6]>,
+    /// A point mass (kg) fixed to the base at a point (m, base frame): a
+    /// battery or payload the URDF lacks.
+    pub payload: Option<(f64, [f64; 3])>,
+}
+
+impl FloatingEffects {
+    /// The names of the effects switched on.
+    pub fn names(&self) -> Vec<&'static str> {
+        let on = [
+            (self.joint_friction.is_some(), "joint_friction"),
+            (self.wrench_offset.is_some(), "wrench_offset"),
+            (self.payload.is_some(), "payload"),
+        ];
+        on.iter().filter(|(o, _)| *o).map(|(_, n)| *n).collect()
+    }
+
+    /// The true robot: `ff` with the payload in its base.
+    pub fn truth(&self, ff: &FreeFlyer) -> Result<FreeFlyer, SimError> {
+        let mut t = ff.clone();
+        if let Some((m, [x, y, z])) = self.payload {
+            if !(m.is_finite() && m > 0.0 && [x, y, z].iter().all(|v| v.is_finite())) {
+                return Err(SimError::Setting {
+                    setting: "payload mass",
+                    value: m,
+                    requirement: "a finite mass > 0 at a finite point",
+                });
+            }
+            let point = [m, m * x, m * y, m * z];
+            let inertia = [
+                y * y + z * z,
+                -x * y,
+                -x * z,
+                x * x + z * z,
+                -y * z,
+                x * x + y * y,
+            ];
+            let mut p = t.base.0;
+            for (k, v) in point
+                .iter()
+                .chain(inertia.map(|i| m * i).iter())
+                .enumerate()
+            {
+                p[k] += v;
+            }
+            t.base = crate::moments::InertialParams(p);
+        }
+        Ok(t)
+    }
+
+    /// The friction and the offset, added to an exact log's torques and
+    /// wrenches (before the noise).
+    pub(super) fn apply(&self, log: &mut FloatingLog, nv: usize) {
+        if let (Some([b, c]), Some(tau)) = (self.joint_friction, &mut log.tau) {
+            let n = nv - 6;
+            for (i, t) in tau.iter_mut().enumerate() {
+                let qd = log.v[(i / n) * nv + 6 + i % n];
+                *t += b * qd + c * crate::dynamics::sign(qd);
+            }
+        }
+        if let Some(o) = self.wrench_offset {
+            for ch in &mut log.contacts {
+                ch.wrench
+                    .iter_mut()
+                    .enumerate()
+                    .for_each(|(i, w)| *w += o[i % 6]);
+            }
+        }
+    }
+}
+
 /// The motion's amplitudes and the log's rate and length.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SuspendedConfig {
@@ -63,6 +143,8 @@ pub struct SuspendedConfig {
     pub base_amplitude: f64,
     /// Sensor noise.
     pub noise: FloatingNoise,
+    /// Effects the nominal model lacks.
+    pub effects: FloatingEffects,
 }
 
 impl Default for SuspendedConfig {
@@ -74,6 +156,7 @@ impl Default for SuspendedConfig {
             joint_amplitude: 0.3,
             base_amplitude: 0.6,
             noise: FloatingNoise::default(),
+            effects: FloatingEffects::default(),
         }
     }
 }
@@ -161,9 +244,12 @@ fn integrate_pose(
     (p, rot)
 }
 
-/// A suspended log of the robot `ff` (the truth): the harness wrench at
-/// the base frame (local axes) and the joint torques, with noise.
+/// A suspended log of the robot `ff` (the nominal model; the truth is it
+/// with `cfg.effects`): the harness wrench at the base frame (local axes)
+/// and the joint torques, with noise.
 pub fn simulate_suspended(ff: &FreeFlyer, cfg: &SuspendedConfig) -> Result<FloatingLog, SimError> {
+    let truth = cfg.effects.truth(ff)?;
+    let ff = &truth;
     let samples = cfg.seconds * cfg.rate;
     if !(cfg.rate > 0.0 && (10.0..=1e7).contains(&samples)) {
         return Err(SimError::Setting {
@@ -203,6 +289,7 @@ pub fn simulate_suspended(ff: &FreeFlyer, cfg: &SuspendedConfig) -> Result<Float
             wrench,
         }],
     };
+    cfg.effects.apply(&mut log, nv);
     add_noise(ff, &mut log, &cfg.noise, &mut rng)?;
     Ok(log)
 }

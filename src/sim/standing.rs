@@ -9,7 +9,7 @@
 //! Noise as for [`simulate_suspended`](super::floating::simulate_suspended).
 
 use super::error::SimError;
-use super::floating::{FloatingNoise, add_noise, channels, coefficients};
+use super::floating::{FloatingEffects, FloatingNoise, add_noise, channels, coefficients};
 use crate::data::floating::{ContactChannel, FloatingLog};
 use crate::dynamics::{ContactWrench, FreeFlyer, FreeFlyerData, WrenchFrame};
 use nalgebra::{DMatrix, DVector, Matrix3, UnitQuaternion, Vector3};
@@ -39,6 +39,8 @@ pub struct StandingConfig {
     pub friction: f64,
     /// Sensor noise (the plates' as the load cell's).
     pub noise: FloatingNoise,
+    /// Effects the nominal model lacks (a wrench offset on every plate).
+    pub effects: FloatingEffects,
 }
 
 impl StandingConfig {
@@ -55,6 +57,7 @@ impl StandingConfig {
             tilt: 0.04,
             friction: 0.8,
             noise: FloatingNoise::default(),
+            effects: FloatingEffects::default(),
         }
     }
 }
@@ -325,10 +328,12 @@ impl Stance<'_> {
     }
 }
 
-/// A log of the robot `ff` (the truth) standing on force plates (module
-/// doc), with noise.
+/// A log of the robot `ff` (the nominal model; the truth is it with
+/// `cfg.effects`) standing on force plates (module doc), with noise.
 pub fn simulate_standing(ff: &FreeFlyer, cfg: &StandingConfig) -> Result<FloatingLog, SimError> {
     check(cfg)?;
+    let truth = cfg.effects.truth(ff)?;
+    let ff = &truth;
     let mut rng = StdRng::seed_from_u64(cfg.seed);
     let stance = Stance::new(ff, cfg, &mut rng)?;
     let samples = (cfg.seconds * cfg.rate).round() as usize;
@@ -366,6 +371,7 @@ pub fn simulate_standing(ff: &FreeFlyer, cfg: &StandingConfig) -> Result<Floatin
         log.v.extend(v);
         log.a.extend(a);
     }
+    cfg.effects.apply(&mut log, ff.nv());
     add_noise(ff, &mut log, &cfg.noise, &mut rng)?;
     Ok(log)
 }

@@ -251,7 +251,7 @@ fn run_inner(out: &Path) -> Result<(), String> {
     let d = diagnose_real_leg(&robot, best, (out, &mut staged))
         .map_err(|e| format!("diagnosis: {e}"))?;
     print_diagnosis(&d, out);
-    let bar = indicatif::ProgressBar::new(15); // the arm's 5 stages, the real robot's 7, the floating base's 3
+    let bar = indicatif::ProgressBar::new(16); // the arm's 5 stages, the real robot's 7, the floating base's 4
     if let Ok(style) = indicatif::ProgressStyle::with_template("   {bar:40} {pos}/{len} {msg}") {
         bar.set_style(style);
     }

@@ -27,6 +27,8 @@ pub struct DiagnoseArgs<'a> {
     pub json: bool,
     /// Folder for diagnosis.json and the plots.
     pub out: Option<&'a Path>,
+    /// `--floating-base` given.
+    pub floating_base: bool,
     /// The memory limit (GiB).
     pub max_memory_gib: f64,
 }
@@ -84,6 +86,19 @@ fn write_outputs(dg: &Diagnosis, text: &str, dir: &Path, inputs: &[&Path]) -> Re
 
 /// Exit codes: 0 diagnosed, 2 bad input.
 pub fn run(a: &DiagnoseArgs) -> i32 {
+    let robot = super::floating::Robot {
+        spec: a.robot,
+        sidecar: a.sidecar,
+        flag: a.floating_base,
+    };
+    match robot.is_floating() {
+        Ok(true) => return super::floating_diagnose::run(a, robot),
+        Ok(false) => {}
+        Err(e) => {
+            eprintln!("error: {e}");
+            return 2;
+        }
+    }
     let (robot, sidecar, data, nominal, json, out) =
         (a.robot, a.sidecar, a.data, a.nominal, a.json, a.out);
     if let Some(dir) = out

@@ -20,6 +20,36 @@ pub enum Contacts {
     Standing,
 }
 
+/// An effect a simulated floating base's true robot has (its magnitude
+/// fixed: [`SimEffect::effects`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[value(rename_all = "snake_case")]
+pub enum SimEffect {
+    /// 0.01 N·m·s/rad viscous and 0.05 N·m Coulomb friction at every joint.
+    JointFriction,
+    /// Every contact's sensor off by [1, −0.5, 2] N and [0.05, 0.02, −0.03] N·m.
+    WrenchOffset,
+    /// 0.3 kg on the base at [0.05, 0, 0.03] m (base frame).
+    Payload,
+}
+
+impl SimEffect {
+    /// The library's effects of a list.
+    pub fn effects(list: &[SimEffect]) -> momentlmi::sim::floating::FloatingEffects {
+        let mut e = momentlmi::sim::floating::FloatingEffects::default();
+        for s in list {
+            match s {
+                SimEffect::JointFriction => e.joint_friction = Some([0.01, 0.05]),
+                SimEffect::WrenchOffset => {
+                    e.wrench_offset = Some([1.0, -0.5, 2.0, 0.05, 0.02, -0.03])
+                }
+                SimEffect::Payload => e.payload = Some((0.3, [0.05, 0.0, 0.03])),
+            }
+        }
+        e
+    }
+}
+
 /// A robot given to a floating-base command.
 #[derive(Clone, Copy, Debug)]
 pub struct Robot<'a> {

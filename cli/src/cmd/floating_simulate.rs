@@ -26,12 +26,14 @@ pub fn run(a: &SimulateArgs, robot: Robot) -> Result<(), String> {
     }
     let (ff, facts) = robot.load()?;
     let noise = noise(a.noise)?;
+    let effects = super::floating::SimEffect::effects(a.floating_effects);
     let contacts = a.contacts.unwrap_or(Contacts::Suspended);
     let log = match contacts {
         Contacts::Suspended => simulate_suspended(&ff, &SuspendedConfig {
             seconds: a.seconds,
             seed: a.seed,
             noise,
+            effects,
             ..SuspendedConfig::default()
         }),
         Contacts::Standing => {
@@ -42,13 +44,14 @@ pub fn run(a: &SimulateArgs, robot: Robot) -> Result<(), String> {
                 seconds: a.seconds,
                 seed: a.seed,
                 noise,
+                effects,
                 ..StandingConfig::new(facts.feet.clone(), stance(&ff, &facts)?)
             };
             simulate_standing(&ff, &cfg)
         }
     }
     .map_err(|e| e.to_string())?;
-    let record = record_of(&ff, &log, contacts, &noise, a);
+    let record = record_of(&ff, &log, (contacts, &effects), &noise, a);
     let text = serde_json::to_string_pretty(&record).map_err(|e| e.to_string())?;
     staged
         .add(
@@ -101,7 +104,7 @@ fn noise(sigma: Option<f64>) -> Result<FloatingNoise, String> {
 fn record_of(
     ff: &FreeFlyer,
     log: &FloatingLog,
-    contacts: Contacts,
+    (contacts, effects): (Contacts, &momentlmi::sim::floating::FloatingEffects),
     noise: &FloatingNoise,
     a: &SimulateArgs,
 ) -> serde_json::Value {
@@ -114,12 +117,30 @@ fn record_of(
         "joints": ff.tree.joint_names(),
         "contacts": format!("{contacts:?}").to_lowercase(),
         "contact_frames": log.contacts.iter().map(|c| &c.frame).collect::<Vec<_>>(),
+        "effects": effects.names(),
+        "effect_values": effects,
         "seconds": a.seconds,
         "seed": a.seed,
         "noise": {
             "force_n": noise.force, "moment_nm": noise.moment, "twist": noise.twist,
             "twist_rate": noise.twist_rate, "encoder_rad": noise.encoder, "torque_nm": noise.torque,
         },
-        "true_params": momentlmi::dynamics::params_file::ParamsFile::from_free_flyer(ff, momentlmi::dynamics::Friction::zeros(ff.tree.dof())),
+        "true_params": true_params(ff, effects),
     })
+}
+
+/// The true robot's parameter file: the payload in its base, its friction.
+fn true_params(
+    ff: &FreeFlyer,
+    effects: &momentlmi::sim::floating::FloatingEffects,
+) -> Option<momentlmi::dynamics::params_file::ParamsFile> {
+    use momentlmi::dynamics::{Friction, FrictionTerm};
+    let truth = effects.truth(ff).ok()?; // (it simulated: it is valid)
+    let n = ff.tree.dof();
+    let mut friction = Friction::zeros(n);
+    if let Some([b, c]) = effects.joint_friction {
+        *friction.coefficients_mut(FrictionTerm::Viscous) = vec![b; n];
+        *friction.coefficients_mut(FrictionTerm::Coulomb) = vec![c; n];
+    }
+    Some(momentlmi::dynamics::params_file::ParamsFile::from_free_flyer(&truth, friction))
 }

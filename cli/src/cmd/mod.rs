@@ -10,6 +10,7 @@ pub mod diagnose;
 pub mod excite;
 pub mod export;
 pub mod floating;
+pub mod floating_diagnose;
 pub mod floating_identify;
 pub mod floating_predict;
 pub mod floating_simulate;

@@ -37,6 +37,8 @@ pub struct SimulateArgs<'a> {
     pub floating_base: bool,
     /// A floating base's contacts.
     pub contacts: Option<super::floating::Contacts>,
+    /// A floating base's true robot's effects.
+    pub floating_effects: &'a [super::floating::SimEffect],
 }
 
 /// Exit codes: 0 written, 2 bad input or failure (nothing written).
@@ -60,8 +62,10 @@ fn route(a: &SimulateArgs) -> Result<(), String> {
     if robot.is_floating()? {
         return super::floating_simulate::run(a, robot);
     }
-    if a.contacts.is_some() {
-        return Err("--contacts is for a floating base (--floating-base)".into());
+    if a.contacts.is_some() || !a.floating_effects.is_empty() {
+        return Err(
+            "--contacts and --floating-effects are for a floating base (--floating-base)".into(),
+        );
     }
     run_inner(a)
 }
