@@ -14,6 +14,10 @@ fn solo() -> FreeFlyer {
 }
 
 fn diagnosed(effects: FloatingEffects) -> Option<FloatingEffect> {
+    diagnosis(effects).accepted
+}
+
+fn diagnosis(effects: FloatingEffects) -> momentlmi::diagnose::floating::FloatingDiagnosis {
     let ff = solo();
     let cfg = SuspendedConfig {
         seconds: 60.0,
@@ -28,7 +32,28 @@ fn diagnosed(effects: FloatingEffects) -> Option<FloatingEffect> {
     for c in &d.candidates {
         println!("{:?}: gap closed {:.3}", c.effect, c.gap_closed);
     }
-    d.accepted
+    d
+}
+
+/// The payload comes out as the mass and point it is.
+#[test]
+fn the_payload_is_measured() {
+    let d = diagnosis(FloatingEffects {
+        payload: Some((0.3, [0.05, 0.0, 0.03])),
+        ..Default::default()
+    });
+    let c = d
+        .candidates
+        .iter()
+        .find(|c| Some(c.effect) == d.accepted)
+        .unwrap();
+    assert_eq!(c.effect, FloatingEffect::Payload);
+    let v: Vec<f64> = c.values.iter().map(|(_, x)| *x).collect();
+    let (m, com) = (v[0], [v[1] / v[0], v[2] / v[0], v[3] / v[0]]);
+    assert!((m - 0.3).abs() < 0.01, "mass {m}");
+    for (got, want) in com.iter().zip([0.05, 0.0, 0.03]) {
+        assert!((got - want).abs() < 0.003, "payload at {com:?}");
+    }
 }
 
 #[test]
@@ -66,9 +91,7 @@ fn no_effect_is_invented() {
     assert_eq!(diagnosed(FloatingEffects::default()), None);
 }
 
-/// On force plates too: an offset of every plate, found and measured.
-#[test]
-fn a_force_plate_offset_is_found_while_standing() {
+fn standing(effects: FloatingEffects) -> momentlmi::diagnose::floating::FloatingDiagnosis {
     use momentlmi::sim::standing::{StandingConfig, simulate_standing};
     let ff = solo();
     let leg = |s: f64| [0.0, 0.8 * s, -1.6 * s];
@@ -76,19 +99,37 @@ fn a_force_plate_offset_is_found_while_standing() {
     let feet = ["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"]
         .map(String::from)
         .to_vec();
-    let offset = [1.0, -0.5, 2.0, 0.05, 0.02, -0.03];
     let cfg = StandingConfig {
         seconds: 60.0,
-        effects: FloatingEffects {
-            wrench_offset: Some(offset),
-            ..Default::default()
-        },
+        effects,
         ..StandingConfig::new(feet, posture)
     };
     let log = simulate_standing(&ff, &cfg).unwrap();
     let mut theta = ff.params();
     theta.resize(ff.regressor_columns(), 0.0);
-    let d = diagnose_floating(&ff, &theta, &[log]).unwrap();
+    diagnose_floating(&ff, &theta, &[log]).unwrap()
+}
+
+/// Standing, a payload is told from an offset of the four plates (whose
+/// 24 parameters absorb most of its weight too: the payload's 10 are
+/// preferred at a like closure).
+#[test]
+fn a_payload_is_found_while_standing() {
+    let d = standing(FloatingEffects {
+        payload: Some((0.3, [0.05, 0.0, 0.03])),
+        ..Default::default()
+    });
+    assert_eq!(d.accepted, Some(FloatingEffect::Payload));
+}
+
+/// On force plates too: an offset of every plate, found and measured.
+#[test]
+fn a_force_plate_offset_is_found_while_standing() {
+    let offset = [1.0, -0.5, 2.0, 0.05, 0.02, -0.03];
+    let d = standing(FloatingEffects {
+        wrench_offset: Some(offset),
+        ..Default::default()
+    });
     assert_eq!(d.accepted, Some(FloatingEffect::WrenchOffset));
     let c = d
         .candidates

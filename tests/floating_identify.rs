@@ -161,7 +161,15 @@ fn rows_and_set_ups_that_do_not_match_are_named() {
         .solve(&red)
         .unwrap_err()
         .to_string();
-    assert!(e.contains("6 rows per sample") && e.contains("18"), "{e}");
+    assert!(e.contains("rows 0..6") && e.contains("rows 0..18"), "{e}");
+    // as many rows, other ones: the joint rows of a robot with six joints
+    let mut red = reduce_floating(&ff, &log, Rows::Base).unwrap();
+    red.row_range = Some(6..12);
+    let e = Identification::for_free_flyer(&ff, Rows::Base)
+        .solve(&red)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("rows 6..12"), "{e}");
     // the fixed-base steps refuse a free-flyer's set-up (its columns are
     // not its tree's)
     let names = ff.tree.joint_names();

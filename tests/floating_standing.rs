@@ -197,3 +197,39 @@ fn standing_data_identify_at_the_noise_floor() {
         }
     }
 }
+
+#[test]
+fn a_stance_that_cannot_stand_is_named() {
+    let ff = solo();
+    let run = |cfg: StandingConfig| simulate_standing(&ff, &cfg).unwrap_err().to_string();
+    let base = config(&ff);
+    let feet = |f: &[&str]| StandingConfig {
+        feet: f.iter().map(|s| s.to_string()).collect(),
+        ..base.clone()
+    };
+    let e = run(feet(&["FL_FOOT"]));
+    assert!(e.contains("1 feet") && e.contains("three or more"), "{e}");
+    let e = run(feet(&["FL_FOOT", "FR_FOOT", "FL_FOOT"]));
+    assert!(e.contains("'FL_FOOT' is named twice"), "{e}");
+    let e = run(feet(&["FL_FOOT", "FR_FOOT", "base_link"]));
+    assert!(e.contains("'base_link' is on the base"), "{e}");
+    let e = run(feet(&["FL_FOOT", "FR_FOOT", "FR_TOE"]));
+    assert!(e.contains("FR_TOE"), "{e}");
+    let e = run(StandingConfig {
+        posture: vec![0.0; 3],
+        ..base.clone()
+    });
+    assert!(e.contains("3 joint positions, not 12"), "{e}");
+    // straight legs: the knees cannot bend the feet toward the base
+    let e = run(StandingConfig {
+        posture: vec![0.0; 12],
+        ..base.clone()
+    });
+    assert!(e.contains("singular"), "{e}");
+    // a slippery floor: the sway needs more sticking than μ = 0.01
+    let e = run(StandingConfig {
+        friction: 0.01,
+        ..base
+    });
+    assert!(e.contains("friction cone"), "{e}");
+}

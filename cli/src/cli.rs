@@ -105,7 +105,7 @@ enum Command {
     Simulate {
         #[command(flatten)]
         robot: RobotArgs,
-        /// Duration in seconds (1 kHz sampling).
+        /// Duration in seconds (1 kHz sampling; 200 Hz for a floating base).
         #[arg(long, default_value_t = 20.0)]
         seconds: f64,
         /// Drive the robot along the trajectory in FILE instead of its default excitation:
@@ -128,7 +128,8 @@ enum Command {
         /// Random seed.
         #[arg(long, default_value_t = 1)]
         seed: u64,
-        /// Torque noise σ in N·m (default 0.3; 0 writes exact, unprocessed states).
+        /// Torque noise σ in N·m (default 0.3; a floating base's joint torques 0.02); 0 writes
+        /// exact, unprocessed states (a floating base: every sensor exact).
         #[arg(long)]
         noise: Option<f64>,
         /// Cut-off (Hz) of the offline filter of q, q̇, q̈ (default: 30 Hz, or 10× the top
@@ -316,7 +317,7 @@ enum Command {
         /// Print the JSON report.
         #[arg(long)]
         json: bool,
-        /// Also write diagnosis.json into this folder.
+        /// Also write diagnosis.json into this folder (a floating base: floating_diagnosis.json).
         #[arg(long)]
         out: Option<PathBuf>,
         /// The memory the diagnosis may plan for (GiB): beyond it the compliance searches are skipped, or the diagnosis refused.

@@ -129,12 +129,34 @@ fn refused(args: &[&str], words: &[&str]) {
     }
 }
 
-#[test]
-fn bad_floating_base_input_is_named() {
-    let dir = TempDir::new("floating-bad");
-    let log = simulate(&dir, "log.csv", &["--seconds", "1"]);
+/// A one-second log's text and header, in `dir`.
+fn short_log(dir: &TempDir) -> (PathBuf, String, Vec<String>) {
+    let log = simulate(dir, "log.csv", &["--seconds", "1"]);
     let text = std::fs::read_to_string(&log).unwrap();
-    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    let header = text
+        .lines()
+        .next()
+        .unwrap()
+        .split(',')
+        .map(String::from)
+        .collect();
+    (log, text, header)
+}
+
+/// The log without the columns `drop` says.
+fn without(text: &str, header: &[String], drop: impl Fn(&str) -> bool) -> String {
+    let keep: Vec<usize> = (0..header.len()).filter(|&i| !drop(&header[i])).collect();
+    let rows = text.lines().map(|l| {
+        let cells: Vec<&str> = l.split(',').collect();
+        keep.iter().map(|&i| cells[i]).collect::<Vec<_>>().join(",")
+    });
+    rows.collect::<Vec<_>>().join("\n")
+}
+
+#[test]
+fn bad_floating_base_logs_are_named() {
+    let dir = TempDir::new("floating-bad-logs");
+    let (_, text, header) = short_log(&dir);
     let robot = solo();
     let identify = |name: &str, body: String, words: &[&str]| {
         let p = dir.write(name, &body);
@@ -143,8 +165,8 @@ fn bad_floating_base_input_is_named() {
             words,
         );
     };
-    // sample 3's quaternion w
-    let qw = header.iter().position(|c| *c == "base_qw").unwrap();
+    // sample 3's quaternion w (the file's data row 4)
+    let qw = header.iter().position(|c| c == "base_qw").unwrap();
     let mut lines: Vec<String> = text.lines().map(String::from).collect();
     let mut cells: Vec<String> = lines[4].split(',').map(String::from).collect();
     cells[qw] = "0.5".into();
@@ -152,62 +174,35 @@ fn bad_floating_base_input_is_named() {
     identify(
         "quat.csv",
         lines.join("\n"),
-        &["sample 3", "quaternion", "norm"],
+        &["sample 3 (data row 4)", "quaternion", "norm"],
     );
-    // a contact frame the robot does not have
-    identify(
-        "frame.csv",
-        text.replace("force_base_link", "force_harness"),
-        &["contact frame 'harness'"],
-    );
-    // a wrench column missing
-    let fz = header
-        .iter()
-        .position(|c| *c == "force_base_link_z")
-        .unwrap();
-    let cut: Vec<String> = (text.lines())
-        .map(|l| {
-            l.split(',')
-                .enumerate()
-                .filter(|(i, _)| *i != fz)
-                .map(|(_, c)| c)
-                .collect::<Vec<_>>()
-                .join(",")
-        })
-        .collect();
-    identify(
-        "cut.csv",
-        cut.join("\n"),
-        &["missing column 'force_base_link_z'"],
-    );
+    let renamed = text.replace("force_base_link", "force_harness");
+    identify("frame.csv", renamed, &["contact frame 'harness'"]);
+    let cut = without(&text, &header, |c| c == "force_base_link_z");
+    identify("cut.csv", cut, &["missing column 'force_base_link_z'"]);
+    let first = text.lines().next().unwrap().to_string();
+    identify("header.csv", first, &["header.csv", "no samples"]);
+    let free = without(&text, &header, |c| c.contains("_base_link_"));
+    identify("free.csv", free, &["free.csv", "no contact wrench"]);
     // joint rows from a log without torques
-    let tau: Vec<usize> = (0..header.len())
-        .filter(|&i| header[i].starts_with("tau_"))
-        .collect();
-    let no_tau: Vec<String> = (text.lines())
-        .map(|l| {
-            l.split(',')
-                .enumerate()
-                .filter(|(i, _)| !tau.contains(i))
-                .map(|(_, c)| c)
-                .collect::<Vec<_>>()
-                .join(",")
-        })
-        .collect();
-    let p = dir.write("notau.csv", &no_tau.join("\n"));
+    let p = dir.write(
+        "notau.csv",
+        &without(&text, &header, |c| c.starts_with("tau_")),
+    );
+    let p = p.to_str().unwrap();
     refused(
         &[
-            "identify",
-            "--robot",
-            &robot,
-            "--data",
-            p.to_str().unwrap(),
-            "--rows",
-            "joints",
+            "identify", "--robot", &robot, "--data", p, "--rows", "joints",
         ],
         &["--rows joints", "no joint torques"],
     );
-    // a built-in (fixed-base) robot, standing without feet, --rows on a fixed base
+}
+
+#[test]
+fn options_a_floating_base_cannot_take_are_named() {
+    let dir = TempDir::new("floating-bad-options");
+    let (log, _, _) = short_log(&dir);
+    let (robot, log) = (solo(), log.to_str().unwrap().to_string());
     let out = dir.0.join("out.csv");
     let out = out.to_str().unwrap();
     refused(
@@ -221,19 +216,29 @@ fn bad_floating_base_input_is_named() {
         ],
         &["needs a URDF"],
     );
+    let standing = [
+        "--no-sidecar",
+        "--floating-base",
+        "--contacts",
+        "standing",
+        "--out",
+        out,
+    ];
+    refused(
+        &[&["simulate", "--robot", &robot][..], &standing].concat(),
+        &["[floating_base] feet"],
+    );
     refused(
         &[
             "simulate",
             "--robot",
             &robot,
-            "--no-sidecar",
-            "--floating-base",
-            "--contacts",
-            "standing",
+            "--seconds",
+            "1e6",
             "--out",
             out,
         ],
-        &["[floating_base] feet"],
+        &["--seconds", "GiB"],
     );
     refused(
         &[
@@ -241,11 +246,15 @@ fn bad_floating_base_input_is_named() {
             "--robot",
             "cheetah3-leg",
             "--data",
-            p.to_str().unwrap(),
+            &log,
             "--rows",
             "base",
         ],
         &["--rows is for a floating base"],
+    );
+    refused(
+        &["identify", "--robot", &robot, "--data", &log, "--bounds"],
+        &["--bounds", "not available with --floating-base"],
     );
     refused(
         &[
@@ -253,10 +262,15 @@ fn bad_floating_base_input_is_named() {
             "--robot",
             &robot,
             "--data",
-            log.to_str().unwrap(),
-            "--bounds",
+            &log,
+            "--velocity",
+            "file",
         ],
-        &["--bounds", "not available with --floating-base"],
+        &["--velocity file"],
+    );
+    refused(
+        &["predict", "--robot", &robot, "--data", &log, "--out", &log],
+        &["log.csv"],
     );
     assert!(!Path::new(out).exists());
 }

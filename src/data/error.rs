@@ -31,7 +31,7 @@ pub enum DataError {
         message: String,
     },
     /// A sample the robot's dynamics refuse (a non-unit quaternion, …).
-    #[error("floating-base log, sample {sample}: {source}")]
+    #[error("floating-base log, sample {sample} (data row {}): {source}", sample + 1)]
     Sample {
         /// The sample (0-based).
         sample: usize,

@@ -33,7 +33,8 @@ pub enum FloatingEffect {
 }
 
 impl FloatingEffect {
-    /// Every candidate, simplest first.
+    /// Every candidate (tried, then ranked by their number of parameters:
+    /// the simplest first).
     pub const ALL: [FloatingEffect; 4] = [
         FloatingEffect::WrenchOffset,
         FloatingEffect::Payload,
@@ -86,6 +87,8 @@ pub struct FloatingDiagnosis {
 
 /// The share of each log fitted on.
 const TRAIN_SHARE: f64 = 0.7;
+/// The fewest samples a log may have (10 held out).
+const MIN_SAMPLES: usize = 32;
 
 /// The data as the diagnosis sees them: per log, every sample's nominal
 /// residual (its first `rows` rows) and where the held-out part starts.
@@ -111,13 +114,16 @@ pub fn diagnose_floating(
     split.weights = floor.iter().map(|f| 1.0 / f.max(1e-9).powi(2)).collect();
     let held_out = split.held_out_rms(|_, _, _| Ok(None))?;
     let joints = split.rows > 6;
+    let contacts = !logs[0].contacts.is_empty();
     let mut candidates = FloatingEffect::ALL
         .iter()
         .filter(|e| joints || **e != FloatingEffect::JointFriction)
+        .filter(|e| contacts || **e != FloatingEffect::WrenchOffset)
         .map(|&e| split.candidate(e, &floor, &held_out))
         .collect::<Result<Vec<_>, _>>()?;
+    candidates.sort_by_key(|c| c.values.len());
     let best = (candidates.iter().map(|c| c.gap_closed)).fold(f64::NEG_INFINITY, f64::max);
-    // the simplest candidate (ALL's order) within 90 % of the best
+    // the simplest candidate (fewest parameters) within 90 % of the best
     let accepted = (best >= 0.5)
         .then(|| candidates.iter().find(|c| c.gap_closed >= 0.9 * best))
         .flatten()
@@ -149,8 +155,9 @@ impl<'a> Split<'a> {
         theta: &[f64],
         logs: &'a [FloatingLog],
     ) -> Result<Self, DiagnoseError> {
-        let too_few = |found| DiagnoseError::TooFewSamples { needed: 34, found };
-        let first = logs.first().ok_or(too_few(0))?;
+        let first = logs
+            .first()
+            .ok_or(DiagnoseError::Floating("no log".into()))?;
         let joints = logs.iter().all(|l| l.tau.is_some());
         let rows = if joints { ff.nv() } else { 6 };
         let mut split = Split {
@@ -178,10 +185,14 @@ impl<'a> Split<'a> {
                 })
                 .collect::<Result<Vec<_>, _>>()
                 .map_err(|e| fail(e.to_string()))?;
-            let cut = (TRAIN_SHARE * log.samples() as f64).round() as usize;
-            if cut < 10 || log.samples() - cut < 10 {
-                return Err(too_few(log.samples()));
+            if log.samples() < MIN_SAMPLES {
+                return Err(fail(format!(
+                    "log {} has {} samples; a diagnosis needs at least {MIN_SAMPLES} (its last 30 % held out)",
+                    i + 1,
+                    log.samples()
+                )));
             }
+            let cut = (TRAIN_SHARE * log.samples() as f64).round() as usize;
             split.residuals.push(r);
             split.cuts.push(cut);
         }
@@ -410,7 +421,7 @@ impl Split<'_> {
                 } else {
                     ff.num_bodies()
                 };
-                let mut names = ff.layout(0).parameter_names();
+                let mut names = ff.layout(0..0).parameter_names();
                 names.truncate(10 * bodies);
                 names
             }
@@ -421,6 +432,9 @@ impl Split<'_> {
 /// The least-norm solution of `G x = b` (G symmetric ⪰ 0), directions
 /// below 1e-10 of its largest eigenvalue dropped.
 fn least_norm(g: DMatrix<f64>, b: &DVector<f64>) -> Result<DVector<f64>, DiagnoseError> {
+    if g.is_empty() {
+        return Ok(DVector::zeros(0));
+    }
     let svd = g.svd(true, true);
     let eps = 1e-10 * svd.singular_values.max();
     svd.solve(b, eps).map_err(|e| {

@@ -122,12 +122,12 @@ impl FreeFlyer {
         10 + self.tree.regressor_columns()
     }
 
-    /// The regressor's column layout by name (the base first), with `rows`
-    /// rows per sample (6 + n for every row).
-    pub fn layout(&self, rows: usize) -> super::ParamLayout {
+    /// The regressor's column layout by name (the base first), fitting the
+    /// `rows` of each sample (`0..6 + n` for every row).
+    pub fn layout(&self, rows: std::ops::Range<usize>) -> super::ParamLayout {
         let mut l = self.tree.layout();
         l.bodies.insert(0, self.base_name.clone());
-        l.rows = rows;
+        (l.first_row, l.rows) = (rows.start, rows.len());
         l
     }
 
@@ -230,7 +230,6 @@ impl FreeFlyer {
         Transform::from_pose(&rot, &s.position)
     }
 
-    /// Fills `data.x_base` (base → each body) from the tree's `x_up`.
     /// The origins of `frames` (indices into the tree's
     /// [`frames`](Model::frames)) in base coordinates (m), at joint
     /// positions `joints` (n): the forward kinematics of contact points.
@@ -265,6 +264,7 @@ impl FreeFlyer {
             .collect()
     }
 
+    /// Fills `data.x_base` (base → each body) from the tree's `x_up`.
     pub(crate) fn chain_to_base(&self, data: &mut FreeFlyerData) {
         for i in 0..self.tree.dof() {
             data.x_base[i] = match self.tree.joints[i].parent {

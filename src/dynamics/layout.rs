@@ -18,9 +18,17 @@ pub struct ParamLayout {
     /// Rows of the regressor per sample (n for a fixed base; 6, n or 6 + n
     /// for a free-flyer, as its rows are chosen).
     pub rows: usize,
+    /// The first of them among the sample's rows (0, or 6 for a
+    /// free-flyer's joint rows).
+    pub first_row: usize,
 }
 
 impl ParamLayout {
+    /// The rows of each sample this layout's problem fits.
+    pub fn row_range(&self) -> std::ops::Range<usize> {
+        self.first_row..self.first_row + self.rows
+    }
+
     /// Number of bodies.
     pub fn num_bodies(&self) -> usize {
         self.bodies.len()

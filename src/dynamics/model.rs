@@ -398,6 +398,7 @@ impl Model {
             joints: self.joint_names().iter().map(|j| j.to_string()).collect(),
             terms: self.friction_terms().to_vec(),
             rows: self.dof(),
+            first_row: 0,
         }
     }
 

@@ -169,7 +169,7 @@ impl<'m> Identification<'m> {
     /// [`reduce_floating`](super::floating::reduce_floating) with the same rows.
     pub fn for_free_flyer(ff: &'m crate::dynamics::FreeFlyer, rows: super::Rows) -> Self {
         let mut s = Self::new(&ff.tree);
-        s.layout = ff.layout(rows.range(ff.tree.dof()).len());
+        s.layout = ff.layout(rows.range(ff.tree.dof()));
         s.bodies = vec![s.bodies[0]; s.layout.num_bodies()];
         if rows == super::Rows::Base {
             // no friction acts on the base rows: its columns are zero, and

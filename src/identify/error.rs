@@ -147,13 +147,13 @@ pub enum IdentifyError {
     /// Reduced data of other rows than the set-up's (a free-flyer's base
     /// rows solved as all rows).
     #[error(
-        "reduced data have {found} rows per sample, the identification's set-up {expected} (reduce and solve with the same identify::Rows)"
+        "reduced data hold rows {found:?} of each sample, the identification's set-up fits rows {expected:?} (reduce and solve with the same identify::Rows)"
     )]
     RowCount {
-        /// The set-up's rows per sample.
-        expected: usize,
+        /// The set-up's rows.
+        expected: std::ops::Range<usize>,
         /// The reduced data's.
-        found: usize,
+        found: std::ops::Range<usize>,
     },
     /// A fixed-base step asked of a free-flyer's set-up.
     #[error(

@@ -80,7 +80,7 @@ pub fn reduce_floating(
     // XᵀX is symmetric in exact arithmetic; make it so in floating point
     let gram = Mat::from_fn(p1, p1, |i, j| 0.5 * (gram[(i, j)] + gram[(j, i)]));
     Ok(Reduced {
-        rows_per_sample: Some(rows.range(ff.tree.dof()).len()),
+        row_range: Some(rows.range(ff.tree.dof())),
         ..Reduced::from_gram(gram, samples)?
     })
 }

@@ -72,7 +72,7 @@ pub fn reduce_floating_logs(
         total = Some(match total {
             None => red,
             Some(t) => Reduced {
-                rows_per_sample: t.rows_per_sample,
+                row_range: t.row_range,
                 ..Reduced::from_gram(t.gram + red.gram, t.samples + red.samples)?
             },
         });
@@ -184,12 +184,6 @@ fn squared_residuals(
     log: &FloatingLog,
 ) -> Result<Vec<f64>, IdentifyError> {
     log.check(ff)?;
-    if theta.len() != ff.regressor_columns() {
-        return Err(IdentifyError::Columns {
-            expected: ff.regressor_columns(),
-            found: theta.len(),
-        });
-    }
     let chunks: Vec<usize> = (0..log.samples()).step_by(256).collect();
     let parts = (chunks.par_iter())
         .map(|&s0| {
@@ -217,6 +211,12 @@ pub fn residual(
     log: &FloatingLog,
     k: usize,
 ) -> Result<nalgebra::DVector<f64>, IdentifyError> {
+    if theta.len() != ff.regressor_columns() {
+        return Err(IdentifyError::Columns {
+            expected: ff.regressor_columns(),
+            found: theta.len(),
+        });
+    }
     let b = measured(ff, data, log, k)?;
     let y = super::floating::sample_regressor(ff, data, log, k)?;
     Ok(b - y * nalgebra::DVector::from_column_slice(theta))

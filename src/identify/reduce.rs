@@ -35,10 +35,10 @@ pub struct Reduced {
     /// Wall-clock seconds the reduction took (0 for a Gram matrix given
     /// whole or accumulated by the caller's stream).
     pub reduce_time_s: f64,
-    /// Regressor rows per sample, when the reduction chose them (a
-    /// free-flyer's [`Rows`](super::Rows)): a solve whose layout has
-    /// another row count is refused. `None`: not recorded.
-    pub rows_per_sample: Option<usize>,
+    /// The rows of each sample reduced (`0..n` for a fixed base; a
+    /// free-flyer's [`Rows`](super::Rows)): a solve whose layout fits other
+    /// rows is refused. `None`: not recorded.
+    pub row_range: Option<std::ops::Range<usize>>,
 }
 
 /// The most memory the per-joint Gram matrices kept in [`Reduced`] may take.
@@ -74,7 +74,7 @@ impl Reduced {
             p: r - 1,
             joint_grams: vec![],
             reduce_time_s: 0.0,
-            rows_per_sample: None,
+            row_range: None,
         })
     }
 
@@ -341,7 +341,7 @@ pub(crate) fn reduce_with_load(
         p,
         joint_grams,
         reduce_time_s: t0.elapsed().as_secs_f64(),
-        rows_per_sample: Some(n),
+        row_range: Some(0..n),
     })
 }
 
@@ -453,7 +453,7 @@ impl<'m> StreamReducer<'m> {
             p,
             joint_grams,
             reduce_time_s: 0.0,
-            rows_per_sample: Some(n),
+            row_range: Some(0..n),
         })
     }
 }
@@ -506,7 +506,7 @@ mod tests {
             p,
             joint_grams: joints,
             reduce_time_s: 0.0,
-            rows_per_sample: None,
+            row_range: None,
         };
         let rss = red.joint_rss(&theta).unwrap();
         for (i, got) in rss.iter().enumerate() {

@@ -50,9 +50,9 @@ impl Identification<'_> {
                 found: red.p,
             });
         }
-        if let Some(found) = red.rows_per_sample.filter(|&r| r != layout.rows) {
+        if let Some(found) = red.row_range.clone().filter(|r| *r != layout.row_range()) {
             return Err(IdentifyError::RowCount {
-                expected: layout.rows,
+                expected: layout.row_range(),
                 found,
             });
         }

@@ -81,7 +81,7 @@ pub fn weighted(red: &Reduced, w: &[f64]) -> Result<Reduced, IdentifyError> {
         gram += g * wj;
     }
     let mut out = Reduced::from_gram(gram, red.samples)?;
-    out.rows_per_sample = red.rows_per_sample;
+    out.row_range = red.row_range.clone();
     out.joint_grams = red.joint_grams.clone();
     out.reduce_time_s = red.reduce_time_s;
     Ok(out)

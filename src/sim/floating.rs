@@ -10,6 +10,7 @@ use super::error::SimError;
 use super::trajectory::harmonic_state;
 use crate::data::floating::{ContactChannel, FloatingLog};
 use crate::dynamics::{FreeFlyer, FreeFlyerData, WrenchFrame};
+use crate::moments::InertialParams;
 use nalgebra::{UnitQuaternion, Vector3};
 use rand::rngs::StdRng;
 use rand::{RngExt, SeedableRng};
@@ -84,24 +85,9 @@ impl FloatingEffects {
                     requirement: "a finite mass > 0 at a finite point",
                 });
             }
-            let point = [m, m * x, m * y, m * z];
-            let inertia = [
-                y * y + z * z,
-                -x * y,
-                -x * z,
-                x * x + z * z,
-                -y * z,
-                x * x + y * y,
-            ];
-            let mut p = t.base.0;
-            for (k, v) in point
-                .iter()
-                .chain(inertia.map(|i| m * i).iter())
-                .enumerate()
-            {
-                p[k] += v;
-            }
-            t.base = crate::moments::InertialParams(p);
+            let com = nalgebra::Vector3::new(x, y, z);
+            let point = InertialParams::from_mass_com_inertia(m, com, nalgebra::Matrix3::zeros());
+            t.base = InertialParams(std::array::from_fn(|k| t.base.0[k] + point.0[k]));
         }
         Ok(t)
     }

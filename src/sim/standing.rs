@@ -2,10 +2,15 @@
 //! stance posture put them while the base sways and tilts along a smooth
 //! random motion (positions, roll, pitch and yaw each a Fourier series);
 //! the joints follow by inverse kinematics, and each foot's plate measures
-//! its point force (world axes, no moment). The forces are the base rows'
+//! its point force (world axes; the moment about the foot is zero, its
+//! columns carry the plate's moment noise). The forces are the base rows'
 //! required wrench split among the feet by least norm (each inside its
 //! friction cone, else an error), and the joint torques are the joint
-//! rows less the feet's share: `τ = g_joints − J_jointsᵀ f`.
+//! rows less the feet's share: `τ = g_joints − J_jointsᵀ f`. The joint
+//! velocities and accelerations are the least-norm solutions of the feet's
+//! velocity and acceleration constraints: the time derivatives of the
+//! inverse kinematics' path when each leg has as many joints as its foot
+//! has coordinates (three, as Solo12's).
 //! Noise as for [`simulate_suspended`](super::floating::simulate_suspended).
 
 use super::error::SimError;
@@ -300,14 +305,14 @@ impl Stance<'_> {
         }
         let base = map.rows(0, 6).into_owned();
         let g_base = g.rows(0, 6).into_owned();
-        let f = self.solve(
-            &base,
-            &g_base,
-            (
-                time,
-                "the feet cannot balance the base's wrench: fewer than three, or in a line",
-            ),
-        )?;
+        const UNBALANCED: &str =
+            "the feet cannot balance the base's wrench: fewer than three, or in a line";
+        let f = self.solve(&base, &g_base, (time, UNBALANCED))?;
+        // least squares: exact only when the feet span every wrench
+        let miss = (&base * &f - &g_base).amax();
+        if !(miss <= 1e-9 * (1.0 + g_base.amax())) {
+            return Err(self.fail(time, format!("{UNBALANCED} (off by {miss:.2e})")));
+        }
         self.check_cone(&f, time)?;
         let tau = g.rows(6, nv - 6) - map.rows(6, nv - 6) * &f;
         Ok((f, tau.iter().copied().collect()))
@@ -332,6 +337,7 @@ impl Stance<'_> {
 /// `cfg.effects`) standing on force plates (module doc), with noise.
 pub fn simulate_standing(ff: &FreeFlyer, cfg: &StandingConfig) -> Result<FloatingLog, SimError> {
     check(cfg)?;
+    check_stance(ff, cfg)?;
     let truth = cfg.effects.truth(ff)?;
     let ff = &truth;
     let mut rng = StdRng::seed_from_u64(cfg.seed);
@@ -374,6 +380,36 @@ pub fn simulate_standing(ff: &FreeFlyer, cfg: &StandingConfig) -> Result<Floatin
     cfg.effects.apply(&mut log, ff.nv());
     add_noise(ff, &mut log, &cfg.noise, &mut rng)?;
     Ok(log)
+}
+
+/// The stance: feet named once each (not the base), a finite posture of
+/// the robot's joints.
+fn check_stance(ff: &FreeFlyer, cfg: &StandingConfig) -> Result<(), SimError> {
+    let fail = |problem: String| Err(SimError::Stance { time: 0.0, problem });
+    if cfg.posture.len() != ff.tree.dof() || cfg.posture.iter().any(|x| !x.is_finite()) {
+        let (found, n) = (cfg.posture.len(), ff.tree.dof());
+        return fail(format!(
+            "the posture has {found} joint positions, not {n} finite ones"
+        ));
+    }
+    if cfg.feet.len() < 3 {
+        let n = cfg.feet.len();
+        return fail(format!(
+            "{n} feet: point feet balance the base's six wrench components only three or more at a time"
+        ));
+    }
+    for (i, foot) in cfg.feet.iter().enumerate() {
+        if cfg.feet[..i].contains(foot) {
+            return fail(format!("foot '{foot}' is named twice"));
+        }
+        let frame = ff.frame_index(foot)?;
+        if ff.tree.frames[frame].body.is_none() {
+            return fail(format!(
+                "foot '{foot}' is on the base: a foot must be moved by joints"
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// The configuration's numbers are in range.

@@ -105,20 +105,54 @@ pub fn refuse(options: &[(&str, bool)]) -> Result<(), String> {
 }
 
 /// Every floating-base CSV log in `paths` (docs/floating-base.md), each
-/// checked against `ff`; `what` names the option in errors.
+/// checked against `ff`, with samples and a contact wrench; `what` names
+/// the option in errors. Refused before reading when the files could need
+/// more than `max_gib` in memory (a sample's numbers take at most 4× its
+/// text).
 pub fn read_logs(
     ff: &FreeFlyer,
     paths: &[PathBuf],
-    what: &str,
+    (what, max_gib): (&str, f64),
 ) -> Result<Vec<FloatingLog>, String> {
+    let bytes: u64 = (paths.iter())
+        .filter_map(|p| std::fs::metadata(p).ok())
+        .map(|m| m.len())
+        .sum();
+    let need = 4.0 * bytes as f64 / (1u64 << 30) as f64;
+    if need > max_gib {
+        return Err(format!(
+            "{what}: {:.1} GB of logs could need {need:.1} GiB in memory, over the limit of {max_gib} GiB (--max-memory-gib)",
+            bytes as f64 / 1e9
+        ));
+    }
     (paths.iter())
         .map(|p| {
             let log = read_floating_csv(ff, p).map_err(|e| format!("{what}: {e}"))?;
-            log.check(ff)
-                .map_err(|e| format!("{what}: {}: {e}", p.display()))?;
+            let at = || format!("{what}: {}", p.display());
+            log.check(ff).map_err(|e| format!("{}: {e}", at()))?;
+            if log.samples() == 0 {
+                return Err(format!("{}: no samples (a header only)", at()));
+            }
+            if log.contacts.is_empty() {
+                return Err(format!(
+                    "{}: no contact wrench columns (force_<link>_x…): the base rows balance the contact wrenches, so a floating-base log needs every one acting on the robot (docs/floating-base.md)",
+                    at()
+                ));
+            }
             Ok(log)
         })
         .collect()
+}
+
+/// The regressor's parameter vector: every body's, then each friction
+/// term's coefficients per joint (the model's terms; absent ones 0).
+pub fn theta_of(ff: &FreeFlyer, friction: &momentlmi::dynamics::Friction) -> Vec<f64> {
+    let mut theta = ff.params();
+    for &term in ff.tree.friction_terms() {
+        let c = friction.coefficients(term);
+        theta.extend((0..ff.tree.dof()).map(|j| c.get(j).copied().unwrap_or(0.0)));
+    }
+    theta
 }
 
 /// The stance's joint positions (n) from the sidecar's table; a joint the

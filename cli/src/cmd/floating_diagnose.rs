@@ -3,8 +3,8 @@
 //! (`momentlmi::diagnose::floating`).
 
 use super::diagnose::DiagnoseArgs;
+use super::floating::theta_of;
 use super::floating::{Robot, read_logs, refuse};
-use super::floating_predict::theta_of;
 use momentlmi::data::Staged;
 use momentlmi::diagnose::floating::{
     FloatingCandidate, FloatingDiagnosis, FloatingEffect, diagnose_floating,
@@ -29,11 +29,20 @@ fn diagnosis(a: &DiagnoseArgs, robot: Robot) -> Result<(), String> {
         ("--repeats", !a.repeats.is_empty()),
         ("--mapping", a.read.mapping.is_some()),
         ("--cutoff-hz", a.read.cutoff_hz.is_some()),
+        (
+            "--velocity file",
+            a.read.velocity != momentlmi::data::Velocity::Differentiate,
+        ),
     ])?;
-    let mut staged = Staged::protecting(a.data.iter().map(|p| p.as_path()).chain(a.sidecar));
-    let report = a.out.map(|d| d.join("floating_diagnosis.json"));
-    if let Some(p) = &report {
-        staged.claim(p).map_err(|e| e.to_string())?;
+    let files: Vec<&Path> = (a.data.iter().map(|p| p.as_path()))
+        .chain(a.sidecar)
+        .collect();
+    let inputs = super::input_files(&files, &[a.robot, a.nominal.unwrap_or("")]);
+    if let Some(dir) = a.out.filter(|d| d.exists() && !d.is_dir()) {
+        return Err(format!(
+            "--out {}: exists and is not a folder",
+            dir.display()
+        ));
     }
     let (mut ff, _) = robot.load()?;
     let friction = match a.nominal {
@@ -44,13 +53,18 @@ fn diagnosis(a: &DiagnoseArgs, robot: Robot) -> Result<(), String> {
                 .map_err(|e| format!("--nominal: {e}"))?
         }
     };
-    let logs = read_logs(&ff, a.data, "--data")?;
+    let logs = read_logs(&ff, a.data, ("--data", a.max_memory_gib))?;
     let d = diagnose_floating(&ff, &theta_of(&ff, &friction), &logs).map_err(|e| e.to_string())?;
     let json = serde_json::to_string_pretty(&d).map_err(|e| e.to_string())?;
-    if let Some(p) = &report {
-        std::fs::create_dir_all(a.out.unwrap_or(Path::new("."))).map_err(|e| e.to_string())?;
-        staged.add_text(p, &json).map_err(|e| e.to_string())?;
-        staged.commit().map_err(|e| e.to_string())?;
+    if let Some(dir) = a.out {
+        let folder = super::OutDir::create(dir)?;
+        let mut staged = Staged::protecting(inputs);
+        let e = |e: momentlmi::data::DataError| e.to_string();
+        staged
+            .add_text(&dir.join("floating_diagnosis.json"), &json)
+            .map_err(e)?;
+        staged.commit().map_err(e)?;
+        folder.keep();
     }
     if a.json {
         println!("{json}");
@@ -87,7 +101,20 @@ fn report_text(d: &FloatingDiagnosis) -> String {
         );
     }
     match d.candidates.iter().find(|c| Some(c.effect) == d.accepted) {
-        Some(c) => out += &format!("accepted: {}: {}\n", c.effect.name(), values(c)),
+        Some(c) => {
+            out += &format!("accepted: {}: {}\n", c.effect.name(), values(c));
+            let left: Vec<&str> = (d.rows.iter().zip(&c.held_out).zip(&d.floor))
+                .filter(|((_, r), f)| **r > 1.1 * **f)
+                .map(|((n, _), _)| n.as_str())
+                .collect();
+            if !left.is_empty() {
+                out += &format!(
+                    "left: {} still above 1.1 × their floor with it ({}): another effect may be at work\n",
+                    left.len(),
+                    left.join(", ")
+                );
+            }
+        }
         None => {
             out += "accepted: none closes half the gap (the model explains the data, or the cause is none of these)\n"
         }

@@ -17,7 +17,7 @@ pub fn run(a: &IdentifyArgs, robot: Robot) -> i32 {
             let out = if a.json {
                 serde_json::to_string_pretty(&json(&fit)).map_err(|e| e.to_string())
             } else {
-                Ok(report(&fit))
+                Ok(report(&fit, a.verbose))
             };
             match out {
                 Ok(text) => println!("{text}"),
@@ -57,6 +57,10 @@ fn refused(a: &IdentifyArgs) -> Result<(), String> {
         ),
         ("--mapping", a.read.mapping.is_some()),
         ("--cutoff-hz", a.read.cutoff_hz.is_some()),
+        (
+            "--velocity file",
+            a.read.velocity != momentlmi::data::Velocity::Differentiate,
+        ),
         ("--urdf-out/--mjcf-out", a.export.any()),
         ("--weight auto", a.weight.trim() == "auto"),
         (
@@ -74,8 +78,9 @@ fn fit(a: &IdentifyArgs, robot: Robot) -> Result<FloatingFit, String> {
         let terms = FrictionTerm::parse_list(list).map_err(|e| format!("--friction: {e}"))?;
         ff.tree = ff.tree.clone().with_friction_terms(&terms);
     }
-    let train = read_logs(&ff, a.data, "--data")?;
-    let validate = read_logs(&ff, a.validate, "--validate")?;
+    let budget = a.max_memory_gib;
+    let train = read_logs(&ff, a.data, ("--data", budget))?;
+    let validate = read_logs(&ff, a.validate, ("--validate", budget))?;
     let rows = rows(a.rows, &train)?;
     let level = Level::parse(a.constraints).ok_or_else(|| {
         format!(
@@ -155,7 +160,7 @@ fn rms_line(r: &FloatingRms) -> String {
 }
 
 /// The text report.
-fn report(fit: &FloatingFit) -> String {
+fn report(fit: &FloatingFit, verbose: bool) -> String {
     let s = &fit.solved;
     let w = &fit.whole_body;
     let mut out = format!(
@@ -194,13 +199,14 @@ fn report(fit: &FloatingFit) -> String {
         );
     }
     let alone = determined_alone(fit);
-    let shown: Vec<&str> = alone.iter().take(6).map(String::as_str).collect();
+    let most = if verbose { alone.len() } else { 6 };
+    let shown: Vec<&str> = alone.iter().take(most).map(String::as_str).collect();
     out += &format!(
         "identifiability: {}\ndetermined on their own by these rows: {} parameters{}",
         s.identifiability.summary(),
         alone.len(),
         if alone.len() > shown.len() {
-            format!(" ({}, … all in --json: determined_alone)", shown.join(", "))
+            format!(" ({}, … all with --verbose)", shown.join(", "))
         } else if alone.is_empty() {
             " (only combinations: the base parameters in --json)".into()
         } else {
@@ -215,7 +221,7 @@ fn determined_alone(fit: &FloatingFit) -> Vec<String> {
     let id = &fit.solved.identifiability;
     let names = fit
         .model
-        .layout(fit.rows.range(fit.model.tree.dof()).len())
+        .layout(fit.rows.range(fit.model.tree.dof()))
         .parameter_names();
     (names.into_iter().enumerate())
         .filter(|(k, _)| id.determined_alone(*k))

@@ -3,7 +3,7 @@
 //! on the base, then the joint torques), and its residual RMS by row group
 //! against what the logs measured.
 
-use super::floating::{Robot, read_logs, refuse};
+use super::floating::{Robot, read_logs, refuse, theta_of};
 use super::predict::PredictArgs;
 use momentlmi::data::Staged;
 use momentlmi::data::floating::FloatingLog;
@@ -12,12 +12,19 @@ use momentlmi::dynamics::{FreeFlyer, FreeFlyerData, Friction};
 use momentlmi::identify::floating_fit::floating_rms_of;
 use std::path::Path;
 
+/// The memory `predict` may use for the logs (GiB).
+const DEFAULT_MAX_MEMORY_GIB: f64 = 8.0;
+
 /// Predicts and writes `--out` whole (or nothing).
 pub fn run(a: &PredictArgs, robot: Robot) -> Result<(), String> {
     refuse(&[
         ("--mujoco-view", a.mujoco_view),
         ("--mapping", a.read.mapping.is_some()),
         ("--cutoff-hz", a.read.cutoff_hz.is_some()),
+        (
+            "--velocity file",
+            a.read.velocity != momentlmi::data::Velocity::Differentiate,
+        ),
     ])?;
     let files: Vec<&Path> = (a.data.iter().map(|p| p.as_path()))
         .chain(a.sidecar)
@@ -35,7 +42,7 @@ pub fn run(a: &PredictArgs, robot: Robot) -> Result<(), String> {
         }
     };
     let theta = theta_of(&ff, &friction);
-    let logs = read_logs(&ff, a.data, "--data")?;
+    let logs = read_logs(&ff, a.data, ("--data", DEFAULT_MAX_MEMORY_GIB))?;
     let mut text = header(&ff);
     for log in &logs {
         text += &rows(&ff, &theta, log)?;
@@ -71,17 +78,6 @@ pub fn run(a: &PredictArgs, robot: Robot) -> Result<(), String> {
         );
     }
     Ok(())
-}
-
-/// The regressor's parameter vector: every body's, then each friction
-/// term's coefficients per joint (the model's terms; absent ones 0).
-pub fn theta_of(ff: &FreeFlyer, friction: &Friction) -> Vec<f64> {
-    let mut theta = ff.params();
-    for &term in ff.tree.friction_terms() {
-        let c = friction.coefficients(term);
-        theta.extend((0..ff.tree.dof()).map(|j| c.get(j).copied().unwrap_or(0.0)));
-    }
-    theta
 }
 
 /// `t, base_force_x…z, base_moment_x…z, tau_<joint>…`.

@@ -25,6 +25,7 @@ pub fn run(a: &SimulateArgs, robot: Robot) -> Result<(), String> {
         staged.claim(p).map_err(|e| e.to_string())?;
     }
     let (ff, facts) = robot.load()?;
+    check_size(&ff, a.seconds, facts.feet.len().max(1))?;
     let noise = noise(a.noise)?;
     let effects = super::floating::SimEffect::effects(a.floating_effects);
     let contacts = a.contacts.unwrap_or(Contacts::Suspended);
@@ -143,4 +144,23 @@ fn true_params(
         *friction.coefficients_mut(FrictionTerm::Coulomb) = vec![c; n];
     }
     Some(momentlmi::dynamics::params_file::ParamsFile::from_free_flyer(&truth, friction))
+}
+
+/// The most memory a simulated log and its CSV text may take (GiB): they
+/// are written whole.
+const MAX_GIB: f64 = 8.0;
+
+/// Refuses a `--seconds` whose log (numbers and text, ≈ 40 bytes a column
+/// a sample) would not fit in [`MAX_GIB`].
+fn check_size(ff: &FreeFlyer, seconds: f64, contacts: usize) -> Result<(), String> {
+    let rate = SuspendedConfig::default().rate;
+    let columns = 1 + ff.nq() + 2 * ff.nv() + ff.tree.dof() + 6 * contacts;
+    let gib = seconds * rate * (40 * columns) as f64 / (1u64 << 30) as f64;
+    if gib > MAX_GIB {
+        let most = MAX_GIB * (1u64 << 30) as f64 / (rate * (40 * columns) as f64);
+        return Err(format!(
+            "--seconds {seconds}: a floating-base log of that length ({rate} Hz) needs ≈ {gib:.0} GiB in memory; at most {most:.0} s"
+        ));
+    }
+    Ok(())
 }
