@@ -7,37 +7,18 @@
 use momentlmi::data::floating::FloatingLog;
 use momentlmi::dynamics::urdf::free_flyer_from_urdf_file;
 use momentlmi::dynamics::{FreeFlyer, FreeFlyerData};
-use momentlmi::identify::floating::measured;
 use momentlmi::identify::{Identification, Rows, reduce_floating};
 use momentlmi::moments::InertialParams;
 use momentlmi::sim::floating::{SuspendedConfig, simulate_suspended};
 use std::path::Path;
 
+#[path = "support/floating.rs"]
+mod floating_support;
+use floating_support::held_out_rms;
+
 fn solo() -> FreeFlyer {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     free_flyer_from_urdf_file(&root.join("robots/solo12/solo12.urdf"), None).unwrap()
-}
-
-/// RMS over the samples of `log` of the chosen rows of (measured − Y θ).
-fn held_out_rms(ff: &FreeFlyer, log: &FloatingLog, theta: &[f64], rows: Rows) -> f64 {
-    let mut data = FreeFlyerData::new(ff);
-    let (nq, nv) = (ff.nq(), ff.nv());
-    let (mut sum, mut count) = (0.0, 0usize);
-    for k in 0..log.samples() {
-        let b = measured(ff, &mut data, log, k).unwrap();
-        let (q, v, a) = (
-            &log.q[k * nq..(k + 1) * nq],
-            &log.v[k * nv..(k + 1) * nv],
-            &log.a[k * nv..(k + 1) * nv],
-        );
-        let y = ff.regressor(&mut data, q, v, a).unwrap();
-        for i in rows.range(ff.tree.dof()) {
-            let pred: f64 = (0..theta.len()).map(|j| y[(i, j)] * theta[j]).sum();
-            sum += (b[i] - pred).powi(2);
-            count += 1;
-        }
-    }
-    (sum / count as f64).sqrt()
 }
 
 fn logs(ff: &FreeFlyer) -> (FloatingLog, FloatingLog) {

@@ -33,6 +33,20 @@ pub struct FloatingNoise {
     pub torque: f64,
 }
 
+impl FloatingNoise {
+    /// Every sensor exact.
+    pub fn none() -> Self {
+        Self {
+            force: 0.0,
+            moment: 0.0,
+            twist: 0.0,
+            twist_rate: 0.0,
+            encoder: 0.0,
+            torque: 0.0,
+        }
+    }
+}
+
 impl Default for FloatingNoise {
     /// A small robot's sensors: 0.2 N and 0.01 N·m on the load cell, 0.01
     /// rad/s, 0.05 m/s², 1e-4 rad and 0.02 N·m.

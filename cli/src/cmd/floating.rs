@@ -176,3 +176,24 @@ pub fn stance(ff: &FreeFlyer, facts: &SidecarFloating) -> Result<Vec<f64>, Strin
     }
     Ok(q)
 }
+
+/// The parameters `choice` names put into `ff` (none, `cad`, `true`: the
+/// URDF's own, no friction; else a parameter file's, e.g. `identify --json`),
+/// and their friction; `option` names the flag in errors.
+pub fn apply_params(
+    ff: &mut FreeFlyer,
+    choice: Option<&str>,
+    option: &str,
+) -> Result<momentlmi::dynamics::Friction, String> {
+    match choice {
+        None | Some("cad") | Some("true") => {
+            Ok(momentlmi::dynamics::Friction::zeros(ff.tree.dof()))
+        }
+        Some(file) => {
+            let pf = momentlmi::dynamics::params_file::ParamsFile::read(Path::new(file))
+                .map_err(|e| format!("{option}: {e}"))?;
+            pf.apply_free_flyer(ff, file)
+                .map_err(|e| format!("{option}: {e}"))
+        }
+    }
+}

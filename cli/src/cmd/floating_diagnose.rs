@@ -9,8 +9,6 @@ use momentlmi::data::Staged;
 use momentlmi::diagnose::floating::{
     FloatingCandidate, FloatingDiagnosis, FloatingEffect, diagnose_floating,
 };
-use momentlmi::dynamics::Friction;
-use momentlmi::dynamics::params_file::ParamsFile;
 use std::path::Path;
 
 /// Diagnoses; exit 0 done, 2 bad input.
@@ -45,14 +43,7 @@ fn diagnosis(a: &DiagnoseArgs, robot: Robot) -> Result<(), String> {
         ));
     }
     let (mut ff, _) = robot.load()?;
-    let friction = match a.nominal {
-        None | Some("cad") | Some("true") => Friction::zeros(ff.tree.dof()),
-        Some(file) => {
-            let pf = ParamsFile::read(Path::new(file)).map_err(|e| format!("--nominal: {e}"))?;
-            pf.apply_free_flyer(&mut ff, file)
-                .map_err(|e| format!("--nominal: {e}"))?
-        }
-    };
+    let friction = super::floating::apply_params(&mut ff, a.nominal, "--nominal")?;
     let logs = read_logs(&ff, a.data, ("--data", a.max_memory_gib))?;
     let d = diagnose_floating(&ff, &theta_of(&ff, &friction), &logs).map_err(|e| e.to_string())?;
     let json = serde_json::to_string_pretty(&d).map_err(|e| e.to_string())?;

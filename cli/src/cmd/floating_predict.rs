@@ -7,8 +7,7 @@ use super::floating::{Robot, read_logs, refuse, theta_of};
 use super::predict::PredictArgs;
 use momentlmi::data::Staged;
 use momentlmi::data::floating::FloatingLog;
-use momentlmi::dynamics::params_file::ParamsFile;
-use momentlmi::dynamics::{FreeFlyer, FreeFlyerData, Friction};
+use momentlmi::dynamics::{FreeFlyer, FreeFlyerData};
 use momentlmi::identify::floating_fit::floating_rms_of;
 use std::path::Path;
 
@@ -33,14 +32,7 @@ pub fn run(a: &PredictArgs, robot: Robot) -> Result<(), String> {
     let mut staged = Staged::protecting(inputs);
     staged.claim(a.out).map_err(|e| e.to_string())?;
     let (mut ff, _) = robot.load()?;
-    let friction = match a.params {
-        None | Some("cad") | Some("true") => Friction::zeros(ff.tree.dof()),
-        Some(file) => {
-            let pf = ParamsFile::read(Path::new(file)).map_err(|e| format!("--params: {e}"))?;
-            pf.apply_free_flyer(&mut ff, file)
-                .map_err(|e| format!("--params: {e}"))?
-        }
-    };
+    let friction = super::floating::apply_params(&mut ff, a.params, "--params")?;
     let theta = theta_of(&ff, &friction);
     let logs = read_logs(&ff, a.data, ("--data", DEFAULT_MAX_MEMORY_GIB))?;
     let mut text = header(&ff);

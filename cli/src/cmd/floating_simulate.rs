@@ -86,14 +86,7 @@ fn noise(sigma: Option<f64>) -> Result<FloatingNoise, String> {
         Some(s) if !(s.is_finite() && s >= 0.0) => {
             Err(format!("--noise {s}: a finite σ ≥ 0 (N·m)"))
         }
-        Some(s) if s == 0.0 => Ok(FloatingNoise {
-            force: 0.0,
-            moment: 0.0,
-            twist: 0.0,
-            twist_rate: 0.0,
-            encoder: 0.0,
-            torque: 0.0,
-        }),
+        Some(s) if s == 0.0 => Ok(FloatingNoise::none()),
         Some(s) => Ok(FloatingNoise {
             torque: s,
             ..FloatingNoise::default()

@@ -1,0 +1,30 @@
+//! What the floating-base tests share: the held-out residual computed from
+//! the regressor directly (not through `identify::floating_fit`, so that a
+//! fault there cannot hide in the tests' floor).
+
+use momentlmi::data::floating::FloatingLog;
+use momentlmi::dynamics::{FreeFlyer, FreeFlyerData};
+use momentlmi::identify::Rows;
+use momentlmi::identify::floating::measured;
+
+/// RMS over the samples of `log` of the chosen rows of (measured − Y θ).
+pub fn held_out_rms(ff: &FreeFlyer, log: &FloatingLog, theta: &[f64], rows: Rows) -> f64 {
+    let mut data = FreeFlyerData::new(ff);
+    let (nq, nv) = (ff.nq(), ff.nv());
+    let (mut sum, mut count) = (0.0, 0usize);
+    for k in 0..log.samples() {
+        let b = measured(ff, &mut data, log, k).unwrap();
+        let (q, v, a) = (
+            &log.q[k * nq..(k + 1) * nq],
+            &log.v[k * nv..(k + 1) * nv],
+            &log.a[k * nv..(k + 1) * nv],
+        );
+        let y = ff.regressor(&mut data, q, v, a).unwrap();
+        for i in rows.range(ff.tree.dof()) {
+            let pred: f64 = (0..theta.len()).map(|j| y[(i, j)] * theta[j]).sum();
+            sum += (b[i] - pred).powi(2);
+            count += 1;
+        }
+    }
+    (sum / count as f64).sqrt()
+}
