@@ -104,6 +104,19 @@ pub fn refuse(options: &[(&str, bool)]) -> Result<(), String> {
     }
 }
 
+/// The reading options a floating-base log does not take yet (it is read
+/// by its own CSV reader), as [`refuse`] wants them.
+pub fn reading_options(read: &super::ReadChoice) -> [(&'static str, bool); 3] {
+    [
+        ("--mapping", read.mapping.is_some()),
+        ("--cutoff-hz", read.cutoff_hz.is_some()),
+        (
+            "--velocity file",
+            read.velocity != momentlmi::data::Velocity::Differentiate,
+        ),
+    ]
+}
+
 /// Every floating-base CSV log in `paths` (docs/floating-base.md), each
 /// checked against `ff`, with samples and a contact wrench; `what` names
 /// the option in errors. Refused before reading when the files could need

@@ -4,7 +4,7 @@
 
 use super::diagnose::DiagnoseArgs;
 use super::floating::theta_of;
-use super::floating::{Robot, read_logs, refuse};
+use super::floating::{Robot, read_logs, reading_options, refuse};
 use momentlmi::data::Staged;
 use momentlmi::diagnose::floating::{
     FloatingCandidate, FloatingDiagnosis, FloatingEffect, diagnose_floating,
@@ -23,15 +23,8 @@ pub fn run(a: &DiagnoseArgs, robot: Robot) -> i32 {
 }
 
 fn diagnosis(a: &DiagnoseArgs, robot: Robot) -> Result<(), String> {
-    refuse(&[
-        ("--repeats", !a.repeats.is_empty()),
-        ("--mapping", a.read.mapping.is_some()),
-        ("--cutoff-hz", a.read.cutoff_hz.is_some()),
-        (
-            "--velocity file",
-            a.read.velocity != momentlmi::data::Velocity::Differentiate,
-        ),
-    ])?;
+    refuse(&[("--repeats", !a.repeats.is_empty())])?;
+    refuse(&reading_options(&a.read))?;
     let files: Vec<&Path> = (a.data.iter().map(|p| p.as_path()))
         .chain(a.sidecar)
         .collect();

@@ -41,6 +41,7 @@ pub fn run(a: &IdentifyArgs, robot: Robot) -> i32 {
 }
 
 fn refused(a: &IdentifyArgs) -> Result<(), String> {
+    refuse(&super::floating::reading_options(&a.read))?;
     refuse(&[
         ("--level", !a.levels.is_empty()),
         ("--total-mass", a.total_mass.is_some()),
@@ -54,12 +55,6 @@ fn refused(a: &IdentifyArgs) -> Result<(), String> {
         (
             "--joint-weighting noise",
             a.joint_weighting != JointWeighting::Equal,
-        ),
-        ("--mapping", a.read.mapping.is_some()),
-        ("--cutoff-hz", a.read.cutoff_hz.is_some()),
-        (
-            "--velocity file",
-            a.read.velocity != momentlmi::data::Velocity::Differentiate,
         ),
         ("--urdf-out/--mjcf-out", a.export.any()),
         ("--weight auto", a.weight.trim() == "auto"),

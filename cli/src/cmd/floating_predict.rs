@@ -3,7 +3,7 @@
 //! on the base, then the joint torques), and its residual RMS by row group
 //! against what the logs measured.
 
-use super::floating::{Robot, read_logs, refuse, theta_of};
+use super::floating::{Robot, read_logs, reading_options, refuse, theta_of};
 use super::predict::PredictArgs;
 use momentlmi::data::Staged;
 use momentlmi::data::floating::FloatingLog;
@@ -16,15 +16,8 @@ const DEFAULT_MAX_MEMORY_GIB: f64 = 8.0;
 
 /// Predicts and writes `--out` whole (or nothing).
 pub fn run(a: &PredictArgs, robot: Robot) -> Result<(), String> {
-    refuse(&[
-        ("--mujoco-view", a.mujoco_view),
-        ("--mapping", a.read.mapping.is_some()),
-        ("--cutoff-hz", a.read.cutoff_hz.is_some()),
-        (
-            "--velocity file",
-            a.read.velocity != momentlmi::data::Velocity::Differentiate,
-        ),
-    ])?;
+    refuse(&[("--mujoco-view", a.mujoco_view)])?;
+    refuse(&reading_options(&a.read))?;
     let files: Vec<&Path> = (a.data.iter().map(|p| p.as_path()))
         .chain(a.sidecar)
         .collect();
