@@ -303,7 +303,7 @@ fn diagnose_finds_a_payload_the_urdf_lacks() {
         &std::fs::read_to_string(out.join("floating_diagnosis.json")).unwrap(),
     )
     .unwrap();
-    assert_eq!(d["accepted"], "payload");
+    assert_eq!(d["accepted"], serde_json::json!(["payload"]));
     // the simulation's record holds the truth: the payload in the base
     let record: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.0.join("pay.json")).unwrap()).unwrap();

@@ -8,8 +8,11 @@
 //! The candidates ([`FloatingEffect`]): joint friction (viscous and Coulomb
 //! per joint), a constant offset of each contact wrench, a payload on the
 //! base (its ten parameters), and every body's parameters (the catch-all:
-//! the CAD is off). The simplest candidate within 90 % of the best closure
-//! is accepted if it closes at least half the gap.
+//! the CAD is off). Forward selection: in each round every candidate not
+//! yet accepted is fitted together with those accepted, and the simplest
+//! (fewest parameters) whose closure is within 90 % of the round's best is
+//! accepted if it closes at least half of the gap the round began with,
+//! while that gap is one (on average `(rms/floor)² − 1 ≥ 0.05` a row).
 
 use super::error::DiagnoseError;
 use crate::data::floating::FloatingLog;
@@ -60,10 +63,21 @@ pub struct FloatingCandidate {
     pub effect: FloatingEffect,
     /// Its parameters, by name, as fitted.
     pub values: Vec<(String, f64)>,
-    /// Held-out residual RMS per row with it added.
+    /// Held-out residual RMS per row with it added (to the effects
+    /// accepted in earlier rounds).
     pub held_out: Vec<f64>,
-    /// The share of the held-out gap above the floor it closes (≤ 1).
+    /// The share of the nominal model's held-out gap above the floor that
+    /// it and the effects accepted before close together (≤ 1).
     pub gap_closed: f64,
+}
+
+/// One round of the forward selection.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct FloatingRound {
+    /// Every candidate tried, the best closure first.
+    pub candidates: Vec<FloatingCandidate>,
+    /// The one accepted, if any (the last round accepts none).
+    pub accepted: Option<FloatingEffect>,
 }
 
 /// A floating-base diagnosis.
@@ -79,14 +93,36 @@ pub struct FloatingDiagnosis {
     pub held_out: Vec<f64>,
     /// Samples fitted on and held out.
     pub samples: [usize; 2],
-    /// Every candidate, the best closure first.
-    pub candidates: Vec<FloatingCandidate>,
-    /// The effect accepted, if one closes at least half the gap.
-    pub accepted: Option<FloatingEffect>,
+    /// The forward selection's rounds.
+    pub rounds: Vec<FloatingRound>,
+    /// The effects accepted, in order.
+    pub accepted: Vec<FloatingEffect>,
+}
+
+impl FloatingDiagnosis {
+    /// The last accepted effect's fit (fitted with every effect accepted
+    /// before it), if any effect is accepted.
+    pub fn final_fit(&self) -> Option<&FloatingCandidate> {
+        let round = self.rounds.iter().rev().find(|r| r.accepted.is_some())?;
+        round
+            .candidates
+            .iter()
+            .find(|c| Some(c.effect) == round.accepted)
+    }
+
+    /// Each accepted effect's fit, in order of acceptance.
+    pub fn accepted_fits(&self) -> Vec<&FloatingCandidate> {
+        (self.rounds.iter())
+            .filter_map(|r| r.candidates.iter().find(|c| Some(c.effect) == r.accepted))
+            .collect()
+    }
 }
 
 /// The share of each log fitted on.
 const TRAIN_SHARE: f64 = 0.7;
+/// The smallest gap a round looks into: the mean over the rows of
+/// `max(0, (rms/floor)² − 1)`.
+const MIN_GAP: f64 = 0.05;
 /// The fewest samples a log may have (10 held out).
 const MIN_SAMPLES: usize = 32;
 
@@ -113,28 +149,35 @@ pub fn diagnose_floating(
     let floor = split.floor();
     split.weights = floor.iter().map(|f| 1.0 / f.max(1e-9).powi(2)).collect();
     let held_out = split.held_out_rms(|_, _, _| Ok(None))?;
-    let joints = split.rows > 6;
-    let contacts = !logs[0].contacts.is_empty();
-    let mut candidates = FloatingEffect::ALL
-        .iter()
-        .filter(|e| joints || **e != FloatingEffect::JointFriction)
-        .filter(|e| contacts || **e != FloatingEffect::WrenchOffset)
-        .map(|&e| split.candidate(e, &floor, &held_out))
-        .collect::<Result<Vec<_>, _>>()?;
-    candidates.sort_by_key(|c| c.values.len());
-    let best = (candidates.iter().map(|c| c.gap_closed)).fold(f64::NEG_INFINITY, f64::max);
-    // the simplest candidate (fewest parameters) within 90 % of the best
-    let accepted = (best >= 0.5)
-        .then(|| candidates.iter().find(|c| c.gap_closed >= 0.9 * best))
-        .flatten()
-        .map(|c| c.effect);
-    candidates.sort_by(|a, b| b.gap_closed.total_cmp(&a.gap_closed));
+    let (joints, contacts) = (split.rows > 6, !logs[0].contacts.is_empty());
+    let applicable: Vec<FloatingEffect> = (FloatingEffect::ALL.iter().copied())
+        .filter(|e| joints || *e != FloatingEffect::JointFriction)
+        .filter(|e| contacts || *e != FloatingEffect::WrenchOffset)
+        .collect();
+    let (mut rounds, mut accepted, mut closed) = (vec![], vec![], 0.0);
+    loop {
+        let round = split.round(&applicable, &accepted, (&floor, &held_out), closed)?;
+        let next = round.accepted;
+        rounds.push(round);
+        match next {
+            Some(e) => {
+                accepted.push(e);
+                let r = rounds.last().expect("just pushed");
+                closed = r
+                    .candidates
+                    .iter()
+                    .find(|c| c.effect == e)
+                    .map_or(closed, |c| c.gap_closed);
+            }
+            None => break,
+        }
+    }
     Ok(FloatingDiagnosis {
         rows: row_names(ff, split.rows),
         floor,
         held_out,
         samples: split.samples(),
-        candidates,
+        rounds,
         accepted,
     })
 }
@@ -351,22 +394,61 @@ impl Split<'_> {
 }
 
 impl Split<'_> {
-    /// The effect fitted on the fitting part (weighted least squares, the
-    /// least-norm solution) and scored on the held-out part.
+    /// One round: every applicable effect not yet accepted fitted with
+    /// those accepted; the simplest within 90 % of the best accepted if it
+    /// closes half of the gap left (`closed`: the share closed before).
+    fn round(
+        &self,
+        applicable: &[FloatingEffect],
+        accepted: &[FloatingEffect],
+        (floor, before): (&[f64], &[f64]),
+        closed: f64,
+    ) -> Result<FloatingRound, DiagnoseError> {
+        let mut candidates = (applicable.iter())
+            .filter(|e| !accepted.contains(e))
+            .map(|&e| self.candidate(accepted, e, (floor, before)))
+            .collect::<Result<Vec<_>, _>>()?;
+        candidates.sort_by_key(|c| c.values.len());
+        let best = (candidates.iter().map(|c| c.gap_closed)).fold(f64::NEG_INFINITY, f64::max);
+        let step = |g: f64| (g - closed) / (1.0 - closed).max(1e-12);
+        // half of what is left, when what is left is a gap (on average
+        // (rms/floor)² − 1 ≥ 0.05 a row), not the noise in one closed
+        let left = (1.0 - closed) * excess(before, floor) / floor.len() as f64;
+        let pick = (step(best) >= 0.5 && left >= MIN_GAP)
+            .then(|| {
+                candidates
+                    .iter()
+                    .find(|c| step(c.gap_closed) >= 0.9 * step(best))
+            })
+            .flatten()
+            .map(|c| c.effect);
+        candidates.sort_by(|a, b| b.gap_closed.total_cmp(&a.gap_closed));
+        Ok(FloatingRound {
+            candidates,
+            accepted: pick,
+        })
+    }
+
+    /// `effect` fitted with the `accepted` ones on the fitting part
+    /// (weighted least squares, the least-norm solution) and scored on the
+    /// held-out part; its own parameters reported.
     fn candidate(
         &self,
+        accepted: &[FloatingEffect],
         effect: FloatingEffect,
-        floor: &[f64],
-        before: &[f64],
+        (floor, before): (&[f64], &[f64]),
     ) -> Result<FloatingCandidate, DiagnoseError> {
-        let names = self.value_names(effect);
+        let mut set = accepted.to_vec();
+        set.push(effect);
+        let names: Vec<String> = set.iter().flat_map(|&e| self.value_names(e)).collect();
+        let own = self.value_names(effect).len();
         let width = names.len();
         let parts = (self.chunks(true).par_iter())
             .map(|&(l, s0, s1)| {
                 let mut data = FreeFlyerData::new(self.ff);
                 let (mut g, mut b) = (DMatrix::zeros(width, width), DVector::zeros(width));
                 for k in s0..s1 {
-                    let x = self.columns(effect, &mut data, (l, k))?;
+                    let x = self.columns_of(&set, &mut data, (l, k))?;
                     let mut xw = x.clone();
                     for (i, w) in self.weights.iter().enumerate() {
                         xw.row_mut(i).scale_mut(*w);
@@ -383,12 +465,13 @@ impl Split<'_> {
             b += pb;
         }
         let delta = least_norm(g, &b)?;
-        let after =
-            self.held_out_rms(|data, l, k| Ok(Some(self.columns(effect, data, (l, k))? * &delta)))?;
+        let after = self
+            .held_out_rms(|data, l, k| Ok(Some(self.columns_of(&set, data, (l, k))? * &delta)))?;
         let e0 = excess(before, floor);
+        let values = names.into_iter().zip(delta.iter().copied());
         Ok(FloatingCandidate {
             effect,
-            values: names.into_iter().zip(delta.iter().copied()).collect(),
+            values: values.skip(width - own).collect(),
             gap_closed: if e0 > 0.0 {
                 1.0 - excess(&after, floor) / e0
             } else {
@@ -396,6 +479,26 @@ impl Split<'_> {
             },
             held_out: after,
         })
+    }
+
+    /// The columns of several effects side by side.
+    fn columns_of(
+        &self,
+        effects: &[FloatingEffect],
+        data: &mut FreeFlyerData,
+        at: (usize, usize),
+    ) -> Result<DMatrix<f64>, DiagnoseError> {
+        let blocks = (effects.iter())
+            .map(|&e| self.columns(e, data, at))
+            .collect::<Result<Vec<_>, _>>()?;
+        let width = blocks.iter().map(|b| b.ncols()).sum();
+        let mut x = DMatrix::zeros(self.rows, width);
+        let mut c = 0;
+        for b in blocks {
+            x.columns_mut(c, b.ncols()).copy_from(&b);
+            c += b.ncols();
+        }
+        Ok(x)
     }
 
     /// The names of the effect's parameters, in column order.

@@ -267,7 +267,7 @@ fn diagnose_payload(ff: &FreeFlyer) -> Result<(), String> {
     };
     let log = simulate_suspended(ff, &cfg).map_err(|e| e.to_string())?;
     let d = diagnose_floating(ff, &truth(ff), &[log]).map_err(|e| e.to_string())?;
-    let best = d.candidates.iter().find(|c| Some(c.effect) == d.accepted);
+    let best = d.final_fit();
     match best {
         Some(c) if c.values.len() >= 4 => {
             let m = c.values[0].1;

@@ -71,29 +71,34 @@ fn report_text(d: &FloatingDiagnosis) -> String {
             if ratio > 1.1 { " *" } else { "" }
         );
     }
-    out += "which (share of the held-out gap above the floor closed):\n";
-    for c in &d.candidates {
-        let mark = if Some(c.effect) == d.accepted {
-            "  accepted"
-        } else {
-            ""
-        };
-        out += &format!(
-            "  {:<16} {:>7.1} %{mark}\n",
-            c.effect.name(),
-            100.0 * c.gap_closed
-        );
+    out += "which (forward selection; share of the held-out gap above the floor closed with the effects before):\n";
+    for (k, r) in d.rounds.iter().enumerate() {
+        for c in &r.candidates {
+            let mark = if Some(c.effect) == r.accepted {
+                "  accepted"
+            } else {
+                ""
+            };
+            let name = c.effect.name();
+            out += &format!(
+                "  round {}  {name:<16} {:>7.1} %{mark}\n",
+                k + 1,
+                100.0 * c.gap_closed
+            );
+        }
     }
-    match d.candidates.iter().find(|c| Some(c.effect) == d.accepted) {
+    for c in d.accepted_fits() {
+        out += &format!("accepted: {}: {}\n", c.effect.name(), values(c));
+    }
+    match d.final_fit() {
         Some(c) => {
-            out += &format!("accepted: {}: {}\n", c.effect.name(), values(c));
             let left: Vec<&str> = (d.rows.iter().zip(&c.held_out).zip(&d.floor))
                 .filter(|((_, r), f)| **r > 1.1 * **f)
                 .map(|((n, _), _)| n.as_str())
                 .collect();
             if !left.is_empty() {
                 out += &format!(
-                    "left: {} still above 1.1 × their floor with it ({}): another effect may be at work\n",
+                    "left: {} rows still above 1.1 × their floor ({}): a cause none of the candidates is\n",
                     left.len(),
                     left.join(", ")
                 );
