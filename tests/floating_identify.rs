@@ -161,3 +161,34 @@ fn rows_and_set_ups_that_do_not_match_are_named() {
         .to_string();
     assert!(e.contains("needs a fixed-base model"), "{e}");
 }
+
+/// Every row, weighted: each group by 1/σ̂² of an unweighted fit first
+/// (N and N·m rows of unlike noise), then every group at its floor.
+#[test]
+fn all_rows_weighted_reach_every_floor() {
+    use momentlmi::identify::floating_fit::{fit_floating, floating_rms};
+    let ff = solo();
+    let (train, test) = logs(&ff);
+    let id = Identification::for_free_flyer(&ff, Rows::All);
+    let fit = fit_floating(&id, &ff, Rows::All, &[train], std::slice::from_ref(&test)).unwrap();
+    let w = fit.row_weights.as_ref().unwrap();
+    // σ̂ ≈ 0.24 N on the force rows, 0.02 N·m on the joints'
+    assert!(
+        w[0] > 10.0 && w[0] < 30.0 && w[6] > 1000.0 && w[6] < 4000.0,
+        "{w:?}"
+    );
+    let (v, floor) = (
+        fit.validation.unwrap(),
+        floating_rms(&ff, &truth(&ff), &test).unwrap(),
+    );
+    println!("held-out {v:?}\nfloor {floor:?}");
+    assert!(v.base_force <= 1.05 * floor.base_force && v.base_moment <= 1.05 * floor.base_moment);
+    for (a, b) in v.joints.iter().zip(&floor.joints) {
+        assert!(
+            *a <= 1.05 * b,
+            "joints {:?} vs floor {:?}",
+            v.joints,
+            floor.joints
+        );
+    }
+}

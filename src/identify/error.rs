@@ -226,6 +226,15 @@ pub enum IdentifyError {
         "the load friction term is refitted on the rigid torques of every training sample, which a reduction made while reading does not keep: read the data whole"
     )]
     LoadNeedsSamples,
+    /// Row weights of a floating-base reduction that are not one finite
+    /// number ≥ 0 per row.
+    #[error("row weights: {found} given for {rows} rows, each finite and ≥ 0")]
+    RowWeights {
+        /// Weights given.
+        found: usize,
+        /// Rows of the generalized force (6 + n).
+        rows: usize,
+    },
     /// A grid of weights to choose from that is empty or has a weight
     /// that is not positive and finite.
     #[error("the weights to choose from: {what}")]

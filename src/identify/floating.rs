@@ -24,7 +24,9 @@ pub enum Rows {
     Base,
     /// The joint rows: joint torques plus the contacts' share.
     Joints,
-    /// Every row (the base rows in N and N·m, the joints' in N·m, unweighted).
+    /// Every row (the base rows in N and N·m, the joints' in N·m; unweighted
+    /// here, weighted by group in
+    /// [`fit_floating`](super::floating_fit::fit_floating)).
     All,
 }
 
@@ -59,7 +61,26 @@ pub fn reduce_floating(
     log: &FloatingLog,
     rows: Rows,
 ) -> Result<Reduced, IdentifyError> {
+    reduce_floating_weighted(ff, log, rows, None)
+}
+
+/// [`reduce_floating`] with each row of the generalized force (6 + n)
+/// weighted by `weights` (≥ 0, finite; e.g. 1/σ² of its noise).
+pub fn reduce_floating_weighted(
+    ff: &FreeFlyer,
+    log: &FloatingLog,
+    rows: Rows,
+    weights: Option<&[f64]>,
+) -> Result<Reduced, IdentifyError> {
     log.check(ff)?;
+    if let Some(w) = weights {
+        if w.len() != ff.nv() || w.iter().any(|x| !(x.is_finite() && *x >= 0.0)) {
+            return Err(IdentifyError::RowWeights {
+                found: w.len(),
+                rows: ff.nv(),
+            });
+        }
+    }
     let samples = log.samples();
     if rows != Rows::Base && log.tau.is_none() {
         return Err(IdentifyError::NoTrainingData {
@@ -71,7 +92,7 @@ pub fn reduce_floating(
     let chunks: Vec<usize> = (0..samples).step_by(CHUNK).collect();
     let grams = chunks
         .par_iter()
-        .map(|&s0| chunk_gram(ff, log, rows, s0..(s0 + CHUNK).min(samples)))
+        .map(|&s0| chunk_gram(ff, (log, weights), rows, s0..(s0 + CHUNK).min(samples)))
         .collect::<Result<Vec<_>, _>>()?;
     let mut gram = Mat::<f64>::zeros(p1, p1);
     for g in grams {
@@ -88,7 +109,7 @@ pub fn reduce_floating(
 /// One chunk's `XᵀX`, X its rows `[A b]`.
 fn chunk_gram(
     ff: &FreeFlyer,
-    log: &FloatingLog,
+    (log, weights): (&FloatingLog, Option<&[f64]>),
     rows: Rows,
     range: std::ops::Range<usize>,
 ) -> Result<Mat<f64>, IdentifyError> {
@@ -100,11 +121,11 @@ fn chunk_gram(
         let b = measured(ff, &mut data, log, k)?;
         let y = sample_regressor(ff, &mut data, log, k)?;
         for (i, row) in r.clone().enumerate() {
-            let at = local * r.len() + i;
+            let (at, s) = (local * r.len() + i, weights.map_or(1.0, |w| w[row].sqrt()));
             for c in 0..p {
-                x[(at, c)] = y[(row, c)];
+                x[(at, c)] = s * y[(row, c)];
             }
-            x[(at, p)] = b[row];
+            x[(at, p)] = s * b[row];
         }
     }
     Ok(x.transpose() * &x)

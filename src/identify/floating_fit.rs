@@ -6,7 +6,7 @@
 
 use super::builder::Identification;
 use super::error::IdentifyError;
-use super::floating::{Rows, measured, reduce_floating};
+use super::floating::{Rows, measured, reduce_floating_weighted};
 use super::reduce::Reduced;
 use super::solved::Solved;
 use crate::data::floating::FloatingLog;
@@ -58,17 +58,37 @@ pub struct FloatingFit {
     pub train: FloatingRms,
     /// Residuals on the held-out logs, if any.
     pub validation: Option<FloatingRms>,
+    /// Every row's weight (6 + n) with [`Rows::All`]: 1/σ̂² of its group
+    /// (base force, base moment, each joint) from an unweighted fit first.
+    pub row_weights: Option<Vec<f64>>,
 }
 
-/// Every training log reduced on `rows`, the Gram matrices summed.
+/// 1/σ̂² per row from a fit's residuals by group (a zero σ̂ weighs as the
+/// smallest positive one).
+fn group_weights(r: &FloatingRms) -> Vec<f64> {
+    let mut sigma = vec![r.base_force; 3];
+    sigma.extend([r.base_moment; 3]);
+    sigma.extend(&r.joints);
+    let least = sigma
+        .iter()
+        .copied()
+        .filter(|s| *s > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    let least = if least.is_finite() { least } else { 1.0 };
+    sigma.iter().map(|s| 1.0 / s.max(least).powi(2)).collect()
+}
+
+/// Every training log reduced on `rows` (each row weighted by `weights`,
+/// if given), the Gram matrices summed.
 pub fn reduce_floating_logs(
     ff: &FreeFlyer,
     logs: &[FloatingLog],
     rows: Rows,
+    weights: Option<&[f64]>,
 ) -> Result<Reduced, IdentifyError> {
     let mut total: Option<Reduced> = None;
     for log in logs {
-        let red = reduce_floating(ff, log, rows)?;
+        let red = reduce_floating_weighted(ff, log, rows, weights)?;
         total = Some(match total {
             None => red,
             Some(t) => Reduced {
@@ -92,11 +112,20 @@ pub fn fit_floating(
     train: &[FloatingLog],
     validate: &[FloatingLog],
 ) -> Result<FloatingFit, IdentifyError> {
-    let red = reduce_floating_logs(ff, train, rows)?;
+    let red = reduce_floating_logs(ff, train, rows, None)?;
     for v in validate {
         v.check(ff)?;
     }
-    let solved = id.solve(&red)?;
+    let mut solved = id.solve(&red)?;
+    let mut row_weights = None;
+    if rows == Rows::All {
+        // N and N·m rows of unlike noise: each group weighted by 1/σ̂², σ̂
+        // its residual RMS of the unweighted fit (once: the weights settle)
+        let r = floating_rms_of(ff, &solved.theta, train)?;
+        let w = group_weights(&r);
+        solved = id.solve(&reduce_floating_logs(ff, train, rows, Some(&w))?)?;
+        row_weights = Some(w);
+    }
     let mut model = ff.clone();
     model.set_params(&solved.theta[..10 * ff.num_bodies()])?;
     let friction = solved.friction_law(ff.tree.stribeck_velocity());
@@ -122,6 +151,7 @@ pub fn fit_floating(
         whole_body,
         train: train_rms,
         validation,
+        row_weights,
     })
 }
 

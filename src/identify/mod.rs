@@ -40,7 +40,7 @@ pub use builder::{Identification, Vars};
 pub use choose_weight::{WEIGHT_GRID, WeightChoice};
 pub use error::{GramProblem, IdentifyError};
 pub use fit::{LOAD_PASSES, identify};
-pub use floating::{Rows, reduce_floating};
+pub use floating::{Rows, reduce_floating, reduce_floating_weighted};
 pub use identifiability::{BaseParameter, Identifiability};
 pub use options::{CHECK_TOL, IdentifyOptions, Level, Regularizer, default_settings};
 pub use reduce::{Cost, Reduced, StreamReducer, cost, reduce_samples};
