@@ -272,6 +272,12 @@ fn options_a_floating_base_cannot_take_are_named() {
         &["predict", "--robot", &robot, "--data", &log, "--out", &log],
         &["log.csv"],
     );
+    let npz = dir.write("run.npz", "PK");
+    let npz = npz.to_str().unwrap();
+    refused(
+        &["identify", "--robot", &robot, "--data", npz],
+        &["run.npz", "CSV only"],
+    );
     assert!(!Path::new(out).exists());
 }
 

@@ -140,6 +140,13 @@ pub fn read_logs(
     }
     (paths.iter())
         .map(|p| {
+            let ext = p.extension().map(|e| e.to_string_lossy().to_lowercase());
+            if matches!(ext.as_deref(), Some("npz" | "npy" | "mcap")) {
+                return Err(format!(
+                    "{what}: {}: a floating-base log is read from CSV only (docs/floating-base.md); NumPy and MCAP are not read for a floating base yet",
+                    p.display()
+                ));
+            }
             let log = read_floating_csv(ff, p).map_err(|e| format!("{what}: {e}"))?;
             let at = || format!("{what}: {}", p.display());
             log.check(ff).map_err(|e| format!("{}: {e}", at()))?;
