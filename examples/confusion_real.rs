@@ -66,6 +66,19 @@ impl Injection {
         }
     }
 
+    /// The injected size in the unit the diagnosis reports it in (gain %,
+    /// delay ms, offset and friction N·m or N·m·s/rad, encoder offset rad,
+    /// ripple amplitude N·m, load μ, payload kg).
+    fn value(self) -> f64 {
+        match self {
+            Self::Gain(g) => 100.0 * g,
+            Self::Delay(d) => 1e3 * d,
+            Self::Offset(x) | Self::Coulomb(x) | Self::Viscous(x) | Self::Encoder(x) => x,
+            Self::Payload(m) | Self::Load(m) => m,
+            Self::Ripple(a, _) => a,
+        }
+    }
+
     fn size(self) -> String {
         match self {
             Self::Gain(g) => format!("{:+.0} %", 100.0 * g),
@@ -158,8 +171,16 @@ pub struct Row {
     pub size: (f64, f64),
     /// Accepted effects (with the same hypothesis and ties).
     pub accepted: String,
-    /// Found on the injected joint beyond the null row.
+    /// Found: the injected effect accepted on its joint (not through a
+    /// tie), or — a term of the nominal friction law — its refit
+    /// coefficient there moved from the untouched run's by more than its
+    /// interval, by the injected amount within 20 %.
     pub found: bool,
+    /// How: `"accepted"` or `"law refit"`.
+    pub how: &'static str,
+    /// The fitted size (the unit of [`Injection::value`]) less the untouched
+    /// run's fit of the same effect there, and the injected size.
+    pub fitted: Option<(f64, f64)>,
     /// Accepted effects the null row does not accept and the injected one
     /// does not cover.
     pub beyond: String,
@@ -269,14 +290,48 @@ pub fn run(only: &str, drop: &[&str]) -> Result<(Diagnosis, Vec<Row>), Box<dyn E
             _ => j,
         };
         let dg = diagnose(&model, &friction, &d, &dopts)?;
+        let joint = val.joints[j].clone();
+        let (found, how, fitted) = match law_term(inj.effect()) {
+            Some(term) => {
+                let (case, half) = refit_of(&dg, term, &joint);
+                let change = case - refit_of(&null, term, &joint).0;
+                let right = (change - inj.value()).abs() <= 0.2 * inj.value().abs();
+                (
+                    change.abs() > half && right,
+                    "law refit",
+                    Some((change, inj.value())),
+                )
+            }
+            None => {
+                let e = dg
+                    .ranked_effects
+                    .iter()
+                    .find(|e| e.accepted && names(e, inj.effect()));
+                let on = e.is_some_and(|e| {
+                    matches!(inj, Injection::Payload(_)) || e.joints.contains(&joint)
+                });
+                // the untouched run's own fit of the effect there (not accepted),
+                // at the same nonlinear parameter (period, delay), taken off
+                let variant = e.map(|e| e.detail.clone()).unwrap_or_default();
+                let own = (null.ranked_effects.iter())
+                    .find(|n| names(n, inj.effect()) && n.round == 1 && n.detail == variant);
+                let own = own.and_then(|e| fitted_size(e, inj, &joint)).unwrap_or(0.0);
+                let fitted = e
+                    .and_then(|e| fitted_size(e, inj, &joint))
+                    .map(|v| (v - own, inj.value()));
+                (on, "accepted", fitted)
+            }
+        };
         rows.push(Row {
             case: format!("{} {}", inj.effect(), inj.size()),
             effect: inj.effect(),
-            joint: val.joints[j].clone(),
             size: (size[j], dg.noise_floor[j]),
             accepted: accepted(&dg),
-            found: found(&dg, &null, inj.effect(), j, size[j]),
+            found,
+            how,
+            fitted,
             beyond: beyond(&dg, &null, inj.effect()),
+            joint,
         });
     }
     Ok((null, rows))
@@ -289,27 +344,42 @@ fn main() -> Result<(), Box<dyn Error>> {
     let drop: Vec<&str> = drop.split(',').filter(|s| !s.is_empty()).collect();
     let (null, rows) = run(&only, &drop)?;
     println!(
-        "| injected | joint | injected RMS there (N·m) | floor there | accepted (tied with) | found | accepted beyond the null row |"
+        "| injected | joint | injected RMS there (N·m) | floor there | accepted (tied with) | found | fitted / injected | accepted beyond the null row |"
     );
-    println!("|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|");
     println!(
-        "| none (null row) | — | — | — | {} | — | — |",
+        "| none (null row) | — | — | — | {} | — | — | — |",
         accepted(&null)
     );
     for r in &rows {
+        let fitted = r.fitted.map_or("—".into(), |(f, i)| {
+            format!("{f:.3} / {i} ({:+.0} %)", 100.0 * (f / i - 1.0))
+        });
         println!(
-            "| {} | {} | {:.3} | {:.3} | {} | {} | {} |",
+            "| {} | {} | {:.3} | {:.3} | {} | {} | {fitted} | {} |",
             r.case,
             r.joint,
             r.size.0,
             r.size.1,
             r.accepted,
-            if r.found { "yes" } else { "**no**" },
+            if r.found {
+                format!("yes ({})", r.how)
+            } else {
+                "**no**".into()
+            },
             r.beyond
         );
     }
     let found = rows.iter().filter(|r| r.found).count();
-    println!("\nfound {found} of {}", rows.len());
+    let accepted = rows
+        .iter()
+        .filter(|r| r.found && r.how == "accepted")
+        .count();
+    println!(
+        "\nfound {found} of {} ({accepted} accepted as effects)",
+        rows.len()
+    );
+    println!("null row re-estimates: {}", reestimated(&null));
     Ok(())
 }
 
@@ -328,37 +398,64 @@ fn accepted(d: &Diagnosis) -> String {
     }
 }
 
-/// How much the accepted reports covering `effect` lower joint `j`'s
-/// held-out RMS (the most of them).
-fn gain_on(d: &Diagnosis, effect: &str, j: usize) -> f64 {
-    d.ranked_effects
-        .iter()
-        .filter(|e| e.accepted && e.covers(effect))
-        .map(|e| e.heldout_rms_before[j] - e.heldout_rms_after[j])
-        .fold(0.0, f64::max)
+/// The friction-law term an effect is (`None`: not a term of the
+/// recommended law, which has viscous, Coulomb, offset, load and Stribeck
+/// friction).
+fn law_term(effect: &str) -> Option<&'static str> {
+    match effect {
+        "coulomb" => Some("coulomb"),
+        "viscous" => Some("viscous"),
+        "offset" => Some("offset"),
+        "load_friction" => Some("load"),
+        _ => None,
+    }
 }
 
-/// Found: accepted, and on joint `j` it removes more than on the untouched
-/// run, by at least 1 % of the injected RMS `size` there.
-fn found(d: &Diagnosis, null: &Diagnosis, effect: &str, j: usize, size: f64) -> bool {
-    let accepted = d
-        .ranked_effects
+/// The refit coefficient of `term` on `joint` and its interval's
+/// half-width.
+fn refit_of(d: &Diagnosis, term: &str, joint: &str) -> (f64, f64) {
+    let name = format!("{term} friction, {joint}");
+    (d.friction_refit.iter())
+        .find(|r| r.name == name)
+        .map_or((f64::NAN, f64::INFINITY), |r| {
+            (r.value, 0.5 * (r.high - r.low))
+        })
+}
+
+/// Whether report `e` is `effect` or the same hypothesis.
+fn names(e: &momentlmi::diagnose::EffectReport, effect: &str) -> bool {
+    e.effect == effect || e.same_as.iter().any(|a| a == effect)
+}
+
+/// The fitted size of an accepted report that stands for `inj` on `joint`.
+fn fitted_size(e: &momentlmi::diagnose::EffectReport, inj: Injection, joint: &str) -> Option<f64> {
+    let want = match inj {
+        Injection::Payload(_) => "payload mass".to_string(),
+        _ => format!(", {joint}"),
+    };
+    e.sizes
         .iter()
-        .any(|e| e.accepted && e.covers(effect));
-    accepted && gain_on(d, effect, j) - gain_on(null, effect, j) > 0.01 * size
+        .find(|s| s.name.contains(&want) || s.name.ends_with(&want))
+        .map(|s| s.value)
+}
+
+/// The untouched run's moved law coefficients, in words.
+fn reestimated(d: &Diagnosis) -> String {
+    let r: Vec<String> = d.reestimated.iter().map(|r| r.refit.words()).collect();
+    if r.is_empty() {
+        "—".into()
+    } else {
+        r.join("; ")
+    }
 }
 
 /// Whether the untouched run already shows `effect`: a report of it (or of
-/// one the same hypothesis or tied with it) was significant in some round
-/// (z > 3, ΔBIC < −10, the held-out MSE 2 % lower), accepted or not.
+/// one the same hypothesis) the rule accepts in some round, accepted or
+/// not.
 fn shown(null: &Diagnosis, effect: &str) -> bool {
-    let mse = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>();
-    null.ranked_effects.iter().any(|n| {
-        n.covers(effect)
-            && n.z > 3.0
-            && n.delta_bic < -10.0
-            && mse(&n.heldout_rms_after) < 0.98 * mse(&n.heldout_rms_before)
-    })
+    null.ranked_effects
+        .iter()
+        .any(|n| names(n, effect) && !n.rule.starts_with("not"))
 }
 
 /// Accepted effects that the untouched run does not show ([`shown`]) and

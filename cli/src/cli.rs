@@ -320,6 +320,15 @@ enum Command {
         /// Also write diagnosis.json into this folder (a floating base: floating_diagnosis.json).
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Write the diagnosis' model — the nominal with its friction law refit and the
+        /// accepted effects, fitted on the fitting part — as a parameter file that predict,
+        /// identify --prior and export take (predict with it gives the held-out error reported).
+        #[arg(long, value_name = "FILE")]
+        model_out: Option<PathBuf>,
+        /// Blocks of time the data are cut in for cross-validation when they are one file
+        /// (several files: one fold each).
+        #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u64).range(2..=50))]
+        folds: u64,
         /// The memory the diagnosis may plan for (GiB): beyond it the compliance searches are skipped, or the diagnosis refused.
         #[arg(long, default_value_t = 8.0)]
         max_memory_gib: f64,
@@ -580,9 +589,13 @@ pub fn main() -> i32 {
             repeats,
             json,
             out,
+            model_out,
+            folds,
             max_memory_gib,
             floating,
         } => diagnose::run(&diagnose::DiagnoseArgs {
+            model_out: model_out.as_deref(),
+            folds: folds as usize,
             floating_base: floating.floating_base,
             read: read.choice(),
             robot: &robot,

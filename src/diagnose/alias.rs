@@ -1,26 +1,26 @@
-//! Candidates that are one hypothesis: two effects whose columns span the
-//! same space on the training rows (an offset and direction-dependent
-//! friction, `1` and `|sign q̇|`, differ only where the joint stands still)
-//! explain every residual equally, so they are offered once — under the
-//! first one's name in the library's order, the others listed as its
-//! aliases.
+//! Hypotheses that are one on these data. Two effects whose single
+//! variant spans the same columns on the data (each column of either
+//! within [`SAME_SPAN`] of its squared norm of the other's span) are one
+//! hypothesis: offered once, under the first name in the library's order
+//! (an offset and direction-dependent friction where the joints never
+//! stand still). A hypothesis within the span of the nominal friction
+//! law's columns — refit in every fit — adds nothing and is not offered.
 
 use super::candidate::Candidate;
+use super::refit::Group;
+use super::store::Store;
 use nalgebra::{DMatrix, DVector};
-use std::ops::Range;
 
-/// Each column of one candidate is within this share of its squared norm
-/// of the other's span (the joints stand still on fewer than ~1 % of the
-/// training samples).
+/// The share of a column's squared norm that may lie outside the other
+/// span for the two to count as one.
 const SAME_SPAN: f64 = 1e-2;
 
-/// `cands` with every candidate whose single variant spans the same
-/// columns as an earlier one's (both ways, over `train`) merged into it
-/// (its name appended to the earlier one's `aliases`).
-pub fn merge_aliases(cands: Vec<Candidate>, train: &Range<usize>) -> Vec<Candidate> {
+/// `cands` with each candidate that spans the same columns as an earlier
+/// one folded into it (its name in the earlier one's `aliases`).
+pub fn merge_aliases(cands: Vec<Candidate>, store: &Store) -> Vec<Candidate> {
     let mut out: Vec<Candidate> = vec![];
     for c in cands {
-        match out.iter_mut().find(|a| same_span(a, &c, train)) {
+        match out.iter_mut().find(|a| same_span(a, &c, store)) {
             Some(a) => a.aliases.push(c.name()),
             None => out.push(c),
         }
@@ -28,59 +28,61 @@ pub fn merge_aliases(cands: Vec<Candidate>, train: &Range<usize>) -> Vec<Candida
     out
 }
 
-/// Whether `a` and `b` are single plain linear variants with the same span
-/// (their Gram matrices over `rows` are the ones the selection keeps).
-fn same_span(a: &Candidate, b: &Candidate, rows: &Range<usize>) -> bool {
-    let plain = |c: &Candidate| {
-        c.variants.len() == 1
-            && c.variants[0].columns.bodies.is_empty()
-            && !c.variants[0].columns.nonneg
-    };
-    if !plain(a) || !plain(b) {
-        return false;
-    }
-    let (va, vb) = (&a.variants[0], &b.variants[0]);
-    let (x, y) = (&va.columns.cols, &vb.columns.cols);
-    if x.len() != y.len() {
-        return false;
-    }
-    let dot = |u: &[f64], v: &[f64]| rows.clone().map(|i| u[i] * v[i]).sum::<f64>();
-    let cross = DMatrix::from_fn(x.len(), y.len(), |i, j| dot(&x[i], &y[j]));
-    let (ga, gb) = (va.gram(rows), vb.gram(rows));
-    within_span(&ga, &gb, &cross) && within_span(&gb, &ga, &cross.transpose())
+/// A candidate's only variant, when it is a plain one.
+fn plain(c: &Candidate) -> Option<&Group> {
+    (c.variants.len() == 1 && !c.variants[0].group.constrained()).then(|| &c.variants[0].group)
 }
 
-/// Whether every column of Y lies within [`SAME_SPAN`] of the span of X's
-/// columns: `gx = XᵀX`, `gy = YᵀY` (row-major), `cross = XᵀY` (least
-/// squares through XᵀX; a singular one is not a span to compare).
-fn within_span(gx: &[f64], gy: &[f64], cross: &DMatrix<f64>) -> bool {
-    let (kx, ky) = cross.shape();
-    let g = DMatrix::from_row_slice(kx, kx, gx);
-    let Some(chol) = g.cholesky() else {
+fn same_span(a: &Candidate, b: &Candidate, store: &Store) -> bool {
+    let (Some(x), Some(y)) = (plain(a), plain(b)) else {
+        return false;
+    };
+    x.ids.len() == y.ids.len() && within(store, &x.ids, &y.ids) && within(store, &y.ids, &x.ids)
+}
+
+/// Whether candidate `c`'s only plain variant lies within the span of `law`.
+pub fn within_law(c: &Candidate, law: &Group, store: &Store) -> bool {
+    !law.ids.is_empty() && plain(c).is_some_and(|g| within(store, &law.ids, &g.ids))
+}
+
+/// Whether every column of `ys` lies within the span of `xs` (over all
+/// the data), but for [`SAME_SPAN`] of its squared norm.
+fn within(store: &Store, xs: &[usize], ys: &[usize]) -> bool {
+    let all = vec![true; store.folds()];
+    let ids: Vec<usize> = xs.iter().chain(ys).copied().collect();
+    let (g, _, _) = store.normal(&ids, &all);
+    let (kx, ky) = (xs.len(), ys.len());
+    let gx = DMatrix::from_fn(kx, kx, |i, j| g[(i, j)]);
+    let ridge = 1e-12 * (0..kx).map(|i| gx[(i, i)]).fold(0.0, f64::max);
+    let Some(chol) = (gx + DMatrix::identity(kx, kx) * ridge).cholesky() else {
         return false;
     };
     (0..ky).all(|j| {
-        let norm = gy[j * ky + j];
-        let b: DVector<f64> = cross.column(j).into_owned();
-        let explained = b.dot(&chol.solve(&b));
-        norm > 0.0 && norm - explained <= SAME_SPAN * norm
+        let norm = g[(kx + j, kx + j)];
+        let b = DVector::from_fn(kx, |i, _| g[(i, kx + j)]);
+        norm > 0.0 && norm - b.dot(&chol.solve(&b)) <= SAME_SPAN * norm
     })
 }
 
 #[cfg(test)]
 mod tests {
-    use super::merge_aliases;
+    use super::{merge_aliases, within_law};
     use crate::diagnose::candidate::Candidate;
+    use crate::diagnose::folds::Folds;
+    use crate::diagnose::refit::Group;
+    use crate::diagnose::store::Store;
     use crate::effects::{Hypothesis, Library};
 
-    fn candidate(name: &str, cols: Vec<Vec<f64>>) -> Candidate {
+    fn candidate(store: &mut Store, name: &str, cols: Vec<Vec<f64>>) -> Candidate {
         let lib = Library::builtin();
-        Candidate::new(lib.get(name).unwrap().clone(), Hypothesis::linear(cols)).unwrap()
+        Candidate::new(
+            lib.get(name).unwrap().clone(),
+            Hypothesis::linear(cols),
+            store,
+        )
+        .unwrap()
     }
 
-    /// `1` and `|sign q̇|` with the joint still on 3 of 400 samples are one
-    /// hypothesis; with it still on a quarter of them they are two, and so
-    /// are columns of another shape (a velocity).
     #[test]
     fn columns_with_one_span_are_offered_once() {
         let qd = |still: usize| -> Vec<f64> {
@@ -99,15 +101,19 @@ mod tests {
                 .map(|x| if *x == 0.0 { 0.0 } else { 1.0 })
                 .collect()
         };
+        let folds = Folds {
+            ranges: vec![0..200, 200..400],
+            fit: 1,
+            by_file: false,
+        };
+        let mut s = Store::new(vec![0.0; 400], 1, &folds);
         let one = vec![vec![1.0; 400]];
-        let merged = merge_aliases(
-            vec![
-                candidate("offset", one.clone()),
-                candidate("asymmetric_friction", vec![abs_sign(&qd(3))]),
-                candidate("viscous", vec![qd(0)]),
-            ],
-            &(0..400),
-        );
+        let cands = vec![
+            candidate(&mut s, "offset", one.clone()),
+            candidate(&mut s, "asymmetric_friction", vec![abs_sign(&qd(3))]),
+            candidate(&mut s, "viscous", vec![qd(0)]),
+        ];
+        let merged = merge_aliases(cands, &s);
         let names: Vec<_> = merged
             .iter()
             .map(|c| (c.name(), c.aliases.clone()))
@@ -116,14 +122,18 @@ mod tests {
             names,
             [("offset", vec!["asymmetric_friction"]), ("viscous", vec![])]
         );
-        let apart = merge_aliases(
-            vec![
-                candidate("offset", one),
-                candidate("asymmetric_friction", vec![abs_sign(&qd(100))]),
-            ],
-            &(0..400),
-        );
+        let apart = vec![
+            candidate(&mut s, "offset", one.clone()),
+            candidate(&mut s, "asymmetric_friction", vec![abs_sign(&qd(100))]),
+        ];
+        let apart = merge_aliases(apart, &s);
         assert_eq!(apart.len(), 2);
         assert!(apart.iter().all(|c| c.aliases.is_empty()));
+        // a law with an offset column has what the asymmetry adds here
+        let law = Group::plain(s.add_all(one));
+        let asym = candidate(&mut s, "asymmetric_friction", vec![abs_sign(&qd(3))]);
+        assert!(within_law(&asym, &law, &s));
+        let visc = candidate(&mut s, "viscous", vec![qd(0)]);
+        assert!(!within_law(&visc, &law, &s));
     }
 }

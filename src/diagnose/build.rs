@@ -1,66 +1,87 @@
 //! Building the candidates: every effect of the library that applies to
-//! the model and fits the memory plan proposes its hypothesis, built in
-//! parallel (the most expensive first) and returned in the library's order.
+//! the model, is not a term of the nominal friction law and fits the
+//! memory plan proposes its hypothesis, built in parallel (the most
+//! expensive first); their columns go into the store in the library's
+//! order.
 
-use super::alias::merge_aliases;
+use super::alias::{merge_aliases, within_law};
 use super::candidate::Candidate;
+use super::law::Law;
+use super::store::Store;
 use super::warning::DiagnoseWarning;
 use crate::effects::{Context, Effect, EffectError, Hypothesis, Library};
-use std::ops::Range;
 use std::sync::{Arc, OnceLock};
 
-/// One effect's candidate (none if it proposes nothing), or why not.
-type Built = Result<Option<Candidate>, EffectError>;
+/// One effect's hypothesis, or why not.
+type Built = Result<Hypothesis, EffectError>;
 
-/// The candidates of `library` for the data of `cx`, leaving out the
-/// effects `left_out` (by the memory plan) and, with a warning each, those
-/// that do not apply to the model or whose hypothesis cannot be built.
-/// Every variant's Gram matrix over `train` is computed while the cores are
-/// free. Candidates with one span are merged ([`merge_aliases`]).
-pub fn candidates(
+/// Why an effect that is one of the nominal law's terms is not proposed.
+const IN_LAW: &str = "not proposed: the nominal model's friction law has this term, whose coefficients are refit with the law";
+/// Why a hypothesis within the law's span is not proposed.
+const LAW_SPAN: &str = "not proposed: on these data its columns lie within those of the nominal friction law, refit with the law";
+
+/// The effects of `library` the diagnosis proposes for `cx`: not those
+/// `left_out` (by the memory plan), and with a warning each not those that
+/// do not apply to the model or are terms of `law`.
+fn proposed(
     library: &Library,
     cx: &Context,
     left_out: &[&str],
-    train: &Range<usize>,
+    law: &Law,
     warnings: &mut Vec<DiagnoseWarning>,
-) -> Vec<Candidate> {
-    let mut proposed: Vec<Arc<dyn Effect>> = vec![];
+) -> Vec<Arc<dyn Effect>> {
+    let mut out = vec![];
     for e in library.effects() {
         if left_out.contains(&e.name()) {
             continue;
         }
-        match e.inapplicable(cx.model) {
+        let why = match e.inapplicable(cx.model) {
+            Some(why) => Some(why),
+            None => (e.law_term()).and_then(|t| law.terms.contains(&t).then_some(IN_LAW)),
+        };
+        match why {
             Some(why) => warnings.push(DiagnoseWarning::NotProposed {
                 effect: e.name().into(),
                 reason: why.into(),
             }),
-            None => proposed.push(e.clone()),
+            None => out.push(e.clone()),
         }
     }
+    out
+}
+
+/// The candidates of `library` for the data of `cx` ([`proposed`]), their
+/// columns added to `store`; with a warning each, those whose hypothesis
+/// cannot be built or lies within the law's span. Candidates with one span
+/// are merged ([`merge_aliases`]).
+pub fn candidates(
+    library: &Library,
+    cx: &Context,
+    (left_out, law): (&[&str], &Law),
+    store: &mut Store,
+    warnings: &mut Vec<DiagnoseWarning>,
+) -> Vec<Candidate> {
+    let proposed = proposed(library, cx, left_out, law, warnings);
     // what several hypotheses share, computed with every core first
     proposed.iter().for_each(|e| e.prepare(cx));
-    let build = |e: &Arc<dyn Effect>| -> Built {
-        let h: Hypothesis = e.hypothesis(cx)?;
-        // the Gram matrices the selection rounds reuse, while cores are free
-        Ok(Candidate::new(e.clone(), h).inspect(|c| c.warm_gram(train)))
-    };
-    let nothing = "its hypothesis has no columns for these data";
-    let built = build_all(&proposed, build);
+    let built = build_all(&proposed, |e| e.hypothesis(cx));
     let mut out = vec![];
     for (e, b) in proposed.iter().zip(built) {
-        match b {
-            Ok(Some(c)) => out.push(c),
-            Ok(None) => warnings.push(DiagnoseWarning::NotBuilt {
-                effect: e.name().into(),
-                reason: nothing.into(),
-            }),
-            Err(err) => warnings.push(DiagnoseWarning::NotBuilt {
-                effect: e.name().into(),
-                reason: err.to_string(),
-            }),
-        }
+        let why = match b.map(|h| Candidate::new(e.clone(), h, store)) {
+            Ok(Some(c)) if within_law(&c, &law.group, store) => LAW_SPAN.to_string(),
+            Ok(Some(c)) => {
+                out.push(c);
+                continue;
+            }
+            Ok(None) => "its hypothesis has no columns for these data".into(),
+            Err(err) => err.to_string(),
+        };
+        warnings.push(DiagnoseWarning::NotBuilt {
+            effect: e.name().into(),
+            reason: why,
+        });
     }
-    merge_aliases(out, train)
+    merge_aliases(out, store)
 }
 
 /// `build` of every effect, in parallel, returned in `proposed`'s order;

@@ -1,75 +1,21 @@
 //! A candidate of the diagnosis: one effect of the library with its
-//! hypothesis' variants, each keeping its Gram matrix `XᵀX` over the rows
-//! first asked for (the selection fits every round on the training rows;
-//! only the residual changes).
+//! hypothesis' variants, each a [`Group`] of columns in the [`Store`] with
+//! the constraints its fit keeps (an inertial correction's LMIs, a
+//! payload's own pseudo-inertia).
 
+use super::refit::Group;
+use super::store::Store;
 use crate::effects::{Columns, Effect, Hypothesis};
-use std::borrow::Cow;
-use std::ops::Range;
-use std::sync::{Arc, OnceLock};
+use std::sync::Arc;
 
-/// One variant's columns, their kept Gram matrices and the joint each
-/// column lies in.
+/// One variant: what the effect says of it, and its columns.
 pub struct Variant {
-    /// The columns.
+    /// Its description (its columns' values moved to the store).
     pub columns: Columns,
-    /// Gram matrices of the first two row ranges asked for (the training
-    /// rows, and the first part of them the joints are screened on).
-    gram: [OnceLock<(Range<usize>, Vec<f64>)>; 2],
-    joints: OnceLock<Option<Vec<usize>>>,
-}
-
-impl Variant {
-    /// A variant with no Gram matrix yet.
-    pub fn new(columns: Columns) -> Self {
-        Self {
-            columns,
-            gram: [OnceLock::new(), OnceLock::new()],
-            joints: OnceLock::new(),
-        }
-    }
-
-    /// `XᵀX` of the columns over `rows` (k × k, row-major): kept for the
-    /// first two row ranges asked for, computed afresh for others.
-    pub fn gram(&self, rows: &Range<usize>) -> Cow<'_, [f64]> {
-        for slot in &self.gram {
-            let (at, g) = slot.get_or_init(|| (rows.clone(), gram_of(&self.columns.cols, rows)));
-            if at == rows {
-                return Cow::Borrowed(g);
-            }
-        }
-        Cow::Owned(gram_of(&self.columns.cols, rows))
-    }
-
-    /// The joint each column lies in (every nonzero value in that joint's
-    /// rows, `n` joints, sample-major), or `None` when a column spans
-    /// several joints (or none).
-    pub fn column_joints(&self, n: usize) -> Option<&[usize]> {
-        self.joints
-            .get_or_init(|| {
-                let one = |c: &Vec<f64>| {
-                    let mut rows = c.iter().enumerate().filter(|(_, x)| **x != 0.0);
-                    let j = rows.next()?.0 % n;
-                    rows.all(|(i, _)| i % n == j).then_some(j)
-                };
-                self.columns.cols.iter().map(one).collect()
-            })
-            .as_deref()
-    }
-}
-
-/// `XᵀX` of `cols` over `rows`, row-major.
-fn gram_of(cols: &[Vec<f64>], rows: &Range<usize>) -> Vec<f64> {
-    let k = cols.len();
-    let mut g = vec![0.0; k * k];
-    for a in 0..k {
-        for c in a..k {
-            let v: f64 = rows.clone().map(|i| cols[a][i] * cols[c][i]).sum();
-            g[a * k + c] = v;
-            g[c * k + a] = v;
-        }
-    }
-    g
+    /// Its columns and constraints.
+    pub group: Group,
+    /// The joint each column lies in, if one.
+    pub col_joints: Vec<Option<usize>>,
 }
 
 /// An effect and its variants.
@@ -88,12 +34,39 @@ pub struct Candidate {
 }
 
 impl Candidate {
-    /// The candidate of `effect`'s hypothesis; `None` when it proposes
-    /// nothing.
-    pub fn new(effect: Arc<dyn Effect>, h: Hypothesis) -> Option<Self> {
-        (!h.variants.is_empty()).then(|| Self {
+    /// The candidate of `effect`'s hypothesis, its columns moved into
+    /// `store`; `None` when it proposes nothing.
+    pub fn new(effect: Arc<dyn Effect>, h: Hypothesis, store: &mut Store) -> Option<Self> {
+        if h.variants.is_empty() {
+            return None;
+        }
+        let variants = (h.variants.into_iter())
+            .map(|mut columns| {
+                let cols = std::mem::take(&mut columns.cols);
+                let stated = columns.joints.len() == cols.len();
+                let ids: Vec<usize> = (cols.into_iter().enumerate())
+                    .map(|(a, c)| match stated {
+                        true => store.add_in(c, columns.joints[a]),
+                        false => store.add(c),
+                    })
+                    .collect();
+                let col_joints = ids.iter().map(|&id| store.col(id).joint).collect();
+                let group = Group {
+                    ids,
+                    bodies: columns.bodies.clone(),
+                    nonneg: columns.nonneg,
+                    lower: None,
+                };
+                Variant {
+                    columns,
+                    group,
+                    col_joints,
+                }
+            })
+            .collect();
+        Some(Self {
             effect,
-            variants: h.variants.into_iter().map(Variant::new).collect(),
+            variants,
             open_low: h.open_low,
             open_high: h.open_high,
             aliases: vec![],
@@ -105,10 +78,28 @@ impl Candidate {
         self.effect.name()
     }
 
-    /// Computes and keeps every variant's Gram matrix over `rows`.
-    pub fn warm_gram(&self, rows: &Range<usize>) {
-        for v in &self.variants {
-            v.gram(rows);
-        }
+    /// Whether its fit separates by joint: every variant unconstrained
+    /// with every column in one joint's rows.
+    pub fn per_joint(&self) -> bool {
+        self.variants
+            .iter()
+            .all(|v| !v.group.constrained() && v.col_joints.iter().all(Option::is_some))
+    }
+
+    /// Each variant's group with only the columns of `joints`.
+    pub fn restricted(&self, joints: &[usize]) -> Vec<Group> {
+        (self.variants.iter())
+            .map(|v| {
+                let keep: Vec<usize> = (0..v.col_joints.len())
+                    .filter(|&a| v.col_joints[a].is_some_and(|j| joints.contains(&j)))
+                    .collect();
+                v.group.only(&keep)
+            })
+            .collect()
+    }
+
+    /// Its variants' groups.
+    pub fn groups(&self) -> Vec<Group> {
+        self.variants.iter().map(|v| v.group.clone()).collect()
     }
 }

@@ -63,6 +63,9 @@ pub enum DiagnoseError {
     /// The nominal model's prediction failed.
     #[error("the nominal model's torques: {0}")]
     Predict(#[source] DynamicsError),
+    /// The fitted effects of a model could not be applied.
+    #[error("the model's fitted effects: {0}")]
+    Effects(#[source] crate::effects::EffectError),
     /// The regressor failed at a sample.
     #[error("the regressor at sample {sample}: {source}")]
     Regressor {
@@ -79,6 +82,15 @@ pub enum DiagnoseError {
     /// dynamics failed.
     #[error("floating base: {0}")]
     Floating(String),
+    /// A fit the diagnosis cannot do without failed.
+    #[error("{what}: {source}")]
+    Fit {
+        /// Which fit.
+        what: &'static str,
+        /// Why.
+        #[source]
+        source: FitError,
+    },
 }
 
 /// Why one candidate's fit failed (the candidate is then skipped, with a warning).

@@ -1,99 +1,249 @@
-//! Forward selection: each round scores every candidate not yet accepted
-//! against the current residual and accepts the chosen one (updating the
-//! residual) until nothing is significant.
+//! Forward selection: each round cross-validates the current model (the
+//! nominal friction law refit, with the effects accepted so far refit with
+//! it), scores every candidate not yet accepted against it, and accepts
+//! the one [`choose`] picks among those the rule accepts, until none is.
 
 use super::candidate::Candidate;
-use super::options::DiagnoseOptions;
+use super::choose::choose;
+use super::cv::{Cv, cross_validate, sse, sse_on};
+use super::error::FitError;
+use super::folds::Folds;
+use super::refit::Group;
 use super::report::EffectReport;
-use super::select::{Evaluation, choose, evaluate};
-use super::split::Split;
+use super::rule::Rule;
+use super::score::{Evaluation, Round};
+use super::store::Store;
 use super::warning::DiagnoseWarning;
 use crate::data::rms_per_joint;
 use rayon::prelude::*;
+
+/// An accepted effect.
+#[derive(Clone, Debug)]
+pub struct Accepted {
+    /// Its candidate.
+    pub candidate: usize,
+    /// The variant the whole data chose.
+    pub variant: usize,
+    /// Its columns on the joints kept, with its constraints.
+    pub group: Group,
+}
 
 /// What the selection ends with.
 pub struct Selected {
     /// Every round's reports, the accepted one first in its round.
     pub ranked: Vec<EffectReport>,
     /// The accepted effects, in order.
-    pub accepted: Vec<String>,
-    /// The residual with them (sample-major).
-    pub residual: Vec<f64>,
+    pub accepted: Vec<Accepted>,
 }
 
-/// Forward selection over `candidates` from the residual `r`.
+/// The selection's fixed inputs.
+pub struct Setup<'a> {
+    /// The columns.
+    pub store: &'a Store,
+    /// The folds.
+    pub folds: &'a Folds,
+    /// The nominal friction law's group.
+    pub law: &'a Group,
+    /// The candidates.
+    pub candidates: &'a [Candidate],
+    /// Joint names.
+    pub names: &'a [String],
+    /// The noise floor per joint.
+    pub floor: &'a [f64],
+    /// Whether it is the repeatability of repeated runs.
+    pub repeats: bool,
+    /// At most this many effects.
+    pub max_effects: usize,
+    /// Blocks of the block bootstrap.
+    pub blocks: usize,
+    /// The nominal model (for the sizes' names).
+    pub model: &'a crate::dynamics::Model,
+}
+
+/// Forward selection over the candidates.
 pub fn forward_selection(
-    candidates: &[Candidate],
-    mut r: Vec<f64>,
-    split: &Split,
-    opts: &DiagnoseOptions,
-    names: &[String],
+    s: &Setup,
     warnings: &mut Vec<DiagnoseWarning>,
-) -> Selected {
-    let mut ranked = vec![];
-    let mut accepted: Vec<String> = vec![];
-    for round in 1..=opts.max_effects() {
-        let before = rms_per_joint(&r[split.heldout.clone()], split.joints);
-        let mut evals = score(
-            candidates,
-            &accepted,
-            (split, &r),
-            (round, opts.blocks()),
-            names,
-            warnings,
-        );
-        let Some((chosen, tied)) = choose(&mut evals, &before) else {
-            ranked.extend(evals.into_iter().map(|e| e.report));
+) -> Result<Selected, FitError> {
+    let mut out = Selected {
+        ranked: vec![],
+        accepted: vec![],
+    };
+    for number in 1..=s.max_effects {
+        let round = round(s, &out.accepted, number)?;
+        let mut evals = score(s, &round, &out.accepted, warnings);
+        let choice = choose(&evals);
+        let mut reports: Vec<EffectReport> = evals.iter().map(|e| report(s, &round, e)).collect();
+        let Some((chosen, tied)) = choice else {
+            out.ranked.extend(reports);
             break;
         };
-        let tied_names = tied
-            .iter()
-            .map(|&j| evals[j].report.effect.clone())
-            .collect();
-        let e = &mut evals[chosen];
-        if let Some(why) = &e.report.implausible {
+        let names: Vec<String> = tied.iter().map(|&j| reports[j].effect.clone()).collect();
+        let r = &mut reports[chosen];
+        r.accepted = true;
+        r.tied_with = names;
+        if let Some(why) = &r.implausible {
             warnings.push(DiagnoseWarning::AcceptedDoubtful {
-                round,
-                effect: e.report.effect.clone(),
+                round: number,
+                effect: r.effect.clone(),
                 why: why.clone(),
             });
         }
-        e.report.accepted = true;
-        e.report.tied_with = tied_names;
-        r = e.after.clone();
-        accepted.push(e.report.effect.clone());
-        ranked.push(e.report.clone());
-        ranked.extend(
-            evals
-                .into_iter()
-                .enumerate()
-                .filter(|(j, _)| *j != chosen)
-                .map(|(_, e)| e.report),
-        );
+        let e = evals.swap_remove(chosen);
+        out.accepted.push(Accepted {
+            candidate: e.candidate,
+            group: e.groups[e.variant].clone(),
+            variant: e.variant,
+        });
+        out.ranked.push(reports.swap_remove(chosen));
+        out.ranked.extend(reports);
+        backward(s, &mut out, number)?;
     }
-    Selected {
-        ranked,
-        accepted,
-        residual: r,
-    }
+    Ok(out)
 }
 
-/// Every candidate not yet accepted, scored in parallel against `r`; the
-/// warnings kept in the candidates' order.
+/// Backward elimination after round `number`: an effect accepted earlier
+/// that the rule no longer accepts beside the later ones — refit with
+/// them, it no longer lowers every fold's error by enough (a torque gain
+/// on two joints that a payload accepted after it explains on every
+/// joint) — is removed, its report saying why; repeated until none is.
+fn backward(s: &Setup, out: &mut Selected, number: usize) -> Result<(), FitError> {
+    while out.accepted.len() > 1 {
+        let with = cross_validate(s.store, s.folds, &base(s.law, &out.accepted), &[])?;
+        let mut drop = None;
+        for idx in 0..out.accepted.len() - 1 {
+            let mut others = out.accepted.clone();
+            let a = others.remove(idx);
+            let round = round(s, &others, number)?;
+            let c = &s.candidates[a.candidate];
+            let params = a.group.ids.len() + c.variants[a.variant].columns.nonlinear;
+            let scores = round.scores(&with, joints_of(c, &a, s.store.joints()));
+            if let Err(why) = round.rule.verdict(&scores, params, s.folds, s.names) {
+                drop = Some((idx, why));
+                break;
+            }
+        }
+        let Some((idx, why)) = drop else {
+            return Ok(());
+        };
+        let a = out.accepted.remove(idx);
+        let name = s.candidates[a.candidate].name();
+        if let Some(r) = out
+            .ranked
+            .iter_mut()
+            .find(|r| r.accepted && r.effect == name)
+        {
+            r.accepted = false;
+            r.removed = Some(format!(
+                "removed after round {number}, refit with the effects accepted after it: {why}"
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The joints an accepted effect is kept on.
+fn joints_of(c: &Candidate, a: &Accepted, n: usize) -> Vec<usize> {
+    let v = &c.variants[a.variant];
+    if !c.per_joint() {
+        return (0..n).collect();
+    }
+    let mut j: Vec<usize> = (a.group.ids.iter())
+        .filter_map(|id| v.group.ids.iter().position(|x| x == id))
+        .filter_map(|p| v.col_joints[p])
+        .collect();
+    j.sort_unstable();
+    j.dedup();
+    j
+}
+
+/// The groups of the current model: the law and the accepted effects.
+pub fn base<'a>(law: &'a Group, accepted: &'a [Accepted]) -> Vec<&'a Group> {
+    std::iter::once(law)
+        .chain(accepted.iter().map(|a| &a.group))
+        .collect()
+}
+
+/// Round `number`: the current model cross-validated, the rule's
+/// thresholds for it, and every pair of columns its fits need kept.
+fn round<'a>(s: &'a Setup, accepted: &'a [Accepted], number: usize) -> Result<Round<'a>, FitError> {
+    let base = base(s.law, accepted);
+    let ids: Vec<usize> = base.iter().flat_map(|g| g.ids.iter().copied()).collect();
+    let pairs = (s.candidates.iter())
+        .flat_map(|c| c.variants.iter())
+        .flat_map(|v| {
+            let own = v
+                .group
+                .ids
+                .iter()
+                .flat_map(|&a| v.group.ids.iter().map(move |&b| (a, b)));
+            let with = v
+                .group
+                .ids
+                .iter()
+                .flat_map(|&a| ids.iter().map(move |&b| (a, b)));
+            own.chain(with).collect::<Vec<_>>()
+        })
+        .chain(ids.iter().flat_map(|&a| ids.iter().map(move |&b| (a, b))));
+    s.store.prepare(pairs);
+    let without: Cv = cross_validate(s.store, s.folds, &base, &[])?;
+    let inner_without = inner(s, &base)?;
+    let n = s.store.joints();
+    let sse_without = sse(s.folds, n, &without.resid);
+    let mse = rms_per_joint(&without.resid, n)
+        .iter()
+        .map(|x| x * x)
+        .collect::<Vec<_>>();
+    Ok(Round {
+        number,
+        store: s.store,
+        folds: s.folds,
+        base,
+        rule: Rule::new(s.floor, s.repeats, &mse),
+        without,
+        sse_without,
+        names: s.names,
+        blocks: s.blocks,
+        inner_without,
+    })
+}
+
+/// `[k][j][joint]`: `base` fitted on the folds but j and k, its sum of
+/// squares on fold j (empty for j = k).
+fn inner(s: &Setup, base: &[&Group]) -> Result<Vec<Vec<Vec<f64>>>, FitError> {
+    let ids: Vec<usize> = base.iter().flat_map(|g| g.ids.iter().copied()).collect();
+    let k = s.folds.len();
+    (0..k)
+        .map(|out| {
+            (0..k)
+                .map(|j| {
+                    if j == out {
+                        return Ok(vec![]);
+                    }
+                    let on: Vec<bool> = (0..k).map(|x| x != j && x != out).collect();
+                    let f = super::cv::fit_with(s.store, base, None, &on)?;
+                    Ok(sse_on(s.store, &ids, &f.beta, s.folds.ranges[j].clone()))
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// Every candidate not yet accepted, scored in parallel; the warnings kept
+/// in the candidates' order.
 fn score(
-    candidates: &[Candidate],
-    accepted: &[String],
-    (split, r): (&Split, &[f64]),
-    round_blocks: (usize, usize),
-    names: &[String],
+    s: &Setup,
+    round: &Round,
+    accepted: &[Accepted],
     warnings: &mut Vec<DiagnoseWarning>,
 ) -> Vec<Evaluation> {
-    let scored: Vec<(Option<Evaluation>, Vec<DiagnoseWarning>)> = candidates
-        .par_iter()
-        .filter(|c| !accepted.iter().any(|a| a == c.name()))
-        .map(|c| {
+    let taken = |j: usize| accepted.iter().any(|a| a.candidate == j);
+    let scored: Vec<(Option<Evaluation>, Vec<DiagnoseWarning>)> = (0..s.candidates.len())
+        .into_par_iter()
+        .filter(|&j| !taken(j))
+        .map(|j| {
             let mut w = vec![];
-            (evaluate(c, split, r, round_blocks, names, &mut w), w)
+            (round.evaluate(&s.candidates[j], j, &mut w), w)
         })
         .collect();
     let mut evals = vec![];
@@ -102,4 +252,77 @@ fn score(
         evals.extend(e);
     }
     evals
+}
+
+/// The report of one evaluation (not yet accepted).
+fn report(s: &Setup, round: &Round, e: &Evaluation) -> EffectReport {
+    let c = &s.candidates[e.candidate];
+    let v = &c.variants[e.variant];
+    let n = s.store.joints();
+    let beta = full_beta(v, &e.groups[e.variant], &e.beta);
+    EffectReport {
+        effect: c.name().to_string(),
+        detail: c.effect.detail(&v.columns, &beta),
+        fitted: (c.effect.fitted(&v.columns, &beta).into_iter())
+            .map(|(k, x)| (k.to_string(), x))
+            .collect(),
+        round: round.number,
+        joints: e
+            .scores
+            .joints
+            .iter()
+            .map(|&i| s.names[i].clone())
+            .collect(),
+        params: e.params,
+        heldout_rms_nominal: rms_per_joint(s.store.residual(), n),
+        heldout_rms_before: rms_per_joint(&round.without.resid, n),
+        heldout_rms_after: rms_per_joint(&e.cv.resid, n),
+        fold_gains: e.scores.fold_gains.clone(),
+        z: e.scores.z,
+        accepted: false,
+        rule: match &e.verdict {
+            Ok(why) => why.clone(),
+            Err(why) => format!("not accepted: {why}"),
+        },
+        tied_with: vec![],
+        same_as: c.aliases.iter().map(|a| a.to_string()).collect(),
+        implausible: super::implausible::implausible(c, e.variant, &beta, s.names),
+        sizes: point_sizes(c, e.variant, &beta, s),
+        removed: None,
+    }
+}
+
+/// The sizes of variant `at` of `c` at `beta` (one per column of the
+/// variant), without intervals.
+fn point_sizes(
+    c: &Candidate,
+    at: usize,
+    beta: &[f64],
+    s: &Setup,
+) -> Vec<super::report::SizeReport> {
+    let v = &c.variants[at];
+    let cx = crate::effects::SizeContext {
+        model: s.model,
+        col_joints: &v.col_joints,
+    };
+    (c.effect.sizes(&v.columns, beta, &cx).into_iter())
+        .map(|z| super::report::SizeReport {
+            name: z.name,
+            unit: z.unit,
+            value: z.value,
+            low: z.value,
+            high: z.value,
+        })
+        .collect()
+}
+
+/// The coefficients of every column of variant `v`, from those of `group`
+/// (its columns on the joints kept; the others 0).
+pub fn full_beta(v: &super::candidate::Variant, group: &Group, beta: &[f64]) -> Vec<f64> {
+    (v.group.ids.iter())
+        .map(|id| {
+            (group.ids.iter().position(|g| g == id))
+                .map_or(0.0, |p| beta.get(p).copied().unwrap_or(0.0))
+        })
+        .collect()
 }

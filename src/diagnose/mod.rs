@@ -21,18 +21,29 @@
 mod alias;
 mod build;
 mod candidate;
-mod carry;
+mod choose;
+mod conclude;
+mod cv;
 mod error;
-mod fit;
+mod final_fit;
 pub mod floating;
 pub mod floor;
+pub mod folds;
 mod forward;
+mod heldout;
+mod implausible;
+mod law;
 mod memory;
+mod model_out;
 mod options;
+mod reestimate;
+mod refine;
+mod refit;
 mod report;
-mod screen;
-mod select;
+pub mod rule;
+mod score;
 mod split;
+mod store;
 mod warning;
 pub mod where_;
 
@@ -40,62 +51,22 @@ pub use error::{DiagnoseError, FitError};
 pub use floor::{FloorSource, NoiseFloor};
 pub use memory::{MemoryEstimate, OptionalGroup, memory_estimate};
 pub use options::{DEFAULT_MAX_MEMORY_BYTES, DiagnoseOptions};
-pub use report::{Diagnosis, EffectReport, HeldOut};
+pub use report::{Diagnosis, EffectReport, HeldOut, Reestimate, SizeReport};
 pub use warning::DiagnoseWarning;
 
 use crate::data::Dataset;
-use crate::data::rms_per_joint;
-use crate::dynamics::predict::predict_torques;
+use crate::dynamics::params_file::FittedEffect;
 use crate::dynamics::{Friction, Model};
 use crate::effects::Context;
+use folds::Folds;
+use heldout::{residual_of, where_of};
+use law::Law;
 use split::Split;
-use where_::{JointWhere, Sampling, analyse_joint, summarise};
+use store::Store;
+use where_::JointWhere;
 
 /// The fewest samples a diagnosis takes.
 pub const MIN_SAMPLES: usize = 100;
-
-/// Samples per second within the segments: one over the median step
-/// between samples of one segment (a gap between files is not a step).
-fn sampling_rate(data: &Dataset) -> f64 {
-    let mut steps: Vec<f64> = (data.segment_ranges().into_iter())
-        .flat_map(|s| {
-            data.t[s]
-                .windows(2)
-                .map(|w| w[1] - w[0])
-                .collect::<Vec<_>>()
-        })
-        .collect();
-    if steps.is_empty() {
-        return 1.0;
-    }
-    let mid = steps.len() / 2;
-    let (_, m, _) = steps.select_nth_unstable_by(mid, f64::total_cmp);
-    1.0 / *m
-}
-
-/// The where-analysis of every joint's held-out residual.
-fn where_of(split: &Split, data: &Dataset, r: &[f64]) -> Vec<JointWhere> {
-    let val = data.slice(split.first_heldout..split.samples);
-    let segments = val.segment_ranges();
-    let sampling = Sampling {
-        fs: sampling_rate(data),
-        segments: &segments,
-    };
-    (0..split.joints)
-        .map(|i| {
-            let col = |v: &crate::dynamics::Samples| v.column(i);
-            analyse_joint(
-                &data.joints[i],
-                &split.heldout_of(r, i),
-                &col(&val.q),
-                &col(&val.qd),
-                &col(&val.qdd),
-                &col(&val.tau),
-                &sampling,
-            )
-        })
-        .collect()
-}
 
 /// The noise floor given in `opts` (one per joint, else an error), else
 /// the residual's first differences, naming the joints where they are a
@@ -121,38 +92,6 @@ fn noise_floor(opts: &DiagnoseOptions, where_: &[JointWhere]) -> Result<NoiseFlo
                 .collect(),
         },
     })
-}
-
-/// Share of the gap above the noise floor closed, per joint, in [0, 1]
-/// (1 where the nominal model is already at the floor).
-fn gap_closed(nominal: &[f64], last: &[f64], floor: &[f64]) -> Vec<f64> {
-    (0..nominal.len())
-        .map(|i| {
-            if nominal[i] > floor[i] {
-                ((nominal[i] - last[i]) / (nominal[i] - floor[i])).clamp(0.0, 1.0)
-            } else {
-                1.0
-            }
-        })
-        .collect()
-}
-
-/// The held-out signals and residuals, per joint, for plots.
-fn held_out(split: &Split, data: &Dataset, nominal: &[f64], after: &[f64]) -> HeldOut {
-    let val = data.slice(split.first_heldout..split.samples);
-    let n = split.joints;
-    let per_joint = |r: &[f64]| (0..n).map(|i| split.heldout_of(r, i)).collect();
-    HeldOut {
-        t: val.t.clone(),
-        q: (0..n)
-            .map(|i| val.q.iter().map(|x| x[i]).collect())
-            .collect(),
-        qd: (0..n)
-            .map(|i| val.qd.iter().map(|x| x[i]).collect())
-            .collect(),
-        nominal: per_joint(nominal),
-        after: per_joint(after),
-    }
 }
 
 /// Checks that `data` can be diagnosed against `model`: enough samples
@@ -182,85 +121,74 @@ fn check_data(model: &Model, data: &Dataset) -> Result<(), DiagnoseError> {
     Ok(())
 }
 
-/// The nominal model's residual `τ − τ̂`, sample-major.
-fn nominal_residual(
-    model: &Model,
-    friction: &Friction,
-    data: &Dataset,
-) -> Result<Vec<f64>, DiagnoseError> {
-    let pred = predict_torques(model, friction, &data.q, &data.qd, &data.qdd)
-        .map_err(DiagnoseError::Predict)?;
-    Ok(data
-        .tau
-        .iter()
-        .flatten()
-        .zip(pred.iter().flatten())
-        .map(|(a, b)| a - b)
-        .collect())
-}
-
 /// Diagnoses `data` against the nominal `model` + `friction` with the
 /// effects of `opts.library()`: where the gap lies, which effects explain
-/// it (forward selection), how far they close it.
+/// it (forward selection over cross-validated refits: each candidate with
+/// the nominal friction law and the effects accepted before it), how far
+/// they close it on the held-out part, and their sizes.
 pub fn diagnose(
     model: &Model,
     friction: &Friction,
     data: &Dataset,
     opts: &DiagnoseOptions,
 ) -> Result<Diagnosis, DiagnoseError> {
+    diagnose_with((model, friction, &[]), data, opts)
+}
+
+/// [`diagnose`] of a nominal model with fitted effects (a model file a
+/// diagnosis wrote): they are part of the nominal model, held as they are
+/// like its bodies, and carried into the diagnosis' model.
+pub fn diagnose_with(
+    nominal: (&Model, &Friction, &[FittedEffect]),
+    data: &Dataset,
+    opts: &DiagnoseOptions,
+) -> Result<Diagnosis, DiagnoseError> {
+    let (model, friction, _) = nominal;
     check_data(model, data)?;
     let n = model.dof();
     let mut warnings = vec![];
     let est = memory_estimate(opts.library(), model, data.len());
     let left_out = memory::plan(&est, opts.max_memory(), &mut warnings)?;
-    let split = Split::new(data.len(), n, opts.train_fraction());
-    let r_nominal = nominal_residual(model, friction, data)?;
+    let folds = Folds::new(data, opts.folds(), opts.train_fraction());
+    let split = Split::at(data.len(), n, folds.first_heldout());
+    let r_nominal = residual_of(nominal, data, opts.library())?;
     let where_nominal = where_of(&split, data, &r_nominal);
     let floor = noise_floor(opts, &where_nominal)?;
-    let noise_floor = floor.per_joint.clone();
-    let nominal = rms_per_joint(&r_nominal[split.heldout.clone()], n);
-    let cx = Context::new(model, friction, data, &r_nominal, split.first_heldout);
-    let library = build::candidates(opts.library(), &cx, &left_out, &split.train, &mut warnings);
-    let selected = forward::forward_selection(
-        &library,
-        r_nominal.clone(),
-        &split,
-        opts,
-        &data.joints,
+    let mut store = Store::new(r_nominal.clone(), n, &folds);
+    let law = Law::new(model, friction, data, &mut store).map_err(DiagnoseError::Predict)?;
+    let cx = Context::new(model, friction, data, &r_nominal, folds.first_heldout());
+    let candidates = build::candidates(
+        opts.library(),
+        &cx,
+        (&left_out, &law),
+        &mut store,
         &mut warnings,
     );
-    let r = &selected.residual;
-    let final_rms = rms_per_joint(&r[split.heldout.clone()], n);
-    let numbers = [&nominal, &final_rms, &noise_floor];
-    if let Some(k) = numbers
-        .iter()
-        .position(|v| !v.iter().all(|x| x.is_finite()))
-    {
-        return Err(DiagnoseError::NonFinite {
-            what: ["the nominal RMS", "the final RMS", "the noise floor"][k],
-        });
+    let setup = forward::Setup {
+        store: &store,
+        folds: &folds,
+        law: &law.group,
+        candidates: &candidates,
+        names: &data.joints,
+        floor: &floor.per_joint,
+        repeats: matches!(floor.source, FloorSource::Repeats { .. }),
+        max_effects: opts.max_effects(),
+        blocks: opts.blocks(),
+        model,
+    };
+    let selected =
+        forward::forward_selection(&setup, &mut warnings).map_err(|source| DiagnoseError::Fit {
+            what: "the selection",
+            source,
+        })?;
+    conclude::Conclude {
+        setup: &setup,
+        law: &law,
+        data,
+        split: &split,
+        nominal,
+        r_nominal: &r_nominal,
+        library: opts.library(),
     }
-    let unexplained: Vec<usize> = (0..n)
-        .filter(|&i| final_rms[i] > 1.15 * noise_floor[i] && final_rms[i] - noise_floor[i] > 0.05)
-        .collect();
-    let where_final = where_of(&split, data, r);
-    Ok(Diagnosis {
-        joints: data.joints.clone(),
-        summary: where_nominal.iter().map(summarise).collect(),
-        where_: where_nominal,
-        ranked_effects: selected.ranked,
-        accepted: selected.accepted,
-        gap_closed: gap_closed(&nominal, &final_rms, &noise_floor),
-        heldout_rms_nominal: nominal,
-        heldout_rms_final: final_rms,
-        noise_floor,
-        noise_floor_source: floor.source,
-        unexplained: !unexplained.is_empty(),
-        unexplained_where: unexplained
-            .iter()
-            .map(|&i| summarise(&where_final[i]))
-            .collect(),
-        warnings,
-        heldout: held_out(&split, data, &r_nominal, r),
-    })
+    .report(selected, where_nominal, floor.clone(), warnings)
 }

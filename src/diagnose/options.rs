@@ -14,6 +14,7 @@ pub struct DiagnoseOptions {
     max_memory_bytes: u64,
     library: Library,
     noise_floor: Option<NoiseFloor>,
+    folds: usize,
 }
 
 /// The memory a diagnosis may plan for by default (8 GiB).
@@ -30,6 +31,7 @@ impl Default for DiagnoseOptions {
             max_memory_bytes: DEFAULT_MAX_MEMORY_BYTES,
             library: Library::builtin(),
             noise_floor: None,
+            folds: super::folds::TIME_FOLDS,
         }
     }
 }
@@ -82,9 +84,28 @@ impl DiagnoseOptions {
         self.max_effects
     }
 
-    /// Blocks of the held-out block test.
+    /// Blocks of the block bootstrap over the cross-validated residual.
     pub fn blocks(&self) -> usize {
         self.blocks
+    }
+
+    /// Folds of time (2 … 50) when the data are one file (several files
+    /// are folds one each, [`super::folds::Folds`]); 5 by default.
+    pub fn with_folds(mut self, folds: usize) -> Result<Self, DiagnoseError> {
+        if !(2..=50).contains(&folds) {
+            return Err(DiagnoseError::Option {
+                option: "folds",
+                value: folds as f64,
+                message: "must be in 2 … 50",
+            });
+        }
+        self.folds = folds;
+        Ok(self)
+    }
+
+    /// Folds of time of one file.
+    pub fn folds(&self) -> usize {
+        self.folds
     }
 
     /// The memory the diagnosis may plan for ([`super::memory_estimate`]): beyond

@@ -7,7 +7,11 @@ use super::where_::JointWhere;
 use serde::Serialize;
 use std::collections::BTreeMap;
 
-/// One candidate's evaluation in one round.
+/// One candidate's evaluation in one round. Its three held-out errors are
+/// cross-validated (each fold predicted by the fit on the others): the
+/// nominal model as given, the current model refit (the friction law and
+/// the effects accepted before this round) without the candidate, and
+/// with it — so that the effect's own share is the last two's difference.
 #[derive(Clone, Debug, Serialize)]
 pub struct EffectReport {
     /// Effect name.
@@ -24,21 +28,28 @@ pub struct EffectReport {
     pub fitted: BTreeMap<String, Vec<f64>>,
     /// Selection round (1-based).
     pub round: usize,
-    /// Joints whose held-out RMS it reduces by more than 1 %.
+    /// Joints it is kept on (a per-joint hypothesis: those where it passes
+    /// on its own; else every joint).
     pub joints: Vec<String>,
-    /// Number of fitted parameters.
+    /// Number of fitted parameters (columns kept and nonlinear ones).
     pub params: usize,
-    /// Held-out RMS per joint before (current model) (N·m).
+    /// Cross-validated held-out RMS per joint of the nominal model as
+    /// given (N·m).
+    pub heldout_rms_nominal: Vec<f64>,
+    /// The same of the current model refit without the candidate (N·m).
     pub heldout_rms_before: Vec<f64>,
-    /// Held-out RMS per joint with the effect added (N·m).
+    /// The same with the candidate refit with it (N·m).
     pub heldout_rms_after: Vec<f64>,
-    /// ΔBIC on the training part (negative: better).
-    pub delta_bic: f64,
-    /// Block-test z score of the held-out improvement.
+    /// Per fold, the held-out mean-square gain on its joints ((N·m)²).
+    pub fold_gains: Vec<f64>,
+    /// Block-bootstrap z of the gain.
     pub z: f64,
     /// Accepted into the model.
     pub accepted: bool,
-    /// Candidates that explain the same within noise.
+    /// Why it is accepted ([`super::rule`]), or the first clause it fails.
+    pub rule: String,
+    /// Candidates that explain the data as well on this motion (their
+    /// held-out gains within noise): indistinguishable here.
     pub tied_with: Vec<String>,
     /// Effects whose hypotheses span the same columns as this one's on
     /// these data (an offset and direction-dependent friction where the
@@ -49,6 +60,71 @@ pub struct EffectReport {
     /// nonlinear parameter at the edge of its grid, an encoder offset beyond
     /// 0.2 rad. An accepted effect with a flag is also a warning.
     pub implausible: Option<String>,
+    /// Its sizes ([`crate::effects::Effect::sizes`]): an accepted effect's
+    /// fitted on the fitting part with 95 % intervals; another's fitted on
+    /// all the data with the current model, without an interval (`low` =
+    /// `high`): what it would be, had it been accepted.
+    pub sizes: Vec<SizeReport>,
+    /// An effect accepted in its round and removed in a later one, when
+    /// the effects accepted after it explain what it did: why.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub removed: Option<String>,
+}
+
+/// A fitted size with its 95 % interval (a delete-one-block jackknife over
+/// the fitting part: correlated residuals stay inside a block).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SizeReport {
+    /// What it is (`"gain error, lwr_1_joint"`).
+    pub name: String,
+    /// Its unit.
+    pub unit: String,
+    /// The value.
+    pub value: f64,
+    /// The interval's lower end.
+    pub low: f64,
+    /// The interval's upper end.
+    pub high: f64,
+}
+
+impl SizeReport {
+    /// `value ± half-width unit`, in words.
+    pub fn words(&self) -> String {
+        let half = 0.5 * (self.high - self.low);
+        format!(
+            "{}: {} ± {} {}",
+            self.name,
+            sig(self.value),
+            sig(half),
+            self.unit
+        )
+    }
+}
+
+/// Three significant digits.
+fn sig(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let digits = (2 - x.abs().log10().floor() as i32).clamp(0, 9) as usize;
+    format!("{x:.digits$}")
+}
+
+/// A coefficient of the nominal friction law that the data move: holding
+/// it at its nominal value makes every fold worse by the rule's amount on
+/// its joint.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Reestimate {
+    /// The friction term (`viscous`, `coulomb`, …).
+    pub term: String,
+    /// The joint.
+    pub joint: String,
+    /// The nominal coefficient.
+    pub nominal: f64,
+    /// The refit coefficient, with its 95 % interval.
+    pub refit: SizeReport,
+    /// Why it counts as moved.
+    pub rule: String,
 }
 
 /// The diagnosis.
@@ -65,9 +141,21 @@ pub struct Diagnosis {
     pub ranked_effects: Vec<EffectReport>,
     /// Accepted effects in order.
     pub accepted: Vec<String>,
-    /// Held-out RMS per joint of the nominal model (N·m).
+    /// The folds of the cross-validation, in words (`"5 blocks of time"`).
+    pub folds: String,
+    /// The nominal friction law's coefficients the data move.
+    pub reestimated: Vec<Reestimate>,
+    /// Every coefficient of the nominal friction law refit on the fitting
+    /// part (with the accepted effects), with its 95 % interval.
+    pub friction_refit: Vec<SizeReport>,
+    /// Held-out RMS per joint of the nominal model as given, on the
+    /// held-out part (the last file, or the last blocks of time) (N·m).
     pub heldout_rms_nominal: Vec<f64>,
-    /// Held-out RMS per joint after the accepted effects (N·m).
+    /// The same with the nominal friction law refit on the fitting part
+    /// (N·m).
+    pub heldout_rms_refit: Vec<f64>,
+    /// The same with the law and the accepted effects refit on the fitting
+    /// part: the model `--model-out` writes (N·m).
     pub heldout_rms_final: Vec<f64>,
     /// Noise floor per joint (N·m).
     pub noise_floor: Vec<f64>,
@@ -87,6 +175,11 @@ pub struct Diagnosis {
     /// Held-out signals and residuals for plots (not serialised).
     #[serde(skip)]
     pub heldout: HeldOut,
+    /// The diagnosis' model: the nominal with its friction law refit and
+    /// the accepted effects, fitted on the fitting part
+    /// ([`Self::heldout_rms_final`] is its held-out error): what
+    /// `--model-out` writes.
+    pub model: crate::dynamics::params_file::ParamsFile,
 }
 
 impl Diagnosis {

@@ -55,6 +55,20 @@ pub enum DiagnoseWarning {
         /// The variant.
         variant: String,
     },
+    /// The final model's constrained fit failed: least squares without the
+    /// constraints stands in (a corrected body may not be physically
+    /// consistent, a friction coefficient may be negative).
+    Unconstrained {
+        /// Why the constrained fit failed.
+        why: String,
+    },
+    /// The final model's refinement (its effects' columns built again on
+    /// it) stopped before its last pass: the coefficients before the
+    /// failed step are kept.
+    RefinementStopped {
+        /// Why.
+        why: String,
+    },
     /// An effect accepted although its fit is physically doubtful.
     AcceptedDoubtful {
         /// The selection round (1-based).
@@ -98,6 +112,14 @@ impl fmt::Display for DiagnoseWarning {
                 f,
                 "round {round}: candidate '{effect}'{} skipped: {reason}",
                 sp(variant)
+            ),
+            DiagnoseWarning::Unconstrained { why } => write!(
+                f,
+                "the final model's constrained fit failed ({why}); its least-squares fit without the constraints is used, so a corrected body may not be physically consistent"
+            ),
+            DiagnoseWarning::RefinementStopped { why } => write!(
+                f,
+                "the final model's refinement stopped ({why}); its coefficients before that step are kept"
             ),
             DiagnoseWarning::Inaccurate {
                 round,

@@ -7,7 +7,7 @@ use super::bounding::Bounding;
 use super::error::DynamicsError;
 use super::friction::Friction;
 use super::model::Model;
-use super::params_file::ParamsFile;
+use super::params_file::{FittedEffect, ParamsFile};
 use super::sidecar::{Excitation, PriorSpec, Sidecar, SidecarBody};
 use super::warning::DescriptionWarning;
 use crate::moments::{Ellipsoid, InertialParams, Level};
@@ -246,22 +246,49 @@ impl RobotDescription {
             .collect()
     }
 
-    /// The model and friction for a parameter choice.
+    /// The model and friction for a parameter choice; a parameter file
+    /// with fitted effects (a diagnosis' model) is an error naming them:
+    /// a caller that can use them asks [`Self::parameters_with_effects`].
     pub fn parameters(&self, choice: &ParamChoice) -> Result<(Model, Friction), DynamicsError> {
+        let (model, friction, effects) = self.parameters_with_effects(choice)?;
+        match (effects.is_empty(), choice) {
+            (false, ParamChoice::File(path)) => Err(DynamicsError::File {
+                path: path.display().to_string(),
+                message: format!(
+                    "it holds fitted effects ({}) that this use of it cannot apply",
+                    effects
+                        .iter()
+                        .map(|e| e.effect.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            }),
+            _ => Ok((model, friction)),
+        }
+    }
+
+    /// The model, friction and fitted effects (a diagnosis' model file
+    /// records them; none otherwise) for a parameter choice.
+    pub fn parameters_with_effects(
+        &self,
+        choice: &ParamChoice,
+    ) -> Result<(Model, Friction, Vec<FittedEffect>), DynamicsError> {
         let n = self.model.dof();
         let mut model = self.model.clone();
-        let friction = match choice {
-            ParamChoice::Own => Friction::zeros(n),
-            ParamChoice::True => self.friction.clone(),
+        let (friction, effects) = match choice {
+            ParamChoice::Own => (Friction::zeros(n), vec![]),
+            ParamChoice::True => (self.friction.clone(), vec![]),
             ParamChoice::Cad => {
                 model.set_params(&self.prior_vector())?;
-                Friction::zeros(n)
+                (Friction::zeros(n), vec![])
             }
             ParamChoice::File(path) => {
-                ParamsFile::read(path)?.apply(&mut model, &path.display().to_string())?
+                let file = ParamsFile::read(path)?;
+                let f = file.apply(&mut model, &path.display().to_string())?;
+                (f, file.effects)
             }
         };
-        Ok((model, friction))
+        Ok((model, friction, effects))
     }
 }
 

@@ -7,8 +7,17 @@
 //!   "joints": ["abad", "hip", "knee"],
 //!   "parameter_order": "m, hx, hy, hz, Ixx, Ixy, Ixz, Iyy, Iyz, Izz",
 //!   "bodies": [ { "name": "abad", "params": [10 numbers] }, … ],
-//!   "friction": { "viscous": [n numbers], "coulomb": [n numbers] } }
+//!   "friction": { "viscous": [n numbers], "coulomb": [n numbers] },
+//!   "effects": [ { "effect": "torque_gain", "key": {}, "columns": ["hip#0"],
+//!                  "coefficients": [0.05] } ] }
 //! ```
+//!
+//! `effects` (optional) holds effects a diagnosis accepted that neither the
+//! bodies nor the friction law can hold (a gain error, a delay, a ripple):
+//! each its recorded variant and one coefficient per column, the columns
+//! named by joint (`hip#0`: the joint's first column) or `all#k` for one
+//! spanning every joint. This layer only carries them; the `effects`
+//! layer builds their columns again to predict with them.
 
 use super::error::{DynamicsError, read_text};
 use super::friction::{Friction, FrictionTerm};
@@ -41,6 +50,23 @@ pub struct ParamsFile {
     /// Friction (absent: zero).
     #[serde(default)]
     pub friction: Friction,
+    /// Effects beyond the bodies and the friction law (absent: none).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub effects: Vec<FittedEffect>,
+}
+
+/// An effect a diagnosis fitted, as a model file records it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FittedEffect {
+    /// The effect's name in its library.
+    pub effect: String,
+    /// Its variant's nonlinear parameters (SI units).
+    #[serde(default)]
+    pub key: std::collections::BTreeMap<String, f64>,
+    /// Its columns' names (`joint#k`, or `all#k`).
+    pub columns: Vec<String>,
+    /// One coefficient per column.
+    pub coefficients: Vec<f64>,
 }
 
 fn order() -> String {
@@ -65,6 +91,7 @@ impl ParamsFile {
                 })
                 .collect(),
             friction,
+            effects: vec![],
         }
     }
 

@@ -26,6 +26,7 @@ pub struct Context<'a> {
     /// parameters may fit them only.
     pub train: usize,
     nominal: OnceLock<Result<Samples, Arc<EffectError>>>,
+    rigid: OnceLock<Result<Samples, Arc<EffectError>>>,
     linearisation: OnceLock<Result<Linearisation, Arc<EffectError>>>,
 }
 
@@ -45,6 +46,7 @@ impl<'a> Context<'a> {
             residual,
             train,
             nominal: OnceLock::new(),
+            rigid: OnceLock::new(),
             linearisation: OnceLock::new(),
         }
     }
@@ -94,11 +96,18 @@ impl<'a> Context<'a> {
         let (n, d) = (self.joints(), self.data);
         let mut cols = vec![vec![0.0; d.len() * n]; count];
         let mut data = Data::new(self.model);
+        let measured = d.tau.len() == d.len();
         for k in 0..d.len() {
-            data.load
-                .iter_mut()
-                .zip(&d.tau[k])
-                .for_each(|(l, t)| *l = *t);
+            // the load friction column's load: the measured torque, when
+            // there is one (data to predict on have none: no load)
+            match measured {
+                true => data
+                    .load
+                    .iter_mut()
+                    .zip(&d.tau[k])
+                    .for_each(|(l, t)| *l = *t),
+                false => data.load.iter_mut().for_each(|l| *l = 0.0),
+            }
             let y = regressor(self.model, &mut data, &d.q[k], &d.qd[k], &d.qdd[k])
                 .map_err(|source| EffectError::Regressor { sample: k, source })?;
             for i in 0..n {
@@ -116,6 +125,20 @@ impl<'a> Context<'a> {
         self.nominal
             .get_or_init(|| {
                 predict_torques(self.model, self.friction, &d.q, &d.qd, &d.qdd)
+                    .map_err(|e| Arc::new(EffectError::Dynamics(e)))
+            })
+            .as_ref()
+            .map_err(|e| EffectError::Shared(e.clone()))
+    }
+
+    /// The nominal model's rigid torques (links and rotors, no friction) at
+    /// every sample: the load of the friction law's `load` term.
+    pub fn rigid_torques(&self) -> Result<&Samples, EffectError> {
+        let d = self.data;
+        let none = Friction::zeros(self.model.dof());
+        self.rigid
+            .get_or_init(|| {
+                predict_torques(self.model, &none, &d.q, &d.qd, &d.qdd)
                     .map_err(|e| Arc::new(EffectError::Dynamics(e)))
             })
             .as_ref()

@@ -5,8 +5,9 @@ use super::context::Context;
 use super::error::EffectError;
 use super::hypothesis::{Columns, Hypothesis, Memory, Shape};
 use super::params::ParamSpec;
+use super::size::{Size, SizeContext};
 use super::values::Values;
-use crate::dynamics::Model;
+use crate::dynamics::{FrictionTerm, Model};
 use crate::sim::Truth;
 
 /// An effect: its name and parameters, how the simulator's true robot has
@@ -80,6 +81,16 @@ pub trait Effect: Send + Sync {
         None
     }
 
+    /// Diagnosis: why the coefficient `beta` of column `col` of `variant` is
+    /// beyond what the effect can physically be, if it is (a 60 % torque
+    /// gain error, a 0.5 s delay of a torque sensor): then it is absorbing
+    /// something else. A per-joint hypothesis is not kept on a joint with
+    /// such a coefficient; another one with one is not accepted. None by
+    /// default.
+    fn implausible(&self, _variant: &Columns, _col: usize, _beta: f64) -> Option<String> {
+        None
+    }
+
     /// Diagnosis: the report's detail line for a fitted variant (by
     /// default the variant's own).
     fn detail(&self, variant: &Columns, _beta: &[f64]) -> String {
@@ -91,5 +102,47 @@ pub trait Effect: Send + Sync {
     /// must not be one of the report's own fields (`effect`, `detail`, …).
     fn fitted(&self, _variant: &Columns, _beta: &[f64]) -> Vec<(&'static str, Vec<f64>)> {
         vec![]
+    }
+
+    /// Diagnosis: the term of the friction law this effect is, if it is
+    /// one (`coulomb` is [`FrictionTerm::Coulomb`]). A nominal model whose
+    /// law has the term refits its coefficients with the law, so the
+    /// effect is not proposed beside it (none by default).
+    fn law_term(&self) -> Option<FrictionTerm> {
+        None
+    }
+
+    /// Diagnosis: the sizes an accepted effect reports, computed from the
+    /// coefficients `beta` of `variant` (the diagnosis gives each an
+    /// interval by evaluating them on the coefficients' replicates, so the
+    /// list's length and order must depend on the zeros of `beta` only).
+    /// By default, one per nonzero coefficient of a column in one joint.
+    fn sizes(&self, _variant: &Columns, beta: &[f64], cx: &SizeContext) -> Vec<Size> {
+        cx.per_joint(beta, "coefficient", "1", 1.0)
+    }
+
+    /// A model file: the columns of the variant recorded as `key`
+    /// ([`Columns::key`]) for the data and model of `cx` — to predict with
+    /// an accepted effect, or identify it again. By default the hypothesis'
+    /// variant with that key; an error names the effect when there is none
+    /// (a search's result is not rebuilt on other data).
+    fn replay(&self, cx: &Context, key: &[(String, f64)]) -> Result<Columns, EffectError> {
+        let same = |a: &[(String, f64)]| {
+            a.len() == key.len()
+                && (a.iter().zip(key))
+                    .all(|((n, x), (m, y))| n == m && (x - y).abs() <= 1e-9 * (1.0 + y.abs()))
+        };
+        self.hypothesis(cx)?
+            .variants
+            .into_iter()
+            .find(|v| same(&v.key))
+            .ok_or_else(|| EffectError::NotReplayable {
+                effect: self.name().into(),
+                key: key
+                    .iter()
+                    .map(|(n, v)| format!("{n} = {v}"))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            })
     }
 }

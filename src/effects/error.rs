@@ -115,4 +115,14 @@ pub enum EffectError {
     /// A hypothesis searched by simulation found nothing that simulates.
     #[error("no hypothesis of the search could be simulated")]
     SearchFailed,
+    /// A recorded variant that the effect cannot build again on these data.
+    #[error(
+        "effect '{effect}': no variant with {key} on these data (a searched fit is not rebuilt on other data)"
+    )]
+    NotReplayable {
+        /// The effect.
+        effect: String,
+        /// The recorded key, in words.
+        key: String,
+    },
 }

@@ -18,12 +18,27 @@ pub struct Columns {
     pub bodies: Vec<[f64; 10]>,
     /// The coefficients must be ≥ 0 (a mass).
     pub nonneg: bool,
+    /// The model bodies (their indices) each block of 10 columns corrects,
+    /// in order, when the fitted coefficients are changes of their
+    /// inertial parameters (a payload's: the body that carries it): a model
+    /// file adds them there.
+    pub into_bodies: Vec<usize>,
     /// Nonlinear parameters chosen before the linear fit (a delay, a grid
     /// point, a stiffness per joint, …); they count in the fit's ΔBIC.
     pub nonlinear: usize,
     /// Why the nonlinear parameters found are physically doubtful, if they
     /// are (when they were searched, not gridded).
     pub doubt: Option<String>,
+    /// The variant's nonlinear parameters by name, with SI values
+    /// (`[("delay_s", 0.025)]`): what a model file records so that the
+    /// effect's columns can be built again on other data
+    /// ([`crate::effects::Effect::replay`]); empty for a linear hypothesis.
+    pub key: Vec<(String, f64)>,
+    /// The joint each column lies in by construction (`None`: several),
+    /// one per column; empty: read off the values (a column that is zero
+    /// on some data has no joint there, so an effect whose columns are one
+    /// joint's each says which).
+    pub joints: Vec<Option<usize>>,
 }
 
 impl Columns {
@@ -43,6 +58,23 @@ impl Columns {
             nonlinear,
             ..Self::default()
         }
+    }
+
+    /// The same with each column's joint stated (one per column).
+    pub fn in_joints(mut self, joints: impl IntoIterator<Item = usize>) -> Self {
+        self.joints = joints.into_iter().map(Some).collect();
+        self
+    }
+
+    /// The same with its nonlinear parameter recorded as `name = value`.
+    pub fn keyed(mut self, name: &str, value: f64) -> Self {
+        self.key.push((name.to_string(), value));
+        self
+    }
+
+    /// The recorded value of the nonlinear parameter `name`.
+    pub fn key_value(&self, name: &str) -> Option<f64> {
+        self.key.iter().find(|(k, _)| k == name).map(|(_, v)| *v)
     }
 }
 
@@ -71,6 +103,12 @@ impl Hypothesis {
     /// Linear columns.
     pub fn linear(cols: Vec<Vec<f64>>) -> Self {
         Self::single(Columns::linear(cols))
+    }
+
+    /// Linear columns, the i-th in joint i's rows.
+    pub fn per_joint(cols: Vec<Vec<f64>>) -> Self {
+        let n = cols.len();
+        Self::single(Columns::linear(cols).in_joints(0..n))
     }
 
     /// A grid of variants whose top can hide a larger value (the longest

@@ -31,9 +31,11 @@ pub mod compliance;
 mod context;
 mod effect;
 mod error;
+pub mod fitted;
 mod hypothesis;
 mod library;
 mod params;
+mod size;
 mod values;
 
 pub use context::Context;
@@ -42,6 +44,7 @@ pub use error::EffectError;
 pub use hypothesis::{Columns, Hypothesis, Memory, Part, Shape};
 pub use library::Library;
 pub use params::{MAX_ABS_EFFECT, ParamSpec, Range};
+pub use size::{Size, SizeContext};
 pub use values::Values;
 
 use crate::data::Dataset;

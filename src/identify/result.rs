@@ -274,6 +274,7 @@ impl IdentifyResult {
                 })
                 .collect(),
             friction: self.friction.clone(),
+            effects: vec![],
         }
     }
 }

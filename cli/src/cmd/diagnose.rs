@@ -2,7 +2,7 @@
 
 use momentlmi::data::Staged;
 use momentlmi::diagnose::floor::repeat_floor;
-use momentlmi::diagnose::{DiagnoseOptions, Diagnosis, FloorSource, diagnose};
+use momentlmi::diagnose::{DiagnoseOptions, Diagnosis, FloorSource, diagnose_with};
 use momentlmi::dynamics::ParamChoice;
 use std::path::Path;
 
@@ -27,6 +27,10 @@ pub struct DiagnoseArgs<'a> {
     pub json: bool,
     /// Folder for diagnosis.json and the plots.
     pub out: Option<&'a Path>,
+    /// File for the diagnosis' model (a parameter file).
+    pub model_out: Option<&'a Path>,
+    /// Folds of time of one file.
+    pub folds: usize,
     /// `--floating-base` given.
     pub floating_base: bool,
     /// The memory limit (GiB).
@@ -34,13 +38,16 @@ pub struct DiagnoseArgs<'a> {
 }
 
 fn diagnosis(a: &DiagnoseArgs) -> Result<Diagnosis, String> {
-    let mut opts = DiagnoseOptions::default().with_max_memory(super::gib(a.max_memory_gib)?);
+    let mut opts = DiagnoseOptions::default()
+        .with_max_memory(super::gib(a.max_memory_gib)?)
+        .with_folds(a.folds)
+        .map_err(|e| e.to_string())?;
     let robot = super::load_robot(a.robot, a.sidecar, a.package_paths)?;
     if a.nominal == Some("true") {
         super::warn_robot(&robot);
     }
-    let (model, friction) =
-        super::parameters_for(&robot, "--nominal", a.nominal, ParamChoice::Own)?;
+    let (model, friction, effects) =
+        super::parameters_with_effects_for(&robot, "--nominal", a.nominal, ParamChoice::Own)?;
     let names = model.joint_names();
     let read = a.read.options(&robot, true)?;
     let paths: Vec<&Path> = a.data.iter().map(|p| p.as_path()).collect();
@@ -59,7 +66,7 @@ fn diagnosis(a: &DiagnoseArgs) -> Result<Diagnosis, String> {
             repeat_floor(&x, &y, [&shown[0], &shown[1]]).map_err(|e| format!("--repeats: {e}"))?;
         opts = opts.with_noise_floor(floor);
     }
-    diagnose(&model, &friction, &d, &opts).map_err(|e| match e {
+    diagnose_with((&model, &friction, &effects), &d, &opts).map_err(|e| match e {
         e @ momentlmi::diagnose::DiagnoseError::TooLarge { .. } => {
             format!("{e}\nhint: --max-memory-gib raises the limit")
         }
@@ -67,20 +74,34 @@ fn diagnosis(a: &DiagnoseArgs) -> Result<Diagnosis, String> {
     })
 }
 
-/// `diagnosis.json` and the plots into `dir`, all or none; none may be an
-/// input of the command.
-fn write_outputs(dg: &Diagnosis, text: &str, dir: &Path, inputs: &[&Path]) -> Result<(), String> {
-    let folder = super::OutDir::create(dir)?;
+/// `diagnosis.json` and the plots into `dir` (when given) and the model
+/// into `model_out` (when given), all or none; none may be an input of the
+/// command.
+fn write_outputs(
+    dg: &Diagnosis,
+    text: &str,
+    (dir, model_out): (Option<&Path>, Option<&Path>),
+    inputs: &[&Path],
+) -> Result<(), String> {
+    let folder = dir.map(super::OutDir::create).transpose()?;
     let mut staged = Staged::protecting(inputs.iter().copied());
     let e = |e: momentlmi::data::DataError| e.to_string();
-    staged
-        .add_text(&dir.join("diagnosis.json"), text)
-        .map_err(e)?;
-    for (name, svg) in crate::plots::diagnosis::render_plots(dg)? {
-        staged.add_text(&dir.join(name), &svg).map_err(e)?;
+    if let Some(path) = model_out {
+        let model = serde_json::to_string_pretty(&dg.model).map_err(|e| e.to_string())?;
+        staged
+            .add_text(path, &(model + "\n"))
+            .map_err(|e| format!("--model-out: {e}"))?;
+    }
+    if let Some(dir) = dir {
+        staged
+            .add_text(&dir.join("diagnosis.json"), text)
+            .map_err(e)?;
+        for (name, svg) in crate::plots::diagnosis::render_plots(dg)? {
+            staged.add_text(&dir.join(name), &svg).map_err(e)?;
+        }
     }
     staged.commit().map_err(e)?;
-    folder.keep();
+    folder.into_iter().for_each(|f| f.keep());
     Ok(())
 }
 
@@ -99,13 +120,16 @@ pub fn run(a: &DiagnoseArgs) -> i32 {
             return 2;
         }
     }
-    let (robot, sidecar, data, nominal, json, out) =
-        (a.robot, a.sidecar, a.data, a.nominal, a.json, a.out);
+    let (json, out) = (a.json, a.out);
     if let Some(dir) = out
         && dir.exists()
         && !dir.is_dir()
     {
         eprintln!("error: --out {}: exists and is not a folder", dir.display());
+        return 2;
+    }
+    if let Err(e) = check_outputs(a) {
+        eprintln!("error: {e}");
         return 2;
     }
     let dg = match diagnosis(a) {
@@ -125,12 +149,13 @@ pub fn run(a: &DiagnoseArgs) -> i32 {
             return 2;
         }
     };
-    let files: Vec<&Path> = (data.iter().map(|p| p.as_path())).chain(sidecar).collect();
-    let inputs = super::input_files(&files, &[robot, nominal.unwrap_or("")]);
-    if let Some(dir) = out
-        && let Err(e) = write_outputs(&dg, &text, dir, &inputs)
+    if (out.is_some() || a.model_out.is_some())
+        && let Err(e) = write_outputs(&dg, &text, (out, a.model_out), &inputs(a))
     {
-        eprintln!("error: {}: {e}", dir.display());
+        match out {
+            Some(dir) => eprintln!("error: {}: {e}", dir.display()),
+            None => eprintln!("error: {e}"),
+        }
         return 2;
     }
     if json {
@@ -139,6 +164,25 @@ pub fn run(a: &DiagnoseArgs) -> i32 {
         print_report(&dg);
     }
     0
+}
+
+/// The files the command reads, which no output may be.
+fn inputs<'a>(a: &'a DiagnoseArgs) -> Vec<&'a Path> {
+    let files: Vec<&Path> = (a.data.iter().chain(a.repeats).map(|p| p.as_path()))
+        .chain(a.sidecar)
+        .collect();
+    super::input_files(&files, &[a.robot, a.nominal.unwrap_or("")])
+}
+
+/// `--model-out` is refused before the diagnosis runs when it is one of
+/// the command's inputs (or not writable as a file name).
+fn check_outputs(a: &DiagnoseArgs) -> Result<(), String> {
+    if let Some(path) = a.model_out {
+        Staged::protecting(inputs(a))
+            .claim(path)
+            .map_err(|e| format!("--model-out: {e}"))?;
+    }
+    Ok(())
 }
 
 /// Where the noise floor came from, in words.
@@ -170,47 +214,61 @@ fn print_report(dg: &Diagnosis) {
         println!("  {s}");
     }
     println!(
-        "\nWhich effects explain it (forward selection, fitted on the first part, scored on the held-out part):"
+        "\nWhich effects explain it (cross-validated over {}: each candidate refit with the nominal friction law and the effects accepted before it):",
+        dg.folds
     );
     println!(
-        "  {:<20} {:>6} {:>9} {:>7}  held-out RMS before → after (N·m); fitted parameters below",
-        "effect", "params", "ΔBIC", "z"
+        "  {:<20} {:>6} {:>5}  held-out RMS (N·m): as given → refit without → with",
+        "effect", "params", "z"
     );
     let mut round = 0;
-    // the accepted and the held-out-significant ones (a round with none:
-    // the last, where nothing was significant, is not headed)
     for e in dg
         .ranked_effects
         .iter()
-        .filter(|e| e.accepted || e.z >= 3.0)
+        .filter(|e| e.accepted || !e.rule.starts_with("not"))
     {
         if e.round != round {
             round = e.round;
             println!("  — round {round}");
         }
         println!(
-            "  {:<20} {:>6} {:>9.1} {:>7.1}  {} → {}{}{}",
+            "  {:<20} {:>6} {:>5.1}  {} → {} → {}{}{}",
             e.label(),
             e.params,
-            e.delta_bic,
             e.z,
+            super::per_joint(&e.heldout_rms_nominal, 3),
             super::per_joint(&e.heldout_rms_before, 3),
             super::per_joint(&e.heldout_rms_after, 3),
             if e.accepted { "  ACCEPTED" } else { "" },
             e.ties()
         );
+        if e.accepted {
+            println!("  {:<20} on {}: {}", "", e.joints.join(", "), e.rule);
+            for size in &e.sizes {
+                println!("  {:<20} {}", "", size.words());
+            }
+        }
         if !e.detail.is_empty() {
             println!("  {:<20} {}", "", e.detail);
         }
     }
+    if !dg.reestimated.is_empty() {
+        println!(
+            "\nThe nominal friction law's coefficients these data move (refit on the fitting part):"
+        );
+        for r in &dg.reestimated {
+            println!("  {} (nominal {:.4})", r.refit.words(), r.nominal);
+        }
+    }
     println!(
-        "\nHow far (noise floor: {}):",
+        "\nHow far (held-out part; noise floor: {}):",
         floor_source(&dg.noise_floor_source)
     );
     for (i, j) in dg.joints.iter().enumerate() {
         println!(
-            "  {j:<10} held-out RMS {:.3} → {:.3} N·m, noise floor {:.3}, gap closed {:.0} %",
+            "  {j:<10} held-out RMS {:.3} as given, {:.3} with the friction law refit, {:.3} with the accepted effects; noise floor {:.3}, gap closed {:.0} %",
             dg.heldout_rms_nominal[i],
+            dg.heldout_rms_refit[i],
             dg.heldout_rms_final[i],
             dg.noise_floor[i],
             100.0 * dg.gap_closed[i]

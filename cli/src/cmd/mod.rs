@@ -249,6 +249,31 @@ pub(crate) fn parameters_for(
         })
 }
 
+/// A model, its friction and its fitted effects (a diagnosis' model file;
+/// none for other choices), of a parameter choice given with `flag`.
+pub(crate) type WithEffects = (
+    momentlmi::dynamics::Model,
+    momentlmi::dynamics::Friction,
+    Vec<momentlmi::dynamics::params_file::FittedEffect>,
+);
+
+/// [`parameters_for`] keeping a model file's fitted effects.
+pub(crate) fn parameters_with_effects_for(
+    robot: &momentlmi::dynamics::RobotDescription,
+    flag: &str,
+    value: Option<&str>,
+    default: momentlmi::dynamics::ParamChoice,
+) -> Result<WithEffects, String> {
+    use momentlmi::dynamics::ParamChoice;
+    let choice = value.map_or(default, |p| p.parse().expect("infallible"));
+    robot
+        .parameters_with_effects(&choice)
+        .map_err(|e| match (&choice, value) {
+            (ParamChoice::File(_), _) | (_, None) => format!("{flag}: {e}"),
+            (_, Some(v)) => format!("{flag} {v}: {e}"),
+        })
+}
+
 /// The files a command reads, to protect from its outputs: `files`, and
 /// each of `specs` (a robot or parameter choice: a built-in name, `cad`,
 /// `true` or a path) that names an existing file.

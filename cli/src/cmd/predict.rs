@@ -2,7 +2,7 @@
 
 use momentlmi::data::Staged;
 use momentlmi::dynamics::ParamChoice;
-use momentlmi::dynamics::predict::predict_torques;
+use momentlmi::effects::fitted::predict_with;
 use serde_json::json;
 use std::path::Path;
 
@@ -71,7 +71,8 @@ fn run_inner(a: &PredictArgs) -> Result<(), String> {
     if a.params.is_some_and(|p| p == "true") {
         super::warn_robot(&robot);
     }
-    let (model, friction) = super::parameters_for(&robot, "--params", a.params, ParamChoice::Own)?;
+    let (model, friction, effects) =
+        super::parameters_with_effects_for(&robot, "--params", a.params, ParamChoice::Own)?;
     let names = model.joint_names();
     let opts = a.read.options(&robot, false)?;
     let paths: Vec<&Path> = a.data.iter().map(|p| p.as_path()).collect();
@@ -79,9 +80,20 @@ fn run_inner(a: &PredictArgs) -> Result<(), String> {
     super::report_reading("--data", &reading);
     let d = reading.data;
     let tau = if a.mujoco_view {
+        if !effects.is_empty() {
+            return Err(format!(
+                "--mujoco-view: the model's fitted effects ({}) have no place in MuJoCo's equations of motion",
+                effects
+                    .iter()
+                    .map(|e| e.effect.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ));
+        }
         view_torques(&model, &friction, &d)?
     } else {
-        predict_torques(&model, &friction, &d.q, &d.qd, &d.qdd).map_err(|e| e.to_string())?
+        let lib = momentlmi::effects::Library::builtin();
+        predict_with(&model, &friction, &effects, &d, &lib).map_err(|e| format!("--params: {e}"))?
     };
     let mut s = String::from("t");
     for j in &names {

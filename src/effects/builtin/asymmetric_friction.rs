@@ -5,7 +5,9 @@
 use super::coulomb::COULOMB_SCALE;
 use super::friction::scaled_nominal;
 use crate::dynamics::{FrictionTerm, sign};
-use crate::effects::{Context, Effect, EffectError, Hypothesis, ParamSpec, Range, Values};
+use crate::effects::{
+    Columns, Context, Effect, EffectError, Hypothesis, ParamSpec, Range, Size, SizeContext, Values,
+};
 use crate::sim::Truth;
 
 /// Direction-dependent Coulomb friction.
@@ -22,6 +24,14 @@ const ASYMMETRY: ParamSpec = ParamSpec::new(
 impl Effect for AsymmetricFriction {
     fn name(&self) -> &'static str {
         "asymmetric_friction"
+    }
+
+    fn law_term(&self) -> Option<FrictionTerm> {
+        Some(FrictionTerm::Asymmetric)
+    }
+
+    fn sizes(&self, _: &Columns, beta: &[f64], cx: &SizeContext) -> Vec<Size> {
+        super::friction::term_sizes(beta, cx, FrictionTerm::Asymmetric, "Coulomb asymmetry")
     }
 
     fn summary(&self) -> &'static str {
@@ -42,7 +52,7 @@ impl Effect for AsymmetricFriction {
 
     fn hypothesis(&self, cx: &Context) -> Result<Hypothesis, EffectError> {
         let d = cx.data;
-        Ok(Hypothesis::linear(
+        Ok(Hypothesis::per_joint(
             cx.per_joint(|k, i| sign(d.qd[k][i]).abs()),
         ))
     }

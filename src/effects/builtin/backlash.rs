@@ -6,6 +6,7 @@ use super::elasticity::{DAMPING, NO_MOTOR_SIDE, STIFFNESS, memory, searched, tra
 use crate::dynamics::Model;
 use crate::effects::compliance::has_motor_side;
 use crate::effects::{
+    Columns,
     Context, Effect, EffectError, Hypothesis, Memory, ParamSpec, Range, Shape, Values,
 };
 use crate::sim::Truth;
@@ -57,5 +58,9 @@ impl Effect for Backlash {
 
     fn hypothesis(&self, cx: &Context) -> Result<Hypothesis, EffectError> {
         searched(cx, true)
+    }
+
+    fn replay(&self, cx: &Context, key: &[(String, f64)]) -> Result<Columns, EffectError> {
+        super::elasticity::replayed(cx, key, true, self.name())
     }
 }

@@ -3,7 +3,8 @@
 //! sine and a cosine column per joint; needs a rotor on some joint.
 
 use crate::effects::{
-    Columns, Context, Effect, EffectError, Hypothesis, Memory, ParamSpec, Range, Shape, Values,
+    Columns, Context, Effect, EffectError, Hypothesis, Memory, ParamSpec, Range, Shape, Size,
+    SizeContext, Values,
 };
 use crate::effects::compliance::has_motor_side;
 use crate::sim::Truth;
@@ -55,6 +56,10 @@ impl Effect for Cogging {
         Memory::columns(shape, 2 * PERIODS * shape.joints)
     }
 
+    fn sizes(&self, _: &Columns, beta: &[f64], cx: &SizeContext) -> Vec<Size> {
+        cx.amplitudes(beta, "cogging amplitude", "N·m")
+    }
+
     fn hypothesis(&self, cx: &Context) -> Result<Hypothesis, EffectError> {
         let d = cx.data;
         let gear: Vec<f64> = (0..cx.joints()).map(|i| cx.gear(i)).collect();
@@ -63,7 +68,10 @@ impl Effect for Cogging {
                 let p = p as f64;
                 let mut cols = cx.per_joint(|k, i| (p * gear[i] * d.q[k][i]).sin());
                 cols.extend(cx.per_joint(|k, i| (p * gear[i] * d.q[k][i]).cos()));
+                let n = cx.joints();
                 Columns::variant(format!("period {p} per motor turn"), cols, 1)
+                    .in_joints((0..n).chain(0..n))
+                    .keyed("periods_per_motor_turn", p)
             })
             .collect();
         Ok(Hypothesis::grid(variants))

@@ -2,7 +2,9 @@
 //! Coulomb coefficients B_c (its description) scaled by `coulomb_scale`.
 
 use crate::dynamics::FrictionTerm;
-use crate::effects::{Context, Effect, EffectError, Hypothesis, ParamSpec, Range, Values};
+use crate::effects::{
+    Columns, Context, Effect, EffectError, Hypothesis, ParamSpec, Range, Size, SizeContext, Values,
+};
 use super::friction::{basis_hypothesis, scaled_nominal};
 use crate::sim::Truth;
 
@@ -22,6 +24,14 @@ pub const COULOMB_SCALE: ParamSpec = ParamSpec::new(
 impl Effect for Coulomb {
     fn name(&self) -> &'static str {
         "coulomb"
+    }
+
+    fn law_term(&self) -> Option<FrictionTerm> {
+        Some(FrictionTerm::Coulomb)
+    }
+
+    fn sizes(&self, _: &Columns, beta: &[f64], cx: &SizeContext) -> Vec<Size> {
+        super::friction::term_sizes(beta, cx, FrictionTerm::Coulomb, "Coulomb friction")
     }
 
     fn summary(&self) -> &'static str {

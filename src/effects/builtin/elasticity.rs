@@ -7,6 +7,7 @@
 use crate::dynamics::Model;
 use crate::effects::compliance::{self, has_motor_side};
 use crate::effects::{
+    Columns,
     Context, Effect, EffectError, Hypothesis, Memory, ParamSpec, Range, Shape, Values,
 };
 use crate::sim::Truth;
@@ -49,6 +50,17 @@ pub fn transmission(p: &Values, backlash: f64) -> Result<Compliance, EffectError
 pub fn memory(shape: &Shape) -> Memory {
     let shared = compliance::memory_bytes(shape.joints, shape.samples);
     Memory::optional(shape, shape.joints, "compliance", shared)
+}
+
+/// The compliance hypothesis recorded as `key`, simulated on the data of
+/// `cx` (with a dead band if `backlash`).
+pub fn replayed(cx: &Context, key: &[(String, f64)], backlash: bool, effect: &str) -> Result<Columns, EffectError> {
+    let p = compliance::from_key(key, cx.joints()).ok_or_else(|| EffectError::NotReplayable {
+        effect: effect.into(),
+        key: "no stiffness_i, damping_i, backlash_i and axial_shift_i for every joint".into(),
+    })?;
+    let lin = cx.linearisation()?;
+    compliance::columns_of(lin, &p, backlash).ok_or(EffectError::SearchFailed)
 }
 
 /// The fitted compliance hypothesis (with a dead band if `backlash`).
@@ -95,5 +107,9 @@ impl Effect for Elasticity {
 
     fn hypothesis(&self, cx: &Context) -> Result<Hypothesis, EffectError> {
         searched(cx, false)
+    }
+
+    fn replay(&self, cx: &Context, key: &[(String, f64)]) -> Result<Columns, EffectError> {
+        replayed(cx, key, false, self.name())
     }
 }

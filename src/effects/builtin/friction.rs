@@ -3,7 +3,7 @@
 //! ones, and one term's basis as a hypothesis.
 
 use crate::dynamics::FrictionTerm;
-use crate::effects::{Context, Hypothesis};
+use crate::effects::{Context, Hypothesis, Size, SizeContext};
 use crate::sim::{SimWarning, Truth};
 
 /// The robot's nominal coefficients of `term` times `scale`; a warning
@@ -20,10 +20,15 @@ pub fn scaled_nominal(truth: &mut Truth, term: FrictionTerm, scale: f64, effect:
     c
 }
 
+/// One size per joint kept: the coefficient of `term` (`what`) in its unit.
+pub fn term_sizes(beta: &[f64], cx: &SizeContext, term: FrictionTerm, what: &str) -> Vec<Size> {
+    cx.per_joint(beta, what, term.unit(), 1.0)
+}
+
 /// One column per joint: the basis φ of `term` at q̇ᵢ (the load: the
 /// measured torque τᵢ).
 pub fn basis_hypothesis(cx: &Context, term: FrictionTerm) -> Hypothesis {
     let d = cx.data;
     let vs = cx.friction.stribeck_velocity();
-    Hypothesis::linear(cx.per_joint(|k, i| term.basis(d.qd[k][i], d.tau[k][i], vs)))
+    Hypothesis::per_joint(cx.per_joint(|k, i| term.basis(d.qd[k][i], d.tau[k][i], vs)))
 }

@@ -9,7 +9,10 @@
 //! scales.)
 
 use crate::dynamics::{FrictionTerm, sign};
-use crate::effects::{Context, Effect, EffectError, Hypothesis, Memory, ParamSpec, Range, Shape, Values};
+use crate::effects::{
+    Columns, Context, Effect, EffectError, Hypothesis, Memory, ParamSpec, Range, Shape, Size,
+    SizeContext, Values,
+};
 use crate::sim::Truth;
 
 /// Friction drift over time.
@@ -53,28 +56,50 @@ impl Effect for FrictionDrift {
     }
 
     fn hypothesis(&self, cx: &Context) -> Result<Hypothesis, EffectError> {
-        let (d, f) = (cx.data, cx.friction);
-        let load = !f.coefficients(FrictionTerm::Load).iter().all(|c| *c == 0.0);
-        let tau = if load { Some(cx.nominal_torques()?) } else { None };
-        let friction = |k: usize, i: usize| {
-            let offset = f.coefficients(FrictionTerm::Offset).get(i).copied().unwrap_or(0.0);
-            f.torque(i, d.qd[k][i], tau.map_or(0.0, |t| t[k][i])) - offset
-        };
-        let moving: Vec<usize> = (0..cx.joints())
-            .filter(|&i| (0..cx.samples()).any(|k| friction(k, i) != 0.0))
-            .collect();
-        if moving.is_empty() {
-            return Ok(Hypothesis::none());
-        }
         if cx.samples() == 0 {
             return Ok(Hypothesis::none());
         }
         let train = cx.train.min(cx.samples()).max(1);
-        let mean_t = d.t[..train].iter().sum::<f64>() / train as f64;
-        let cols = moving
-            .iter()
-            .map(|&i| cx.joint_column(i, |k| (d.t[k] - mean_t) / 60.0 * friction(k, i)))
-            .collect();
-        Ok(Hypothesis::linear(cols))
+        let mean_t = cx.data.t[..train].iter().sum::<f64>() / train as f64;
+        Ok(drift(cx, mean_t)?.map_or_else(Hypothesis::none, Hypothesis::single))
     }
+
+    /// The drift from the recorded reference time `t_ref_s`.
+    fn replay(&self, cx: &Context, key: &[(String, f64)]) -> Result<Columns, EffectError> {
+        let t_ref = key.iter().find(|(k, _)| k == "t_ref_s").map(|(_, v)| *v);
+        let none = |why: &str| EffectError::NotReplayable {
+            effect: self.name().into(),
+            key: why.into(),
+        };
+        let t_ref = t_ref.ok_or_else(|| none("no t_ref_s"))?;
+        drift(cx, t_ref)?.ok_or_else(|| none("no joint with friction on these data"))
+    }
+
+    fn sizes(&self, _: &Columns, beta: &[f64], cx: &SizeContext) -> Vec<Size> {
+        cx.per_joint(beta, "friction drift", "1/min", 1.0)
+    }
+}
+
+/// Per joint with friction, `(t − t_ref)/60 · f̂ᵢ`: the nominal friction
+/// torque (every term but the offset) times the minutes from `t_ref`;
+/// `None` when no joint has friction on these data.
+fn drift(cx: &Context, t_ref: f64) -> Result<Option<Columns>, EffectError> {
+    let (d, f) = (cx.data, cx.friction);
+    let load = !f.coefficients(FrictionTerm::Load).iter().all(|c| *c == 0.0);
+    let tau = if load { Some(cx.rigid_torques()?) } else { None };
+    let friction = |k: usize, i: usize| {
+        let offset = f.coefficients(FrictionTerm::Offset).get(i).copied().unwrap_or(0.0);
+        f.torque(i, d.qd[k][i], tau.map_or(0.0, |t| t[k][i])) - offset
+    };
+    let moving: Vec<usize> = (0..cx.joints())
+        .filter(|&i| (0..cx.samples()).any(|k| friction(k, i) != 0.0))
+        .collect();
+    if moving.is_empty() {
+        return Ok(None);
+    }
+    let cols = moving
+        .iter()
+        .map(|&i| cx.joint_column(i, |k| (d.t[k] - t_ref) / 60.0 * friction(k, i)))
+        .collect();
+    Ok(Some(Columns::linear(cols).in_joints(moving).keyed("t_ref_s", t_ref)))
 }

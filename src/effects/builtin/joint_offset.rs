@@ -5,7 +5,9 @@
 //! offsets, and one beyond 0.2 rad (or m) is doubtful.
 
 use crate::dynamics::predict::predict_torques;
-use crate::effects::{Columns, Context, Effect, EffectError, Hypothesis, ParamSpec, Range, Values};
+use crate::effects::{
+    Columns, Context, Effect, EffectError, Hypothesis, ParamSpec, Range, Size, SizeContext, Values,
+};
 use crate::sim::Truth;
 
 /// An encoder zero offset.
@@ -64,6 +66,12 @@ impl Effect for JointOffset {
         Ok(Hypothesis::single(Columns::linear(cols)))
     }
 
+    fn implausible(&self, _: &Columns, _: usize, beta: f64) -> Option<String> {
+        (beta.abs() > MAX_JOINT_OFFSET).then(|| {
+            format!("an encoder offset of {beta:.3} rad (or m), beyond {MAX_JOINT_OFFSET}: more than a calibration error")
+        })
+    }
+
     fn doubt(&self, _: &Columns, beta: &[f64], joints: &[String]) -> Option<String> {
         let (j, b) = beta
             .iter()
@@ -82,5 +90,13 @@ impl Effect for JointOffset {
 
     fn fitted(&self, _: &Columns, beta: &[f64]) -> Vec<(&'static str, Vec<f64>)> {
         vec![("joint_offsets", beta.to_vec())]
+    }
+
+    /// Per joint, the offset δ_j (rad or m; true q = measured q + δ).
+    fn sizes(&self, _: &Columns, beta: &[f64], cx: &SizeContext) -> Vec<Size> {
+        (beta.iter().enumerate())
+            .filter(|(_, b)| **b != 0.0)
+            .map(|(j, b)| Size::new(format!("encoder offset, {}", cx.joint(j)), "rad", *b))
+            .collect()
     }
 }

@@ -6,7 +6,8 @@
 
 use super::rotor_inertia::nominal_bodies;
 use crate::effects::{
-    Columns, Context, Effect, EffectError, Hypothesis, Memory, ParamSpec, Range, Shape, Values,
+    Columns, Context, Effect, EffectError, Hypothesis, Memory, ParamSpec, Range, Shape, Size,
+    SizeContext, Values,
 };
 use crate::sim::Truth;
 
@@ -43,12 +44,21 @@ impl Effect for LinkInertia {
         Memory::optional(shape, 10 * shape.joints, "inertial", 0)
     }
 
+    /// Per link, the change of its mass (kg).
+    fn sizes(&self, _: &Columns, beta: &[f64], cx: &SizeContext) -> Vec<Size> {
+        let names = cx.model.body_names();
+        (0..beta.len() / 10)
+            .map(|b| Size::new(format!("mass change, {}", names[b]), "kg", beta[10 * b]))
+            .collect()
+    }
+
     fn hypothesis(&self, cx: &Context) -> Result<Hypothesis, EffectError> {
         let links = cx.model.dof();
         let cols = cx.regressor_columns(10 * links, |y, i, c| y[(i, c)])?;
         Ok(Hypothesis::single(Columns {
             cols,
             bodies: nominal_bodies(cx, 0..links),
+            into_bodies: (0..links).collect(),
             ..Columns::default()
         }))
     }

@@ -2,12 +2,14 @@
 //! `μ |τ_rigid,i| sign(q̇ᵢ)` on every joint, the friction law's `load` term
 //! (a harmonic drive's friction grows with the torque it transmits;
 //! τ_rigid the rigid model's torque, links and rotors). Diagnosed with the
-//! nominal model's torque as the load: the measured torque's noise would
+//! nominal model's rigid torque as the load (as the law has it): the measured torque's noise would
 //! enter both the column and the residual, a correlation that is no
 //! friction.
 
 use crate::dynamics::FrictionTerm;
-use crate::effects::{Context, Effect, EffectError, Hypothesis, ParamSpec, Range, Values};
+use crate::effects::{
+    Columns, Context, Effect, EffectError, Hypothesis, ParamSpec, Range, Size, SizeContext, Values,
+};
 use crate::sim::Truth;
 
 /// Load-dependent friction.
@@ -26,6 +28,14 @@ impl Effect for LoadFriction {
         "load_friction"
     }
 
+    fn law_term(&self) -> Option<FrictionTerm> {
+        Some(FrictionTerm::Load)
+    }
+
+    fn sizes(&self, _: &Columns, beta: &[f64], cx: &SizeContext) -> Vec<Size> {
+        super::friction::term_sizes(beta, cx, FrictionTerm::Load, "load friction μ")
+    }
+
     fn summary(&self) -> &'static str {
         "Load-dependent friction (a harmonic drive's: μ |τ| sign q̇)"
     }
@@ -42,9 +52,9 @@ impl Effect for LoadFriction {
     }
 
     fn hypothesis(&self, cx: &Context) -> Result<Hypothesis, EffectError> {
-        let (tau, d) = (cx.nominal_torques()?, cx.data);
+        let (tau, d) = (cx.rigid_torques()?, cx.data);
         let load = FrictionTerm::Load;
-        Ok(Hypothesis::linear(
+        Ok(Hypothesis::per_joint(
             cx.per_joint(|k, i| load.basis(d.qd[k][i], tau[k][i], 1.0)),
         ))
     }

@@ -1,7 +1,10 @@
 //! `offset`: a constant torque `c` on every joint (a sensor bias, an
 //! unmodelled spring's preload).
 
-use crate::effects::{Context, Effect, EffectError, Hypothesis, ParamSpec, Range, Values};
+use crate::dynamics::FrictionTerm;
+use crate::effects::{
+    Columns, Context, Effect, EffectError, Hypothesis, ParamSpec, Range, Size, SizeContext, Values,
+};
 use crate::sim::Truth;
 
 /// A constant torque offset.
@@ -20,6 +23,14 @@ impl Effect for Offset {
         "offset"
     }
 
+    fn law_term(&self) -> Option<FrictionTerm> {
+        Some(FrictionTerm::Offset)
+    }
+
+    fn sizes(&self, _: &Columns, beta: &[f64], cx: &SizeContext) -> Vec<Size> {
+        super::friction::term_sizes(beta, cx, FrictionTerm::Offset, "torque offset")
+    }
+
     fn summary(&self) -> &'static str {
         "A constant torque offset (sensor bias, an unmodelled spring preload)"
     }
@@ -35,6 +46,6 @@ impl Effect for Offset {
     }
 
     fn hypothesis(&self, cx: &Context) -> Result<Hypothesis, EffectError> {
-        Ok(Hypothesis::linear(cx.per_joint(|_, _| 1.0)))
+        Ok(Hypothesis::per_joint(cx.per_joint(|_, _| 1.0)))
     }
 }

@@ -8,7 +8,8 @@
 
 use crate::dynamics::{JointKind, Model};
 use crate::effects::{
-    Columns, Context, Effect, EffectError, Hypothesis, Memory, ParamSpec, Range, Shape, Values,
+    Columns, Context, Effect, EffectError, Hypothesis, Memory, ParamSpec, Range, Shape, Size,
+    SizeContext, Values,
 };
 use crate::sim::Truth;
 
@@ -81,6 +82,10 @@ impl Effect for Ripple {
         Memory::columns(shape, 2 * (PERIODS.1 - PERIODS.0 + 1) * shape.joints)
     }
 
+    fn sizes(&self, _: &Columns, beta: &[f64], cx: &SizeContext) -> Vec<Size> {
+        cx.amplitudes(beta, "ripple amplitude", "N·m")
+    }
+
     fn hypothesis(&self, cx: &Context) -> Result<Hypothesis, EffectError> {
         let d = cx.data;
         let span: Vec<(usize, f64)> = ripple_joints(cx.model)
@@ -101,13 +106,18 @@ impl Effect for Ripple {
                     |trig: fn(f64) -> f64, j: usize| cx.joint_column(j, |k| trig(p * d.q[k][j]));
                 // a joint that moves less than a period: a ripple there
                 // is any smooth function of q (an offset, a slope)
-                let cols: Vec<Vec<f64>> = span
-                    .iter()
+                let on: Vec<usize> = (span.iter())
                     .filter(|(_, range)| p * range >= 2.0 * MIN_PERIODS * std::f64::consts::PI)
-                    .flat_map(|&(j, _)| [column(f64::sin, j), column(f64::cos, j)])
+                    .map(|&(j, _)| j)
                     .collect();
-                (!cols.is_empty())
-                    .then(|| Columns::variant(format!("{p} periods per joint turn"), cols, 1))
+                let cols: Vec<Vec<f64>> = (on.iter())
+                    .flat_map(|&j| [column(f64::sin, j), column(f64::cos, j)])
+                    .collect();
+                (!cols.is_empty()).then(|| {
+                    Columns::variant(format!("{p} periods per joint turn"), cols, 1)
+                        .in_joints(on.iter().flat_map(|&j| [j, j]))
+                        .keyed("periods_per_turn", p)
+                })
             })
             .collect();
         Ok(Hypothesis::grid(variants))

@@ -4,7 +4,7 @@
 //! consistent), in the optional `inertial` part of the memory plan.
 
 use crate::effects::{
-    Columns, Context, Effect, EffectError, Hypothesis, Memory, Shape, Values,
+    Columns, Context, Effect, EffectError, Hypothesis, Memory, Shape, Size, SizeContext, Values,
 };
 use crate::sim::{SimWarning, Truth};
 
@@ -43,6 +43,18 @@ impl Effect for RotorInertia {
         Memory::optional(shape, 10 * rotors, "inertial", 0)
     }
 
+    /// Per rotor, the change of its axial inertia `I_zz` (kg·m²).
+    fn sizes(&self, _: &Columns, beta: &[f64], cx: &SizeContext) -> Vec<Size> {
+        let names = cx.model.body_names();
+        let links = cx.model.dof();
+        (0..beta.len() / 10)
+            .map(|b| {
+                let name = format!("axial inertia change, {}", names[links + b]);
+                Size::new(name, "kg·m²", beta[10 * b + 9])
+            })
+            .collect()
+    }
+
     fn hypothesis(&self, cx: &Context) -> Result<Hypothesis, EffectError> {
         let (links, bodies) = (cx.model.dof(), cx.model.num_bodies());
         if bodies == links {
@@ -53,6 +65,7 @@ impl Effect for RotorInertia {
         Ok(Hypothesis::single(Columns {
             cols,
             bodies: nominal_bodies(cx, links..bodies),
+            into_bodies: (links..bodies).collect(),
             ..Columns::default()
         }))
     }

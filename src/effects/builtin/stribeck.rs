@@ -3,9 +3,10 @@
 //! Stribeck velocities, open at both ends (a smaller or a larger v_s than
 //! the grid's can hide beyond it).
 
-use crate::dynamics::sign;
+use crate::dynamics::{FrictionTerm, sign};
 use crate::effects::{
-    Columns, Context, Effect, EffectError, Hypothesis, Memory, ParamSpec, Range, Shape, Values,
+    Columns, Context, Effect, EffectError, Hypothesis, Memory, ParamSpec, Range, Shape, Size,
+    SizeContext, Values,
 };
 use crate::sim::Truth;
 
@@ -32,6 +33,14 @@ const GRID: [f64; 4] = [0.05, 0.1, 0.2, 0.5];
 impl Effect for Stribeck {
     fn name(&self) -> &'static str {
         "stribeck"
+    }
+
+    fn law_term(&self) -> Option<FrictionTerm> {
+        Some(FrictionTerm::Stribeck)
+    }
+
+    fn sizes(&self, _: &Columns, beta: &[f64], cx: &SizeContext) -> Vec<Size> {
+        super::friction::term_sizes(beta, cx, FrictionTerm::Stribeck, "Stribeck friction F_s")
     }
 
     fn summary(&self) -> &'static str {
@@ -62,6 +71,8 @@ impl Effect for Stribeck {
                     cx.per_joint(|k, i| (-(d.qd[k][i] / vs).powi(2)).exp() * sign(d.qd[k][i])),
                     1,
                 )
+                .in_joints(0..cx.joints())
+                .keyed("stribeck_velocity", vs)
             })
             .collect();
         Ok(Hypothesis::grid(variants).open_below())

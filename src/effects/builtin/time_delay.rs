@@ -5,7 +5,8 @@
 //! sensor's filter or bus) and 0 on one that is not.
 
 use crate::effects::{
-    Columns, Context, Effect, EffectError, Hypothesis, Memory, ParamSpec, Range, Shape, Values,
+    Columns, Context, Effect, EffectError, Hypothesis, Memory, ParamSpec, Range, Shape, Size,
+    SizeContext, Values,
 };
 use crate::sim::Truth;
 
@@ -26,6 +27,26 @@ const SHIFTS: [usize; 8] = [1, 2, 3, 5, 8, 12, 20, 30];
 /// sensor's filter and a bus, not the tens of samples of a slow log, where
 /// a long shift is a smoothed derivative that absorbs any dynamic mismatch.
 const MAX_DELAY: f64 = 0.05;
+
+/// The data's mean step between samples (s).
+fn step(cx: &Context) -> f64 {
+    let d = cx.data;
+    if d.len() > 1 {
+        (d.t[d.len() - 1] - d.t[0]) / (d.len() - 1) as f64
+    } else {
+        1e-3
+    }
+}
+
+/// The variant of a delay of `s` samples of step `dt`: per joint
+/// `τ̂ᵢ(t − s·dt) − τ̂ᵢ(t)`.
+fn shifted(cx: &Context, s: usize, dt: f64) -> Result<Columns, EffectError> {
+    let th = cx.nominal_torques()?;
+    let cols = cx.per_joint(|k, i| th[k.saturating_sub(s)][i] - th[k][i]);
+    let ms = 1e3 * s as f64 * dt;
+    let c = Columns::variant(format!("delay {ms:.0} ms"), cols, 1).in_joints(0..cx.joints());
+    Ok(c.keyed("delay_s", s as f64 * dt))
+}
 
 impl Effect for TimeDelay {
     fn name(&self) -> &'static str {
@@ -50,23 +71,42 @@ impl Effect for TimeDelay {
     }
 
     fn hypothesis(&self, cx: &Context) -> Result<Hypothesis, EffectError> {
-        let d = cx.data;
-        let th = cx.nominal_torques()?;
-        let dt = if d.len() > 1 {
-            (d.t[d.len() - 1] - d.t[0]) / (d.len() - 1) as f64
-        } else {
-            1e-3
-        };
+        let dt = step(cx);
         let variants = SHIFTS
             .iter()
             .enumerate()
             .filter(|&(j, &s)| j == 0 || s as f64 * dt <= MAX_DELAY * (1.0 + 1e-9))
-            .map(|(_, &s)| {
-                let cols = cx.per_joint(|k, i| th[k.saturating_sub(s)][i] - th[k][i]);
-                let ms = 1e3 * s as f64 * dt;
-                Columns::variant(format!("delay {ms:.0} ms"), cols, 1)
-            })
-            .collect();
+            .map(|(_, &s)| shifted(cx, s, dt))
+            .collect::<Result<_, _>>()?;
         Ok(Hypothesis::grid(variants))
+    }
+
+    /// The shift of whole samples of these data nearest the recorded delay.
+    fn replay(&self, cx: &Context, key: &[(String, f64)]) -> Result<Columns, EffectError> {
+        let dt = step(cx);
+        let delay = (key.iter().find(|(k, _)| k == "delay_s")).map(|(_, v)| *v);
+        match delay {
+            Some(s) if s.is_finite() && s > 0.0 => shifted(cx, ((s / dt).round() as usize).max(1), dt),
+            _ => Err(EffectError::NotReplayable {
+                effect: self.name().into(),
+                key: "no positive delay_s".into(),
+            }),
+        }
+    }
+
+    /// A delay (coefficient × shift) beyond ±1.5 × [`MAX_DELAY`] is no
+    /// sensor's lag: the column absorbs another dynamic mismatch.
+    fn implausible(&self, v: &Columns, _: usize, beta: f64) -> Option<String> {
+        let delay = beta * v.key_value("delay_s").unwrap_or(0.0);
+        (delay.abs() > 1.5 * MAX_DELAY).then(|| {
+            format!("a delay of {:.0} ms, beyond ±{:.0} ms", 1e3 * delay, 1.5e3 * MAX_DELAY)
+        })
+    }
+
+    /// Per joint, the delay `coefficient × shift` in ms: the first-order
+    /// column's coefficient is the share of the shift the joint's torque lags.
+    fn sizes(&self, v: &Columns, beta: &[f64], cx: &SizeContext) -> Vec<Size> {
+        let shift = v.key_value("delay_s").unwrap_or(0.0);
+        cx.per_joint(beta, "delay", "ms", 1e3 * shift)
     }
 }

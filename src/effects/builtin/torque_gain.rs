@@ -4,7 +4,8 @@
 //! calibration, or one motor's torque constant).
 
 use crate::effects::{
-    Context, Effect, EffectError, Hypothesis, Memory, ParamSpec, Range, Shape, Values,
+    Columns, Context, Effect, EffectError, Hypothesis, Memory, ParamSpec, Range, Shape, Size,
+    SizeContext, Values,
 };
 use crate::sim::Truth;
 
@@ -18,6 +19,10 @@ const GAIN_ERROR: ParamSpec = ParamSpec::new(
     Range::Above(-1.0),
     "Torque gain error ε (measured (1 + ε) τ).",
 );
+
+/// The largest relative gain error a torque sensor's or a motor's torque
+/// constant's calibration is taken to have.
+const MAX_GAIN_ERROR: f64 = 0.3;
 
 impl Effect for TorqueGain {
     fn name(&self) -> &'static str {
@@ -43,6 +48,17 @@ impl Effect for TorqueGain {
 
     fn hypothesis(&self, cx: &Context) -> Result<Hypothesis, EffectError> {
         let th = cx.nominal_torques()?;
-        Ok(Hypothesis::linear(cx.per_joint(|k, i| th[k][i])))
+        Ok(Hypothesis::per_joint(cx.per_joint(|k, i| th[k][i])))
+    }
+
+    /// A gain error beyond ±[`MAX_GAIN_ERROR`] is no calibration error.
+    fn implausible(&self, _: &Columns, _: usize, beta: f64) -> Option<String> {
+        (beta.abs() > MAX_GAIN_ERROR).then(|| {
+            format!("a gain error of {:.0} %, beyond ±{:.0} %", 100.0 * beta, 100.0 * MAX_GAIN_ERROR)
+        })
+    }
+
+    fn sizes(&self, _: &Columns, beta: &[f64], cx: &SizeContext) -> Vec<Size> {
+        cx.per_joint(beta, "gain error", "%", 100.0)
     }
 }

@@ -2,7 +2,9 @@
 //! coefficients B (its description) scaled by `viscous_scale`.
 
 use crate::dynamics::FrictionTerm;
-use crate::effects::{Context, Effect, EffectError, Hypothesis, ParamSpec, Range, Values};
+use crate::effects::{
+    Columns, Context, Effect, EffectError, Hypothesis, ParamSpec, Range, Size, SizeContext, Values,
+};
 use super::friction::{basis_hypothesis, scaled_nominal};
 use crate::sim::Truth;
 
@@ -20,6 +22,14 @@ const VISCOUS_SCALE: ParamSpec = ParamSpec::new(
 impl Effect for Viscous {
     fn name(&self) -> &'static str {
         "viscous"
+    }
+
+    fn law_term(&self) -> Option<FrictionTerm> {
+        Some(FrictionTerm::Viscous)
+    }
+
+    fn sizes(&self, _: &Columns, beta: &[f64], cx: &SizeContext) -> Vec<Size> {
+        super::friction::term_sizes(beta, cx, FrictionTerm::Viscous, "viscous friction")
     }
 
     fn summary(&self) -> &'static str {

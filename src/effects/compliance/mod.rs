@@ -103,19 +103,60 @@ fn doubtful(p: &Transmission) -> Option<String> {
     ))
 }
 
+/// The transmission recorded as a variant's key (`stiffness_i`,
+/// `damping_i`, `backlash_i`, `axial_shift_i` per joint i), if it is one
+/// of `n` joints.
+pub fn from_key(key: &[(String, f64)], n: usize) -> Option<Transmission> {
+    let get = |name: &str, i: usize| {
+        let k = format!("{name}_{i}");
+        key.iter()
+            .find(|(x, _)| *x == k)
+            .map(|(_, v)| *v)
+            .filter(|v| v.is_finite())
+    };
+    let all = |name: &str| (0..n).map(|i| get(name, i)).collect::<Option<Vec<f64>>>();
+    Some(Transmission {
+        stiffness: all("stiffness")?,
+        damping: all("damping")?,
+        backlash: all("backlash")?,
+        axial_shift: all("axial_shift")?,
+    })
+}
+
+/// The key recording `p`.
+fn key_of(p: &Transmission) -> Vec<(String, f64)> {
+    let fields = [
+        ("stiffness", &p.stiffness),
+        ("damping", &p.damping),
+        ("backlash", &p.backlash),
+        ("axial_shift", &p.axial_shift),
+    ];
+    (fields.iter())
+        .flat_map(|(name, v)| {
+            v.iter()
+                .enumerate()
+                .map(move |(i, x)| (format!("{name}_{i}"), *x))
+        })
+        .collect()
+}
+
 /// The candidate's columns on all samples (one per joint) for a fitted
 /// hypothesis (zero during the warm-up).
 pub fn columns(lin: &Linearisation, fit: &ComplianceFit, backlash: bool) -> Option<Columns> {
+    columns_of(lin, &fit.transmission, backlash)
+}
+
+/// The columns of the transmission `p` on the data `lin` is for.
+pub fn columns_of(lin: &Linearisation, p: &Transmission, backlash: bool) -> Option<Columns> {
     let n = lin.n;
     let ns = lin.t.len();
-    let h = lin.simulate(&fit.transmission, ns)?;
+    let h = lin.simulate(p, ns)?;
     let mut cols = vec![vec![0.0; ns * n]; n];
     for s in search::warm_up(&lin.t)..ns {
         for i in 0..n {
             cols[i][s * n + i] = h[s * n + i];
         }
     }
-    let p = &fit.transmission;
     let list = |v: &[f64], digits: usize| {
         v.iter()
             .map(|x| format!("{x:.digits$}"))
@@ -138,6 +179,10 @@ pub fn columns(lin: &Linearisation, fit: &ComplianceFit, backlash: bool) -> Opti
         nonneg: false,
         // K, D and the axial split per joint, and the dead band for backlash
         nonlinear: if backlash { 4 * n } else { 3 * n },
+        // the search's result, built again on other data by simulating it
+        key: key_of(p),
+        into_bodies: vec![],
+        joints: (0..n).map(Some).collect(),
     })
 }
 

@@ -1,0 +1,107 @@
+//! The nominal model's friction law, refit on the diagnosed data: the
+//! baseline every candidate is measured against. Friction changes from run
+//! to run (the drives warm, the lubricant thins, a faster motion reaches
+//! another part of the friction curve), so the coefficients of the terms
+//! the nominal model has are free in every fit; its inertias, which do not
+//! change between runs, are held, and a change there is a finding
+//! (`payload`, `link_inertia`, `rotor_inertia`). A friction term the law
+//! lacks is a candidate like any other effect.
+
+use super::refit::Group;
+use super::store::Store;
+use crate::data::Dataset;
+use crate::dynamics::predict::predict_torques;
+use crate::dynamics::{DynamicsError, Friction, FrictionTerm, Model};
+
+/// The law's columns in the store.
+pub struct Law {
+    /// Its terms, in [`FrictionTerm::ALL`]'s order.
+    pub terms: Vec<FrictionTerm>,
+    /// One column per term and joint (term-major), with the bounds that
+    /// keep an unsigned coefficient ≥ 0.
+    pub group: Group,
+    /// The term and joint of each column.
+    pub labels: Vec<(FrictionTerm, usize)>,
+    /// The nominal coefficient of each column.
+    pub nominal: Vec<f64>,
+}
+
+/// The terms of the nominal law: those the model identifies
+/// ([`Model::friction_terms`]) and any the nominal friction gives a
+/// coefficient that is not zero.
+pub fn terms(model: &Model, friction: &Friction) -> Vec<FrictionTerm> {
+    FrictionTerm::ALL
+        .into_iter()
+        .filter(|t| {
+            model.friction_terms().contains(t)
+                || friction.coefficients(*t).iter().any(|c| *c != 0.0)
+        })
+        .collect()
+}
+
+impl Law {
+    /// The law of `model` + `friction` on `data`, its columns added to
+    /// `store`: term t of joint i holds `φ_t(q̇ᵢ)` in joint i's rows (the
+    /// load term's load: the nominal model's rigid torque, as in
+    /// [`Friction::torque`]).
+    pub fn new(
+        model: &Model,
+        friction: &Friction,
+        data: &Dataset,
+        store: &mut Store,
+    ) -> Result<Self, DynamicsError> {
+        let terms = terms(model, friction);
+        let n = model.dof();
+        let rigid = match terms.contains(&FrictionTerm::Load) {
+            true => Some(predict_torques(
+                model,
+                &Friction::zeros(n),
+                &data.q,
+                &data.qd,
+                &data.qdd,
+            )?),
+            false => None,
+        };
+        let vs = friction.stribeck_velocity();
+        let (mut ids, mut labels, mut nominal, mut lower) = (vec![], vec![], vec![], vec![]);
+        for &t in &terms {
+            for i in 0..n {
+                let mut col = vec![0.0; data.len() * n];
+                for k in 0..data.len() {
+                    let load = rigid.as_ref().map_or(0.0, |r| r[k][i]);
+                    col[k * n + i] = t.basis(data.qd[k][i], load, vs);
+                }
+                let c0 = friction.coefficients(t).get(i).copied().unwrap_or(0.0);
+                ids.push(store.add(col));
+                labels.push((t, i));
+                nominal.push(c0);
+                lower.push(if t.signed() { f64::NEG_INFINITY } else { -c0 });
+            }
+        }
+        Ok(Self {
+            terms,
+            group: Group {
+                ids,
+                lower: Some(lower),
+                ..Group::default()
+            },
+            labels,
+            nominal,
+        })
+    }
+
+    /// The nominal friction with the law's changes `delta` (one per column)
+    /// added.
+    pub fn friction(&self, nominal: &Friction, delta: &[f64]) -> Friction {
+        let mut f = nominal.clone();
+        let n = f.viscous.len();
+        for ((t, i), d) in self.labels.iter().zip(delta) {
+            let c = f.coefficients_mut(*t);
+            if c.len() != n {
+                c.resize(n, 0.0);
+            }
+            c[*i] += d;
+        }
+        f
+    }
+}
