@@ -56,6 +56,7 @@ impl Candidate {
                     bodies: columns.bodies.clone(),
                     nonneg: columns.nonneg,
                     lower: None,
+                    applied: None,
                 };
                 Variant {
                     columns,

@@ -56,8 +56,11 @@ pub struct FinalSetup<'a> {
 impl FinalSetup<'_> {
     /// The final fit of the law and `accepted`.
     pub fn fit(&self, accepted: &[Accepted]) -> Result<Final, FitError> {
-        let mut groups: Vec<&Group> = vec![&self.law.group];
-        groups.extend(accepted.iter().map(|a| &a.group));
+        let owned: Vec<Group> = std::iter::once(&self.law.group)
+            .chain(accepted.iter().map(|a| &a.group))
+            .map(Group::reported)
+            .collect();
+        let groups: Vec<&Group> = owned.iter().collect();
         let mut enforce = vec![true; groups.len()];
         let ids: Vec<usize> = groups.iter().flat_map(|g| g.ids.iter().copied()).collect();
         let end = self.folds.first_heldout();

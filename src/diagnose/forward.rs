@@ -34,6 +34,9 @@ pub struct Selected {
     pub ranked: Vec<EffectReport>,
     /// The accepted effects, in order.
     pub accepted: Vec<Accepted>,
+    /// The candidates removed by backward elimination: not proposed again
+    /// (an effect added and removed in turn would never end).
+    pub removed: Vec<usize>,
 }
 
 /// The selection's fixed inputs.
@@ -68,10 +71,11 @@ pub fn forward_selection(
     let mut out = Selected {
         ranked: vec![],
         accepted: vec![],
+        removed: vec![],
     };
     for number in 1..=s.max_effects {
         let round = round(s, &out.accepted, number)?;
-        let mut evals = score(s, &round, &out.accepted, warnings);
+        let mut evals = score(s, &round, (&out.accepted, &out.removed), warnings);
         let choice = choose(&evals);
         let mut reports: Vec<EffectReport> = evals.iter().map(|e| report(s, &round, e)).collect();
         let Some((chosen, tied)) = choice else {
@@ -127,6 +131,7 @@ fn backward(s: &Setup, out: &mut Selected, number: usize) -> Result<(), FitError
             return Ok(());
         };
         let a = out.accepted.remove(idx);
+        out.removed.push(a.candidate);
         let name = s.candidates[a.candidate].name();
         if let Some(r) = out
             .ranked
@@ -229,15 +234,15 @@ fn inner(s: &Setup, base: &[&Group]) -> Result<Vec<Vec<Vec<f64>>>, FitError> {
         .collect()
 }
 
-/// Every candidate not yet accepted, scored in parallel; the warnings kept
+/// Every candidate neither accepted nor removed, scored in parallel; the warnings kept
 /// in the candidates' order.
 fn score(
     s: &Setup,
     round: &Round,
-    accepted: &[Accepted],
+    (accepted, removed): (&[Accepted], &[usize]),
     warnings: &mut Vec<DiagnoseWarning>,
 ) -> Vec<Evaluation> {
-    let taken = |j: usize| accepted.iter().any(|a| a.candidate == j);
+    let taken = |j: usize| accepted.iter().any(|a| a.candidate == j) || removed.contains(&j);
     let scored: Vec<(Option<Evaluation>, Vec<DiagnoseWarning>)> = (0..s.candidates.len())
         .into_par_iter()
         .filter(|&j| !taken(j))

@@ -97,7 +97,7 @@ impl Refine<'_> {
         let law =
             Law::new(&out.model, &out.friction, d, &mut store).map_err(DiagnoseError::Predict)?;
         let k = self.law.group.ids.len();
-        let mut groups = vec![self.law_group(&law, &out.friction)];
+        let mut groups = vec![self.law_group(&law, &out.friction, &beta[..k])];
         let zeros = vec![0.0; d.len() * n];
         let cx = Context::new(
             &out.model,
@@ -118,7 +118,7 @@ impl Refine<'_> {
     /// The law's columns for the nominal law's terms (`law` is built on the
     /// current model, whose law may have more terms), bounded at the
     /// current coefficients.
-    fn law_group(&self, law: &Law, friction: &Friction) -> Group {
+    fn law_group(&self, law: &Law, friction: &Friction, delta: &[f64]) -> Group {
         let ids = (self.law.labels.iter())
             .map(|l| {
                 law.labels
@@ -137,6 +137,7 @@ impl Refine<'_> {
         Group {
             ids,
             lower: Some(lower),
+            applied: Some(delta.to_vec()),
             ..Group::default()
         }
     }
@@ -185,6 +186,7 @@ impl Refine<'_> {
             bodies,
             nonneg: false,
             lower: a.group.nonneg.then(|| b.iter().map(|x| -x).collect()),
+            applied: Some(b.to_vec()),
         })
     }
 }

@@ -25,9 +25,27 @@ pub struct Group {
     pub nonneg: bool,
     /// A lower bound per coefficient (`-∞`: none).
     pub lower: Option<Vec<f64>>,
+    /// The coefficients already applied (a refinement's step from them;
+    /// zeros for the final fit): a constrained fit of such groups has a
+    /// ridge pulling their sum with the step toward zero, in the units of
+    /// the bodies before them ([`RIDGE`]); `None`: no ridge (scoring).
+    pub applied: Option<Vec<f64>>,
 }
 
 impl Group {
+    /// The same, fitted with the ridge of reported sizes (nothing applied
+    /// yet when nothing was).
+    pub fn reported(&self) -> Self {
+        Self {
+            applied: Some(
+                self.applied
+                    .clone()
+                    .unwrap_or_else(|| vec![0.0; self.ids.len()]),
+            ),
+            ..self.clone()
+        }
+    }
+
     /// Plain columns.
     #[cfg(test)]
     pub fn plain(ids: Vec<usize>) -> Self {
@@ -55,6 +73,7 @@ impl Group {
             bodies: vec![],
             nonneg: self.nonneg,
             lower: (self.lower.as_ref()).map(|l| keep.iter().map(|&a| l[a]).collect()),
+            applied: (self.applied.as_ref()).map(|l| keep.iter().map(|&a| l[a]).collect()),
         }
     }
 }
@@ -115,6 +134,11 @@ pub struct Fit {
     /// The residual sum of squares on the rows fitted.
     pub rss: f64,
 }
+
+/// The ridge of a constrained fit: a change of each coefficient by its
+/// unit ([`units`]) costs this share of the residual's sum of squares
+/// (directions the rows do not determine stay at zero change).
+const RIDGE: f64 = 1e-6;
 
 /// `min ‖Xβ − r‖²` from `XᵀX = g`, `Xᵀr = b`: the columns scaled to unit
 /// norm and a ridge of 1e-9 on the scaled diagonal (directions the rows do
@@ -178,13 +202,28 @@ fn constrained(
     let z = p.vector("beta", k);
     let beta: Vec<AffExpr> = (0..k).map(|j| AffExpr::term(z[j], scale[j])).collect();
     let t = p.scalar("t");
-    let res: Vec<AffExpr> = (0..f.nrows())
+    let mut res: Vec<AffExpr> = (0..f.nrows())
         .map(|i| {
             let mut e = AffExpr::constant(-d[i]);
             (0..k).for_each(|j| e.add_term(z[j], f[(i, j)] * scale[j]));
             e
         })
         .collect();
+    // a ridge on the coefficients in their own units, a change of a body's
+    // own size costing RIDGE of the residual's sum of squares: a direction
+    // the rows do not determine (a link's mass that enters no torque)
+    // stays at zero change instead of wherever the constraints let it go.
+    // Only for a fit whose sizes are reported (groups with `applied`): the
+    // candidates' scoring fits without it.
+    if groups.iter().any(|g| g.applied.is_some()) {
+        let (units, applied) = units(groups);
+        let mu = (RIDGE * rr.max(f64::MIN_POSITIVE)).sqrt();
+        res.extend((0..k).map(|j| {
+            let mut e = AffExpr::constant(mu * applied[j] / units[j]);
+            e.add_term(z[j], mu * scale[j] / units[j]);
+            e
+        }));
+    }
     p.add_soc(t, res)?;
     let mut at = 0;
     for (grp, on) in groups.iter().zip(enforce) {
@@ -204,6 +243,31 @@ fn constrained(
         }),
         s => Err(FitError::Status(s)),
     }
+}
+
+/// Each coefficient's unit for the ridge — 1, but a body's parameters
+/// relative to its size before any change (a mass of its mass, at least
+/// 1 kg; a first moment of that mass at 0.1 m; a second moment of it at
+/// 0.1 m squared) — and the coefficients already applied.
+fn units(groups: &[&Group]) -> (Vec<f64>, Vec<f64>) {
+    let (mut out, mut applied) = (vec![], vec![]);
+    for g in groups {
+        let a = g.applied.clone().unwrap_or_else(|| vec![0.0; g.ids.len()]);
+        let mut u = vec![1.0; g.ids.len()];
+        for (b, nominal) in g.bodies.iter().enumerate() {
+            let m = (nominal[0] - a[10 * b]).abs().max(1.0);
+            for (q, x) in u[10 * b..10 * b + 10].iter_mut().enumerate() {
+                *x = m * match q {
+                    0 => 1.0,
+                    1..=3 => 0.1,
+                    _ => 0.01,
+                };
+            }
+        }
+        out.extend(u);
+        applied.extend(a);
+    }
+    (out, applied)
 }
 
 /// Adds `grp`'s constraints on its coefficients `beta` to `p`.

@@ -100,60 +100,17 @@ impl Round<'_> {
     ) -> Option<Evaluation> {
         let n = self.store.joints();
         let all: Vec<usize> = (0..n).collect();
-        let mut groups = c.groups();
-        let mut cv = self.cv(c, &groups, warnings)?;
-        let mut joints = all.clone();
-        let mut doubt = None;
-        if c.per_joint() {
-            let after = sse(self.folds, n, &cv.resid);
-            let samples = self.samples();
-            let passing: Vec<usize> = (0..n)
-                .filter(|&i| {
-                    self.rule
-                        .joint_passes(&self.sse_without, &after, i, samples)
-                })
-                .collect();
-            let (v, beta) = self.whole(&groups)?;
-            let why = |i: usize| implausible_on(c, v, &groups[v], &beta, Some(i));
-            let kept: Vec<usize> = passing
-                .iter()
-                .copied()
-                .filter(|&i| why(i).is_none())
-                .collect();
-            if kept.is_empty() && !passing.is_empty() {
-                doubt = why(passing[0]);
-            }
-            if !kept.is_empty() && kept.len() < n {
-                groups = c.restricted(&kept);
-                joints = kept;
-            }
-            let nested =
-                cross_validate_each(self.store, self.folds, &self.base, &|k| self.screened(c, k));
-            cv = nested.ok()?;
-        }
-        let (mut variant, mut beta) = self.whole(&groups)?;
-        if !c.per_joint() {
-            // a plain hypothesis of one variant loses its implausible
-            // columns (an encoder offset on a joint whose angle the torques
-            // barely depend on); any other is not accepted with one
-            for _ in 0..3 {
-                doubt = implausible_on(c, variant, &groups[variant], &beta, None);
-                let plain = groups.len() == 1 && !groups[0].constrained();
-                let Some(keep) = doubt
-                    .as_ref()
-                    .filter(|_| plain)
-                    .map(|_| self.plausible(c, &groups[0], &beta))
-                else {
-                    break;
-                };
-                if keep.is_empty() {
-                    break;
-                }
-                groups = vec![groups[0].only(&keep)];
-                cv = self.cv(c, &groups, warnings)?;
-                (variant, beta) = self.whole(&groups)?;
-            }
-        }
+        let groups = c.groups();
+        let cv = self.cv(c, &groups, warnings)?;
+        let (groups, cv, joints, doubt, variant, beta) = if c.per_joint() {
+            let (groups, cv, joints, doubt) = self.keep_joints(c, groups, cv)?;
+            let (variant, beta) = self.whole(&groups)?;
+            (groups, cv, joints, doubt, variant, beta)
+        } else {
+            let (groups, cv, doubt, variant, beta) =
+                self.drop_implausible(c, groups, cv, warnings)?;
+            (groups, cv, all.clone(), doubt, variant, beta)
+        };
         let scores = self.scores(&cv, joints);
         let params = groups[variant].ids.len() + c.variants[variant].columns.nonlinear;
         let verdict = match doubt {
@@ -172,6 +129,79 @@ impl Round<'_> {
             cv,
             scores,
         })
+    }
+
+    /// A per-joint candidate kept on the joints where the rule passes on
+    /// its own and its coefficients are plausible, with the nested
+    /// cross-validation of that choice; the joints kept and, when none is
+    /// plausible, why.
+    fn keep_joints(
+        &self,
+        c: &Candidate,
+        mut groups: Vec<Group>,
+        cv: Cv,
+    ) -> Option<(Vec<Group>, Cv, Vec<usize>, Option<String>)> {
+        let n = self.store.joints();
+        let after = sse(self.folds, n, &cv.resid);
+        let samples = self.samples();
+        let passing: Vec<usize> = (0..n)
+            .filter(|&i| {
+                self.rule
+                    .joint_passes(&self.sse_without, &after, i, samples)
+            })
+            .collect();
+        let (v, beta) = self.whole(&groups)?;
+        let why = |i: usize| implausible_on(c, v, &groups[v], &beta, Some(i));
+        let kept: Vec<usize> = passing
+            .iter()
+            .copied()
+            .filter(|&i| why(i).is_none())
+            .collect();
+        let doubt = (kept.is_empty() && !passing.is_empty())
+            .then(|| why(passing[0]))
+            .flatten();
+        let mut joints: Vec<usize> = (0..n).collect();
+        if !kept.is_empty() && kept.len() < n {
+            groups = c.restricted(&kept);
+            joints = kept;
+        }
+        let nested =
+            cross_validate_each(self.store, self.folds, &self.base, &|k| self.screened(c, k));
+        Some((groups, nested.ok()?, joints, doubt))
+    }
+
+    /// A plain hypothesis of one variant loses its implausible columns (an
+    /// encoder offset on a joint whose angle the torques barely depend
+    /// on); any other is not accepted with one. The groups, their
+    /// cross-validation, the doubt left, and the whole-data fit.
+    #[allow(clippy::type_complexity)]
+    fn drop_implausible(
+        &self,
+        c: &Candidate,
+        mut groups: Vec<Group>,
+        mut cv: Cv,
+        warnings: &mut Vec<DiagnoseWarning>,
+    ) -> Option<(Vec<Group>, Cv, Option<String>, usize, Vec<f64>)> {
+        let (mut variant, mut beta) = self.whole(&groups)?;
+        let mut doubt = None;
+        for _ in 0..3 {
+            doubt = implausible_on(c, variant, &groups[variant], &beta, None);
+            let plain = groups.len() == 1 && !groups[0].constrained();
+            let Some(keep) = doubt
+                .as_ref()
+                .filter(|_| plain)
+                .map(|_| self.plausible(c, &groups[0], &beta))
+            else {
+                break;
+            };
+            if keep.is_empty() {
+                break;
+            }
+            groups = vec![groups[0].only(&keep)];
+            cv = self.cv(c, &groups, warnings)?;
+            (variant, beta) = self.whole(&groups)?;
+        }
+        Some((groups, cv, doubt, variant, beta))
     }
 
     /// The positions in `group` (of `c`'s only variant, coefficients

@@ -30,6 +30,10 @@ impl Effect for Coulomb {
         Some(FrictionTerm::Coulomb)
     }
 
+    fn implausible(&self, _: &Columns, _: usize, beta: f64) -> Option<String> {
+        super::friction::term_implausible(FrictionTerm::Coulomb, beta)
+    }
+
     fn sizes(&self, _: &Columns, beta: &[f64], cx: &SizeContext) -> Vec<Size> {
         super::friction::term_sizes(beta, cx, FrictionTerm::Coulomb, "Coulomb friction")
     }

@@ -20,6 +20,18 @@ pub fn scaled_nominal(truth: &mut Truth, term: FrictionTerm, scale: f64, effect:
     c
 }
 
+/// Why a fitted coefficient `beta` of `term` (an effect the nominal law
+/// lacks, so the coefficient is the whole of it) is implausible: friction
+/// that is not a signed term does not push the joint along.
+pub fn term_implausible(term: FrictionTerm, beta: f64) -> Option<String> {
+    (!term.signed() && beta < 0.0).then(|| {
+        format!(
+            "a negative {} friction coefficient ({beta:.3})",
+            term.name()
+        )
+    })
+}
+
 /// One size per joint kept: the coefficient of `term` (`what`) in its unit.
 pub fn term_sizes(beta: &[f64], cx: &SizeContext, term: FrictionTerm, what: &str) -> Vec<Size> {
     cx.per_joint(beta, what, term.unit(), 1.0)

@@ -32,6 +32,10 @@ impl Effect for LoadFriction {
         Some(FrictionTerm::Load)
     }
 
+    fn implausible(&self, _: &Columns, _: usize, beta: f64) -> Option<String> {
+        super::friction::term_implausible(FrictionTerm::Load, beta)
+    }
+
     fn sizes(&self, _: &Columns, beta: &[f64], cx: &SizeContext) -> Vec<Size> {
         super::friction::term_sizes(beta, cx, FrictionTerm::Load, "load friction μ")
     }

@@ -28,6 +28,10 @@ impl Effect for Viscous {
         Some(FrictionTerm::Viscous)
     }
 
+    fn implausible(&self, _: &Columns, _: usize, beta: f64) -> Option<String> {
+        super::friction::term_implausible(FrictionTerm::Viscous, beta)
+    }
+
     fn sizes(&self, _: &Columns, beta: &[f64], cx: &SizeContext) -> Vec<Size> {
         super::friction::term_sizes(beta, cx, FrictionTerm::Viscous, "viscous friction")
     }
