@@ -407,10 +407,10 @@ const LAYERS: [&[&str]; 14] = [
     &["dynamics"],
     &["data"],
     &["sim"],
+    &["effects"],
     &["export"],
     &["identify"],
     &["excite"],
-    &["effects"],
     &["diagnose"],
     &[],
 ];

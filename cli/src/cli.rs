@@ -185,6 +185,11 @@ enum Command {
         /// Random candidate motions of the convex D- or E-optimal pool design (0: none).
         #[arg(long, default_value_t = 0, allow_negative_numbers = true)]
         pool: usize,
+        /// Two effects A,B the diagnosis reported as tied: design the motion that tells them
+        /// apart (the smaller share of one's predicted torques the other cannot fit, maximised)
+        /// instead of an information criterion.
+        #[arg(long, value_name = "A,B")]
+        separate: Option<String>,
         /// Output CSV (t, q, qd, qdd per joint) and a JSON report beside it.
         #[arg(long)]
         out: Option<PathBuf>,
@@ -499,6 +504,7 @@ pub fn main() -> i32 {
             seeds,
             seed,
             pool,
+            separate,
             out,
             rate,
             json,
@@ -516,6 +522,7 @@ pub fn main() -> i32 {
                 ..Default::default()
             },
             criterion: &criterion,
+            separate: separate.as_deref(),
             out: out.as_deref(),
             rate_hz: rate,
             json,

@@ -169,3 +169,82 @@ fn the_panda_identified_by_the_command_reports_43_base_parameters() {
         "{err}"
     );
 }
+
+/// `--separate A,B` on the leg: the motion's report says how much of each
+/// effect the other cannot fit; the search does not end below its best
+/// random start; a payload lies within a change of the links' inertia on
+/// every motion (the payload's columns are the last link's).
+#[test]
+fn separate_designs_a_motion_that_tells_two_effects_apart() {
+    let run = |pair: &str| -> serde_json::Value {
+        let o = bin()
+            .args(["excite", "--robot", "cheetah3-leg", "--seconds", "2"])
+            .args(["--seeds", "1", "--separate", pair, "--json"])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice(&o.stdout).unwrap()
+    };
+    let r = run("viscous,time_delay");
+    let s = &r["separation"];
+    assert_eq!(s["effects"][0], "viscous");
+    let (a, b) = (
+        s["first_not_fitted_by_second"].as_f64().unwrap(),
+        s["second_not_fitted_by_first"].as_f64().unwrap(),
+    );
+    assert!(s["separable"].as_bool().unwrap());
+    assert!(a > 0.0 && a <= 1.0 && b > 0.0 && b <= 1.0, "{a} {b}");
+    assert!((r["value"].as_f64().unwrap() - a.min(b)).abs() < 1e-12);
+    assert!(a.min(b) >= s["best_start"].as_f64().unwrap());
+    let r = run("payload,link_inertia");
+    let s = &r["separation"];
+    assert!(!s["separable"].as_bool().unwrap(), "{s}");
+    assert!(s["first_not_fitted_by_second"].as_f64().unwrap() < 1e-6);
+    assert!(s["second_not_fitted_by_first"].as_f64().unwrap() > 0.1);
+}
+
+/// `--separate` with an unknown effect, one name, the same name twice, or
+/// beside `--pool`: exit 2, the problem named, nothing written.
+#[test]
+fn separate_with_bad_names_is_refused_and_nothing_written() {
+    let d = dir();
+    for (i, (pair, needle)) in [
+        ("viscous,nope", "nope"),
+        ("viscous", "two effect names"),
+        ("viscous,viscous", "two different effects"),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let out = d.join(format!("sep{i}.csv"));
+        let o = bin()
+            .args([
+                "excite",
+                "--robot",
+                "cheetah3-leg",
+                "--separate",
+                pair,
+                "--out",
+            ])
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(2), "{pair}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains(needle), "{pair}: {err}");
+        assert!(!out.exists() && !d.join(format!("sep{i}.json")).exists());
+    }
+    let o = bin()
+        .args([
+            "excite",
+            "--robot",
+            "cheetah3-leg",
+            "--separate",
+            "viscous,coulomb",
+        ])
+        .args(["--pool", "4"])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--pool"));
+}

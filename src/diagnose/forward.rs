@@ -9,7 +9,7 @@ use super::cv::{Cv, cross_validate, sse, sse_on};
 use super::error::FitError;
 use super::folds::Folds;
 use super::refit::Group;
-use super::report::EffectReport;
+use super::report::{EffectReport, Tie};
 use super::rule::Rule;
 use super::score::{Evaluation, Round};
 use super::store::Store;
@@ -83,9 +83,13 @@ pub fn forward_selection(
             break;
         };
         let names: Vec<String> = tied.iter().map(|&j| reports[j].effect.clone()).collect();
+        let ties = (tied.iter())
+            .map(|&j| tie(s, &evals[chosen], &evals[j]))
+            .collect();
         let r = &mut reports[chosen];
         r.accepted = true;
         r.tied_with = names;
+        r.ties = ties;
         if let Some(why) = &r.implausible {
             warnings.push(DiagnoseWarning::AcceptedDoubtful {
                 round: number,
@@ -145,6 +149,26 @@ fn backward(s: &Setup, out: &mut Selected, number: usize) -> Result<(), FitError
         }
     }
     Ok(())
+}
+
+/// What would separate the tied `b` from the accepted `a`: the joints where
+/// their cross-validated predictions differ most and the motions that show
+/// each.
+fn tie(s: &Setup, a: &Evaluation, b: &Evaluation) -> Tie {
+    let n = s.store.joints();
+    let diff: Vec<f64> = (a.cv.resid.iter().zip(&b.cv.resid))
+        .map(|(x, y)| x - y)
+        .collect();
+    let rms = rms_per_joint(&diff, n);
+    let top = rms.iter().copied().fold(0.0, f64::max);
+    let mut joints: Vec<usize> = (0..n).filter(|&i| rms[i] >= 0.5 * top).collect();
+    joints.sort_by(|&x, &y| rms[y].total_cmp(&rms[x]));
+    Tie {
+        effect: s.candidates[b.candidate].name().to_string(),
+        joints: joints.iter().map(|&i| s.names[i].clone()).collect(),
+        difference_rms: rms,
+        motions: [a, b].map(|e| s.candidates[e.candidate].effect.motion().to_string()),
+    }
 }
 
 /// The joints an accepted effect is kept on.
@@ -290,6 +314,7 @@ fn report(s: &Setup, round: &Round, e: &Evaluation) -> EffectReport {
             Err(why) => format!("not accepted: {why}"),
         },
         tied_with: vec![],
+        ties: vec![],
         same_as: c.aliases.iter().map(|a| a.to_string()).collect(),
         implausible: super::implausible::implausible(c, e.variant, &beta, s.names),
         sizes: point_sizes(c, e.variant, &beta, s),

@@ -51,7 +51,7 @@ pub use error::{DiagnoseError, FitError};
 pub use floor::{FloorSource, NoiseFloor};
 pub use memory::{MemoryEstimate, OptionalGroup, memory_estimate};
 pub use options::{DEFAULT_MAX_MEMORY_BYTES, DiagnoseOptions};
-pub use report::{Diagnosis, EffectReport, HeldOut, Reestimate, SizeReport};
+pub use report::{Diagnosis, EffectReport, HeldOut, Reestimate, SizeReport, Tie};
 pub use warning::DiagnoseWarning;
 
 use crate::data::Dataset;

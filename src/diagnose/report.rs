@@ -51,6 +51,10 @@ pub struct EffectReport {
     /// Candidates that explain the data as well on this motion (their
     /// held-out gains within noise): indistinguishable here.
     pub tied_with: Vec<String>,
+    /// For each tied candidate: where the two differ and the motion that
+    /// would tell them apart (said once, on the accepted effect).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub ties: Vec<Tie>,
     /// Effects whose hypotheses span the same columns as this one's on
     /// these data (an offset and direction-dependent friction where the
     /// joints never stand still): one hypothesis, offered once under this
@@ -69,6 +73,39 @@ pub struct EffectReport {
     /// the effects accepted after it explain what it did: why.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub removed: Option<String>,
+}
+
+/// Two candidates indistinguishable on this motion: what would separate
+/// them.
+#[derive(Clone, Debug, Default, Serialize, PartialEq)]
+pub struct Tie {
+    /// The candidate tied with the accepted effect.
+    pub effect: String,
+    /// The joints where their held-out predictions differ most (RMS of the
+    /// difference at least half its largest over the joints), largest
+    /// first.
+    pub joints: Vec<String>,
+    /// Per joint, the RMS of the difference of their held-out predictions
+    /// (N·m): how far apart this motion puts them.
+    pub difference_rms: Vec<f64>,
+    /// The kind of motion that shows each most
+    /// ([`crate::effects::Effect::motion`]): the accepted effect's, then
+    /// the tied one's.
+    pub motions: [String; 2],
+}
+
+impl Tie {
+    /// The tie in words.
+    pub fn words(&self, accepted: &str) -> String {
+        format!(
+            "{accepted} and {} are indistinguishable on this motion; they differ most on {}; {accepted} shows under {}, {} under {}",
+            self.effect,
+            self.joints.join(", "),
+            self.motions[0],
+            self.effect,
+            self.motions[1]
+        )
+    }
 }
 
 /// A fitted size with its 95 % interval (a delete-one-block jackknife over

@@ -104,6 +104,14 @@ pub trait Effect: Send + Sync {
         vec![]
     }
 
+    /// Diagnosis: the kind of motion that shows this effect most ("slow
+    /// motion near zero velocity"), which the report names when it is
+    /// tied with another: a motion rich in one and poor in the other tells
+    /// them apart (`excite --separate` designs one).
+    fn motion(&self) -> &'static str {
+        "a motion that varies its columns unlike the other's"
+    }
+
     /// Diagnosis: the term of the friction law this effect is, if it is
     /// one (`coulomb` is [`FrictionTerm::Coulomb`]). A nominal model whose
     /// law has the term refits its coefficients with the law, so the

@@ -68,6 +68,16 @@ pub enum ExciteError {
     /// The design's conic problem did not solve.
     #[error("the design's conic problem ended with status {}", .0.as_str())]
     Solver(crate::conic::Status),
+    /// Two effects that cannot be separated as asked.
+    #[error("separating two effects: {why}")]
+    Separate {
+        /// What is wrong (naming the effect).
+        why: String,
+    },
+    /// From `effects` (an unknown effect's name, a hypothesis that cannot
+    /// be built).
+    #[error(transparent)]
+    Effect(#[from] crate::effects::EffectError),
     /// From `conic`.
     #[error(transparent)]
     Conic(#[from] crate::conic::ConicError),

@@ -9,9 +9,14 @@
 //! D- or E-optimal design ([`design::optimal_weights`], through `conic`)
 //! bounds what mixing them could reach.
 //!
+//! [`separate`] designs, by the same search, a motion that tells two
+//! effects apart (the diagnosis' ties): the smaller share of one's
+//! predicted torques the other cannot fit, maximised.
+//!
 //! Files: `error`, `design` (convex pool design), `limits`, `information`,
 //! `fourier` (the motion fitted into the limits), `report` (the design and
-//! its samples).
+//! its samples), `separate` (two effects told apart) and `separation`
+//! (what that gives).
 
 pub mod design;
 mod error;
@@ -19,12 +24,15 @@ pub mod fourier;
 pub mod information;
 pub mod limits;
 mod report;
+pub mod separate;
+mod separation;
 
 pub use design::{Criterion, PoolDesign, optimal_weights};
 pub use error::ExciteError;
 pub use information::{InfoBasis, condition_number, score};
 pub use limits::{JointLimits, joint_limits};
 pub use report::{Designed, PoolReport, design, samples};
+pub use separate::{Separation, separate};
 
 use serde::Serialize;
 

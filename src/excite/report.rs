@@ -69,6 +69,9 @@ pub struct Designed {
     /// The convex pool's bound (with `pool > 0`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub pool: Option<PoolReport>,
+    /// What the motion separates (a design by [`super::separate()`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub separation: Option<super::separation::Separation>,
 }
 
 /// `F` of a Fourier trajectory over one period.
@@ -77,6 +80,17 @@ fn info_of(
     traj: &Trajectory,
     harmonics: usize,
 ) -> Result<Mat<f64>, ExciteError> {
+    let (_, s) = period_samples(traj, harmonics)?;
+    basis.information(&s[0], &s[1], &s[2])
+}
+
+/// A Fourier trajectory at `INFO_SAMPLES` points per harmonic over one
+/// period: the times (s) and `[q, q̇, q̈]`, each sample-major (n per
+/// sample).
+pub(super) fn period_samples(
+    traj: &Trajectory,
+    harmonics: usize,
+) -> Result<(Vec<f64>, [Vec<f64>; 3]), ExciteError> {
     let Trajectory::Fourier { omega, .. } = traj else {
         return Err(ExciteError::Pool {
             problem: "a Fourier trajectory is needed",
@@ -85,15 +99,14 @@ fn info_of(
     let m = INFO_SAMPLES * harmonics.max(1);
     let period = 2.0 * std::f64::consts::PI / omega;
     let mut s = [vec![], vec![], vec![]];
-    for i in 0..m {
-        let st = traj
-            .exact_state(period * i as f64 / m as f64)
-            .unwrap_or_default();
+    let t: Vec<f64> = (0..m).map(|i| period * i as f64 / m as f64).collect();
+    for &ti in &t {
+        let st = traj.exact_state(ti).unwrap_or_default();
         for (v, x) in s.iter_mut().zip(st) {
             v.extend(x);
         }
     }
-    basis.information(&s[0], &s[1], &s[2])
+    Ok((t, s))
 }
 
 /// Random coefficients (uniform in ±1/k for harmonic k).
@@ -109,17 +122,17 @@ fn random_coefficients(n: usize, h: usize, omega: f64, seed: u64) -> Coefficient
     Coefficients { omega, ab }
 }
 
+/// What a search maximises: a motion's value (larger is better).
+pub(super) type Objective<'a> = dyn Fn(&Trajectory) -> Result<f64, ExciteError> + Sync + 'a;
+
 /// The compass search from `start`: (value, coefficients, start's value).
 fn search(
-    basis: &InfoBasis,
     limits: &[JointLimits],
     start: Coefficients,
     opts: &ExciteOptions,
+    objective: &Objective,
 ) -> Result<(f64, Coefficients, f64), ExciteError> {
-    let eval = |c: &Coefficients| -> Result<f64, ExciteError> {
-        let f = info_of(basis, &c.fitted(limits)?, opts.harmonics)?;
-        Ok(score(&f, opts.criterion))
-    };
+    let eval = |c: &Coefficients| -> Result<f64, ExciteError> { objective(&c.fitted(limits)?) };
     let (mut best, mut x) = (eval(&start)?, start);
     let first = best;
     let (mut step, mut evals) = (0.25, 1);
@@ -149,9 +162,32 @@ fn search(
     Ok((best, x, first))
 }
 
+/// The best motion over `opts.seeds` searches in parallel: (value, the
+/// motion fitted into `limits`, the best start's value).
+pub(super) fn best_of_seeds(
+    limits: &[JointLimits],
+    omega: f64,
+    opts: &ExciteOptions,
+    objective: &Objective,
+) -> Result<(f64, Trajectory, f64), ExciteError> {
+    let n = limits.len();
+    let runs: Vec<_> = (0..opts.seeds as u64)
+        .into_par_iter()
+        .map(|s| {
+            let start = random_coefficients(n, opts.harmonics, omega, opts.seed + s);
+            search(limits, start, opts, objective)
+        })
+        .collect::<Result<_, _>>()?;
+    let best_seed_value = runs.iter().map(|r| r.2).fold(f64::NEG_INFINITY, f64::max);
+    let (value, coef, _) = (runs.into_iter())
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+        .ok_or(ExciteError::Pool { problem: "no seed" })?;
+    Ok((value, coef.fitted(limits)?, best_seed_value))
+}
+
 /// The base frequency: `base_hz` rounded so that `seconds` holds a whole
 /// number (≥ 1) of periods.
-fn omega_for(opts: &ExciteOptions) -> Result<f64, ExciteError> {
+pub(super) fn omega_for(opts: &ExciteOptions) -> Result<f64, ExciteError> {
     let checks = [
         ("seconds", opts.seconds, 1e6),
         ("base_hz", opts.base_hz, 100.0),
@@ -190,19 +226,10 @@ pub fn design(robot: &RobotDescription, opts: &ExciteOptions) -> Result<Designed
         check_size(k, opts.pool.saturating_add(1), convex_of(opts.criterion))?;
     }
     let limits = joint_limits(robot);
-    let n = robot.model.dof();
-    let runs: Vec<_> = (0..opts.seeds as u64)
-        .into_par_iter()
-        .map(|s| {
-            let start = random_coefficients(n, opts.harmonics, omega, opts.seed + s);
-            search(&basis, &limits, start, opts)
-        })
-        .collect::<Result<_, _>>()?;
-    let best_seed_value = runs.iter().map(|r| r.2).fold(f64::NEG_INFINITY, f64::max);
-    let (value, coef, _) = (runs.into_iter())
-        .max_by(|a, b| a.0.total_cmp(&b.0))
-        .ok_or(ExciteError::Pool { problem: "no seed" })?;
-    let trajectory = coef.fitted(&limits)?;
+    let objective = |t: &Trajectory| -> Result<f64, ExciteError> {
+        Ok(score(&info_of(&basis, t, opts.harmonics)?, opts.criterion))
+    };
+    let (value, trajectory, best_seed_value) = best_of_seeds(&limits, omega, opts, &objective)?;
     let f = info_of(&basis, &trajectory, opts.harmonics)?;
     if !(value.is_finite() && score(&f, Criterion::D).is_finite()) {
         return Err(ExciteError::Singular {
@@ -212,16 +239,44 @@ pub fn design(robot: &RobotDescription, opts: &ExciteOptions) -> Result<Designed
     let pool = (opts.pool > 0)
         .then(|| pool_bound(&basis, &limits, &f, opts, omega))
         .transpose()?;
+    let method = format!(
+        "compass search of {} Fourier coefficients per joint from {} random seeds, {} evaluations each at most; the criterion on the information of {} base parameters over one period",
+        2 * opts.harmonics,
+        opts.seeds,
+        opts.evaluations,
+        basis.len()
+    );
+    let mut d = designed(
+        robot,
+        opts,
+        (limits, trajectory),
+        (value, best_seed_value),
+        method,
+    )?;
+    d.pool = pool;
+    Ok(d)
+}
+
+/// The report of `trajectory` (fitted into `limits`), found with `value`
+/// (the best start's: `best_seed_value`) by `method`: its margins and its
+/// information on the base parameters.
+pub(super) fn designed(
+    robot: &RobotDescription,
+    opts: &ExciteOptions,
+    (limits, trajectory): (Vec<JointLimits>, Trajectory),
+    (value, best_seed_value): (f64, f64),
+    method: String,
+) -> Result<Designed, ExciteError> {
+    let basis = InfoBasis::of(&robot.model)?;
+    let f = info_of(&basis, &trajectory, opts.harmonics)?;
+    let omega = match &trajectory {
+        Trajectory::Fourier { omega, .. } => *omega,
+        _ => omega_for(opts)?,
+    };
     Ok(Designed {
         robot: robot.source.clone(),
         options: opts.clone(),
-        method: format!(
-            "compass search of {} Fourier coefficients per joint from {} random seeds, {} evaluations each at most; the criterion on the information of {} base parameters over one period",
-            2 * opts.harmonics,
-            opts.seeds,
-            opts.evaluations,
-            basis.len()
-        ),
+        method,
         margins: margins(&trajectory, &limits, omega),
         torque_margins: torque_margins(robot, &trajectory, &limits, omega)?,
         base_parameters: basis.len(),
@@ -231,7 +286,8 @@ pub fn design(robot: &RobotDescription, opts: &ExciteOptions) -> Result<Designed
         best_seed_value,
         limits,
         trajectory,
-        pool,
+        pool: None,
+        separation: None,
     })
 }
 

@@ -247,6 +247,18 @@ fn print_report(dg: &Diagnosis) {
             for size in &e.sizes {
                 println!("  {:<20} {}", "", size.words());
             }
+            for t in &e.ties {
+                println!(
+                    "  {:<20} {} (`excite --separate {},{}` designs one that does)",
+                    "",
+                    t.words(&e.effect),
+                    e.effect,
+                    t.effect
+                );
+            }
+        }
+        if let Some(why) = &e.removed {
+            println!("  {:<20} accepted, then {why}", "");
         }
         if !e.detail.is_empty() {
             println!("  {:<20} {}", "", e.detail);

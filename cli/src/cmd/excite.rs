@@ -1,8 +1,10 @@
 //! `momentlmi excite --robot R [--seconds T] [--criterion d|e|cond]
-//! [--pool N] [--out traj.csv] [--json]`: a designed excitation.
+//! [--pool N] [--separate A,B] [--out traj.csv] [--json]`: a designed
+//! excitation, or a motion that tells two effects apart.
 
 use momentlmi::data::{Staged, record_path, stage_with_record};
-use momentlmi::excite::{Criterion, Designed, ExciteOptions, design, samples};
+use momentlmi::effects::Library;
+use momentlmi::excite::{Criterion, Designed, ExciteOptions, design, samples, separate};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `excite`.
@@ -17,6 +19,8 @@ pub struct ExciteArgs<'a> {
     pub options: ExciteOptions,
     /// The criterion's name.
     pub criterion: &'a str,
+    /// Two effects to tell apart (`A,B`), instead of the criterion.
+    pub separate: Option<&'a str>,
     /// Output CSV (t, q, q̇, q̈ per joint) and its JSON report beside it.
     pub out: Option<&'a Path>,
     /// Its sample rate (Hz).
@@ -39,6 +43,11 @@ pub fn run(a: &ExciteArgs) -> i32 {
 fn run_inner(a: &ExciteArgs) -> Result<(), String> {
     let criterion = Criterion::parse(a.criterion)
         .ok_or_else(|| format!("--criterion: '{}' is not one of d, e, cond", a.criterion))?;
+    let library = Library::builtin();
+    let pair = a.separate.map(|s| pair_of(s, &library)).transpose()?;
+    if pair.is_some() && a.options.pool > 0 {
+        return Err("--separate designs a motion by the separation of two effects; --pool bounds an information criterion: give one of them".into());
+    }
     let mut staged = Staged::protecting(super::input_files(
         &a.sidecar.into_iter().collect::<Vec<_>>(),
         &[a.robot],
@@ -54,7 +63,11 @@ fn run_inner(a: &ExciteArgs) -> Result<(), String> {
         criterion,
         ..a.options.clone()
     };
-    let d = design(&robot, &opts).map_err(|e| e.to_string())?;
+    let d = match &pair {
+        Some([x, y]) => separate(&robot, &library, [x, y], &opts),
+        None => design(&robot, &opts),
+    }
+    .map_err(|e| e.to_string())?;
     if let Some(out) = a.out {
         let data = samples(&d, a.rate_hz).map_err(|e| e.to_string())?;
         stage_with_record(&mut staged, &data, out, &d).map_err(|e| e.to_string())?;
@@ -69,7 +82,53 @@ fn run_inner(a: &ExciteArgs) -> Result<(), String> {
         print_report(&d, a.out);
     }
     warn_torques(&d);
+    if let Some(s) = d.separation.as_ref().filter(|s| !s.separable) {
+        eprintln!(
+            "warning: no motion found separates {} and {}: one's columns lie within the other's (the data can never tell them apart; prefer the leaner)",
+            s.effects[0], s.effects[1]
+        );
+    }
     Ok(())
+}
+
+/// What a separating motion gives, in one line.
+fn separation_line(s: &momentlmi::excite::Separation) -> String {
+    let [a, b] = &s.effects;
+    let (x, y) = (s.first_not_fitted_by_second, s.second_not_fitted_by_first);
+    let verdict = match (s.separable, x < y) {
+        (true, _) => "separates them".to_string(),
+        (false, true) => format!(
+            "does not separate them: {a} lies within what {b} fits on every motion searched"
+        ),
+        (false, false) => format!(
+            "does not separate them: {b} lies within what {a} fits on every motion searched"
+        ),
+    };
+    format!(
+        "{verdict}: {:.1} % of {a}'s predicted torques are beyond what {b} fits, {:.1} % of {b}'s beyond {a} (best random start {:.1} %)",
+        100.0 * x,
+        100.0 * y,
+        100.0 * s.best_start
+    )
+}
+
+/// The two effect names of `--separate A,B`, each one of `library`'s.
+fn pair_of(s: &str, library: &Library) -> Result<[String; 2], String> {
+    let names: Vec<&str> = s.split(',').map(str::trim).collect();
+    let [x, y] = names[..] else {
+        return Err(format!(
+            "--separate '{s}': two effect names separated by a comma are needed (A,B)"
+        ));
+    };
+    for name in [x, y] {
+        library.get(name).map_err(|e| format!("--separate: {e}"))?;
+    }
+    if x == y {
+        return Err(format!(
+            "--separate '{s}': two different effects are needed"
+        ));
+    }
+    Ok([x.to_string(), y.to_string()])
 }
 
 /// A warning per joint whose effort limit the motion passes.
@@ -93,17 +152,20 @@ fn print_report(d: &Designed, out: Option<&Path>) {
         }
         _ => f64::NAN,
     };
+    let what = match &d.separation {
+        Some(sep) => separation_line(sep),
+        None => format!(
+            "{:?}-optimal on {} base parameters: value {:.4} (best random start {:.4})",
+            d.options.criterion, d.base_parameters, d.value, d.best_seed_value
+        ),
+    };
     println!(
-        "{}: {} s ({} periods of {:.4} Hz, {} harmonics), {:?}-optimal on {} base parameters: value {:.4} (best random start {:.4}), log det {:.4}, condition number {:.3e}",
+        "{}: {} s ({} periods of {:.4} Hz, {} harmonics), {what}, log det {:.4}, condition number {:.3e}",
         d.robot,
         d.options.seconds,
         (d.options.seconds * hz).round(),
         hz,
         d.options.harmonics,
-        d.options.criterion,
-        d.base_parameters,
-        d.value,
-        d.best_seed_value,
         d.log_det,
         d.condition_number
     );

@@ -26,6 +26,10 @@ impl Effect for AsymmetricFriction {
         "asymmetric_friction"
     }
 
+    fn motion(&self) -> &'static str {
+        "motion at the same speeds in both directions"
+    }
+
     fn law_term(&self) -> Option<FrictionTerm> {
         Some(FrictionTerm::Asymmetric)
     }

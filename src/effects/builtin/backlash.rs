@@ -27,6 +27,10 @@ impl Effect for Backlash {
         "backlash"
     }
 
+    fn motion(&self) -> &'static str {
+        "velocity reversals under a small load"
+    }
+
     fn summary(&self) -> &'static str {
         "Backlash (a dead band) in a compliant transmission"
     }

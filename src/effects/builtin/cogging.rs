@@ -34,6 +34,10 @@ impl Effect for Cogging {
         "cogging"
     }
 
+    fn motion(&self) -> &'static str {
+        "slow steady rotation over many motor turns"
+    }
+
     fn summary(&self) -> &'static str {
         "Motor cogging, periodic in the motor angle"
     }

@@ -26,6 +26,10 @@ impl Effect for Coulomb {
         "coulomb"
     }
 
+    fn motion(&self) -> &'static str {
+        "slow motion with many velocity reversals"
+    }
+
     fn law_term(&self) -> Option<FrictionTerm> {
         Some(FrictionTerm::Coulomb)
     }

@@ -76,6 +76,10 @@ impl Effect for Elasticity {
         "elasticity"
     }
 
+    fn motion(&self) -> &'static str {
+        "fast changes of torque (high accelerations at high frequency)"
+    }
+
     fn summary(&self) -> &'static str {
         "Series elasticity of the transmission"
     }

@@ -31,6 +31,10 @@ impl Effect for FrictionDrift {
         "friction_drift"
     }
 
+    fn motion(&self) -> &'static str {
+        "a long run, or runs repeated as the robot warms up"
+    }
+
     fn summary(&self) -> &'static str {
         "Friction that drifts with time (drives warming)"
     }

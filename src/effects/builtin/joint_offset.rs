@@ -31,6 +31,10 @@ impl Effect for JointOffset {
         "joint_offset"
     }
 
+    fn motion(&self) -> &'static str {
+        "large position excursions against gravity"
+    }
+
     fn summary(&self) -> &'static str {
         "An encoder zero offset: the measured position is the true one minus a constant (a calibration error)"
     }

@@ -27,6 +27,10 @@ impl Effect for LinkInertia {
         "link_inertia"
     }
 
+    fn motion(&self) -> &'static str {
+        "varied accelerations and configurations of every joint"
+    }
+
     fn summary(&self) -> &'static str {
         "The links' inertial parameters differ from the model's"
     }

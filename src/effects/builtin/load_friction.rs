@@ -28,6 +28,10 @@ impl Effect for LoadFriction {
         "load_friction"
     }
 
+    fn motion(&self) -> &'static str {
+        "large load torques (against gravity or a payload) at moderate speed"
+    }
+
     fn law_term(&self) -> Option<FrictionTerm> {
         Some(FrictionTerm::Load)
     }

@@ -23,6 +23,10 @@ impl Effect for Offset {
         "offset"
     }
 
+    fn motion(&self) -> &'static str {
+        "motion in both directions at the same speeds"
+    }
+
     fn law_term(&self) -> Option<FrictionTerm> {
         Some(FrictionTerm::Offset)
     }

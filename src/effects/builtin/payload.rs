@@ -56,6 +56,10 @@ impl Effect for Payload {
         "payload"
     }
 
+    fn motion(&self) -> &'static str {
+        "large accelerations and rotations of the tool"
+    }
+
     fn summary(&self) -> &'static str {
         "An unmodelled rigid body at the tool point (or on the last link)"
     }

@@ -51,6 +51,10 @@ impl Effect for Ripple {
         "ripple"
     }
 
+    fn motion(&self) -> &'static str {
+        "slow steady rotation over several motor turns"
+    }
+
     fn summary(&self) -> &'static str {
         "Torque ripple periodic in the joint angle (joints without a rotor)"
     }

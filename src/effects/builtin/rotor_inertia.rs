@@ -16,6 +16,10 @@ impl Effect for RotorInertia {
         "rotor_inertia"
     }
 
+    fn motion(&self) -> &'static str {
+        "large accelerations of the geared joints"
+    }
+
     fn summary(&self) -> &'static str {
         "The rotors' reflected inertia and gyroscopic terms"
     }

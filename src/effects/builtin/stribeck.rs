@@ -35,6 +35,10 @@ impl Effect for Stribeck {
         "stribeck"
     }
 
+    fn motion(&self) -> &'static str {
+        "slow motion near zero velocity, below the Stribeck velocity"
+    }
+
     fn law_term(&self) -> Option<FrictionTerm> {
         Some(FrictionTerm::Stribeck)
     }

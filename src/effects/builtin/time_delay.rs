@@ -53,6 +53,10 @@ impl Effect for TimeDelay {
         "time_delay"
     }
 
+    fn motion(&self) -> &'static str {
+        "fast changes of torque (high-frequency motion)"
+    }
+
     fn summary(&self) -> &'static str {
         "A delay between the measured state and the measured torque"
     }

@@ -29,6 +29,10 @@ impl Effect for TorqueGain {
         "torque_gain"
     }
 
+    fn motion(&self) -> &'static str {
+        "large torques of every kind on the same joint (gravity, inertia and friction together)"
+    }
+
     fn summary(&self) -> &'static str {
         "A torque-constant (gain) error"
     }

@@ -24,6 +24,10 @@ impl Effect for Viscous {
         "viscous"
     }
 
+    fn motion(&self) -> &'static str {
+        "high speed"
+    }
+
     fn law_term(&self) -> Option<FrictionTerm> {
         Some(FrictionTerm::Viscous)
     }

@@ -1,0 +1,131 @@
+//! `momentlmi diagnose --model-out`: the model file it writes makes
+//! `predict` give the held-out error the diagnosis reported; written onto
+//! one of its inputs, it is refused (exit 2) and nothing is written.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_momentlmi"))
+}
+
+fn dir(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("momentlmi-dm-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// A 4 s leg log with a 10 % torque gain (seed `seed`) at `p`.
+fn leg_log(p: &Path, seed: &str) {
+    let o = bin()
+        .args(["simulate", "--robot", "cheetah3-leg", "--seconds", "4"])
+        .args(["--effects", "torque_gain", "--seed", seed, "--out"])
+        .arg(p)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+/// The columns of a CSV whose header names start with `prefix`, by name.
+fn columns(p: &Path, prefix: &str) -> Vec<(String, Vec<f64>)> {
+    let text = std::fs::read_to_string(p).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    (header.iter().enumerate())
+        .filter(|(_, h)| h.starts_with(prefix))
+        .map(|(c, h)| (h.to_string(), rows.iter().map(|r| r[c]).collect()))
+        .collect()
+}
+
+#[test]
+fn predict_with_the_model_out_gives_the_reported_heldout_error() {
+    let d = dir("claim");
+    let (a, b, m) = (d.join("a.csv"), d.join("b.csv"), d.join("m.json"));
+    leg_log(&a, "1");
+    leg_log(&b, "2");
+    let o = bin()
+        .args(["diagnose", "--robot", "cheetah3-leg", "--nominal", "true"])
+        .arg("--data")
+        .arg(&a)
+        .arg("--data")
+        .arg(&b)
+        .arg("--model-out")
+        .arg(&m)
+        .arg("--json")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let report: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(report["folds"], "2 files");
+    let reported: Vec<f64> = (report["heldout_rms_final"].as_array().unwrap().iter())
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    // the held-out part is the last file: predicted with the model file
+    let p = d.join("p.csv");
+    let o = bin()
+        .args(["predict", "--robot", "cheetah3-leg", "--params"])
+        .arg(&m)
+        .arg("--data")
+        .arg(&b)
+        .arg("--out")
+        .arg(&p)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (measured, predicted) = (columns(&b, "tau_"), columns(&p, "tau_"));
+    assert_eq!(measured.len(), reported.len());
+    for ((name, tau), (pname, hat)) in measured.iter().zip(&predicted) {
+        assert_eq!(name, pname);
+        let ms = (tau.iter().zip(hat))
+            .map(|(x, y)| (x - y).powi(2))
+            .sum::<f64>()
+            / tau.len() as f64;
+        let i = measured.iter().position(|(n, _)| n == name).unwrap();
+        assert!(
+            (ms.sqrt() - reported[i]).abs() <= 1e-6,
+            "{name}: predict {} against the reported {}",
+            ms.sqrt(),
+            reported[i]
+        );
+    }
+    // the model differs from the nominal one: the claim is not the nominal's
+    let nominal: Vec<f64> = (report["heldout_rms_nominal"].as_array().unwrap().iter())
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    assert!(
+        nominal
+            .iter()
+            .zip(&reported)
+            .any(|(x, y)| (x - y).abs() > 1e-3)
+    );
+}
+
+#[test]
+fn a_model_out_onto_an_input_is_refused_and_nothing_is_written() {
+    let d = dir("onto");
+    let (a, b) = (d.join("a.csv"), d.join("b.csv"));
+    leg_log(&a, "3");
+    leg_log(&b, "4");
+    let before = std::fs::read(&b).unwrap();
+    let out = d.join("report");
+    let o = bin()
+        .args(["diagnose", "--robot", "cheetah3-leg", "--nominal", "true"])
+        .arg("--data")
+        .arg(&a)
+        .arg("--data")
+        .arg(&b)
+        .arg("--model-out")
+        .arg(&b)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("b.csv"), "{err}");
+    assert_eq!(std::fs::read(&b).unwrap(), before);
+    assert!(!out.exists(), "--out was written");
+}
