@@ -1,5 +1,6 @@
 //! `momentlmi diagnose --model-out`: the model file it writes makes
-//! `predict` give the held-out error the diagnosis reported; written onto
+//! `predict` give the held-out error the diagnosis reported (and `export`
+//! and `identify --prior` take it); written onto
 //! one of its inputs, it is refused (exit 2) and nothing is written.
 
 use std::path::{Path, PathBuf};

@@ -13,6 +13,10 @@ use crate::data::Dataset;
 use crate::dynamics::predict::predict_torques;
 use crate::dynamics::{DynamicsError, Friction, FrictionTerm, Model};
 
+/// How far below its bound of 0 a fitted friction coefficient may come
+/// out of the conic solver and still be that bound (N·m, N·m·s/rad or 1).
+pub const SOLVER_HAIR: f64 = 1e-6;
+
 /// The law's columns in the store.
 pub struct Law {
     /// Its terms, in [`FrictionTerm::ALL`]'s order.
@@ -101,6 +105,11 @@ impl Law {
                 c.resize(n, 0.0);
             }
             c[*i] += d;
+            // a coefficient bounded at 0 that the conic solver leaves a
+            // hair below it (its tolerance) is its bound, as a law requires
+            if !t.signed() && c[*i] < 0.0 && c[*i] > -SOLVER_HAIR {
+                c[*i] = 0.0;
+            }
         }
         f
     }

@@ -98,6 +98,11 @@ fn add_term(
     for (j, x) in joints.iter().zip(b) {
         if let Some(j) = j {
             c[*j] += x;
+            // a coefficient bounded at 0 that the conic solver leaves a
+            // hair below it (its tolerance): 0, as a friction law requires
+            if !term.signed() && c[*j] < 0.0 && c[*j] > -super::law::SOLVER_HAIR {
+                c[*j] = 0.0;
+            }
         }
     }
     if term == FrictionTerm::Stribeck

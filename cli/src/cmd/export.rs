@@ -93,7 +93,13 @@ fn run_inner(a: &ExportArgs) -> Result<(), String> {
         // placeholder friction would otherwise be written as if it were known
         super::warn_robot(&robot);
     }
-    let (model, friction) = super::parameters_for(&robot, "--params", a.params, ParamChoice::Own)?;
+    let (model, friction) = super::parameters_without_effects_for(
+        &robot,
+        "--params",
+        a.params,
+        ParamChoice::Own,
+        "a URDF, MJCF or sidecar has no place for them",
+    )?;
     write(staged, &robot, (&model, &friction), a.out, a.package_paths)
 }
 

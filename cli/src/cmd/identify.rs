@@ -244,7 +244,13 @@ fn identification<'r>(
     robot: &'r RobotDescription,
 ) -> Result<Identification<'r>, String> {
     let level = parse_level(a.constraints, "--constraints")?;
-    let (prior, _) = super::parameters_for(robot, "--prior", a.prior, ParamChoice::Cad)?;
+    let (prior, _) = super::parameters_without_effects_for(
+        robot,
+        "--prior",
+        a.prior,
+        ParamChoice::Cad,
+        "a prior is the bodies' parameters",
+    )?;
     warn_inconsistent_prior(&robot.model.body_names(), &prior.params());
     let regularizer = a.regularizer;
     // auto: the grid's first weight until the choice (which needs the data)

@@ -230,25 +230,6 @@ fn simulated_with_sidecar(data: &Path) -> Option<String> {
     v["config"]["sidecar"].as_str().map(str::to_string)
 }
 
-/// The model and friction of a parameter choice given with `flag`; an error
-/// names the flag and, unless it is a file (whose errors name it), the
-/// value typed.
-pub(crate) fn parameters_for(
-    robot: &momentlmi::dynamics::RobotDescription,
-    flag: &str,
-    value: Option<&str>,
-    default: momentlmi::dynamics::ParamChoice,
-) -> Result<(momentlmi::dynamics::Model, momentlmi::dynamics::Friction), String> {
-    use momentlmi::dynamics::ParamChoice;
-    let choice = value.map_or(default, |p| p.parse().expect("infallible"));
-    robot
-        .parameters(&choice)
-        .map_err(|e| match (&choice, value) {
-            (ParamChoice::File(_), _) | (_, None) => format!("{flag}: {e}"),
-            (_, Some(v)) => format!("{flag} {v}: {e}"),
-        })
-}
-
 /// A model, its friction and its fitted effects (a diagnosis' model file;
 /// none for other choices), of a parameter choice given with `flag`.
 pub(crate) type WithEffects = (
@@ -257,7 +238,9 @@ pub(crate) type WithEffects = (
     Vec<momentlmi::dynamics::params_file::FittedEffect>,
 );
 
-/// [`parameters_for`] keeping a model file's fitted effects.
+/// The model, friction and fitted effects of a parameter choice given with
+/// `flag`; an error names the flag and, unless it is a file (whose errors
+/// name it), the value typed.
 pub(crate) fn parameters_with_effects_for(
     robot: &momentlmi::dynamics::RobotDescription,
     flag: &str,
@@ -272,6 +255,29 @@ pub(crate) fn parameters_with_effects_for(
             (ParamChoice::File(_), _) | (_, None) => format!("{flag}: {e}"),
             (_, Some(v)) => format!("{flag} {v}: {e}"),
         })
+}
+
+/// [`parameters_with_effects_for`] for a use that takes a model file's bodies and
+/// friction law but not its fitted effects (a diagnosis' model as
+/// `identify --prior` or for `export`): a warning names the effects left
+/// out and `why`.
+pub(crate) fn parameters_without_effects_for(
+    robot: &momentlmi::dynamics::RobotDescription,
+    flag: &str,
+    value: Option<&str>,
+    default: momentlmi::dynamics::ParamChoice,
+    why: &str,
+) -> Result<(momentlmi::dynamics::Model, momentlmi::dynamics::Friction), String> {
+    let (model, friction, effects) = parameters_with_effects_for(robot, flag, value, default)?;
+    if !effects.is_empty() {
+        let names: Vec<&str> = effects.iter().map(|e| e.effect.as_str()).collect();
+        eprintln!(
+            "warning: {flag} {}: its fitted effects ({}) are left out: {why}; its bodies (a payload merged into its body) and friction law are used",
+            value.unwrap_or(""),
+            names.join(", ")
+        );
+    }
+    Ok((model, friction))
 }
 
 /// The files a command reads, to protect from its outputs: `files`, and
