@@ -1,7 +1,10 @@
 //! Diagnosis benchmarks: 15 s of 1 kHz data, the nominal model identified
 //! (ellipsoid level) on 20 s of other data — the built-in leg with an offset
 //! and cogging withheld (the demo's case), and the Panda arm of
-//! `robots/panda` with an encoder zero offset withheld.
+//! `robots/panda` with an encoder zero offset withheld; and the real KUKA
+//! LWR4+ of `robots/kuka-lwr4` (run 3 against the model identified on runs
+//! 1–2, their repeatability as the floor: the null row of
+//! `examples/confusion_real.rs`).
 //!
 //! Run: `cargo bench --bench diagnose`
 
@@ -15,6 +18,10 @@ use momentlmi::effects::simulate;
 use momentlmi::identify::{IdentifyOptions, Level, identify};
 use momentlmi::sim::{Effects, SimConfig};
 use std::hint::black_box;
+
+#[allow(dead_code)]
+#[path = "../examples/confusion_real.rs"]
+mod confusion_real;
 use std::time::Duration;
 
 /// (nominal model, its friction, the diagnosed data).
@@ -68,6 +75,11 @@ fn bench(c: &mut Criterion) {
             })
         });
     }
+    let (_, m, f, floor, run3) = confusion_real::setup().unwrap();
+    let opts = DiagnoseOptions::default().with_noise_floor(floor);
+    g.bench_function("kuka_run3_real", |b| {
+        b.iter(|| black_box(diagnose(&m, &f, &run3, &opts).unwrap().accepted))
+    });
     g.finish();
 }
 
