@@ -251,8 +251,7 @@ fn kuka() -> Result<(RobotDescription, Dataset, Dataset), Box<dyn Error>> {
 /// The KUKA, its nominal model and friction (identified on runs 1–2 at the
 /// recommended options), the repeatability floor of runs 1–2, and run 3.
 #[allow(clippy::type_complexity)]
-pub fn setup()
--> Result<(RobotDescription, Model, Friction, NoiseFloor, Dataset), Box<dyn Error>> {
+pub fn setup() -> Result<(RobotDescription, Model, Friction, NoiseFloor, Dataset), Box<dyn Error>> {
     let (robot, train, val) = kuka()?;
     let id = Identification::for_robot(&robot, Level::Ellipsoid, 1e-2)?
         .regularizer(Regularizer::Entropic);

@@ -262,6 +262,12 @@ enum Command {
         /// Held-out validation data (repeatable, like --data).
         #[arg(long)]
         validate: Vec<PathBuf>,
+        /// A diagnosis' model file (`diagnose --model-out`) whose fitted effects (a gain, a
+        /// delay, a ripple, …) are held at their values: their torques are taken off the
+        /// training and validation torques before the fit, and the identified model file
+        /// carries them, so that predict and diagnose apply them.
+        #[arg(long, value_name = "FILE")]
+        with_effects: Option<PathBuf>,
         /// Print one JSON object (a model file for predict/diagnose/--prior).
         #[arg(long)]
         json: bool,
@@ -546,6 +552,7 @@ pub fn main() -> i32 {
             joint_weighting,
             stribeck_velocity,
             validate,
+            with_effects,
             json,
             levels,
             total_mass,
@@ -574,6 +581,7 @@ pub fn main() -> i32 {
             joint_weighting,
             stribeck_velocity,
             validate: &validate,
+            with_effects: with_effects.as_deref(),
             json,
             levels: &levels,
             total_mass,

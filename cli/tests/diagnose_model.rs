@@ -130,3 +130,89 @@ fn a_model_out_onto_an_input_is_refused_and_nothing_is_written() {
     assert_eq!(std::fs::read(&b).unwrap(), before);
     assert!(!out.exists(), "--out was written");
 }
+
+/// `identify --with-effects FILE` holds a model file's fitted effects: with
+/// zero coefficients it fits what a plain identify fits (the plumbing
+/// changes nothing else), with a gain it fits other torques; the
+/// identified model file carries the effects; a file without effects is
+/// refused (exit 2, named).
+#[test]
+fn identify_with_effects_holds_them_and_carries_them() {
+    let d = dir("with");
+    let (a, b) = (d.join("a.csv"), d.join("b.csv"));
+    leg_log(&a, "5");
+    leg_log(&b, "6");
+    let identify = |extra: &[&Path]| -> serde_json::Value {
+        let mut c = bin();
+        c.args(["identify", "--robot", "cheetah3-leg", "--json", "--data"])
+            .arg(&a)
+            .arg("--validate")
+            .arg(&b);
+        if let Some(f) = extra.first() {
+            c.arg("--with-effects").arg(f);
+        }
+        let o = c.output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice(&o.stdout).unwrap()
+    };
+    let plain = identify(&[]);
+    let base = d.join("base.json");
+    std::fs::write(&base, plain.to_string()).unwrap();
+    let with_gain = |g: f64, name: &str| {
+        let mut m = plain.clone();
+        m["effects"] = serde_json::json!([{
+            "effect": "torque_gain", "key": {},
+            "columns": ["abad#0", "hip#0", "knee#0"],
+            "coefficients": [g, 0.0, -g]
+        }]);
+        let p = d.join(name);
+        std::fs::write(&p, m.to_string()).unwrap();
+        p
+    };
+    let rms = |v: &serde_json::Value| -> Vec<f64> {
+        (v["validation_rms"].as_array().unwrap().iter())
+            .map(|x| x.as_f64().unwrap())
+            .collect()
+    };
+    let zero = identify(&[&with_gain(0.0, "zero.json")]);
+    for (x, y) in rms(&zero).iter().zip(rms(&plain)) {
+        assert!((x - y).abs() < 1e-9, "{x} vs {y}");
+    }
+    assert_eq!(zero["effects"][0]["effect"], "torque_gain");
+    // gains of +10 % and −10 % on two joints (one on every joint would be
+    // a scaling of every parameter, which the fit absorbs)
+    let gain = identify(&[&with_gain(0.1, "gain.json")]);
+    assert_eq!(gain["effects"][0]["coefficients"][0], 0.1);
+    let params = |v: &serde_json::Value| -> Vec<f64> {
+        (v["bodies"].as_array().unwrap().iter())
+            .flat_map(|b| b["params"].as_array().unwrap().clone())
+            .map(|x| x.as_f64().unwrap())
+            .collect()
+    };
+    let (p0, p1) = (params(&plain), params(&gain));
+    let top = p0.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let moved = (p0.iter().zip(&p1)).any(|(x, y)| (x - y).abs() > 1e-3 * top);
+    assert!(moved, "a held gain changed no parameter");
+    // the identified file is a model file predict applies the effects of
+    let fx = d.join("fx.json");
+    std::fs::write(&fx, gain.to_string()).unwrap();
+    let o = bin()
+        .args(["predict", "--robot", "cheetah3-leg", "--params"])
+        .arg(&fx)
+        .arg("--data")
+        .arg(&b)
+        .arg("--out")
+        .arg(d.join("p.csv"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = bin()
+        .args(["identify", "--robot", "cheetah3-leg", "--data"])
+        .arg(&a)
+        .arg("--with-effects")
+        .arg(&base)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("holds no fitted effects"));
+}

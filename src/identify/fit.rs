@@ -242,6 +242,7 @@ impl Identification<'_> {
             bodies,
             friction,
             joint_weighting: self.joint_weighting,
+            effects: vec![],
             weight_choice: None,
             joint_noise,
             constraints_satisfied: ok,

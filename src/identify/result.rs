@@ -116,6 +116,11 @@ pub struct IdentifyResult {
     pub bodies: Vec<BodyResult>,
     /// Friction.
     pub friction: Friction,
+    /// Effects held at a diagnosis' values while identifying (their
+    /// torques taken off the data's), carried so that a model file of this
+    /// result applies them (none by default).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub effects: Vec<crate::dynamics::params_file::FittedEffect>,
     /// How the joints' rows were weighted.
     pub joint_weighting: JointWeighting,
     /// When the weight was chosen by cross-validation

@@ -40,6 +40,8 @@ pub struct IdentifyArgs<'a> {
     pub stribeck_velocity: f64,
     /// Validation data (each file a segment; none: no validation).
     pub validate: &'a [std::path::PathBuf],
+    /// A model file whose fitted effects are held at their values.
+    pub with_effects: Option<&'a Path>,
     /// JSON output.
     pub json: bool,
     /// Per-body levels `BODY=LEVEL`.
@@ -329,6 +331,7 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
     robot.model = (robot.model.clone())
         .with_stribeck_velocity(a.stribeck_velocity)
         .map_err(|e| format!("--stribeck-velocity: {e}"))?;
+    let held = a.with_effects.map(|p| Held::read(&robot, p)).transpose()?;
     let ellipsoid = a.constraints == "ellipsoid"
         || a.levels.iter().any(|l| l.trim_end().ends_with("ellipsoid"));
     let names = robot.model.joint_names();
@@ -351,8 +354,11 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
                 eprintln!("warning: {}: {w}", robot.source);
             }
         }
-        let train = train?;
+        let mut train = train?;
         super::report_files("--data", train.files());
+        if let (Some(h), Training::Whole(t)) = (&held, &mut train) {
+            h.take_off(&mut t.data, "--data")?;
+        }
         let mut id = identification(a, &robot)?.max_memory(super::gib(a.max_memory_gib)?);
         super::warn_cost(momentlmi::identify::cost(&robot.model, train.samples()).flops);
         let (choice, red) = match &train {
@@ -379,9 +385,12 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
             Training::Whole(t) => id.fit_reduced(&t.data, &red),
         }
         .map_err(explain);
-        let val = val
+        let mut val = val
             .join()
             .unwrap_or_else(|_| Err("reading the validation data failed".to_string()))?;
+        if let (Some(h), Some(v)) = (&held, &mut val) {
+            h.take_off(&mut v.data, "--validate")?;
+        }
         let mut r = fitted?;
         if let Some(delta) = a.bounds {
             let rows = red.samples * robot.model.dof();
@@ -394,6 +403,7 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
             r.validate(&robot.model, &v.data).map_err(explain)?;
         }
         r.weight_choice = choice;
+        r.effects = held.map(|h| h.effects).unwrap_or_default();
         (r.timings.read_s, r.timings.filter_s, r.timings.streamed) = train.times();
         r.data_preparation = momentlmi::identify::DataPreparation {
             training: train.into_files(),
@@ -402,6 +412,58 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
         Ok::<_, String>(r)
     })?;
     Ok((r, robot))
+}
+
+/// `--with-effects FILE`: the model file's bodies and friction (the model
+/// its effects were fitted with) and its fitted effects.
+struct Held {
+    model: momentlmi::dynamics::Model,
+    friction: momentlmi::dynamics::Friction,
+    effects: Vec<momentlmi::dynamics::params_file::FittedEffect>,
+}
+
+impl Held {
+    fn read(robot: &RobotDescription, path: &Path) -> Result<Self, String> {
+        let value = path.to_str().unwrap_or_default();
+        let (model, friction, effects) = super::parameters_with_effects_for(
+            robot,
+            "--with-effects",
+            Some(value),
+            ParamChoice::Own,
+        )?;
+        if effects.is_empty() {
+            return Err(format!(
+                "--with-effects {}: it holds no fitted effects (bodies and friction only: give it as --prior)",
+                path.display()
+            ));
+        }
+        Ok(Self {
+            model,
+            friction,
+            effects,
+        })
+    }
+
+    /// The held effects' torques taken off `data`'s (the files of `flag`).
+    fn take_off(&self, data: &mut momentlmi::data::Dataset, flag: &str) -> Result<(), String> {
+        use momentlmi::dynamics::predict::predict_torques;
+        let library = momentlmi::effects::Library::builtin();
+        let with = momentlmi::effects::fitted::predict_with(
+            &self.model,
+            &self.friction,
+            &self.effects,
+            data,
+            &library,
+        )
+        .map_err(|e| format!("--with-effects on the {flag} files: {e}"))?;
+        let without = predict_torques(&self.model, &self.friction, &data.q, &data.qd, &data.qdd)
+            .map_err(|e| format!("--with-effects on the {flag} files: {e}"))?;
+        let flat = data.tau.as_flat_mut();
+        for ((t, a), b) in flat.iter_mut().zip(with.as_flat()).zip(without.as_flat()) {
+            *t -= a - b;
+        }
+        Ok(())
+    }
 }
 
 /// The training data: reduced while read (prepared CSV logs, when neither
@@ -452,7 +514,7 @@ fn training(
     read: impl Fn(&[std::path::PathBuf]) -> Result<momentlmi::data::Reading, String>,
 ) -> Result<Training, String> {
     let load = robot.model.friction_terms().contains(&FrictionTerm::Load);
-    if parse_weight(a.weight)?.is_some() && !load {
+    if parse_weight(a.weight)?.is_some() && !load && a.with_effects.is_none() {
         let p: Vec<&Path> = a.data.iter().map(|p| p.as_path()).collect();
         match momentlmi::identify::reduce_logs(&robot.model, &p, opts) {
             Ok(Some(t)) => return Ok(Training::Streamed(t)),
