@@ -27,6 +27,20 @@ fn leg_log(p: &Path, seed: &str) {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 }
 
+/// `diagnose` of the leg against its true model on the files `a` and `b`,
+/// the model written to `model_out`.
+fn diagnose(a: &Path, b: &Path, model_out: &Path) -> Command {
+    let mut c = bin();
+    c.args(["diagnose", "--robot", "cheetah3-leg", "--nominal", "true"])
+        .arg("--data")
+        .arg(a)
+        .arg("--data")
+        .arg(b)
+        .arg("--model-out")
+        .arg(model_out);
+    c
+}
+
 /// The columns of a CSV whose header names start with `prefix`, by name.
 fn columns(p: &Path, prefix: &str) -> Vec<(String, Vec<f64>)> {
     let text = std::fs::read_to_string(p).unwrap();
@@ -47,17 +61,7 @@ fn predict_with_the_model_out_gives_the_reported_heldout_error() {
     let (a, b, m) = (d.join("a.csv"), d.join("b.csv"), d.join("m.json"));
     leg_log(&a, "1");
     leg_log(&b, "2");
-    let o = bin()
-        .args(["diagnose", "--robot", "cheetah3-leg", "--nominal", "true"])
-        .arg("--data")
-        .arg(&a)
-        .arg("--data")
-        .arg(&b)
-        .arg("--model-out")
-        .arg(&m)
-        .arg("--json")
-        .output()
-        .unwrap();
+    let o = diagnose(&a, &b, &m).arg("--json").output().unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let report: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(report["folds"], "2 files");
@@ -112,14 +116,7 @@ fn a_model_out_onto_an_input_is_refused_and_nothing_is_written() {
     leg_log(&b, "4");
     let before = std::fs::read(&b).unwrap();
     let out = d.join("report");
-    let o = bin()
-        .args(["diagnose", "--robot", "cheetah3-leg", "--nominal", "true"])
-        .arg("--data")
-        .arg(&a)
-        .arg("--data")
-        .arg(&b)
-        .arg("--model-out")
-        .arg(&b)
+    let o = diagnose(&a, &b, &b)
         .arg("--out")
         .arg(&out)
         .output()

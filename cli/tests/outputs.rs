@@ -233,7 +233,9 @@ fn interrupt(mut cmd: Command, after: std::time::Duration, signal: i32) -> Optio
 
 /// A long `simulate` and a long `predict`, each interrupted by SIGINT and
 /// by SIGTERM at points spread over its whole run (the reading, the work,
-/// the writing): the exit code is 130 or 143 (0 if it had finished), no
+/// the writing): the exit code is 130 or 143 (0 if it had finished; the
+/// signal's own end if it came before `main` installed the handler, which
+/// at least one of the ten does not), no
 /// `.momentlmi-*.tmp` file is left, and the previous output is whole.
 #[test]
 fn interrupted_runs_leave_no_temporary_files() {
@@ -252,6 +254,7 @@ fn interrupted_runs_leave_no_temporary_files() {
         let before = std::fs::read(&out).unwrap();
         let rec = dir.0.join("out.json");
         let rec_before = std::fs::read(&rec).ok();
+        let mut handled = 0;
         for (k, signal) in [libc::SIGINT, libc::SIGTERM]
             .into_iter()
             .cycle()
@@ -260,10 +263,15 @@ fn interrupted_runs_leave_no_temporary_files() {
         {
             let after = whole.mul_f64(0.05 + 0.1 * k as f64);
             let code = interrupt(cmd(), after, signal);
+            // None: the signal came before `main` installed its handler (a
+            // loaded machine can take longer than `after` to start the
+            // process); nothing was staged then, which the checks below
+            // still hold it to
             assert!(
-                code == Some(128 + signal) || code == Some(0),
+                code == Some(128 + signal) || code == Some(0) || code.is_none(),
                 "{name} interrupted after {after:?} by signal {signal}: exit {code:?}"
             );
+            handled += usize::from(code == Some(128 + signal));
             assert!(
                 temporaries(&dir.0).is_empty(),
                 "{name} after {after:?}: {:?}",
@@ -276,5 +284,9 @@ fn interrupted_runs_leave_no_temporary_files() {
                 assert_eq!(std::fs::read(&rec).ok().is_some(), rec_before.is_some());
             }
         }
+        assert!(
+            handled > 0,
+            "{name}: no interrupt was handled (exit 130 or 143)"
+        );
     }
 }
