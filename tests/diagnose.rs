@@ -392,3 +392,35 @@ fn a_term_of_the_law_is_refit_not_accepted() {
     assert_eq!(moved, ["abad", "hip", "knee"]);
     closes_most_of_the_gap(&dg);
 }
+
+/// A tie is said once, on the accepted effect, with what would separate
+/// the two: a torque gain on the leg is also a scaling of every inertia
+/// (`torque_gain` tied with `link_inertia` in docs/diagnosis.md's table);
+/// the tie names the joints where their held-out predictions differ most
+/// (the largest difference among them) and the motion that shows each.
+#[test]
+fn a_tie_names_the_joints_and_motions_that_would_separate_it() {
+    use momentlmi::effects::Library;
+    let d = run("rotor_inertia,coulomb,viscous", "torque_gain", &[]);
+    let first = d.ranked_effects.iter().find(|e| e.accepted).unwrap();
+    assert_eq!(first.effect, "torque_gain");
+    assert!(!first.ties.is_empty(), "no tie reported");
+    let lib = Library::builtin();
+    for t in &first.ties {
+        assert!(first.tied_with.contains(&t.effect));
+        assert!(!t.joints.is_empty());
+        let top = t.difference_rms.iter().copied().fold(0.0, f64::max);
+        let at = d.joints.iter().position(|j| *j == t.joints[0]).unwrap();
+        assert_eq!(t.difference_rms[at], top);
+        let motion = |e: &str| lib.get(e).unwrap().motion().to_string();
+        assert_eq!(t.motions, [motion("torque_gain"), motion(&t.effect)]);
+        assert_ne!(t.motions[0], t.motions[1]);
+    }
+    // only the accepted report carries its ties
+    assert!(
+        d.ranked_effects
+            .iter()
+            .filter(|e| !e.accepted)
+            .all(|e| e.ties.is_empty())
+    );
+}
