@@ -11,6 +11,7 @@ use super::law::Law;
 use crate::dynamics::params_file::{FittedEffect, ParamsFile};
 use crate::dynamics::{DynamicsError, Friction, FrictionTerm, Model};
 use crate::effects::fitted::record;
+use crate::moments::InertialParams;
 
 /// The final model's parts.
 pub struct ModelOut {
@@ -60,6 +61,7 @@ pub fn model_out(
         if !v.columns.into_bodies.is_empty() {
             for (block, &body) in v.columns.into_bodies.iter().enumerate() {
                 (0..10).for_each(|q| params[10 * body + q] += b[10 * block + q]);
+                onto_cone(&mut params[10 * body..10 * body + 10]);
             }
         } else if let Some(term) = c.effect.law_term() {
             add_term(
@@ -81,6 +83,30 @@ pub fn model_out(
     }
     out.model.set_params(&params)?;
     Ok(out)
+}
+
+/// How far below 0 (relative to the largest) an eigenvalue of a merged
+/// body's pseudo-inertia may come out of the conic solver and still be
+/// its bound: the fit constrained J ⪰ 0, and a body on the cone's boundary
+/// (a thin rotor disc) comes back a hair outside it.
+const CONE_HAIR: f64 = 1e-6;
+
+/// A body's parameters whose pseudo-inertia has eigenvalues a hair below
+/// 0 ([`CONE_HAIR`]) put back on the cone (those eigenvalues set to 0);
+/// any other left as they are (a larger violation is the fit's own, and
+/// the model file's reader names it).
+fn onto_cone(p: &mut [f64]) {
+    let mut a = [0.0; 10];
+    a.copy_from_slice(p);
+    let e = InertialParams::new(a).pseudo_inertia().symmetric_eigen();
+    let top = e.eigenvalues.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let low = e.eigenvalues.iter().copied().fold(f64::INFINITY, f64::min);
+    if !(low < 0.0 && low >= -CONE_HAIR * top) {
+        return;
+    }
+    let clipped = nalgebra::Matrix4::from_diagonal(&e.eigenvalues.map(|x| x.max(0.0)));
+    let j = &e.eigenvectors * clipped * e.eigenvectors.transpose();
+    p.copy_from_slice(&InertialParams::from_pseudo_inertia(&j).as_array());
 }
 
 /// Adds the coefficients `b` of a friction term's columns (one joint each)
@@ -109,5 +135,43 @@ fn add_term(
         && let Some(vs) = vs
     {
         f.stribeck_velocity = Some(vs);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn lowest(p: &[f64]) -> f64 {
+        let mut a = [0.0; 10];
+        a.copy_from_slice(p);
+        let e = InertialParams::new(a).pseudo_inertia().symmetric_eigen();
+        e.eigenvalues.iter().copied().fold(f64::INFINITY, f64::min)
+    }
+
+    #[test]
+    fn a_body_a_hair_outside_the_cone_is_put_back_and_a_far_one_is_not() {
+        // a thin disc of 1 kg, radius 0.1 m, about z: on the cone's boundary
+        let (m, r) = (1.0, 0.1);
+        let (ixx, izz) = (m * r * r / 4.0, m * r * r / 2.0);
+        let disc = [m, 0.0, 0.0, 0.0, ixx, 0.0, 0.0, ixx, 0.0, izz];
+        let hair = {
+            let mut p = disc;
+            p[9] += 1e-9; // Izz beyond Ixx + Iyy by a solver's tolerance
+            p
+        };
+        assert!(lowest(&hair) < 0.0);
+        let mut fixed = hair;
+        onto_cone(&mut fixed);
+        assert!(lowest(&fixed) >= -1e-15, "{}", lowest(&fixed));
+        assert!((fixed[9] - izz).abs() < 1e-8 && (fixed[0] - m).abs() < 1e-12);
+        let far = {
+            let mut p = disc;
+            p[9] += 1e-3;
+            p
+        };
+        let mut kept = far;
+        onto_cone(&mut kept);
+        assert_eq!(kept, far);
     }
 }
