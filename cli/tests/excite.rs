@@ -203,6 +203,13 @@ fn separate_designs_a_motion_that_tells_two_effects_apart() {
     assert!(s["second_not_fitted_by_first"].as_f64().unwrap() > 0.1);
 }
 
+/// `excite --separate PAIR` on the leg.
+fn separate(pair: &str) -> Command {
+    let mut c = bin();
+    c.args(["excite", "--robot", "cheetah3-leg", "--separate", pair]);
+    c
+}
+
 /// `--separate` with an unknown effect, one name, the same name twice, or
 /// beside `--pool`: exit 2, the problem named, nothing written.
 #[test]
@@ -217,31 +224,13 @@ fn separate_with_bad_names_is_refused_and_nothing_written() {
     .enumerate()
     {
         let out = d.join(format!("sep{i}.csv"));
-        let o = bin()
-            .args([
-                "excite",
-                "--robot",
-                "cheetah3-leg",
-                "--separate",
-                pair,
-                "--out",
-            ])
-            .arg(&out)
-            .output()
-            .unwrap();
+        let o = separate(pair).arg("--out").arg(&out).output().unwrap();
         assert_eq!(o.status.code(), Some(2), "{pair}");
         let err = String::from_utf8_lossy(&o.stderr);
         assert!(err.contains(needle), "{pair}: {err}");
         assert!(!out.exists() && !d.join(format!("sep{i}.json")).exists());
     }
-    let o = bin()
-        .args([
-            "excite",
-            "--robot",
-            "cheetah3-leg",
-            "--separate",
-            "viscous,coulomb",
-        ])
+    let o = separate("viscous,coulomb")
         .args(["--pool", "4"])
         .output()
         .unwrap();
