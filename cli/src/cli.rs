@@ -336,9 +336,9 @@ enum Command {
         /// identify --prior and export take (predict with it gives the held-out error reported).
         #[arg(long, value_name = "FILE")]
         model_out: Option<PathBuf>,
-        /// Blocks of time the data are cut in for cross-validation when they are one file
-        /// (several files: one fold each).
-        #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u64).range(2..=50))]
+        /// Blocks of time the data are cut in for cross-validation when they are one or two
+        /// files (3 to 10 files: one fold each).
+        #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u64).range(3..=50))]
         folds: u64,
         /// The memory the diagnosis may plan for (GiB): beyond it the compliance searches are skipped, or the diagnosis refused.
         #[arg(long, default_value_t = 8.0)]

@@ -59,12 +59,20 @@ fn columns(p: &Path, prefix: &str) -> Vec<(String, Vec<f64>)> {
 fn predict_with_the_model_out_gives_the_reported_heldout_error() {
     let d = dir("claim");
     let (a, b, m) = (d.join("a.csv"), d.join("b.csv"), d.join("m.json"));
+    let c = d.join("c.csv");
     leg_log(&a, "1");
+    leg_log(&c, "7");
     leg_log(&b, "2");
-    let o = diagnose(&a, &b, &m).arg("--json").output().unwrap();
+    // three files: one fold each, the last (b) held out
+    let o = diagnose(&a, &c, &m)
+        .arg("--data")
+        .arg(&b)
+        .arg("--json")
+        .output()
+        .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let report: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    assert_eq!(report["folds"], "2 files");
+    assert_eq!(report["folds"], "3 files");
     let reported: Vec<f64> = (report["heldout_rms_final"].as_array().unwrap().iter())
         .map(|x| x.as_f64().unwrap())
         .collect();

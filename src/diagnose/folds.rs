@@ -13,6 +13,10 @@ pub const TIME_FOLDS: usize = 5;
 pub const MAX_FILE_FOLDS: usize = 10;
 /// The fewest samples a file must have to be a fold of its own.
 pub const MIN_FOLD_SAMPLES: usize = 50;
+/// The fewest folds: a per-joint hypothesis' joints are chosen, within
+/// each fold's fitting part, on the other folds held out in turn, which
+/// needs two of them (two files are cut into blocks of time instead).
+pub const MIN_FOLDS: usize = 3;
 
 /// Contiguous sample ranges that cover the data in order.
 #[derive(Clone, Debug, PartialEq)]
@@ -26,13 +30,14 @@ pub struct Folds {
 }
 
 impl Folds {
-    /// The folds of `data`: its files when it has 2 … [`MAX_FILE_FOLDS`] of
-    /// at least [`MIN_FOLD_SAMPLES`] samples each (the last file held out),
-    /// else `time_folds` equal blocks of time (the first
-    /// `⌊time_folds · train_fraction⌉` fitting, at least one each way).
+    /// The folds of `data`: its files when it has [`MIN_FOLDS`] …
+    /// [`MAX_FILE_FOLDS`] of at least [`MIN_FOLD_SAMPLES`] samples each (the
+    /// last file held out), else `time_folds` (at least [`MIN_FOLDS`]) equal
+    /// blocks of time (the first `⌊time_folds · train_fraction⌉` fitting, at
+    /// least one each way).
     pub fn new(data: &Dataset, time_folds: usize, train_fraction: f64) -> Self {
         let segs = data.segment_ranges();
-        let files = (2..=MAX_FILE_FOLDS).contains(&segs.len())
+        let files = (MIN_FOLDS..=MAX_FILE_FOLDS).contains(&segs.len())
             && segs.iter().all(|s| s.len() >= MIN_FOLD_SAMPLES);
         if files {
             return Self {
@@ -41,7 +46,7 @@ impl Folds {
                 by_file: true,
             };
         }
-        let (n, k) = (data.len(), time_folds.max(2));
+        let (n, k) = (data.len(), time_folds.max(MIN_FOLDS));
         let fit = ((k as f64 * train_fraction).round() as usize).clamp(1, k - 1);
         Self {
             ranges: (0..k).map(|j| j * n / k..(j + 1) * n / k).collect(),

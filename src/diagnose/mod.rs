@@ -1,19 +1,21 @@
 //! # `diagnose`: where the sim-to-real gap lies and which effect explains it
 //!
 //! Given a nominal model (parameters + friction) and measured data, the data
-//! are split in time (training first, held-out last). **Where:** the
-//! held-out residual `τ − τ̂` per joint, by motion regime, position,
+//! are cut into folds (files, else blocks of time; [`folds`]). **Where:**
+//! the held-out residual `τ − τ̂` per joint, by motion regime, position,
 //! frequency band and time, with whiteness and cross-correlation checks
 //! ([`where_`]). **Which:** every effect of the candidate library (an
 //! [`crate::effects::Library`], the built-in one by default) proposes an
-//! addition to the current model ([`crate::effects::Effect::hypothesis`]),
-//! fitted on the training part only; it is scored by its held-out RMS reduction, a block
-//! test on the held-out part (robust to correlated residuals) and ΔBIC on
-//! the training part. Forward selection accepts the best significant one,
-//! adds it, and repeats. Candidates within noise of the best are reported
-//! as tied. **How far:** held-out RMS per joint before and after, the share
-//! of the gap above the noise floor that is closed, and whether a remainder
-//! is left unexplained.
+//! addition to the current model ([`crate::effects::Effect::hypothesis`]);
+//! each is refit with the nominal friction law and the effects accepted
+//! before it on the other folds and scored on the fold left out
+//! ([`rule`]: every fold improves, a block test, materiality against the
+//! noise floor, a gain per parameter). Forward selection with backward
+//! elimination accepts the best, adds it, and repeats; candidates within
+//! noise of it are reported as tied, with what would separate them.
+//! **How far:** held-out RMS per joint as given, with the law refit and
+//! with the accepted effects, the share of the gap above the noise floor
+//! that is closed, and whether a remainder is left unexplained.
 //!
 //! See `docs/diagnosis.md` for the method in full and the confusion table
 //! of the withheld-effect benchmark.

@@ -89,14 +89,14 @@ impl DiagnoseOptions {
         self.blocks
     }
 
-    /// Folds of time (2 … 50) when the data are one file (several files
+    /// Folds of time (3 … 50) when the data are one file (3 … 10 files
     /// are folds one each, [`super::folds::Folds`]); 5 by default.
     pub fn with_folds(mut self, folds: usize) -> Result<Self, DiagnoseError> {
-        if !(2..=50).contains(&folds) {
+        if !(super::folds::MIN_FOLDS..=50).contains(&folds) {
             return Err(DiagnoseError::Option {
                 option: "folds",
                 value: folds as f64,
-                message: "must be in 2 … 50",
+                message: "must be in 3 … 50 (a per-joint choice of joints needs two other folds)",
             });
         }
         self.folds = folds;

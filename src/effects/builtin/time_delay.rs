@@ -28,14 +28,19 @@ const SHIFTS: [usize; 8] = [1, 2, 3, 5, 8, 12, 20, 30];
 /// a long shift is a smoothed derivative that absorbs any dynamic mismatch.
 const MAX_DELAY: f64 = 0.05;
 
-/// The data's mean step between samples (s).
+/// The data's median step between samples within a file (s): files
+/// logged at different times are segments whose gaps are no step.
 fn step(cx: &Context) -> f64 {
     let d = cx.data;
-    if d.len() > 1 {
-        (d.t[d.len() - 1] - d.t[0]) / (d.len() - 1) as f64
-    } else {
-        1e-3
+    let mut steps: Vec<f64> = (d.segment_ranges().into_iter())
+        .flat_map(|r| d.t[r].windows(2).map(|w| w[1] - w[0]).collect::<Vec<_>>())
+        .filter(|x| *x > 0.0 && x.is_finite())
+        .collect();
+    if steps.is_empty() {
+        return 1e-3;
     }
+    let mid = steps.len() / 2;
+    *steps.select_nth_unstable_by(mid, f64::total_cmp).1
 }
 
 /// The variant of a delay of `s` samples of step `dt`: per joint
@@ -112,5 +117,37 @@ impl Effect for TimeDelay {
     fn sizes(&self, v: &Columns, beta: &[f64], cx: &SizeContext) -> Vec<Size> {
         let shift = v.key_value("delay_s").unwrap_or(0.0);
         cx.per_joint(beta, "delay", "ms", 1e3 * shift)
+    }
+}
+
+#[cfg(test)]
+mod step_tests {
+    use super::*;
+    use crate::data::Dataset;
+    use crate::dynamics::{Friction, cheetah3};
+
+    /// Two files logged 600 s apart at 200 Hz: the step is 5 ms, not the
+    /// record's duration over its samples.
+    #[test]
+    fn the_step_ignores_the_gap_between_files() {
+        let model = cheetah3::model();
+        let names = model.joint_names();
+        let file = |t0: f64| {
+            let mut d = Dataset::empty(&names);
+            for k in 0..200 {
+                d.t.push(t0 + 0.005 * k as f64);
+                for s in [&mut d.q, &mut d.qd, &mut d.qdd, &mut d.tau] {
+                    s.push(&[0.0; 3]);
+                }
+            }
+            d
+        };
+        let mut d = file(0.0);
+        d.append_segment(file(600.0));
+        assert_eq!(d.segment_ranges().len(), 2);
+        let friction = Friction::zeros(3);
+        let zeros = vec![0.0; d.len() * 3];
+        let cx = Context::new(&model, &friction, &d, &zeros, d.len());
+        assert!((step(&cx) - 0.005).abs() < 1e-12, "{}", step(&cx));
     }
 }
