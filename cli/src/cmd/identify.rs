@@ -424,6 +424,12 @@ struct Held {
 
 impl Held {
     fn read(robot: &RobotDescription, path: &Path) -> Result<Self, String> {
+        if !path.is_file() {
+            return Err(format!(
+                "--with-effects {}: not a file (a diagnosis' model file, diagnose --model-out, is needed)",
+                path.display()
+            ));
+        }
         let value = path.to_str().unwrap_or_default();
         let (model, friction, effects) = super::parameters_with_effects_for(
             robot,

@@ -272,7 +272,7 @@ pub(crate) fn parameters_without_effects_for(
     if !effects.is_empty() {
         let names: Vec<&str> = effects.iter().map(|e| e.effect.as_str()).collect();
         eprintln!(
-            "warning: {flag} {}: its fitted effects ({}) are left out: {why}; its bodies (a payload merged into its body) and friction law are used",
+            "warning: {flag} {}: its fitted effects ({}) are left out: {why}; its bodies (any payload merged into them) and friction law are used",
             value.unwrap_or(""),
             names.join(", ")
         );
