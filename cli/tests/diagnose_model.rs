@@ -134,6 +134,29 @@ fn a_model_out_onto_an_input_is_refused_and_nothing_is_written() {
     assert!(err.contains("b.csv"), "{err}");
     assert_eq!(std::fs::read(&b).unwrap(), before);
     assert!(!out.exists(), "--out was written");
+    // a record simulate wrote beside a data file, a folder, a missing
+    // folder, inside --out: each refused before the run, nothing written
+    let record = d.join("b.json");
+    let record_before = std::fs::read(&record).unwrap();
+    let missing = d.join("nowhere").join("m.json");
+    let inside = out.join("m.json");
+    for (target, needle) in [
+        (&record, "also an input"),
+        (&d, "is a folder"),
+        (&missing, "folder does not exist"),
+        (&inside, "inside --out"),
+    ] {
+        let o = diagnose(&a, &b, target)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(2), "{}", target.display());
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains(needle), "{}: {err}", target.display());
+        assert!(!out.exists() && !missing.exists());
+    }
+    assert_eq!(std::fs::read(&record).unwrap(), record_before);
 }
 
 /// `identify --with-effects FILE` holds a model file's fitted effects: with

@@ -175,13 +175,32 @@ fn inputs<'a>(a: &'a DiagnoseArgs) -> Vec<&'a Path> {
 }
 
 /// `--model-out` is refused before the diagnosis runs when it is one of
-/// the command's inputs (or not writable as a file name).
+/// the command's inputs (a data file's record beside it included), a
+/// folder, in a folder that does not exist, or inside `--out`.
 fn check_outputs(a: &DiagnoseArgs) -> Result<(), String> {
-    if let Some(path) = a.model_out {
-        Staged::protecting(inputs(a))
-            .claim(path)
-            .map_err(|e| format!("--model-out: {e}"))?;
+    let Some(path) = a.model_out else {
+        return Ok(());
+    };
+    let bad = |why: &str| Err(format!("--model-out {}: {why}", path.display()));
+    if path.is_dir() {
+        return bad("is a folder (a file name is needed)");
     }
+    let parent = path.parent().filter(|p| !p.as_os_str().is_empty());
+    if a.out.is_some_and(|o| parent == Some(o) || path == o) {
+        return bad("is inside --out's folder, which the diagnosis writes whole");
+    }
+    if parent.is_some_and(|p| !p.is_dir()) {
+        return bad("its folder does not exist");
+    }
+    let records: Vec<std::path::PathBuf> = (a.data.iter().chain(a.repeats))
+        .map(|p| momentlmi::data::record_path(p))
+        .filter(|r| r.is_file())
+        .collect();
+    let mut protected = inputs(a);
+    protected.extend(records.iter().map(|p| p.as_path()));
+    Staged::protecting(protected)
+        .claim(path)
+        .map_err(|e| format!("--model-out: {e}"))?;
     Ok(())
 }
 
