@@ -132,21 +132,20 @@ pub fn sse_on(
     beta: &[f64],
     range: std::ops::Range<usize>,
 ) -> Vec<f64> {
-    let n = store.joints();
-    let r = store.residual_on(ids, beta, range);
-    (0..n)
-        .map(|i| r.iter().skip(i).step_by(n).map(|x| x * x).sum())
-        .collect()
+    joint_ss(&store.residual_on(ids, beta, range), store.joints())
 }
 
 /// `[fold][joint]`: the sum of squares of `resid`'s rows.
 pub fn sse(folds: &Folds, n: usize, resid: &[f64]) -> Vec<Vec<f64>> {
     (folds.ranges.iter())
-        .map(|f| {
-            (0..n)
-                .map(|i| f.clone().map(|k| resid[k * n + i].powi(2)).sum())
-                .collect()
-        })
+        .map(|f| joint_ss(&resid[f.start * n..f.end * n], n))
+        .collect()
+}
+
+/// Per joint, the sum of squares of sample-major `rows` (n per sample).
+fn joint_ss(rows: &[f64], n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|i| rows.iter().skip(i).step_by(n).map(|x| x * x).sum())
         .collect()
 }
 

@@ -256,11 +256,7 @@ impl RobotDescription {
                 path: path.display().to_string(),
                 message: format!(
                     "it holds fitted effects ({}) that this use of it cannot apply",
-                    effects
-                        .iter()
-                        .map(|e| e.effect.as_str())
-                        .collect::<Vec<_>>()
-                        .join(", ")
+                    FittedEffect::names(&effects)
                 ),
             }),
             _ => Ok((model, friction)),

@@ -73,6 +73,16 @@ fn order() -> String {
     "m, hx, hy, hz, Ixx, Ixy, Ixz, Iyy, Iyz, Izz".into()
 }
 
+impl FittedEffect {
+    /// The effects' names, `a, b`: how a message names a file's effects.
+    pub fn names(effects: &[FittedEffect]) -> String {
+        (effects.iter())
+            .map(|e| e.effect.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
 impl ParamsFile {
     /// The parameters and friction currently in a model.
     pub fn from_model(model: &Model, friction: Friction) -> Self {

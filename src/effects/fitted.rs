@@ -67,10 +67,7 @@ pub fn record(
 }
 
 /// The torques of `model` + `friction` at `data`'s states with the fitted
-/// `effects` (of `library`) added: each effect's columns built again on
-/// `data` ([`Effect::replay`]), matched to the record by name. An unknown
-/// effect, a column the data do not give, or a record whose lengths differ
-/// is an error naming the effect.
+/// `effects` (of `library`) added ([`add_effects`]).
 pub fn predict_with(
     model: &Model,
     friction: &Friction,
@@ -79,11 +76,27 @@ pub fn predict_with(
     library: &Library,
 ) -> Result<Samples, EffectError> {
     let mut tau = predict_torques(model, friction, &data.q, &data.qd, &data.qdd)?;
+    add_effects(model, friction, effects, data, library, &mut tau)?;
+    Ok(tau)
+}
+
+/// Adds to `tau` (a row per sample of `data`) the torques of the fitted
+/// `effects` (of `library`) on `model` + `friction`: each effect's columns
+/// built again on `data` ([`Effect::replay`]), matched to the record by
+/// name. An unknown effect, a column the data do not give, or a record
+/// whose lengths differ is an error naming the effect.
+pub fn add_effects(
+    model: &Model,
+    friction: &Friction,
+    effects: &[FittedEffect],
+    data: &Dataset,
+    library: &Library,
+    tau: &mut Samples,
+) -> Result<(), EffectError> {
     if effects.is_empty() {
-        return Ok(tau);
+        return Ok(());
     }
-    let n = model.dof();
-    let zeros = vec![0.0; data.len() * n];
+    let zeros = vec![0.0; data.len() * model.dof()];
     let cx = Context::new(model, friction, data, &zeros, data.len());
     let flat = tau.as_flat_mut();
     for fe in effects {
@@ -94,7 +107,7 @@ pub fn predict_with(
             flat.iter_mut().zip(&col).for_each(|(t, x)| *t += b * x);
         }
     }
-    Ok(tau)
+    Ok(())
 }
 
 /// The columns of the record `fe` on the data of `cx`, in the record's

@@ -452,22 +452,19 @@ impl Held {
 
     /// The held effects' torques taken off `data`'s (the files of `flag`).
     fn take_off(&self, data: &mut momentlmi::data::Dataset, flag: &str) -> Result<(), String> {
-        use momentlmi::dynamics::predict::predict_torques;
         let library = momentlmi::effects::Library::builtin();
-        let with = momentlmi::effects::fitted::predict_with(
+        let mut fx = momentlmi::dynamics::Samples::zeros(data.len(), data.joints.len());
+        momentlmi::effects::fitted::add_effects(
             &self.model,
             &self.friction,
             &self.effects,
             data,
             &library,
+            &mut fx,
         )
         .map_err(|e| format!("--with-effects on the {flag} files: {e}"))?;
-        let without = predict_torques(&self.model, &self.friction, &data.q, &data.qd, &data.qdd)
-            .map_err(|e| format!("--with-effects on the {flag} files: {e}"))?;
         let flat = data.tau.as_flat_mut();
-        for ((t, a), b) in flat.iter_mut().zip(with.as_flat()).zip(without.as_flat()) {
-            *t -= a - b;
-        }
+        flat.iter_mut().zip(fx.as_flat()).for_each(|(t, x)| *t -= x);
         Ok(())
     }
 }

@@ -270,11 +270,10 @@ pub(crate) fn parameters_without_effects_for(
 ) -> Result<(momentlmi::dynamics::Model, momentlmi::dynamics::Friction), String> {
     let (model, friction, effects) = parameters_with_effects_for(robot, flag, value, default)?;
     if !effects.is_empty() {
-        let names: Vec<&str> = effects.iter().map(|e| e.effect.as_str()).collect();
         eprintln!(
             "warning: {flag} {}: its fitted effects ({}) are left out: {why}; its bodies (any payload merged into them) and friction law are used",
             value.unwrap_or(""),
-            names.join(", ")
+            momentlmi::dynamics::params_file::FittedEffect::names(&effects)
         );
     }
     Ok((model, friction))

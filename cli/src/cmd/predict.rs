@@ -83,11 +83,7 @@ fn run_inner(a: &PredictArgs) -> Result<(), String> {
         if !effects.is_empty() {
             return Err(format!(
                 "--mujoco-view: the model's fitted effects ({}) have no place in MuJoCo's equations of motion",
-                effects
-                    .iter()
-                    .map(|e| e.effect.as_str())
-                    .collect::<Vec<_>>()
-                    .join(", ")
+                momentlmi::dynamics::params_file::FittedEffect::names(&effects)
             ));
         }
         view_torques(&model, &friction, &d)?
