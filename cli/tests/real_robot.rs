@@ -28,7 +28,22 @@ fn the_kuka_runs_identify_as_published_at_every_level() {
         );
         let f = &v["data_preparation"]["training"][0];
         assert_eq!(f["rows"], 5027);
-        assert!(f["cutoff_from"].as_str().unwrap().contains("from the data"));
+        assert!(
+            f["cutoff_from"]
+                .as_str()
+                .unwrap()
+                .contains("by held-out torque error")
+        );
+        let c = &v["data_preparation"]["cutoff_choice"];
+        let (chosen, top) = (
+            c["chosen_hz"].as_f64().unwrap(),
+            c["spectrum_hz"].as_f64().unwrap(),
+        );
+        assert!(chosen > 1.0 && chosen <= top, "{level}: {c}");
+        assert_eq!(
+            c["mean_rms"].as_array().unwrap().len(),
+            c["cutoffs_hz"].as_array().unwrap().len()
+        );
         let rms: Vec<f64> = serde_json::from_value(v["validation_rms"].clone()).unwrap();
         assert_eq!(rms.len(), 7);
         assert!(

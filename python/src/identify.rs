@@ -123,15 +123,44 @@ fn identify(
         return Err(PyValueError::new_err("data: no segments"));
     }
     let desc = &*with_friction(robot, friction)?;
-    let opts = ReadOptions {
+    let mut opts = ReadOptions {
         cutoff_hz,
         velocity,
         ..ReadOptions::default()
     };
-    let train = prepared(desc, "data", &data, &opts)?;
-    let val = (!validate.is_empty())
+    // no cut-off given: chosen on the training segments by held-out torque
+    // error when one is raw (as the command line does)
+    let cutoff_choice = match cutoff_hz {
+        Some(_) => None,
+        None => {
+            let n = desc.model.dof();
+            let raws = (data.iter().enumerate())
+                .map(|(k, s)| raw_log(&format!("data[{k}]"), s, n))
+                .collect::<PyResult<Vec<_>>>()?;
+            momentlmi::identify::cutoff::choose_cutoff(&raws, &desc.model, velocity).map_err(
+                |e| {
+                    PyValueError::new_err(format!(
+                        "choosing the low-pass cut-off (give cutoff_hz): {e}"
+                    ))
+                },
+            )?
+        }
+    };
+    opts.cutoff_hz = cutoff_choice.as_ref().map(|c| c.chosen_hz).or(cutoff_hz);
+    let mut train = prepared(desc, "data", &data, &opts)?;
+    let mut val = (!validate.is_empty())
         .then(|| prepared(desc, "validate", &validate, &opts))
         .transpose()?;
+    if let Some(c) = &cutoff_choice {
+        use momentlmi::identify::cutoff::mark_chosen;
+        mark_chosen(&mut train.files, &c.words());
+        if let Some(v) = &mut val {
+            mark_chosen(
+                &mut v.files,
+                &format!("the training data's choice, {}", c.words()),
+            );
+        }
+    }
     let choice: ParamChoice = prior.parse().unwrap_or(ParamChoice::Cad);
     let result = py.detach(|| {
         let mut id = setup.identification(desc, &choice, weight.unwrap_or(WEIGHT_GRID[0]))?;
@@ -163,6 +192,7 @@ fn identify(
         r.data_preparation = DataPreparation {
             training: train.files.clone(),
             validation: val.as_ref().map(|v| v.files.clone()).unwrap_or_default(),
+            cutoff_choice: cutoff_choice.clone(),
         };
         Ok::<_, String>(r)
     });

@@ -48,7 +48,7 @@ pub use filter::estimate_qdd;
 pub use mapping::Mapping;
 pub use prepare::{FileReport, Prepare, Velocity};
 pub use raw::RawLog;
-pub use read::{ReadOptions, Reading, prepare_logs, read_as_csv, read_logs};
+pub use read::{ReadOptions, Reading, prepare_logs, read_as_csv, read_logs, read_raw_logs};
 pub use stats::{rms, rms_per_joint};
 pub use target::Target;
 pub use warning::ReadWarning;

@@ -173,6 +173,32 @@ pub fn prepare(
     Ok((out, report))
 }
 
+/// Steps 1–3 of the module doc on a raw log without q̈: repeated rows
+/// dropped, split at gaps, each piece resampled at the median step; the
+/// uniform pieces and their rate (Hz). What the low-pass then does to them
+/// is [`filter_segment`] (a cut-off chosen on them, say).
+pub fn uniform_segments(raw: RawLog) -> Result<(Vec<RawLog>, f64), DataError> {
+    let mut report = FileReport::default();
+    let raw = drop_repeats(raw, &mut report)?;
+    let pieces = split_at_gaps(&raw, &mut report);
+    let fs = (1e6 / report.steps_s[0]).round() / 1e6;
+    let uniform = pieces.into_iter().map(|r| resample(&raw, r, fs)).collect();
+    Ok((uniform, fs))
+}
+
+/// Steps 4–6 of the module doc on one uniform segment (rate `fs` Hz):
+/// low-passed at `cutoff` Hz, differentiated, `trim` samples dropped at
+/// each end; `None` when too short once trimmed.
+pub fn filter_segment(
+    u: &RawLog,
+    fs: f64,
+    cutoff: f64,
+    velocity: Velocity,
+    trim: usize,
+) -> Option<Dataset> {
+    filtered(u, fs, cutoff, velocity, trim)
+}
+
 /// A file with q̈, as it is: time must increase, q̇ must be there.
 fn as_prepared(raw: RawLog) -> Result<Dataset, DataError> {
     if let Some(r) = raw.t.windows(2).position(|w| w[1] <= w[0]) {

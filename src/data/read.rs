@@ -84,6 +84,21 @@ pub fn read_logs(
     Ok(r)
 }
 
+/// Reads `paths` as [`read_logs`] does, without preparing them: the logs
+/// as recorded (a file with q̈ has it in [`RawLog::qdd`]).
+pub fn read_raw_logs(
+    paths: &[&Path],
+    joints: &[&str],
+    opts: &ReadOptions,
+) -> Result<Vec<RawLog>, DataError> {
+    use rayon::prelude::*;
+    (paths.par_iter())
+        .map(|p| read_raw(p, joints, opts))
+        .collect::<Vec<_>>()
+        .into_iter()
+        .collect()
+}
+
 fn prep_of(opts: &ReadOptions) -> Prepare {
     Prepare {
         cutoff_hz: opts.cutoff_hz,

@@ -18,6 +18,7 @@
 pub mod bounds;
 mod builder;
 pub mod choose_weight;
+pub mod cutoff;
 mod error;
 mod fit;
 pub mod fleet;

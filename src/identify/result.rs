@@ -86,6 +86,10 @@ pub struct DataPreparation {
     pub training: Vec<crate::data::FileReport>,
     /// The validation files.
     pub validation: Vec<crate::data::FileReport>,
+    /// The raw logs' low-pass cut-off chosen by held-out torque error, and
+    /// its curve (when none was given and a training log was raw).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cutoff_choice: Option<super::cutoff::CutoffCurve>,
 }
 
 impl DataPreparation {

@@ -49,7 +49,8 @@ fn diagnosis(a: &DiagnoseArgs) -> Result<Diagnosis, String> {
     let (model, friction, effects) =
         super::parameters_with_effects_for(&robot, "--nominal", a.nominal, ParamChoice::Own)?;
     let names = model.joint_names();
-    let read = a.read.options(&robot, true)?;
+    let mut read = a.read.options(&robot, true)?;
+    super::cutoff_of_model(&mut read, a.nominal, "--nominal");
     let paths: Vec<&Path> = a.data.iter().map(|p| p.as_path()).collect();
     let reading = super::read_data(&paths, &names, &read, a.robot, a.sidecar)?;
     super::report_reading("--data", &reading);

@@ -335,16 +335,16 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
     let ellipsoid = a.constraints == "ellipsoid"
         || a.levels.iter().any(|l| l.trim_end().ends_with("ellipsoid"));
     let names = robot.model.joint_names();
-    let opts = a.read.options(&robot, true)?;
-    let read = |paths: &[std::path::PathBuf]| {
+    let mut opts = a.read.options(&robot, true)?;
+    let read_with = |paths: &[std::path::PathBuf], o: &momentlmi::data::ReadOptions| {
         let p: Vec<&Path> = paths.iter().map(|p| p.as_path()).collect();
-        super::read_data(&p, &names, &opts, a.robot, a.sidecar)
+        super::read_data(&p, &names, o, a.robot, a.sidecar)
     };
     let r = std::thread::scope(|s| {
         // the bounding volumes (meshes read, ellipsoids fitted) are computed
         // while the logs are read
         let bounds = ellipsoid.then(|| s.spawn(|| robot.bounding_warnings().len()));
-        let train = training(a, &robot, &opts, read);
+        let train = training(a, &robot, &opts, |p| read_with(p, &opts));
         if let Some(b) = bounds {
             b.join()
                 .map_err(|_| "computing the bounding volumes failed")?;
@@ -355,6 +355,18 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
             }
         }
         let mut train = train?;
+        let cutoff = match &train {
+            Training::Whole(t) if opts.cutoff_hz.is_none() => {
+                chosen_cutoff(a, &robot, &opts, &t.files)?
+            }
+            _ => None,
+        };
+        if let Some(c) = &cutoff {
+            opts.cutoff_hz = Some(c.chosen_hz);
+            let mut t = read_with(a.data, &opts)?;
+            momentlmi::identify::cutoff::mark_chosen(&mut t.files, &c.words());
+            train = Training::Whole(t);
+        }
         super::report_files("--data", train.files());
         if let (Some(h), Training::Whole(t)) = (&held, &mut train) {
             h.take_off(&mut t.data, "--data")?;
@@ -375,9 +387,10 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
         // the solver leaves idle); that thread is always joined, and a
         // held-out file that cannot be read is the error shown first (it is
         // the one a user can fix without waiting for a fit)
-        let val = s.spawn(|| {
+        let (opts, read_with) = (&opts, &read_with);
+        let val = s.spawn(move || {
             (!a.validate.is_empty())
-                .then(|| read(a.validate))
+                .then(|| read_with(a.validate, opts))
                 .transpose()
         });
         let fitted = match &train {
@@ -388,6 +401,12 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
         let mut val = val
             .join()
             .unwrap_or_else(|_| Err("reading the validation data failed".to_string()))?;
+        if let (Some(c), Some(v)) = (&cutoff, &mut val) {
+            momentlmi::identify::cutoff::mark_chosen(
+                &mut v.files,
+                &format!("the training logs' choice, {}", c.words()),
+            );
+        }
         if let (Some(h), Some(v)) = (&held, &mut val) {
             h.take_off(&mut v.data, "--validate")?;
         }
@@ -408,10 +427,29 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
         r.data_preparation = momentlmi::identify::DataPreparation {
             training: train.into_files(),
             validation: val.map(|v| v.files).unwrap_or_default(),
+            cutoff_choice: cutoff,
         };
         Ok::<_, String>(r)
     })?;
     Ok((r, robot))
+}
+
+/// Without `--cutoff-hz`: the cut-off chosen on the training logs when one
+/// is raw ([`momentlmi::identify::cutoff::choose_for`]).
+fn chosen_cutoff(
+    a: &IdentifyArgs,
+    robot: &RobotDescription,
+    opts: &momentlmi::data::ReadOptions,
+    files: &[momentlmi::data::FileReport],
+) -> Result<Option<momentlmi::identify::cutoff::CutoffCurve>, String> {
+    let names = robot.model.joint_names();
+    let p: Vec<&Path> = a.data.iter().map(|p| p.as_path()).collect();
+    momentlmi::identify::cutoff::choose_for(&p, &names, opts, &robot.model, files).map_err(|e| {
+        match e {
+            IdentifyError::Data(e) => super::explain_data(e, a.robot, a.sidecar),
+            e => format!("choosing the low-pass cut-off (give one with --cutoff-hz): {e}"),
+        }
+    })
 }
 
 /// `--with-effects FILE`: the model file's bodies and friction (the model

@@ -133,6 +133,31 @@ impl ReadChoice<'_> {
     }
 }
 
+/// Without `--cutoff-hz`, the raw-log cut-off an identification chose on
+/// its training logs, when `params` is its JSON report
+/// (`data_preparation.cutoff_choice.chosen_hz`): a model is used on data
+/// prepared as the data it was fitted on. `opts` takes it, with a note.
+pub(crate) fn cutoff_of_model(
+    opts: &mut momentlmi::data::ReadOptions,
+    params: Option<&str>,
+    flag: &str,
+) {
+    let Some(path) = params.filter(|_| opts.cutoff_hz.is_none()) else {
+        return;
+    };
+    let chosen = std::fs::read_to_string(path)
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+        .and_then(|j| j["data_preparation"]["cutoff_choice"]["chosen_hz"].as_f64())
+        .filter(|c| c.is_finite() && *c > 0.0);
+    if let Some(c) = chosen {
+        eprintln!(
+            "note: raw logs low-passed at {c:.3} Hz, the cut-off {flag} {path} was identified with (--cutoff-hz sets another)"
+        );
+        opts.cutoff_hz = Some(c);
+    }
+}
+
 /// Reads log files (each a segment) for the joints `names` of the robot
 /// `spec`; a missing joint (its `q_` column) of a URDF robot given without
 /// `--sidecar` says that a sidecar may be what locks the joint the data lack.

@@ -74,7 +74,8 @@ fn run_inner(a: &PredictArgs) -> Result<(), String> {
     let (model, friction, effects) =
         super::parameters_with_effects_for(&robot, "--params", a.params, ParamChoice::Own)?;
     let names = model.joint_names();
-    let opts = a.read.options(&robot, false)?;
+    let mut opts = a.read.options(&robot, false)?;
+    super::cutoff_of_model(&mut opts, a.params, "--params");
     let paths: Vec<&Path> = a.data.iter().map(|p| p.as_path()).collect();
     let reading = super::read_data(&paths, &names, &opts, a.robot, a.sidecar)?;
     super::report_reading("--data", &reading);

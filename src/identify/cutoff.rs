@@ -1,0 +1,307 @@
+//! The raw-log low-pass cut-off chosen by held-out torque error.
+//!
+//! The spectrum of q ([`crate::data::spectrum::choose_cutoff`]) says where
+//! the motion meets the position noise, not where the torques and q̈ are
+//! clean: on a 1 kHz log it picks hundreds of hertz, and q̈ comes out as
+//! noise. Here each cut-off of a grid — from [`LOWEST_HZ`] up to the
+//! spectrum's choice, a factor √2 apart, the spectrum's choice the top —
+//! is scored by what it leads to:
+//!
+//! 1. every training log made uniform once (repeats dropped, split at
+//!    gaps, resampled: [`crate::data::prepare::uniform_segments`]);
+//! 2. per cut-off, each segment low-passed and differentiated as `identify`
+//!    would, the ends trimmed by the *lowest* cut-off's period for every
+//!    candidate (the same samples for all), every `stride`-th sample kept
+//!    (at most [`MAX_SCORED`] in all; the candidates are scored in
+//!    parallel);
+//! 3. the model's regressor (its links and its friction columns) fitted by
+//!    least squares on [`FOLDS`] − 1 of [`FOLDS`] blocks of time of every
+//!    segment against the torques low-passed at that cut-off (what the
+//!    identification fits), and scored on the block left out against the
+//!    **raw torques** (resampled, not filtered): the same target for every
+//!    candidate, so a low cut-off cannot win by smoothing its own target;
+//! 4. the score is the mean over joints of the held-out RMS pooled over the
+//!    folds; the lowest wins, and the whole curve is kept ([`CutoffCurve`]).
+//!
+//! The raw torques' own noise adds the same amount to every candidate's
+//! mean square, so the ranking is that of the error against the true
+//! torque. The fit is unconstrained (a tiny ridge for the directions the
+//! data do not see): the cut-off is chosen for the data, before any
+//! constraint level or prior.
+
+use super::error::IdentifyError;
+use crate::data::prepare::{filter_segment, uniform_segments};
+use crate::data::spectrum;
+use crate::data::{DataError, RawLog, Velocity};
+use crate::dynamics::{Data, Model, regressor};
+use nalgebra::{DMatrix, DVector};
+use rayon::prelude::*;
+use serde::Serialize;
+
+/// The grid's lowest cut-off (Hz): below it a robot's excitation (periods
+/// of seconds, a few harmonics) is cut.
+pub const LOWEST_HZ: f64 = 2.0;
+/// The ratio between neighbouring cut-offs of the grid.
+pub const RATIO: f64 = std::f64::consts::SQRT_2;
+/// The most samples scored per candidate (over every segment).
+pub const MAX_SCORED: usize = 2000;
+/// Blocks of time per segment; each is held out in turn.
+pub const FOLDS: usize = 5;
+
+/// The cut-off chosen and the curve it was chosen from.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CutoffCurve {
+    /// The cut-offs tried, increasing (Hz).
+    pub cutoffs_hz: Vec<f64>,
+    /// Per cut-off, each joint's held-out RMS against the raw torques,
+    /// pooled over the folds (N·m).
+    pub heldout_rms: Vec<Vec<f64>>,
+    /// Per cut-off, the mean over joints of `heldout_rms` (N·m).
+    pub mean_rms: Vec<f64>,
+    /// The cut-off of the lowest `mean_rms` (Hz).
+    pub chosen_hz: f64,
+    /// What the spectrum of q chose (the grid's top, Hz).
+    pub spectrum_hz: f64,
+    /// Samples scored per candidate.
+    pub scored_samples: usize,
+}
+
+impl CutoffCurve {
+    /// How the cut-off was chosen, in words (for a file's report).
+    pub fn words(&self) -> String {
+        let curve: Vec<String> = (self.cutoffs_hz.iter().zip(&self.mean_rms))
+            .map(|(c, r)| format!("{c:.3} Hz {r:.4}"))
+            .collect();
+        format!(
+            "by held-out torque error ({FOLDS} blocks of time of the training logs, {} samples scored against the raw torques; mean RMS in N·m: {}); the spectrum gave {:.3} Hz",
+            self.scored_samples,
+            curve.join(", "),
+            self.spectrum_hz
+        )
+    }
+}
+
+/// A training log made uniform: its segments and rate.
+struct Uniform {
+    segments: Vec<RawLog>,
+    fs: f64,
+}
+
+/// Chooses the cut-off for `raws` (the training logs as read) by held-out
+/// torque error of `model`'s regressor (module doc); `None` when no log is
+/// raw (each has q̈: prepared, nothing to choose) or has torques.
+pub fn choose_cutoff(
+    raws: &[RawLog],
+    model: &Model,
+    velocity: Velocity,
+) -> Result<Option<CutoffCurve>, IdentifyError> {
+    let logs: Vec<Uniform> = (raws.iter())
+        .filter(|r| r.qdd.is_none() && r.tau.is_some() && !r.is_empty())
+        .map(|r| uniform_segments(r.clone()).map(|(segments, fs)| Uniform { segments, fs }))
+        .collect::<Result<_, DataError>>()
+        .map_err(IdentifyError::Data)?;
+    if logs.is_empty() {
+        return Ok(None);
+    }
+    let top = (logs.iter())
+        .map(|u| spectrum::choose_cutoff(&u.segments, u.fs).0)
+        .fold(0.0, f64::max);
+    let nyquist = logs
+        .iter()
+        .map(|u| 0.4 * u.fs)
+        .fold(f64::INFINITY, f64::min);
+    let grid = grid(top.min(nyquist));
+    let trims: Vec<usize> = logs
+        .iter()
+        .map(|u| (u.fs / grid[0]).ceil() as usize)
+        .collect();
+    let total: usize = (logs.iter().zip(&trims))
+        .flat_map(|(u, t)| {
+            u.segments
+                .iter()
+                .map(move |s| s.len().saturating_sub(2 * t))
+        })
+        .sum();
+    let stride = total.div_ceil(MAX_SCORED).max(1);
+    let heldout_rms = (grid.par_iter())
+        .map(|&c| score(&logs, &trims, stride, c, model, velocity))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mean_rms: Vec<f64> = (heldout_rms.iter())
+        .map(|r| r.iter().sum::<f64>() / r.len().max(1) as f64)
+        .collect();
+    let best = (0..grid.len())
+        .filter(|&i| mean_rms[i].is_finite())
+        .min_by(|&a, &b| mean_rms[a].total_cmp(&mean_rms[b]));
+    let Some(best) = best else {
+        return Err(IdentifyError::Stored(
+            "choosing the cut-off: no candidate could be scored (too few samples per block of time)".into(),
+        ));
+    };
+    Ok(Some(CutoffCurve {
+        chosen_hz: grid[best],
+        cutoffs_hz: grid,
+        heldout_rms,
+        mean_rms,
+        spectrum_hz: top,
+        scored_samples: total.div_ceil(stride),
+    }))
+}
+
+/// The cut-off for the training logs `paths` (read for `joints` with
+/// `opts`, whose cut-off is not given), when one of them is raw: `files`
+/// are their reports as first read (with the spectrum's cut-off); `None`
+/// when every one was taken as prepared. The logs are read again as
+/// recorded ([`crate::data::read_raw_logs`]) and [`choose_cutoff`] chooses.
+pub fn choose_for(
+    paths: &[&std::path::Path],
+    joints: &[&str],
+    opts: &crate::data::ReadOptions,
+    model: &Model,
+    files: &[crate::data::FileReport],
+) -> Result<Option<CutoffCurve>, IdentifyError> {
+    if files.iter().all(|f| f.taken_as_prepared) {
+        return Ok(None);
+    }
+    let raws = crate::data::read_raw_logs(paths, joints, opts).map_err(IdentifyError::Data)?;
+    choose_cutoff(&raws, model, opts.velocity)
+}
+
+/// The raw logs among `files` say their cut-off was chosen (`how`).
+pub fn mark_chosen(files: &mut [crate::data::FileReport], how: &str) {
+    for f in files.iter_mut().filter(|f| !f.taken_as_prepared) {
+        f.cutoff_from = how.to_string();
+    }
+}
+
+/// The cut-offs from [`LOWEST_HZ`] by [`RATIO`] below `top`, and `top`
+/// (just `top` when it is under [`LOWEST_HZ`]).
+fn grid(top: f64) -> Vec<f64> {
+    let mut g: Vec<f64> = (0..)
+        .map(|k| LOWEST_HZ * RATIO.powi(k))
+        .take_while(|c| *c < top / 1.05)
+        .collect();
+    g.push(top);
+    g
+}
+
+/// Per fold: its regressor rows (a row per sample and joint), the torques
+/// it is fitted to (low-passed) and scored against (raw).
+#[derive(Default)]
+struct Fold {
+    rows: Vec<f64>,
+    fit: Vec<f64>,
+    raw: Vec<f64>,
+}
+
+/// Each joint's held-out RMS at cut-off `c`, pooled over the folds.
+fn score(
+    logs: &[Uniform],
+    trims: &[usize],
+    stride: usize,
+    c: f64,
+    model: &Model,
+    velocity: Velocity,
+) -> Result<Vec<f64>, IdentifyError> {
+    let mut data = Data::new(model);
+    let p = data.regressor.ncols();
+    let mut folds: Vec<Fold> = (0..FOLDS).map(|_| Fold::default()).collect();
+    let mut sample = 0usize;
+    for (u, &trim) in logs.iter().zip(trims) {
+        for seg in &u.segments {
+            let Some(d) = filter_segment(seg, u.fs, c, velocity, trim) else {
+                continue;
+            };
+            let raw_tau = seg.tau.as_ref().expect("logs with torques only");
+            for k in (0..d.len()).step_by(stride) {
+                data.load
+                    .iter_mut()
+                    .zip(&d.tau[k])
+                    .for_each(|(l, t)| *l = *t);
+                let y = regressor(model, &mut data, &d.q[k], &d.qd[k], &d.qdd[k])
+                    .map_err(|source| IdentifyError::Regressor { sample, source })?;
+                let f = &mut folds[FOLDS * k / d.len()];
+                for i in 0..y.nrows() {
+                    f.rows.extend(y.row(i).iter());
+                }
+                f.fit.extend_from_slice(&d.tau[k]);
+                f.raw.extend_from_slice(&raw_tau[k + trim]);
+                sample += 1;
+            }
+        }
+    }
+    pooled(&folds, model.dof(), p)
+}
+
+/// Each joint's held-out RMS pooled over `folds` (`p` columns), each
+/// fitted on the others; NaN when a fold has nothing to score.
+fn pooled(folds: &[Fold], n: usize, p: usize) -> Result<Vec<f64>, IdentifyError> {
+    let mats: Vec<(DMatrix<f64>, DVector<f64>)> = (folds.iter())
+        .map(|f| {
+            let y = DMatrix::from_row_slice(f.fit.len(), p, &f.rows);
+            let yt = y.transpose();
+            let rhs = &yt * DVector::from_column_slice(&f.fit);
+            (&yt * &y, rhs)
+        })
+        .collect();
+    let gram: DMatrix<f64> = mats.iter().fold(DMatrix::zeros(p, p), |a, m| a + &m.0);
+    let rhs: DVector<f64> = mats.iter().fold(DVector::zeros(p), |a, m| a + &m.1);
+    let (mut sum, mut count) = (vec![0.0; n], 0usize);
+    for (f, m) in folds.iter().zip(&mats) {
+        if f.raw.is_empty() {
+            return Ok(vec![f64::NAN; n]);
+        }
+        let mut g = &gram - &m.0;
+        let ridge = 1e-10 * (g.trace() / p as f64).max(f64::MIN_POSITIVE);
+        (0..p).for_each(|i| g[(i, i)] += ridge);
+        let theta = (g.cholesky())
+            .ok_or(IdentifyError::Factorisation {
+                what: "Cholesky factorisation of a cut-off candidate's Gram matrix",
+            })?
+            .solve(&(&rhs - &m.1));
+        let y = DMatrix::from_row_slice(f.raw.len(), p, &f.rows);
+        let pred = y * theta;
+        for (r, (a, b)) in pred.iter().zip(&f.raw).enumerate() {
+            sum[r % n] += (a - b).powi(2);
+        }
+        count += f.raw.len() / n;
+    }
+    Ok(sum
+        .iter()
+        .map(|s| (s / count.max(1) as f64).sqrt())
+        .collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_grid_rises_by_root_two_to_the_spectrum_choice() {
+        let g = grid(10.0);
+        assert_eq!(g.len(), 6, "{g:?}");
+        assert!((g[0] - 2.0).abs() < 1e-12 && (g[4] - 8.0).abs() < 1e-9);
+        assert_eq!(*g.last().unwrap(), 10.0);
+        assert_eq!(grid(1.5), vec![1.5]);
+    }
+
+    /// A log with q̈ is prepared: nothing to choose.
+    #[test]
+    fn a_prepared_log_has_no_choice() {
+        let model = crate::dynamics::cheetah3::model();
+        let mut log = RawLog {
+            path: "p.csv".into(),
+            t: (0..100).map(|k| 1e-3 * k as f64).collect(),
+            q: crate::dynamics::Samples::zeros(100, 3),
+            qd: None,
+            qdd: Some(crate::dynamics::Samples::zeros(100, 3)),
+            tau: Some(crate::dynamics::Samples::zeros(100, 3)),
+            warnings: vec![],
+        };
+        let none = choose_cutoff(std::slice::from_ref(&log), &model, Velocity::Differentiate);
+        assert_eq!(none.unwrap(), None);
+        log.qdd = None;
+        log.tau = None;
+        let none = choose_cutoff(&[log], &model, Velocity::Differentiate);
+        assert_eq!(none.unwrap(), None, "no torques: nothing to score");
+    }
+}
