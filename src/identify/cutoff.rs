@@ -33,7 +33,7 @@ use super::error::IdentifyError;
 use crate::data::prepare::{filter_segment, uniform_segments};
 use crate::data::spectrum;
 use crate::data::{DataError, RawLog, Velocity};
-use crate::dynamics::{Data, Model, regressor};
+use crate::dynamics::{Data, Model, regressor_blocks, regressor_row_columns};
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -147,23 +147,35 @@ pub fn choose_cutoff(
     }))
 }
 
-/// The cut-off for the training logs `paths` (read for `joints` with
-/// `opts`, whose cut-off is not given), when one of them is raw: `files`
-/// are their reports as first read (with the spectrum's cut-off); `None`
-/// when every one was taken as prepared. The logs are read again as
-/// recorded ([`crate::data::read_raw_logs`]) and [`choose_cutoff`] chooses.
-pub fn choose_for(
+/// Reads the training logs `paths` for `joints` as
+/// [`crate::data::read_logs`] does, except that without a cut-off in
+/// `opts` and with a raw log among them, the cut-off is chosen here
+/// ([`choose_cutoff`]) and every raw log prepared with it (their reports
+/// say so); each file is read once.
+pub fn read_training(
     paths: &[&std::path::Path],
     joints: &[&str],
     opts: &crate::data::ReadOptions,
     model: &Model,
-    files: &[crate::data::FileReport],
-) -> Result<Option<CutoffCurve>, IdentifyError> {
-    if files.iter().all(|f| f.taken_as_prepared) {
-        return Ok(None);
+) -> Result<(crate::data::Reading, Option<CutoffCurve>), IdentifyError> {
+    let t0 = std::time::Instant::now();
+    let raws = crate::data::read_raw_logs(paths, joints, opts)?;
+    let read_s = t0.elapsed().as_secs_f64();
+    let choice = match opts.cutoff_hz {
+        Some(_) => None,
+        None => choose_cutoff(&raws, model, opts.velocity)?,
+    };
+    let t0 = std::time::Instant::now();
+    let o = crate::data::ReadOptions {
+        cutoff_hz: choice.as_ref().map(|c| c.chosen_hz).or(opts.cutoff_hz),
+        ..opts.clone()
+    };
+    let mut reading = crate::data::prepare_logs(raws, joints, &o)?;
+    (reading.read_s, reading.filter_s) = (read_s, t0.elapsed().as_secs_f64());
+    if let Some(c) = &choice {
+        mark_chosen(&mut reading.files, &c.words());
     }
-    let raws = crate::data::read_raw_logs(paths, joints, opts).map_err(IdentifyError::Data)?;
-    choose_cutoff(&raws, model, opts.velocity)
+    Ok((reading, choice))
 }
 
 /// The raw logs among `files` say their cut-off was chosen (`how`).
@@ -184,10 +196,12 @@ fn grid(top: f64) -> Vec<f64> {
     g
 }
 
-/// Per fold: its regressor rows (a row per sample and joint), the torques
-/// it is fitted to (low-passed) and scored against (raw).
+/// One joint's rows in one fold: its regressor row restricted to the
+/// columns it can be non-zero in ([`regressor_row_columns`]), a row per
+/// sample, and the torques it is fitted to (low-passed) and scored against
+/// (raw).
 #[derive(Default)]
-struct Fold {
+struct JointRows {
     rows: Vec<f64>,
     fit: Vec<f64>,
     raw: Vec<f64>,
@@ -202,9 +216,17 @@ fn score(
     model: &Model,
     velocity: Velocity,
 ) -> Result<Vec<f64>, IdentifyError> {
+    let (n, p) = (model.dof(), model.regressor_columns());
+    let cols = regressor_row_columns(model);
+    // where each column sits in each joint's compact row
+    let mut at = vec![vec![usize::MAX; p]; n];
+    (cols.iter().enumerate())
+        .for_each(|(j, cs)| cs.iter().enumerate().for_each(|(a, &c)| at[j][c] = a));
+    let mut folds: Vec<Vec<JointRows>> = (0..FOLDS)
+        .map(|_| (0..n).map(|_| JointRows::default()).collect())
+        .collect();
     let mut data = Data::new(model);
-    let p = data.regressor.ncols();
-    let mut folds: Vec<Fold> = (0..FOLDS).map(|_| Fold::default()).collect();
+    let mut row: Vec<Vec<f64>> = cols.iter().map(|c| vec![0.0; c.len()]).collect();
     let mut sample = 0usize;
     for (u, &trim) in logs.iter().zip(trims) {
         for seg in &u.segments {
@@ -217,37 +239,58 @@ fn score(
                     .iter_mut()
                     .zip(&d.tau[k])
                     .for_each(|(l, t)| *l = *t);
-                let y = regressor(model, &mut data, &d.q[k], &d.qd[k], &d.qdd[k])
-                    .map_err(|source| IdentifyError::Regressor { sample, source })?;
-                let f = &mut folds[FOLDS * k / d.len()];
-                for i in 0..y.nrows() {
-                    f.rows.extend(y.row(i).iter());
+                row.iter_mut().for_each(|r| r.fill(0.0));
+                regressor_blocks(
+                    model,
+                    &mut data,
+                    [&d.q[k], &d.qd[k], &d.qdd[k]],
+                    |j, c0, v| (v.iter().enumerate()).for_each(|(a, x)| row[j][at[j][c0 + a]] += x),
+                )
+                .map_err(|source| IdentifyError::Regressor { sample, source })?;
+                let fold = &mut folds[FOLDS * k / d.len()];
+                for (j, jr) in fold.iter_mut().enumerate() {
+                    jr.rows.extend_from_slice(&row[j]);
+                    jr.fit.push(d.tau[k][j]);
+                    jr.raw.push(raw_tau[k + trim][j]);
                 }
-                f.fit.extend_from_slice(&d.tau[k]);
-                f.raw.extend_from_slice(&raw_tau[k + trim]);
                 sample += 1;
             }
         }
     }
-    pooled(&folds, model.dof(), p)
+    pooled(&folds, &cols, p)
 }
 
-/// Each joint's held-out RMS pooled over `folds` (`p` columns), each
-/// fitted on the others; NaN when a fold has nothing to score.
-fn pooled(folds: &[Fold], n: usize, p: usize) -> Result<Vec<f64>, IdentifyError> {
+/// Each joint's held-out RMS pooled over `folds` (`p` columns; joint j's
+/// rows in columns `cols[j]`), each fold predicted by the fit on the
+/// others; NaN when a fold has nothing to score.
+fn pooled(
+    folds: &[Vec<JointRows>],
+    cols: &[Vec<usize>],
+    p: usize,
+) -> Result<Vec<f64>, IdentifyError> {
+    let n = cols.len();
     let mats: Vec<(DMatrix<f64>, DVector<f64>)> = (folds.iter())
         .map(|f| {
-            let y = DMatrix::from_row_slice(f.fit.len(), p, &f.rows);
-            let yt = y.transpose();
-            let rhs = &yt * DVector::from_column_slice(&f.fit);
-            (&yt * &y, rhs)
+            let (mut g, mut b) = (DMatrix::zeros(p, p), DVector::zeros(p));
+            for (jr, cs) in f.iter().zip(cols) {
+                let y = DMatrix::from_row_slice(jr.fit.len(), cs.len(), &jr.rows);
+                let yt = y.transpose();
+                let (gj, bj) = (&yt * &y, &yt * DVector::from_column_slice(&jr.fit));
+                for (a, &ca) in cs.iter().enumerate() {
+                    b[ca] += bj[a];
+                    cs.iter()
+                        .enumerate()
+                        .for_each(|(e, &ce)| g[(ca, ce)] += gj[(a, e)]);
+                }
+            }
+            (g, b)
         })
         .collect();
     let gram: DMatrix<f64> = mats.iter().fold(DMatrix::zeros(p, p), |a, m| a + &m.0);
     let rhs: DVector<f64> = mats.iter().fold(DVector::zeros(p), |a, m| a + &m.1);
     let (mut sum, mut count) = (vec![0.0; n], 0usize);
     for (f, m) in folds.iter().zip(&mats) {
-        if f.raw.is_empty() {
+        if f[0].raw.is_empty() {
             return Ok(vec![f64::NAN; n]);
         }
         let mut g = &gram - &m.0;
@@ -258,12 +301,16 @@ fn pooled(folds: &[Fold], n: usize, p: usize) -> Result<Vec<f64>, IdentifyError>
                 what: "Cholesky factorisation of a cut-off candidate's Gram matrix",
             })?
             .solve(&(&rhs - &m.1));
-        let y = DMatrix::from_row_slice(f.raw.len(), p, &f.rows);
-        let pred = y * theta;
-        for (r, (a, b)) in pred.iter().zip(&f.raw).enumerate() {
-            sum[r % n] += (a - b).powi(2);
+        for (j, (jr, cs)) in f.iter().zip(cols).enumerate() {
+            let th = DVector::from_iterator(cs.len(), cs.iter().map(|&c| theta[c]));
+            let pred = DMatrix::from_row_slice(jr.raw.len(), cs.len(), &jr.rows) * th;
+            sum[j] += pred
+                .iter()
+                .zip(&jr.raw)
+                .map(|(a, b)| (a - b).powi(2))
+                .sum::<f64>();
         }
-        count += f.raw.len() / n;
+        count += f[0].raw.len();
     }
     Ok(sum
         .iter()

@@ -344,7 +344,7 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
         // the bounding volumes (meshes read, ellipsoids fitted) are computed
         // while the logs are read
         let bounds = ellipsoid.then(|| s.spawn(|| robot.bounding_warnings().len()));
-        let train = training(a, &robot, &opts, |p| read_with(p, &opts));
+        let train = training(a, &robot, &opts);
         if let Some(b) = bounds {
             b.join()
                 .map_err(|_| "computing the bounding volumes failed")?;
@@ -354,19 +354,9 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
                 eprintln!("warning: {}: {w}", robot.source);
             }
         }
-        let mut train = train?;
-        let cutoff = match &train {
-            Training::Whole(t) if opts.cutoff_hz.is_none() => {
-                chosen_cutoff(a, &robot, &opts, &t.files)?
-            }
-            _ => None,
-        };
-        if let Some(c) = &cutoff {
-            opts.cutoff_hz = Some(c.chosen_hz);
-            let mut t = read_with(a.data, &opts)?;
-            momentlmi::identify::cutoff::mark_chosen(&mut t.files, &c.words());
-            train = Training::Whole(t);
-        }
+        let (mut train, cutoff) = train?;
+        // the validation files are prepared as the training ones were
+        opts.cutoff_hz = cutoff.as_ref().map(|c| c.chosen_hz).or(opts.cutoff_hz);
         super::report_files("--data", train.files());
         if let (Some(h), Training::Whole(t)) = (&held, &mut train) {
             h.take_off(&mut t.data, "--data")?;
@@ -432,24 +422,6 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
         Ok::<_, String>(r)
     })?;
     Ok((r, robot))
-}
-
-/// Without `--cutoff-hz`: the cut-off chosen on the training logs when one
-/// is raw ([`momentlmi::identify::cutoff::choose_for`]).
-fn chosen_cutoff(
-    a: &IdentifyArgs,
-    robot: &RobotDescription,
-    opts: &momentlmi::data::ReadOptions,
-    files: &[momentlmi::data::FileReport],
-) -> Result<Option<momentlmi::identify::cutoff::CutoffCurve>, String> {
-    let names = robot.model.joint_names();
-    let p: Vec<&Path> = a.data.iter().map(|p| p.as_path()).collect();
-    momentlmi::identify::cutoff::choose_for(&p, &names, opts, &robot.model, files).map_err(|e| {
-        match e {
-            IdentifyError::Data(e) => super::explain_data(e, a.robot, a.sidecar),
-            e => format!("choosing the low-pass cut-off (give one with --cutoff-hz): {e}"),
-        }
-    })
 }
 
 /// `--with-effects FILE`: the model file's bodies and friction (the model
@@ -547,18 +519,18 @@ impl Training {
 }
 
 /// Reads `--data`: streamed into the reduction where it can be
-/// ([`Training`]), else whole with `read`.
+/// ([`Training`]), else whole, the raw logs' cut-off chosen on them when
+/// none is given ([`momentlmi::identify::cutoff::read_training`]).
 fn training(
     a: &IdentifyArgs,
     robot: &RobotDescription,
     opts: &momentlmi::data::ReadOptions,
-    read: impl Fn(&[std::path::PathBuf]) -> Result<momentlmi::data::Reading, String>,
-) -> Result<Training, String> {
+) -> Result<(Training, Option<momentlmi::identify::cutoff::CutoffCurve>), String> {
     let load = robot.model.friction_terms().contains(&FrictionTerm::Load);
     if parse_weight(a.weight)?.is_some() && !load && a.with_effects.is_none() {
         let p: Vec<&Path> = a.data.iter().map(|p| p.as_path()).collect();
         match momentlmi::identify::reduce_logs(&robot.model, &p, opts) {
-            Ok(Some(t)) => return Ok(Training::Streamed(t)),
+            Ok(Some(t)) => return Ok((Training::Streamed(t), None)),
             Ok(None) => {}
             Err(IdentifyError::Data(e)) => {
                 return Err(super::explain_data(e, a.robot, a.sidecar));
@@ -566,7 +538,15 @@ fn training(
             Err(e) => return Err(explain(e)),
         }
     }
-    read(a.data).map(Training::Whole)
+    let names = robot.model.joint_names();
+    let p: Vec<&Path> = a.data.iter().map(|p| p.as_path()).collect();
+    match momentlmi::identify::cutoff::read_training(&p, &names, opts, &robot.model) {
+        Ok((r, c)) => Ok((Training::Whole(r), c)),
+        Err(IdentifyError::Data(e)) => Err(super::explain_data(e, a.robot, a.sidecar)),
+        Err(e) => Err(format!(
+            "choosing the low-pass cut-off (give one with --cutoff-hz): {e}"
+        )),
+    }
 }
 
 /// `--bounds`: a number ≥ 0, or `auto` (the 95 % confidence region).
