@@ -246,8 +246,11 @@ enum Command {
         /// torque sensor's bias, either sign), asymmetric (Coulomb stronger one way), load
         /// (Coulomb ∝ |τ| of the rigid model: a harmonic drive's), stribeck (breakaway
         /// friction near rest, exp(−(q̇/v_s)²) sign(q̇)), or none (links and rotors only)
-        /// [default: viscous,coulomb]. A real arm's torque sensors usually need offset
-        /// (docs/identification.md, "Friction terms").
+        /// [default: viscous,coulomb]; or auto: viscous + Coulomb with or without offset,
+        /// load and Stribeck (v_s 0.02–0.2 rad/s), the law chosen by cross-validation on
+        /// the training data (the fewest terms within one standard error of the best). A
+        /// real arm's torque sensors usually need offset (docs/identification.md,
+        /// "Friction terms").
         #[arg(long, value_name = "LIST")]
         friction: Option<String>,
         /// How each joint's rows weigh in the fit: equal (least squares) or noise (weighted

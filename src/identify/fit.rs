@@ -244,6 +244,7 @@ impl Identification<'_> {
             joint_weighting: self.joint_weighting,
             effects: vec![],
             weight_choice: None,
+            model_selection: None,
             joint_noise,
             constraints_satisfied: ok,
             all_bodies_consistent: inconsistent_bodies.is_empty(),

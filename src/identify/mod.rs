@@ -24,6 +24,7 @@ mod fit;
 pub mod fleet;
 pub mod floating;
 pub mod floating_fit;
+pub mod friction_choice;
 mod gram;
 pub mod identifiability;
 mod options;

@@ -132,6 +132,10 @@ pub struct IdentifyResult {
     /// caller sets it).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub weight_choice: Option<super::WeightChoice>,
+    /// The friction law chosen by cross-validation (`--friction auto`) and
+    /// the table it was chosen from.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub model_selection: Option<super::friction_choice::FrictionChoice>,
     /// With [`JointWeighting::Noise`]: each joint's noise σ̂_j (N·m, the
     /// residual RMS of the previous weighted solve, iterated until it
     /// settles) whose `1/σ̂_j²` weighted the final solve.

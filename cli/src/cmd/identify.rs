@@ -324,7 +324,16 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
         parse_delta(b, 1, 2)?;
     }
     let mut robot = super::load_robot(a.robot, a.sidecar, a.package_paths)?;
-    if let Some(list) = a.friction {
+    let auto = a.friction.is_some_and(|f| f.trim() == "auto");
+    if a.friction
+        .is_some_and(|f| !auto && f.split(',').any(|t| t.trim() == "auto"))
+    {
+        return Err(
+            "--friction: auto stands alone (the law chosen from the data), not in a list of terms"
+                .into(),
+        );
+    }
+    if let Some(list) = a.friction.filter(|_| !auto) {
         let terms = FrictionTerm::parse_list(list).map_err(|e| format!("--friction: {e}"))?;
         robot.model = robot.model.with_friction_terms(&terms);
     }
@@ -361,7 +370,23 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
         if let (Some(h), Training::Whole(t)) = (&held, &mut train) {
             h.take_off(&mut t.data, "--data")?;
         }
-        let mut id = identification(a, &robot)?.max_memory(super::gib(a.max_memory_gib)?);
+        let selection = match (&train, auto) {
+            (Training::Whole(t), true) => Some(
+                identification(a, &robot)?
+                    .choose_friction(&t.data)
+                    .map_err(|e| format!("--friction auto: {}", explain(e)))?,
+            ),
+            _ => None,
+        };
+        let chosen_robot;
+        let robot = match &selection {
+            Some(c) => {
+                chosen_robot = with_law(&robot, c)?;
+                &chosen_robot
+            }
+            None => &robot,
+        };
+        let mut id = identification(a, robot)?.max_memory(super::gib(a.max_memory_gib)?);
         super::warn_cost(momentlmi::identify::cost(&robot.model, train.samples()).flops);
         let (choice, red) = match &train {
             Training::Streamed(t) => (None, t.reduced.clone()),
@@ -412,6 +437,7 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
             r.validate(&robot.model, &v.data).map_err(explain)?;
         }
         r.weight_choice = choice;
+        r.model_selection = selection;
         r.effects = held.map(|h| h.effects).unwrap_or_default();
         (r.timings.read_s, r.timings.filter_s, r.timings.streamed) = train.times();
         r.data_preparation = momentlmi::identify::DataPreparation {
@@ -421,7 +447,24 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
         };
         Ok::<_, String>(r)
     })?;
+    if let Some(c) = &r.model_selection {
+        robot = with_law(&robot, c)?;
+    }
     Ok((r, robot))
+}
+
+/// `robot` with the friction law `c` chose.
+fn with_law(
+    robot: &RobotDescription,
+    c: &momentlmi::identify::friction_choice::FrictionChoice,
+) -> Result<RobotDescription, String> {
+    let mut r = robot.clone();
+    r.model = r.model.with_friction_terms(&c.terms());
+    if let Some(v) = c.stribeck_velocity() {
+        r.model =
+            (r.model.with_stribeck_velocity(v)).map_err(|e| format!("--friction auto: {e}"))?;
+    }
+    Ok(r)
 }
 
 /// `--with-effects FILE`: the model file's bodies and friction (the model
@@ -527,7 +570,8 @@ fn training(
     opts: &momentlmi::data::ReadOptions,
 ) -> Result<(Training, Option<momentlmi::identify::cutoff::CutoffCurve>), String> {
     let load = robot.model.friction_terms().contains(&FrictionTerm::Load);
-    if parse_weight(a.weight)?.is_some() && !load && a.with_effects.is_none() {
+    let auto = a.friction.is_some_and(|f| f.trim() == "auto");
+    if parse_weight(a.weight)?.is_some() && !load && a.with_effects.is_none() && !auto {
         let p: Vec<&Path> = a.data.iter().map(|p| p.as_path()).collect();
         match momentlmi::identify::reduce_logs(&robot.model, &p, opts) {
             Ok(Some(t)) => return Ok((Training::Streamed(t), None)),
@@ -622,6 +666,40 @@ fn print_weight_choice(c: &momentlmi::identify::WeightChoice) {
     }
 }
 
+fn print_friction_choice(c: &momentlmi::identify::friction_choice::FrictionChoice) {
+    let folds = match c.folds {
+        momentlmi::identify::choose_weight::Folds::Segments => {
+            format!("{} files or segments held out in turn", c.k)
+        }
+        momentlmi::identify::choose_weight::Folds::Time => {
+            format!("{} blocks in time held out in turn", c.k)
+        }
+    };
+    println!(
+        "friction law chosen by cross-validation ({folds}; links and law refit by least squares): mean held-out RMS"
+    );
+    let mut order: Vec<usize> = (0..c.laws.len()).collect();
+    order.sort_by(|&a, &b| c.laws[a].mean_rms.total_cmp(&c.laws[b].mean_rms));
+    for i in order {
+        let l = &c.laws[i];
+        let vs = l
+            .stribeck_velocity
+            .map(|v| format!(" (v_s {v})"))
+            .unwrap_or_default();
+        let mark = match (i == c.chosen, i == c.best) {
+            (true, _) => "  ← chosen",
+            (false, true) => "  (lowest)",
+            _ => "",
+        };
+        println!(
+            "  {:<42} {:.4} N·m{mark}",
+            format!("{}{vs}", l.terms.join(", ")),
+            l.mean_rms
+        );
+    }
+    println!("  chosen: {}", c.rule);
+}
+
 /// A short human report.
 pub fn print_report(r: &IdentifyResult) {
     println!(
@@ -639,6 +717,9 @@ pub fn print_report(r: &IdentifyResult) {
         r.identifiability.rank,
         r.identifiability.columns
     );
+    if let Some(c) = &r.model_selection {
+        print_friction_choice(c);
+    }
     if let Some(c) = &r.weight_choice {
         print_weight_choice(c);
     }

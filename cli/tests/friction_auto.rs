@@ -1,0 +1,99 @@
+//! `identify --friction auto` from the command line: the table, the JSON's
+//! `model_selection`, the chosen law in the model file that `predict`
+//! takes, and a bad list.
+
+mod common;
+use common::{TempDir, bin, ok};
+
+#[test]
+fn friction_auto_chooses_a_simulated_stribeck_law_and_the_model_file_carries_it() {
+    let t = TempDir::new("friction-auto");
+    let urdf = concat!(env!("CARGO_MANIFEST_DIR"), "/../robots/panda/panda.urdf");
+    let (train, val) = (t.0.join("train.csv"), t.0.join("val.csv"));
+    for (out, secs, seed) in [(&train, "10", "3"), (&val, "5", "4")] {
+        let effects = "coulomb,viscous,stribeck";
+        ok(&[
+            "simulate",
+            "--robot",
+            urdf,
+            "--seconds",
+            secs,
+            "--seed",
+            seed,
+            "--effects",
+            effects,
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+    }
+    let base = [
+        "identify",
+        "--robot",
+        urdf,
+        "--data",
+        train.to_str().unwrap(),
+        "--validate",
+        val.to_str().unwrap(),
+        "--friction",
+        "auto",
+    ];
+    let text = String::from_utf8(ok(&base)).unwrap();
+    assert!(
+        text.contains("friction law chosen by cross-validation") && text.contains("← chosen"),
+        "{text}"
+    );
+    let mut json_args = base.to_vec();
+    json_args.push("--json");
+    let json = ok(&json_args);
+    let j: serde_json::Value = serde_json::from_slice(&json).unwrap();
+    let sel = &j["model_selection"];
+    let chosen = &sel["laws"][sel["chosen"].as_u64().unwrap() as usize];
+    assert!(
+        chosen["terms"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|x| x == "stribeck"),
+        "{sel}"
+    );
+    assert_eq!(j["friction"]["stribeck_velocity"], 0.2);
+    // predict with the model file gives identify's held-out error
+    let model = t.write("model.json", std::str::from_utf8(&json).unwrap());
+    let pred = t.0.join("pred.csv");
+    let o = bin()
+        .args([
+            "predict",
+            "--robot",
+            urdf,
+            "--params",
+            model.to_str().unwrap(),
+            "--data",
+            val.to_str().unwrap(),
+            "--out",
+            pred.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let said = String::from_utf8_lossy(&o.stdout).to_string() + &String::from_utf8_lossy(&o.stderr);
+    let first = j["validation_rms"][0].as_f64().unwrap();
+    assert!(
+        said.contains(&format!("{first:.4}")),
+        "{first:.4} not in {said}"
+    );
+    // auto in a list is refused by name
+    let o = bin()
+        .args([
+            "identify",
+            "--robot",
+            urdf,
+            "--data",
+            train.to_str().unwrap(),
+            "--friction",
+            "auto,offset",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("auto stands alone"));
+}

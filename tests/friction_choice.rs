@@ -1,0 +1,54 @@
+//! `--friction auto` (issue 56): the friction law chosen by cross-validation
+//! on the training data picks viscous + Coulomb when that is the truth, and
+//! a simulated Stribeck or load-dependent friction when it is present.
+
+use momentlmi::dynamics::robots::load_robot;
+use momentlmi::dynamics::{FrictionTerm, RobotDescription};
+use momentlmi::effects::simulate;
+use momentlmi::identify::{Identification, Level};
+use momentlmi::sim::{Effects, SimConfig};
+
+fn panda() -> RobotDescription {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/panda");
+    load_robot(
+        dir.join("panda.urdf").to_str().unwrap(),
+        Some(&dir.join("panda.toml")),
+    )
+    .unwrap()
+}
+
+/// The law chosen on 10 s of the Panda simulated with `effects`.
+fn chosen(robot: &RobotDescription, effects: &str) -> (Vec<FrictionTerm>, Option<f64>) {
+    let cfg = SimConfig::for_robot(robot, 10.0, Effects::parse(effects, &[]).unwrap(), 3);
+    let d = simulate(robot, &cfg, |_, _| {}).unwrap();
+    let c = Identification::for_robot(robot, Level::Consistent, 1e-6)
+        .unwrap()
+        .choose_friction(&d)
+        .unwrap();
+    assert_eq!(c.laws.len(), 20, "every law is scored");
+    assert!(c.laws[c.chosen].mean_rms <= 1.02 * c.laws[c.best].mean_rms);
+    (c.terms(), c.stribeck_velocity())
+}
+
+#[test]
+fn viscous_and_coulomb_are_chosen_when_they_are_the_truth() {
+    let (terms, vs) = chosen(&panda(), "coulomb,viscous");
+    assert_eq!(terms, FrictionTerm::DEFAULT.to_vec());
+    assert_eq!(vs, None);
+}
+
+#[test]
+fn a_simulated_stribeck_friction_is_chosen_with_its_velocity() {
+    // the simulator's Stribeck velocity is 0.2 rad/s
+    let (terms, vs) = chosen(&panda(), "coulomb,viscous,stribeck");
+    assert!(terms.contains(&FrictionTerm::Stribeck), "{terms:?}");
+    assert_eq!(vs, Some(0.2));
+    assert!(!terms.contains(&FrictionTerm::Load), "{terms:?}");
+}
+
+#[test]
+fn a_simulated_load_friction_is_chosen() {
+    let (terms, _) = chosen(&panda(), "coulomb,viscous,load_friction");
+    assert!(terms.contains(&FrictionTerm::Load), "{terms:?}");
+    assert!(!terms.contains(&FrictionTerm::Stribeck), "{terms:?}");
+}
