@@ -89,7 +89,9 @@ struct Uniform {
 
 /// Chooses the cut-off for `raws` (the training logs as read) by held-out
 /// torque error of `model`'s regressor (module doc); `None` when no log is
-/// raw (each has q̈: prepared, nothing to choose) or has torques.
+/// raw (each has q̈: prepared, nothing to choose) or has torques, or when
+/// the logs are too short for any candidate to be scored (the spectrum's
+/// cut-off then stands, and the files' reports say so).
 pub fn choose_cutoff(
     raws: &[RawLog],
     model: &Model,
@@ -133,9 +135,9 @@ pub fn choose_cutoff(
         .filter(|&i| mean_rms[i].is_finite())
         .min_by(|&a, &b| mean_rms[a].total_cmp(&mean_rms[b]));
     let Some(best) = best else {
-        return Err(IdentifyError::Stored(
-            "choosing the cut-off: no candidate could be scored (too few samples per block of time)".into(),
-        ));
+        // blocks too short to score any candidate: the spectrum's choice
+        // stands (the files' reports say it is the spectrum's)
+        return Ok(None);
     };
     Ok(Some(CutoffCurve {
         chosen_hz: grid[best],

@@ -275,7 +275,7 @@ fn score(
     for f in 0..k {
         let (mut g, mut b) = (DMatrix::<f64>::zeros(p, p), DVector::<f64>::zeros(p));
         let mut ns = 0usize;
-        for (h, fold) in sums.iter().enumerate().filter(|(h, _)| *h != f) {
+        for fold in (sums.iter().enumerate()).filter(|(h, _)| *h != f).map(|(_, s)| s) {
             ns += fold[0].rows;
             for (j, s) in fold.iter().enumerate() {
                 for &(a, ga) in &map[j] {
@@ -285,7 +285,6 @@ fn score(
                         .for_each(|&(e, ge)| g[(ga, ge)] += s.g[(a, e)]);
                 }
             }
-            let _ = h;
         }
         let scale = 1.0 / ns.max(1) as f64;
         g *= scale;
