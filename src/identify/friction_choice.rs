@@ -275,7 +275,10 @@ fn score(
     for f in 0..k {
         let (mut g, mut b) = (DMatrix::<f64>::zeros(p, p), DVector::<f64>::zeros(p));
         let mut ns = 0usize;
-        for fold in (sums.iter().enumerate()).filter(|(h, _)| *h != f).map(|(_, s)| s) {
+        for fold in (sums.iter().enumerate())
+            .filter(|(h, _)| *h != f)
+            .map(|(_, s)| s)
+        {
             ns += fold[0].rows;
             for (j, s) in fold.iter().enumerate() {
                 for &(a, ga) in &map[j] {
