@@ -52,3 +52,46 @@ fn a_simulated_load_friction_is_chosen() {
     assert!(terms.contains(&FrictionTerm::Load), "{terms:?}");
     assert!(!terms.contains(&FrictionTerm::Stribeck), "{terms:?}");
 }
+
+/// The prior's weight chosen with the law (`--friction auto --weight
+/// auto`): with the prior the simulation's own parameters, the strongest
+/// weight within the noise is large; with a prior 1.5× every body's, the
+/// data pull away from it and the weight chosen is smaller.
+#[test]
+fn the_weight_is_chosen_with_the_law_strong_for_a_true_prior_weak_for_a_wrong_one() {
+    use momentlmi::identify::friction_choice::WEIGHTS;
+    let robot = panda();
+    let effects = Effects::parse("coulomb,viscous", &[]).unwrap();
+    let cfg = SimConfig::for_robot(&robot, 10.0, effects, 3);
+    let d = simulate(&robot, &cfg, |_, _| {}).unwrap();
+    let id = Identification::for_robot(&robot, Level::Consistent, 1e-6).unwrap();
+    let c = id.choose_model(&d, &WEIGHTS).unwrap();
+    assert_eq!(
+        c.laws.len(),
+        20 * WEIGHTS.len(),
+        "every law at every weight"
+    );
+    assert!(c.weight_chosen());
+    assert_eq!(c.terms(), FrictionTerm::DEFAULT.to_vec());
+    let strong = c.weight();
+    assert!(strong >= 1e-2, "true prior: weight {strong:e}");
+    let nb = robot.model.num_bodies();
+    let wrong: Vec<f64> = (0..nb)
+        .flat_map(|b| id.prior_body(b).unwrap().0.map(|x| 1.5 * x))
+        .collect();
+    let id = Identification::for_robot(&robot, Level::Consistent, 1e-6)
+        .unwrap()
+        .prior(1e-6, wrong)
+        .unwrap();
+    let c = id.choose_model(&d, &WEIGHTS).unwrap();
+    assert_eq!(c.terms(), FrictionTerm::DEFAULT.to_vec());
+    // (measured: the curve is flat to 1e-2 and 14 % up at 1)
+    assert!(
+        c.weight() < strong && c.weight() <= 0.1,
+        "wrong prior: weight {:e}",
+        c.weight()
+    );
+    // and a weight given is the only one tried
+    let c = id.choose_friction(&d).unwrap();
+    assert!(!c.weight_chosen() && c.weight() == 1e-6);
+}

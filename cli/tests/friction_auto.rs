@@ -81,6 +81,23 @@ fn friction_auto_chooses_a_simulated_stribeck_law_and_the_model_file_carries_it(
         said.contains(&format!("{first:.4}")),
         "{first:.4} not in {said}"
     );
+    // with --weight auto the law and the prior's weight are chosen together
+    // (one table, no second curve), and the fit takes the chosen weight
+    let mut weighed = json_args.clone();
+    weighed.extend(["--weight", "auto"]);
+    let w: serde_json::Value = serde_json::from_slice(&ok(&weighed)).unwrap();
+    let sel = &w["model_selection"];
+    let laws = sel["laws"].as_array().unwrap();
+    let chosen = &laws[sel["chosen"].as_u64().unwrap() as usize];
+    assert!(laws.len() > 20, "every law at every weight: {}", laws.len());
+    assert_eq!(w["weight"], chosen["weight"], "{sel}");
+    assert!(w["weight_choice"].is_null(), "no second weight curve");
+    weighed.retain(|a| *a != "--json");
+    let text = String::from_utf8(ok(&weighed)).unwrap();
+    assert!(
+        text.contains("friction law and prior weight chosen"),
+        "{text}"
+    );
     // auto in a list is refused by name
     let o = bin()
         .args([

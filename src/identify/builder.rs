@@ -300,6 +300,13 @@ impl<'m> Identification<'m> {
         Ok(self)
     }
 
+    /// The regularisation weight alone, the prior kept (a weight chosen
+    /// from the data: [`Self::choose_model`]); ≥ 0 and finite.
+    pub fn with_weight(mut self, weight: f64) -> Result<Self, IdentifyError> {
+        self.weight = super::options::nonnegative("weight", weight)?;
+        Ok(self)
+    }
+
     /// An extra `w_m Σ_b (m_b − m̂_b)²` toward the prior's masses, every
     /// body's (links and rotors), added to the regulariser of either kind;
     /// `w_m` in the units of `weight`, ≥ 0 and finite (0, the default: off;

@@ -31,7 +31,8 @@ use crate::dynamics::predict::predict_torques;
 use crate::dynamics::{
     Data, Friction, FrictionTerm, Model, regressor_blocks, regressor_row_columns,
 };
-use nalgebra::{DMatrix, DVector};
+use crate::moments::InertialParams;
+use nalgebra::{DMatrix, DVector, Matrix4, SMatrix};
 use serde::Serialize;
 
 /// The Stribeck velocities (rad/s) tried: a drive's breakaway region is a
@@ -42,6 +43,12 @@ pub const STRIBECK_VELOCITIES: [f64; 4] = [0.02, 0.05, 0.1, 0.2];
 /// RMS, about the 2 % of the mean square the diagnosis asks of an effect:
 /// the diagnosis' `MIN_SHARE`).
 pub const MIN_GAIN: f64 = 0.01;
+/// The prior weights tried with each law when the weight is chosen too
+/// (`--weight auto`): half-decades from 1e-6 to 1 (N²·m², the
+/// regulariser's units).
+pub const WEIGHTS: [f64; 13] = [
+    1e-6, 3.16e-6, 1e-5, 3.16e-5, 1e-4, 3.16e-4, 1e-3, 3.16e-3, 1e-2, 3.16e-2, 1e-1, 3.16e-1, 1.0,
+];
 /// Rows gathered before they are multiplied into a Gram matrix.
 const CHUNK: usize = 256;
 
@@ -64,6 +71,8 @@ pub struct LawScore {
     pub terms: Vec<String>,
     /// Its Stribeck velocity (rad/s), with a Stribeck term.
     pub stribeck_velocity: Option<f64>,
+    /// The prior's weight it was fitted with (N²·m², the regulariser's).
+    pub weight: f64,
     /// Per joint, the held-out RMS pooled over the folds (N·m).
     pub heldout_rms: Vec<f64>,
     /// The mean over joints of `heldout_rms` (N·m).
@@ -101,15 +110,100 @@ impl FrictionChoice {
     pub fn stribeck_velocity(&self) -> Option<f64> {
         self.laws[self.chosen].stribeck_velocity
     }
+
+    /// The prior's weight chosen with the law.
+    pub fn weight(&self) -> f64 {
+        self.laws[self.chosen].weight
+    }
+
+    /// Whether more than one weight was tried.
+    pub fn weight_chosen(&self) -> bool {
+        self.laws.iter().any(|l| l.weight != self.laws[0].weight)
+    }
 }
 
 impl super::Identification<'_> {
-    /// [`choose_friction`] for this identification's model, prior and
-    /// weight (the prior's when one is set, else none).
+    /// [`choose_friction`] for this identification's model, prior,
+    /// regulariser and weight (the prior's when one is set, else none).
     pub fn choose_friction(&self, train: &Dataset) -> Result<FrictionChoice, IdentifyError> {
-        self.fixed_base("Identification::choose_friction")?;
-        choose_friction(self.model, train, &self.prior, self.weight)
+        self.choose_model(train, &[self.weight])
     }
+
+    /// [`choose_friction`] with the prior's weight chosen with the law from
+    /// `weights` (each > 0): the fewest terms first, then the strongest
+    /// prior, within the noise of the best (module doc). Without a prior
+    /// the weight is moot and only this identification's is tried.
+    pub fn choose_model(
+        &self,
+        train: &Dataset,
+        weights: &[f64],
+    ) -> Result<FrictionChoice, IdentifyError> {
+        self.fixed_base("Identification::choose_model")?;
+        if let Some(&w) = weights.iter().find(|w| !(w.is_finite() && **w >= 0.0)) {
+            return Err(IdentifyError::WeightGrid {
+                what: format!("{w:e} is not positive and finite"),
+            });
+        }
+        let own = [self.weight];
+        let weights = match self.prior.is_empty() || weights.is_empty() {
+            true => &own[..],
+            false => weights,
+        };
+        let metric = match self.regularizer {
+            super::Regularizer::Entropic if !self.prior.is_empty() => {
+                entropic_metric(&self.prior, &self.layout.bodies)?
+            }
+            _ => vec![SMatrix::<f64, 10, 10>::identity(); self.prior.len() / 10],
+        };
+        let prior = PriorTerm {
+            values: &self.prior,
+            metric,
+            mass_weight: self.mass_weight(),
+        };
+        choose_friction(self.model, train, &prior, weights)
+    }
+}
+
+/// The prior's term of the objective as the Gram solves see it:
+/// `w Σ_b (π_b − π̂_b)ᵀ M_b (π_b − π̂_b) + w_m Σ_b (m_b − m̂_b)²`, `M_b = I`
+/// (Euclidean) or the entropic divergence's second-order term at the
+/// prior (entropic; [`entropic_metric`]).
+pub struct PriorTerm<'a> {
+    /// 10 per body, or empty (no prior).
+    pub values: &'a [f64],
+    /// `M_b` per body.
+    pub metric: Vec<SMatrix<f64, 10, 10>>,
+    /// The masses' extra weight.
+    pub mass_weight: f64,
+}
+
+/// Per body, `M = ½ H` with `H_kl = tr(Ĵ⁻¹ J(e_k) Ĵ⁻¹ J(e_l))`: the
+/// log-det divergence `d(J ‖ Ĵ) = ½ tr(Ĵ⁻¹ΔJ Ĵ⁻¹ΔJ) + O(ΔJ³)` near the
+/// prior. Each prior body must be strictly consistent.
+fn entropic_metric(
+    prior: &[f64],
+    bodies: &[String],
+) -> Result<Vec<SMatrix<f64, 10, 10>>, IdentifyError> {
+    let basis: Vec<Matrix4<f64>> = (0..10)
+        .map(|k| {
+            let mut e = [0.0; 10];
+            e[k] = 1.0;
+            InertialParams(e).pseudo_inertia()
+        })
+        .collect();
+    (prior.chunks(10).enumerate())
+        .map(|(b, p)| {
+            let j = InertialParams(p.try_into().expect("chunks of 10")).pseudo_inertia();
+            let ji = (j.cholesky())
+                .ok_or_else(|| IdentifyError::PriorNotConsistent {
+                    body: bodies.get(b).cloned().unwrap_or_default(),
+                    min_eig: j.symmetric_eigenvalues().min(),
+                })?
+                .inverse();
+            let a: Vec<Matrix4<f64>> = basis.iter().map(|e| ji * e).collect();
+            Ok(SMatrix::from_fn(|k, l| 0.5 * (a[k] * a[l]).trace()))
+        })
+        .collect()
 }
 
 /// A law: which of [`bases`] it has.
@@ -178,12 +272,12 @@ impl Sums {
 
 /// Chooses the friction law for `model`'s links and rotors (its own
 /// friction terms ignored) on `train` (module doc), with the
-/// identification's `prior` (10 per body, or empty) and `weight`.
+/// identification's `prior` and each of `weights` (one law per weight).
 pub fn choose_friction(
     model: &Model,
     train: &Dataset,
-    prior: &[f64],
-    weight: f64,
+    prior: &PriorTerm,
+    weights: &[f64],
 ) -> Result<FrictionChoice, IdentifyError> {
     let links = model.clone().with_friction_terms(&[]);
     let (kind, pairs) = folds(train, TIME_FOLDS);
@@ -206,10 +300,11 @@ pub fn choose_friction(
         .map(|h| fold_sums(&links, h, &cols))
         .collect::<Result<Vec<_>, _>>()?;
     let pb = 10 * links.num_bodies();
-    let laws: Vec<LawScore> = (laws().iter())
-        .map(|l| score(l, &sums, &cols, (pb, prior, weight)))
-        .collect::<Result<_, _>>()?;
-    Ok(conclude(kind, held.len(), laws))
+    let mut scored = vec![];
+    for l in laws() {
+        scored.extend(score(&l, &sums, &cols, (pb, prior, weights))?);
+    }
+    Ok(conclude(kind, held.len(), scored))
 }
 
 /// Each joint's sums over the samples of `d` (one fold).
@@ -247,17 +342,11 @@ fn fold_sums(links: &Model, d: &Dataset, cols: &[Vec<usize>]) -> Result<Vec<Sums
     Ok(sums)
 }
 
-/// The cross-validated score of `law` (indices of [`bases`]).
-fn score(
-    law: &[usize],
-    sums: &[Vec<Sums>],
-    cols: &[Vec<usize>],
-    (pb, prior, weight): (usize, &[f64], f64),
-) -> Result<LawScore, IdentifyError> {
+/// Joint j's compact index → global unknown, for `law`'s columns (the
+/// links' `pb` parameters first, then the law's, term-major).
+fn unknowns(law: &[usize], cols: &[Vec<usize>], pb: usize) -> Vec<Vec<(usize, usize)>> {
     let n = cols.len();
-    let p = pb + law.len() * n;
-    // joint j's compact index → global unknown, for the law's columns
-    let map: Vec<Vec<(usize, usize)>> = (0..n)
+    (0..n)
         .map(|j| {
             let l = cols[j].len();
             let mut m: Vec<(usize, usize)> =
@@ -269,81 +358,125 @@ fn score(
             );
             m
         })
-        .collect();
-    let k = sums.len();
-    let (mut sse, mut rows) = (vec![vec![0.0; n]; k], vec![0usize; k]);
-    for f in 0..k {
-        let (mut g, mut b) = (DMatrix::<f64>::zeros(p, p), DVector::<f64>::zeros(p));
-        let mut ns = 0usize;
-        for fold in (sums.iter().enumerate())
-            .filter(|(h, _)| *h != f)
-            .map(|(_, s)| s)
-        {
-            ns += fold[0].rows;
-            for (j, s) in fold.iter().enumerate() {
-                for &(a, ga) in &map[j] {
-                    b[ga] += s.b[a];
-                    map[j]
-                        .iter()
-                        .for_each(|&(e, ge)| g[(ga, ge)] += s.g[(a, e)]);
-                }
+        .collect()
+}
+
+/// The normal equations `(G, b)` of the folds but `f` (each scaled by the
+/// samples, as the objective is), for the unknowns of `map`.
+fn normal_equations(
+    sums: &[Vec<Sums>],
+    f: usize,
+    map: &[Vec<(usize, usize)>],
+    p: usize,
+) -> (DMatrix<f64>, DVector<f64>) {
+    let (mut g, mut b) = (DMatrix::<f64>::zeros(p, p), DVector::<f64>::zeros(p));
+    let mut ns = 0usize;
+    for fold in (sums.iter().enumerate())
+        .filter(|(h, _)| *h != f)
+        .map(|(_, s)| s)
+    {
+        ns += fold[0].rows;
+        for (j, s) in fold.iter().enumerate() {
+            for &(a, ga) in &map[j] {
+                b[ga] += s.b[a];
+                (map[j].iter()).for_each(|&(e, ge)| g[(ga, ge)] += s.g[(a, e)]);
             }
         }
-        let scale = 1.0 / ns.max(1) as f64;
-        g *= scale;
-        b *= scale;
-        let ridge = 1e-10 * (g.trace() / p as f64).max(f64::MIN_POSITIVE);
-        for i in 0..p {
-            let w = if i < pb && prior.len() == pb {
-                weight
-            } else {
-                0.0
-            };
-            g[(i, i)] += w + ridge;
-            b[i] += if i < pb && prior.len() == pb {
-                weight * prior[i]
-            } else {
-                0.0
-            };
+    }
+    let scale = 1.0 / ns.max(1) as f64;
+    (g * scale, b * scale)
+}
+
+/// `(G, b)` with the prior's term at `weight` added (the first `pb`
+/// unknowns are the links'), and a ridge of 1e-10 of G's mean diagonal.
+fn with_prior(
+    (mut g, mut b): (DMatrix<f64>, DVector<f64>),
+    prior: &PriorTerm,
+    weight: f64,
+) -> (DMatrix<f64>, DVector<f64>) {
+    let p = g.nrows();
+    let ridge = 1e-10 * (g.trace() / p as f64).max(f64::MIN_POSITIVE);
+    (0..p).for_each(|i| g[(i, i)] += ridge);
+    for (body, m) in prior.metric.iter().enumerate() {
+        let o = 10 * body;
+        let mut wm = m * weight;
+        wm[(0, 0)] += prior.mass_weight;
+        let pi = nalgebra::SVector::<f64, 10>::from_column_slice(&prior.values[o..o + 10]);
+        let rhs = wm * pi;
+        for k in 0..10 {
+            b[o + k] += rhs[k];
+            (0..10).for_each(|l| g[(o + k, o + l)] += wm[(k, l)]);
         }
-        let theta = (g.cholesky())
-            .ok_or(IdentifyError::Factorisation {
-                what: "Cholesky factorisation of a friction law's Gram matrix",
-            })?
-            .solve(&b);
-        for (j, s) in sums[f].iter().enumerate() {
+    }
+    (g, b)
+}
+
+/// Held-out sum of squares per joint of `theta` on one fold's sums.
+fn heldout_sse(theta: &DVector<f64>, fold: &[Sums], map: &[Vec<(usize, usize)>]) -> Vec<f64> {
+    (fold.iter().enumerate())
+        .map(|(j, s)| {
             let th: Vec<(usize, f64)> = map[j].iter().map(|&(a, ga)| (a, theta[ga])).collect();
             let quad: f64 = (th.iter())
                 .map(|&(a, x)| x * th.iter().map(|&(e, y)| s.g[(a, e)] * y).sum::<f64>())
                 .sum();
             let lin: f64 = th.iter().map(|&(a, x)| x * s.b[a]).sum();
-            sse[f][j] = (quad - 2.0 * lin + s.c).max(0.0);
-        }
-        rows[f] = sums[f][0].rows;
-    }
-    let total: usize = rows.iter().sum();
-    let heldout_rms: Vec<f64> = (0..n)
-        .map(|j| (sse.iter().map(|s| s[j]).sum::<f64>() / total.max(1) as f64).sqrt())
-        .collect();
-    let fold_rms = (0..k)
-        .map(|f| {
-            (0..n)
-                .map(|j| (sse[f][j] / rows[f].max(1) as f64).sqrt())
-                .sum::<f64>()
-                / n as f64
+            (quad - 2.0 * lin + s.c).max(0.0)
         })
-        .collect();
+        .collect()
+}
+
+/// The cross-validated scores of `law` (indices of [`bases`]), one per
+/// weight.
+fn score(
+    law: &[usize],
+    sums: &[Vec<Sums>],
+    cols: &[Vec<usize>],
+    (pb, prior, weights): (usize, &PriorTerm, &[f64]),
+) -> Result<Vec<LawScore>, IdentifyError> {
+    let (n, k) = (cols.len(), sums.len());
+    let p = pb + law.len() * n;
+    let map = unknowns(law, cols, pb);
+    let rows: Vec<usize> = sums.iter().map(|s| s[0].rows).collect();
+    let mut sse = vec![vec![vec![0.0; n]; k]; weights.len()];
+    for f in 0..k {
+        let normal = normal_equations(sums, f, &map, p);
+        for (w, &weight) in weights.iter().enumerate() {
+            let (g, b) = with_prior(normal.clone(), prior, weight);
+            let theta = (g.cholesky())
+                .ok_or(IdentifyError::Factorisation {
+                    what: "Cholesky factorisation of a friction law's Gram matrix",
+                })?
+                .solve(&b);
+            sse[w][f] = heldout_sse(&theta, &sums[f], &map);
+        }
+    }
     let b = bases();
-    Ok(LawScore {
-        terms: law.iter().map(|&t| b[t].0.name().to_string()).collect(),
-        stribeck_velocity: law
-            .iter()
-            .find(|&&t| b[t].0 == FrictionTerm::Stribeck)
-            .map(|&t| b[t].1),
-        mean_rms: heldout_rms.iter().sum::<f64>() / n as f64,
-        heldout_rms,
-        fold_rms,
-    })
+    let total: usize = rows.iter().sum();
+    Ok((weights.iter().zip(&sse))
+        .map(|(&weight, sse)| {
+            let heldout_rms: Vec<f64> = (0..n)
+                .map(|j| (sse.iter().map(|s| s[j]).sum::<f64>() / total.max(1) as f64).sqrt())
+                .collect();
+            let fold_rms = (0..k)
+                .map(|f| {
+                    (0..n)
+                        .map(|j| (sse[f][j] / rows[f].max(1) as f64).sqrt())
+                        .sum::<f64>()
+                        / n as f64
+                })
+                .collect();
+            LawScore {
+                terms: law.iter().map(|&t| b[t].0.name().to_string()).collect(),
+                stribeck_velocity: (law.iter())
+                    .find(|&&t| b[t].0 == FrictionTerm::Stribeck)
+                    .map(|&t| b[t].1),
+                weight,
+                mean_rms: heldout_rms.iter().sum::<f64>() / n as f64,
+                heldout_rms,
+                fold_rms,
+            }
+        })
+        .collect())
 }
 
 /// The best law, and the one the parsimony rule chooses (module doc).
@@ -363,6 +496,7 @@ fn conclude(kind: Folds, k: usize, laws: Vec<LawScore>) -> FrictionChoice {
         .filter(|&i| i == best || within(i))
         .min_by(|&a, &b| {
             (laws[a].terms.len().cmp(&laws[b].terms.len()))
+                .then(laws[b].weight.total_cmp(&laws[a].weight))
                 .then(laws[a].mean_rms.total_cmp(&laws[b].mean_rms))
         })
         .unwrap_or(best);

@@ -370,10 +370,17 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
         if let (Some(h), Training::Whole(t)) = (&held, &mut train) {
             h.take_off(&mut t.data, "--data")?;
         }
+        // --friction auto chooses a Euclidean prior's weight with the law
+        // when it is auto (the Gram solves are exact for it); an entropic
+        // prior's is chosen after, by the fits themselves (choose_weight)
+        let weights: &[f64] = match (parse_weight(a.weight)?, a.regularizer) {
+            (None, Regularizer::Euclidean) => &momentlmi::identify::friction_choice::WEIGHTS,
+            _ => &[],
+        };
         let selection = match (&train, auto) {
             (Training::Whole(t), true) => Some(
                 identification(a, &robot)?
-                    .choose_friction(&t.data)
+                    .choose_model(&t.data, weights)
                     .map_err(|e| format!("--friction auto: {}", explain(e)))?,
             ),
             _ => None,
@@ -387,12 +394,18 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
             None => &robot,
         };
         let mut id = identification(a, robot)?.max_memory(super::gib(a.max_memory_gib)?);
+        if let Some(c) = selection.as_ref().filter(|c| c.weight_chosen()) {
+            id = id
+                .with_weight(c.weight())
+                .map_err(|e| format!("--weight auto: {e}"))?;
+        }
         super::warn_cost(momentlmi::identify::cost(&robot.model, train.samples()).flops);
         let (choice, red) = match &train {
             Training::Streamed(t) => (None, t.reduced.clone()),
             Training::Whole(t) => {
                 let choice = match parse_weight(a.weight)? {
                     Some(_) => None,
+                    None if selection.as_ref().is_some_and(|c| c.weight_chosen()) => None,
                     None => Some(id.choose_weight(&t.data, &WEIGHT_GRID).map_err(explain)?),
                 };
                 (choice, id.reduce(&t.data).map_err(explain)?)
@@ -675,24 +688,49 @@ fn print_friction_choice(c: &momentlmi::identify::friction_choice::FrictionChoic
             format!("{} blocks in time held out in turn", c.k)
         }
     };
+    let weighed = c.weight_chosen();
     println!(
-        "friction law chosen by cross-validation ({folds}; links and law refit by least squares): mean held-out RMS"
+        "friction law{} chosen by cross-validation ({folds}; links and law refit by least squares{}): mean held-out RMS",
+        if weighed { " and prior weight" } else { "" },
+        if weighed {
+            "; each law at its best weight"
+        } else {
+            ""
+        },
     );
-    let mut order: Vec<usize> = (0..c.laws.len()).collect();
-    order.sort_by(|&a, &b| c.laws[a].mean_rms.total_cmp(&c.laws[b].mean_rms));
-    for i in order {
+    // one row per law: the chosen entry in its law's row, else its best weight
+    let same = |i: usize, j: usize| {
+        c.laws[i].terms == c.laws[j].terms
+            && c.laws[i].stribeck_velocity == c.laws[j].stribeck_velocity
+    };
+    let mut rows: Vec<usize> = vec![];
+    for i in 0..c.laws.len() {
+        match rows.iter_mut().find(|r| same(**r, i)) {
+            Some(r) if *r == c.chosen => {}
+            Some(r) if i == c.chosen || c.laws[i].mean_rms < c.laws[*r].mean_rms => *r = i,
+            Some(_) => {}
+            None => rows.push(i),
+        }
+    }
+    rows.sort_by(|&a, &b| c.laws[a].mean_rms.total_cmp(&c.laws[b].mean_rms));
+    for i in rows {
         let l = &c.laws[i];
         let vs = l
             .stribeck_velocity
             .map(|v| format!(" (v_s {v})"))
             .unwrap_or_default();
+        let w = if weighed {
+            format!("  weight {:<8.2e}", l.weight)
+        } else {
+            String::new()
+        };
         let mark = match (i == c.chosen, i == c.best) {
             (true, _) => "  ← chosen",
             (false, true) => "  (lowest)",
             _ => "",
         };
         println!(
-            "  {:<42} {:.4} N·m{mark}",
+            "  {:<42}{w} {:.4} N·m{mark}",
             format!("{}{vs}", l.terms.join(", ")),
             l.mean_rms
         );
