@@ -7,8 +7,11 @@
 //! time: a block and its neighbours share no samples, though they share
 //! the trajectory's style). A weight's score is the mean over joints of
 //! the held-out RMS pooled over the folds (each joint's squared errors
-//! summed over every held-out sample); the lowest score wins, the whole
-//! curve is kept ([`WeightChoice`]). Every fit is the identification as
+//! summed over every held-out sample); the strongest prior whose score is
+//! within the noise of the lowest's wins (the friction law's parsimony
+//! rule, [`within_noise`]: the paired per-fold differences' mean at most
+//! their standard error or 1 % of the lowest), the whole curve is kept
+//! ([`WeightChoice`]). Every fit is the identification as
 //! set (levels, regulariser, friction terms, weighting), so the choice
 //! costs `grid × folds` fits.
 //!
@@ -20,6 +23,7 @@
 
 use super::builder::Identification;
 use super::error::IdentifyError;
+use super::friction_choice::within_noise;
 use super::warning::IdentifyWarning;
 use crate::data::Dataset;
 use serde::Serialize;
@@ -57,8 +61,12 @@ pub struct WeightChoice {
     pub heldout_rms: Vec<Vec<f64>>,
     /// Per weight, the mean over joints of `heldout_rms` (N·m).
     pub mean_rms: Vec<f64>,
-    /// The weight of the lowest `mean_rms`.
+    /// The weight chosen: the largest whose per-fold scores are within
+    /// the noise of the lowest's ([`within_noise`], the friction law's
+    /// parsimony rule).
     pub chosen: f64,
+    /// The weight of the lowest `mean_rms`.
+    pub lowest: f64,
     /// What the folds' fits reported (their warnings, their degenerate
     /// bodies), each with its weight and fold: a curve point scored on
     /// doubtful fits is named, not hidden.
@@ -162,10 +170,12 @@ impl Identification<'_> {
                 })
             })
             .collect::<Result<Vec<_>, _>>()?;
-        let (mut heldout_rms, mut fold_notes) = (Vec::with_capacity(weights.len()), vec![]);
+        let (mut heldout_rms, mut fold_rms, mut fold_notes) = (vec![], vec![], vec![]);
         for &w in &weights {
             self.weight = w;
-            heldout_rms.push(self.pooled_heldout_rms(&pairs, &reduced, &mut fold_notes)?);
+            let (pooled, per_fold) = self.pooled_heldout_rms(&pairs, &reduced, &mut fold_notes)?;
+            heldout_rms.push(pooled);
+            fold_rms.push(per_fold);
         }
         let mean_rms: Vec<f64> = (heldout_rms.iter())
             .map(|r| r.iter().sum::<f64>() / r.len().max(1) as f64)
@@ -173,11 +183,17 @@ impl Identification<'_> {
         let best = (0..weights.len())
             .min_by(|&a, &b| mean_rms[a].total_cmp(&mean_rms[b]))
             .unwrap_or(0);
-        self.weight = weights[best];
+        // the strongest prior within the noise of the best
+        let chosen = (0..weights.len())
+            .rev()
+            .find(|&i| within_noise(&fold_rms[i], &fold_rms[best], mean_rms[best]))
+            .unwrap_or(best);
+        self.weight = weights[chosen];
         Ok(WeightChoice {
             folds: kind,
             k: pairs.len(),
-            chosen: weights[best],
+            chosen: weights[chosen],
+            lowest: weights[best],
             weights,
             heldout_rms,
             mean_rms,
@@ -186,15 +202,16 @@ impl Identification<'_> {
     }
 
     /// Each joint's held-out RMS pooled over `pairs` (fitted at the weight
-    /// set on their training parts' reductions `reduced`).
+    /// set on their training parts' reductions `reduced`), and per fold
+    /// the mean over joints of its held-out RMS.
     fn pooled_heldout_rms(
         &self,
         pairs: &[(Dataset, Dataset)],
         reduced: &[super::Reduced],
         notes: &mut Vec<String>,
-    ) -> Result<Vec<f64>, IdentifyError> {
+    ) -> Result<(Vec<f64>, Vec<f64>), IdentifyError> {
         let n = self.model.dof();
-        let (mut sum, mut count) = (vec![0.0; n], 0usize);
+        let (mut sum, mut count, mut per_fold) = (vec![0.0; n], 0usize, vec![]);
         for (fold, ((train, held), red)) in pairs.iter().zip(reduced).enumerate() {
             let failed = |e| IdentifyError::Fold {
                 weight: self.weight,
@@ -216,14 +233,14 @@ impl Identification<'_> {
             if !r.degenerate_bodies.is_empty() {
                 notes.push(at(format!("degenerate {}", r.degenerate_bodies.join(", "))));
             }
-            for (s, rms) in sum.iter_mut().zip(r.validation_rms.iter().flatten()) {
+            let rms = r.validation_rms.iter().flatten();
+            per_fold.push(rms.clone().sum::<f64>() / n.max(1) as f64);
+            for (s, rms) in sum.iter_mut().zip(rms) {
                 *s += rms * rms * held.len() as f64;
             }
             count += held.len();
         }
-        Ok(sum
-            .iter()
-            .map(|s| (s / count.max(1) as f64).sqrt())
-            .collect())
+        let pooled = sum.iter().map(|s| (s / count.max(1) as f64).sqrt());
+        Ok((pooled.collect(), per_fold))
     }
 }

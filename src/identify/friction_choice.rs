@@ -479,19 +479,25 @@ fn score(
         .collect())
 }
 
+/// The parsimony rule's test (module doc): whether a candidate whose
+/// per-fold scores are `fold` is within the noise of the best's
+/// (`best_fold`, pooled score `best`): the mean of the paired per-fold
+/// differences at most their standard error or [`MIN_GAIN`] of `best`.
+pub fn within_noise(fold: &[f64], best_fold: &[f64], best: f64) -> bool {
+    let k = fold.len().max(1);
+    let d: Vec<f64> = fold.iter().zip(best_fold).map(|(a, b)| a - b).collect();
+    let mean = d.iter().sum::<f64>() / k as f64;
+    let var = d.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (k.max(2) - 1) as f64;
+    mean <= (var / k as f64).sqrt().max(MIN_GAIN * best)
+}
+
 /// The best law, and the one the parsimony rule chooses (module doc).
 fn conclude(kind: Folds, k: usize, laws: Vec<LawScore>) -> FrictionChoice {
     let best = (0..laws.len())
         .min_by(|&a, &b| laws[a].mean_rms.total_cmp(&laws[b].mean_rms))
         .unwrap_or(0);
-    let within = |i: usize| {
-        let d: Vec<f64> = (laws[i].fold_rms.iter().zip(&laws[best].fold_rms))
-            .map(|(a, b)| a - b)
-            .collect();
-        let mean = d.iter().sum::<f64>() / k as f64;
-        let var = d.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (k.max(2) - 1) as f64;
-        mean <= (var / k as f64).sqrt().max(MIN_GAIN * laws[best].mean_rms)
-    };
+    let within =
+        |i: usize| within_noise(&laws[i].fold_rms, &laws[best].fold_rms, laws[best].mean_rms);
     let chosen = (0..laws.len())
         .filter(|&i| i == best || within(i))
         .min_by(|&a, &b| {

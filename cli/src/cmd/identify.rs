@@ -665,9 +665,15 @@ fn print_weight_choice(c: &momentlmi::identify::WeightChoice) {
             format!("{} blocks in time held out in turn", c.k)
         }
     };
-    println!("weight chosen by cross-validation ({folds}): mean held-out RMS per weight");
+    println!(
+        "weight chosen by cross-validation ({folds}; the strongest prior within the noise of the lowest): mean held-out RMS per weight"
+    );
     for (w, m) in c.weights.iter().zip(&c.mean_rms) {
-        let mark = if *w == c.chosen { "  ← chosen" } else { "" };
+        let mark = match (*w == c.chosen, *w == c.lowest) {
+            (true, _) => "  ← chosen",
+            (false, true) => "  (lowest)",
+            _ => "",
+        };
         println!("  {w:>7.0e}  {m:.4} N·m{mark}");
     }
     if !c.fold_notes.is_empty() {
