@@ -362,7 +362,9 @@ def identify(robot: Robot, data, constraints: str = "ellipsoid", prior: str = "c
     `constraints`: none, semi, consistent or ellipsoid; `prior`: cad, true or a
     parameter file; `weight`: a number or ``"auto"`` (cross-validation);
     `regularizer`: euclidean or entropic; `friction`: the friction terms identified
-    (``"viscous,coulomb,offset,load,stribeck"``; None: the robot's); `bounds`: each
+    (``"viscous,coulomb,offset,load,stribeck"``; ``"auto"``: chosen by cross-validation
+    on the training data, with the weight when it is ``"auto"`` and the prior Euclidean,
+    the table in ``result["model_selection"]``; None: the robot's); `bounds`: each
     parameter's range over the constrained models whose residual is at most (1 + bounds)
     × the estimate's (``"auto"``: the 95 % confidence region; None: not computed), in
     ``result["bounds"]``. ``result["identifiability"]`` has the rank, the base

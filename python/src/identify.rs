@@ -122,7 +122,8 @@ fn identify(
     if data.is_empty() {
         return Err(PyValueError::new_err("data: no segments"));
     }
-    let desc = &*with_friction(robot, friction)?;
+    let auto = friction.is_some_and(|f| f.trim() == "auto");
+    let desc = &*with_friction(robot, friction.filter(|_| !auto))?;
     let mut opts = ReadOptions {
         cutoff_hz,
         velocity,
@@ -163,9 +164,43 @@ fn identify(
     }
     let choice: ParamChoice = prior.parse().unwrap_or(ParamChoice::Cad);
     let result = py.detach(|| {
+        // friction "auto": the law (and a Euclidean prior's weight, when it
+        // is auto) chosen on the training data, as --friction auto does
+        let selection = match auto {
+            false => None,
+            true => {
+                let id = setup.identification(desc, &choice, weight.unwrap_or(WEIGHT_GRID[0]))?;
+                let euclidean =
+                    id.regularizer_kind() == momentlmi::identify::Regularizer::Euclidean;
+                let weights: &[f64] = match weight.is_none() && euclidean {
+                    true => &momentlmi::identify::friction_choice::WEIGHTS,
+                    false => &[],
+                };
+                Some(
+                    id.choose_model(&train.data, weights)
+                        .map_err(|e| format!("friction auto: {e}"))?,
+                )
+            }
+        };
+        let chosen_desc;
+        let desc = match &selection {
+            Some(c) => {
+                let mut d = desc.clone();
+                d.model = c
+                    .apply(d.model)
+                    .map_err(|e| format!("friction auto: {e}"))?;
+                chosen_desc = d;
+                &chosen_desc
+            }
+            None => desc,
+        };
         let mut id = setup.identification(desc, &choice, weight.unwrap_or(WEIGHT_GRID[0]))?;
+        if let Some(c) = selection.as_ref().filter(|c| c.weight_chosen()) {
+            id = id.with_weight(c.weight()).map_err(|e| e.to_string())?;
+        }
         let choice = match weight {
             Some(_) => None,
+            None if selection.as_ref().is_some_and(|c| c.weight_chosen()) => None,
             None => Some(
                 id.choose_weight(&train.data, &WEIGHT_GRID)
                     .map_err(|e| e.to_string())?,
@@ -189,6 +224,7 @@ fn identify(
             r.bounds = Some(pb.map_err(|e| e.to_string())?);
         }
         r.weight_choice = choice;
+        r.model_selection = selection;
         r.data_preparation = DataPreparation {
             training: train.files.clone(),
             validation: val.as_ref().map(|v| v.files.clone()).unwrap_or_default(),

@@ -145,3 +145,13 @@ def test_a_segments_joints_put_its_columns_in_the_robots_order(leg, files):
     assert np.array_equal(m.identify(leg, turned).params, m.identify(leg, d).params)
     with pytest.raises(ValueError, match="are not the robot's"):
         m.identify(leg, dict(d, joints=["a", "b", "c"]))
+
+
+def test_friction_auto_chooses_as_the_command_line_does(leg, files, cli):
+    mine = m.identify(leg, arrays(files["train"], leg.joint_names), friction="auto", weight="auto")
+    theirs = json.loads(cli("identify", "--robot", "cheetah3-leg", "--data", files["train"], "--constraints",
+                            "ellipsoid", "--friction", "auto", "--weight", "auto", "--json").stdout)
+    sel, ref = mine["model_selection"], theirs["model_selection"]
+    assert sel["chosen"] == ref["chosen"] and len(sel["laws"]) == len(ref["laws"]) > 20
+    assert mine["weight"] == sel["laws"][sel["chosen"]]["weight"] == theirs["weight"]
+    same(mine, theirs)

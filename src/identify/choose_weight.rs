@@ -23,7 +23,6 @@
 
 use super::builder::Identification;
 use super::error::IdentifyError;
-use super::friction_choice::within_noise;
 use super::warning::IdentifyWarning;
 use crate::data::Dataset;
 use serde::Serialize;
@@ -46,6 +45,24 @@ pub enum Folds {
     Segments,
     /// Contiguous blocks in time held out in turn.
     Time,
+}
+
+/// The least share of the best's score a term must gain to be kept: a
+/// gain under it is within the noise whatever the folds say (1 % of the
+/// RMS, about the 2 % of the mean square the diagnosis asks of an effect:
+/// the diagnosis' `MIN_SHARE`).
+pub const MIN_GAIN: f64 = 0.01;
+
+/// The parsimony rule's test (the friction law's and the weight's): whether a candidate whose
+/// per-fold scores are `fold` is within the noise of the best's
+/// (`best_fold`, pooled score `best`): the mean of the paired per-fold
+/// differences at most their standard error or [`MIN_GAIN`] of `best`.
+pub fn within_noise(fold: &[f64], best_fold: &[f64], best: f64) -> bool {
+    let k = fold.len().max(1);
+    let d: Vec<f64> = fold.iter().zip(best_fold).map(|(a, b)| a - b).collect();
+    let mean = d.iter().sum::<f64>() / k as f64;
+    let var = d.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (k.max(2) - 1) as f64;
+    mean <= (var / k as f64).sqrt().max(MIN_GAIN * best)
 }
 
 /// The weight chosen and the curve it was chosen from.
@@ -71,6 +88,15 @@ pub struct WeightChoice {
     /// bodies), each with its weight and fold: a curve point scored on
     /// doubtful fits is named, not hidden.
     pub fold_notes: Vec<String>,
+}
+
+/// The largest weight (index, the weights increasing) whose per-fold
+/// scores are within the noise of the lowest's (index `best`).
+fn strongest_within_noise(fold_rms: &[Vec<f64>], mean_rms: &[f64], best: usize) -> usize {
+    (0..mean_rms.len())
+        .rev()
+        .find(|&i| within_noise(&fold_rms[i], &fold_rms[best], mean_rms[best]))
+        .unwrap_or(best)
 }
 
 /// The (training, held-out) pairs of `d`'s cross-validation: by segment
@@ -183,11 +209,7 @@ impl Identification<'_> {
         let best = (0..weights.len())
             .min_by(|&a, &b| mean_rms[a].total_cmp(&mean_rms[b]))
             .unwrap_or(0);
-        // the strongest prior within the noise of the best
-        let chosen = (0..weights.len())
-            .rev()
-            .find(|&i| within_noise(&fold_rms[i], &fold_rms[best], mean_rms[best]))
-            .unwrap_or(best);
+        let chosen = strongest_within_noise(&fold_rms, &mean_rms, best);
         self.weight = weights[chosen];
         Ok(WeightChoice {
             folds: kind,

@@ -24,7 +24,7 @@
 //! iterates it on its fit's): the measured torque would carry the held-out
 //! fold's noise into its own prediction.
 
-use super::choose_weight::{Folds, MIN_FOLD_SAMPLES, TIME_FOLDS, folds};
+use super::choose_weight::{Folds, MIN_FOLD_SAMPLES, MIN_GAIN, TIME_FOLDS, folds, within_noise};
 use super::error::IdentifyError;
 use crate::data::Dataset;
 use crate::dynamics::predict::predict_torques;
@@ -38,11 +38,6 @@ use serde::Serialize;
 /// The Stribeck velocities (rad/s) tried: a drive's breakaway region is a
 /// few hundredths to a few tenths of a rad/s wide.
 pub const STRIBECK_VELOCITIES: [f64; 4] = [0.02, 0.05, 0.1, 0.2];
-/// The least share of the best's score a term must gain to be kept: a
-/// gain under it is within the noise whatever the folds say (1 % of the
-/// RMS, about the 2 % of the mean square the diagnosis asks of an effect:
-/// the diagnosis' `MIN_SHARE`).
-pub const MIN_GAIN: f64 = 0.01;
 /// The prior weights tried with each law when the weight is chosen too
 /// (`--weight auto`): half-decades from 1e-6 to 1 (N²·m², the
 /// regulariser's units).
@@ -109,6 +104,15 @@ impl FrictionChoice {
     /// The chosen law's Stribeck velocity, if it has the term.
     pub fn stribeck_velocity(&self) -> Option<f64> {
         self.laws[self.chosen].stribeck_velocity
+    }
+
+    /// `model` with the chosen law's terms and Stribeck velocity.
+    pub fn apply(&self, model: Model) -> Result<Model, crate::dynamics::DynamicsError> {
+        let model = model.with_friction_terms(&self.terms());
+        match self.stribeck_velocity() {
+            Some(v) => model.with_stribeck_velocity(v),
+            None => Ok(model),
+        }
     }
 
     /// The prior's weight chosen with the law.
@@ -477,18 +481,6 @@ fn score(
             }
         })
         .collect())
-}
-
-/// The parsimony rule's test (module doc): whether a candidate whose
-/// per-fold scores are `fold` is within the noise of the best's
-/// (`best_fold`, pooled score `best`): the mean of the paired per-fold
-/// differences at most their standard error or [`MIN_GAIN`] of `best`.
-pub fn within_noise(fold: &[f64], best_fold: &[f64], best: f64) -> bool {
-    let k = fold.len().max(1);
-    let d: Vec<f64> = fold.iter().zip(best_fold).map(|(a, b)| a - b).collect();
-    let mean = d.iter().sum::<f64>() / k as f64;
-    let var = d.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (k.max(2) - 1) as f64;
-    mean <= (var / k as f64).sqrt().max(MIN_GAIN * best)
 }
 
 /// The best law, and the one the parsimony rule chooses (module doc).

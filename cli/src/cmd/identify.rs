@@ -472,11 +472,9 @@ fn with_law(
     c: &momentlmi::identify::friction_choice::FrictionChoice,
 ) -> Result<RobotDescription, String> {
     let mut r = robot.clone();
-    r.model = r.model.with_friction_terms(&c.terms());
-    if let Some(v) = c.stribeck_velocity() {
-        r.model =
-            (r.model.with_stribeck_velocity(v)).map_err(|e| format!("--friction auto: {e}"))?;
-    }
+    r.model = c
+        .apply(r.model)
+        .map_err(|e| format!("--friction auto: {e}"))?;
     Ok(r)
 }
 
