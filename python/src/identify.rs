@@ -135,8 +135,12 @@ fn identify(
         Some(_) => None,
         None => {
             let n = desc.model.dof();
+            // named as `prepared` names them (the errors are the same)
             let raws = (data.iter().enumerate())
-                .map(|(k, s)| raw_log(&format!("data[{k}]"), s, n))
+                .map(|(k, s)| match data.len() {
+                    1 => raw_log("data", s, n),
+                    _ => raw_log(&format!("data[{k}]"), s, n),
+                })
                 .collect::<PyResult<Vec<_>>>()?;
             momentlmi::identify::cutoff::choose_cutoff(&raws, &desc.model, velocity).map_err(
                 |e| {
