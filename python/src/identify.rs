@@ -74,14 +74,18 @@ pub(crate) fn prepared(
     segs: &[Segment],
     opts: &ReadOptions,
 ) -> PyResult<Reading> {
-    let n = robot.model.dof();
-    let raws = (segs.iter().enumerate())
+    let raws = raw_logs(what, segs, robot.model.dof())?;
+    prepare_logs(raws, &robot.model.joint_names(), opts).or_py()
+}
+
+/// The segments as raw logs, each named `what` (one) or `what[k]`.
+fn raw_logs(what: &str, segs: &[Segment], n: usize) -> PyResult<Vec<RawLog>> {
+    (segs.iter().enumerate())
         .map(|(k, s)| match segs.len() {
             1 => raw_log(what, s, n),
             _ => raw_log(&format!("{what}[{k}]"), s, n),
         })
-        .collect::<PyResult<Vec<_>>>()?;
-    prepare_logs(raws, &robot.model.joint_names(), opts).or_py()
+        .collect()
 }
 
 /// The report (JSON) of the identification on the `data` segments, held
@@ -134,14 +138,7 @@ fn identify(
     let cutoff_choice = match cutoff_hz {
         Some(_) => None,
         None => {
-            let n = desc.model.dof();
-            // named as `prepared` names them (the errors are the same)
-            let raws = (data.iter().enumerate())
-                .map(|(k, s)| match data.len() {
-                    1 => raw_log("data", s, n),
-                    _ => raw_log(&format!("data[{k}]"), s, n),
-                })
-                .collect::<PyResult<Vec<_>>>()?;
+            let raws = raw_logs("data", &data, desc.model.dof())?;
             momentlmi::identify::cutoff::choose_cutoff(&raws, &desc.model, velocity).map_err(
                 |e| {
                     PyValueError::new_err(format!(
@@ -174,14 +171,8 @@ fn identify(
             false => None,
             true => {
                 let id = setup.identification(desc, &choice, weight.unwrap_or(WEIGHT_GRID[0]))?;
-                let euclidean =
-                    id.regularizer_kind() == momentlmi::identify::Regularizer::Euclidean;
-                let weights: &[f64] = match weight.is_none() && euclidean {
-                    true => &momentlmi::identify::friction_choice::WEIGHTS,
-                    false => &[],
-                };
                 Some(
-                    id.choose_model(&train.data, weights)
+                    (id.choose_model(&train.data, id.model_weights(weight.is_none())))
                         .map_err(|e| format!("friction auto: {e}"))?,
                 )
             }

@@ -133,6 +133,18 @@ impl super::Identification<'_> {
         self.choose_model(train, &[self.weight])
     }
 
+    /// The weights [`Self::choose_model`] should try: [`WEIGHTS`] when the
+    /// weight is to be chosen (`weight_auto`) and the prior is Euclidean
+    /// (the Gram solves are its objective exactly), else none (this
+    /// identification's own; an entropic prior's weight is chosen by the
+    /// fits, [`Self::choose_weight`]).
+    pub fn model_weights(&self, weight_auto: bool) -> &'static [f64] {
+        match weight_auto && self.regularizer == super::Regularizer::Euclidean {
+            true => &WEIGHTS,
+            false => &[],
+        }
+    }
+
     /// [`choose_friction`] with the prior's weight chosen with the law from
     /// `weights` (each > 0): the fewest terms first, then the strongest
     /// prior, within the noise of the best (module doc). Without a prior

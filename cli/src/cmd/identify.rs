@@ -370,19 +370,15 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
         if let (Some(h), Training::Whole(t)) = (&held, &mut train) {
             h.take_off(&mut t.data, "--data")?;
         }
-        // --friction auto chooses a Euclidean prior's weight with the law
-        // when it is auto (the Gram solves are exact for it); an entropic
-        // prior's is chosen after, by the fits themselves (choose_weight)
-        let weights: &[f64] = match (parse_weight(a.weight)?, a.regularizer) {
-            (None, Regularizer::Euclidean) => &momentlmi::identify::friction_choice::WEIGHTS,
-            _ => &[],
-        };
+        let weight_auto = parse_weight(a.weight)?.is_none();
         let selection = match (&train, auto) {
-            (Training::Whole(t), true) => Some(
-                identification(a, &robot)?
-                    .choose_model(&t.data, weights)
-                    .map_err(|e| format!("--friction auto: {}", explain(e)))?,
-            ),
+            (Training::Whole(t), true) => {
+                let id = identification(a, &robot)?;
+                Some(
+                    (id.choose_model(&t.data, id.model_weights(weight_auto)))
+                        .map_err(|e| format!("--friction auto: {}", explain(e)))?,
+                )
+            }
             _ => None,
         };
         let chosen_robot;
