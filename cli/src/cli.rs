@@ -217,18 +217,16 @@ enum Command {
         /// own inertias; the default), true, or a parameter file.
         #[arg(long)]
         prior: Option<String>,
-        /// Regularisation weight w_π toward the prior (0 turns it off), or auto: the weight
-        /// of 1e-6, 1e-5, …, 1 with the lowest held-out RMS in cross-validation on the
-        /// training data (each --data file, or piece between gaps, held out in turn; one
-        /// piece: 5 blocks in time),
-        /// the curve in the report and JSON (weight_choice).
-        #[arg(
-            long,
-            default_value = "1e-6",
-            allow_negative_numbers = true,
-            value_name = "W|auto"
-        )]
-        weight: String,
+        /// Regularisation weight w_π toward the prior (0 turns it off), or auto: chosen by
+        /// cross-validation on the training data (each --data file, or piece between gaps,
+        /// held out in turn; one piece: 5 blocks in time) — with the friction law in the same
+        /// pass when the law is chosen too (a Euclidean prior: 1e-6 … 1 in half-decades), else
+        /// by the fits of 1e-6, 1e-5, …, 1 (weight_choice in the report and JSON); the
+        /// strongest prior within the noise of the lowest held-out RMS. [default: auto when
+        /// the friction law is chosen from the data (no --friction, or --friction auto), else
+        /// 1e-6]
+        #[arg(long, allow_negative_numbers = true, value_name = "W|auto")]
+        weight: Option<String>,
         /// How the prior enters the objective: euclidean (w‖π − π̂‖²) or entropic
         /// (w Σ d(J‖Ĵ), the log-det divergence of each body's pseudo-inertia: unit and
         /// frame invariant; needs a strictly consistent prior and --weight > 0, typically 1e-3 to 1e-1).
@@ -245,13 +243,14 @@ enum Command {
         /// Friction terms identified per joint, comma-separated: viscous, coulomb, offset (a
         /// torque sensor's bias, either sign), asymmetric (Coulomb stronger one way), load
         /// (Coulomb ∝ |τ| of the rigid model: a harmonic drive's), stribeck (breakaway
-        /// friction near rest, exp(−(q̇/v_s)²) sign(q̇)), or none (links and rotors only)
-        /// [default: viscous,coulomb]; or auto: viscous + Coulomb with or without offset,
-        /// load and Stribeck (v_s 0.02–0.2 rad/s), the law chosen by cross-validation on
-        /// the training data (the fewest terms within one standard error of the best). A
-        /// real arm's torque sensors usually need offset (docs/identification.md,
-        /// "Friction terms").
-        #[arg(long, value_name = "LIST")]
+        /// friction near rest, exp(−(q̇/v_s)²) sign(q̇)), or none (links and rotors only); or
+        /// auto (the default): viscous + Coulomb with or without offset, load and Stribeck
+        /// (v_s 0.02–0.2 rad/s), the law chosen by cross-validation on the training data
+        /// (the fewest terms within the noise of the best), the table in the report and JSON
+        /// (model_selection). Too few training samples to score the laws: viscous + Coulomb,
+        /// with a warning. A list reads prepared logs streamed, as fast as before the choice
+        /// existed (docs/identification.md, "Friction terms").
+        #[arg(long, value_name = "LIST|auto")]
         friction: Option<String>,
         /// How each joint's rows weigh in the fit: equal (least squares) or noise (weighted
         /// least squares: fitted once equally, then each joint by 1/σ̂², σ̂ its residual RMS;
@@ -577,7 +576,7 @@ pub fn main() -> i32 {
             data: &data,
             constraints: &constraints,
             prior: prior.as_deref(),
-            weight: &weight,
+            weight: weight.as_deref(),
             regularizer,
             prior_mass_weight,
             friction: friction.as_deref(),

@@ -1,6 +1,7 @@
-//! `identify --friction auto` from the command line: the table, the JSON's
-//! `model_selection`, the chosen law in the model file that `predict`
-//! takes, and a bad list.
+//! `identify`'s default, the friction law and the prior's weight chosen
+//! from the data (`--friction auto`), from the command line: the table, the
+//! JSON's `model_selection`, the chosen law in the model file that
+//! `predict` takes, a listed law as before, and a bad list.
 
 mod common;
 use common::{TempDir, bin, ok};
@@ -34,12 +35,12 @@ fn friction_auto_chooses_a_simulated_stribeck_law_and_the_model_file_carries_it(
         train.to_str().unwrap(),
         "--validate",
         val.to_str().unwrap(),
-        "--friction",
-        "auto",
     ];
+    // the default: no --friction, no --weight
     let text = String::from_utf8(ok(&base)).unwrap();
     assert!(
-        text.contains("friction law chosen by cross-validation") && text.contains("← chosen"),
+        text.contains("friction law and prior weight chosen by cross-validation")
+            && text.contains("← chosen"),
         "{text}"
     );
     let mut json_args = base.to_vec();
@@ -81,23 +82,30 @@ fn friction_auto_chooses_a_simulated_stribeck_law_and_the_model_file_carries_it(
         said.contains(&format!("{first:.4}")),
         "{first:.4} not in {said}"
     );
-    // with --weight auto the law and the prior's weight are chosen together
-    // (one table, no second curve), and the fit takes the chosen weight
-    let mut weighed = json_args.clone();
-    weighed.extend(["--weight", "auto"]);
-    let w: serde_json::Value = serde_json::from_slice(&ok(&weighed)).unwrap();
-    let sel = &w["model_selection"];
+    // by default the law and the prior's weight are chosen together (one
+    // table, no second curve), and the fit takes the chosen weight
+    let sel = &j["model_selection"];
     let laws = sel["laws"].as_array().unwrap();
-    let chosen = &laws[sel["chosen"].as_u64().unwrap() as usize];
     assert!(laws.len() > 20, "every law at every weight: {}", laws.len());
-    assert_eq!(w["weight"], chosen["weight"], "{sel}");
-    assert!(w["weight_choice"].is_null(), "no second weight curve");
-    weighed.retain(|a| *a != "--json");
-    let text = String::from_utf8(ok(&weighed)).unwrap();
-    assert!(
-        text.contains("friction law and prior weight chosen"),
-        "{text}"
-    );
+    assert_eq!(j["weight"], chosen["weight"], "{sel}");
+    assert!(j["weight_choice"].is_null(), "no second weight curve");
+    // --friction auto with a weight given: the law alone, at that weight
+    let mut given = json_args.clone();
+    given.extend(["--friction", "auto", "--weight", "1e-6"]);
+    let g: serde_json::Value = serde_json::from_slice(&ok(&given)).unwrap();
+    assert_eq!(g["model_selection"]["laws"].as_array().unwrap().len(), 20);
+    assert_eq!(g["weight"], 1e-6);
+    // a listed law: no choice, today's weight, the prepared log streamed
+    let mut listed = json_args.clone();
+    listed.extend(["--friction", "viscous,coulomb"]);
+    let l: serde_json::Value = serde_json::from_slice(&ok(&listed)).unwrap();
+    assert!(l["model_selection"].is_null(), "{}", l["model_selection"]);
+    assert_eq!(l["weight"], 1e-6);
+    assert_eq!(l["timings"]["streamed"], true);
+    // (reading overlaps the reduction, on every thread at most)
+    let lt = |k: &str| l["timings"][k].as_f64().unwrap();
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get()) as f64;
+    assert!(lt("filter_s") == 0.0 && lt("reduce_s") * threads >= lt("read_s"));
     // auto in a list is refused by name
     let o = bin()
         .args([

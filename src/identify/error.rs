@@ -244,7 +244,7 @@ pub enum IdentifyError {
     },
     /// A cross-validation fold too small to fit or to score on.
     #[error(
-        "choosing the weight: fold {fold} has {training} training and {held_out} held-out samples (each needs at least {min}); give longer data or fewer gaps"
+        "cross-validation: fold {fold} has {training} training and {held_out} held-out samples (each needs at least {min}); give longer data or fewer gaps"
     )]
     FoldTooSmall {
         /// The fold (0-based).

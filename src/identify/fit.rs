@@ -5,6 +5,7 @@
 
 use super::builder::Identification;
 use super::error::IdentifyError;
+use super::load_rows::LoadRows;
 use super::options::IdentifyOptions;
 use super::reduce::{Reduced, reduce_samples, reduce_with_load};
 use super::result::{
@@ -98,6 +99,8 @@ impl Identification<'_> {
             return Err(IdentifyError::LoadNeedsSamples);
         };
         let (mut last, mut reduced, mut change) = (train.tau.clone(), None, f64::INFINITY);
+        // the rows kept, when they fit: a pass then replaces the load column
+        let rows = LoadRows::new(model, train)?;
         for _ in 0..LOAD_PASSES {
             let load = self.rigid_torques(&solved.0.theta, train)?;
             change = relative_change(&last, &load);
@@ -105,7 +108,10 @@ impl Identification<'_> {
                 return Ok((solved, reduced, None));
             }
             let (q, qd, qdd) = (&train.q, &train.qd, &train.qdd);
-            let red = reduce_with_load(model, [q, qd, qdd, &train.tau], &load, 256)?;
+            let red = match &rows {
+                Some(rows) => rows.reduce(red, &load)?,
+                None => reduce_with_load(model, [q, qd, qdd, &train.tau], &load, 256)?,
+            };
             solved = self.solve_weighted(&red)?;
             (last, reduced) = (load, Some(red));
         }

@@ -190,6 +190,26 @@ impl GramAcc {
         None
     }
 
+    /// Joint j's columns (global, increasing; the last τ).
+    pub(crate) fn columns(&self, j: usize) -> &[usize] {
+        &self.cols[j]
+    }
+
+    /// The products of a new column `c` (a value per sample in the chunk,
+    /// not flushed) with each of joint j's columns, its column `col`
+    /// (global, one of [`columns`](Self::columns)`(j)`) taken as `c`:
+    /// `Σ_s c_s x_s` in `columns(j)`'s order, `Σ_s c_s²` at `col`'s place.
+    pub(crate) fn column_products(&self, j: usize, col: usize, c: &[f64]) -> Vec<f64> {
+        let k = self.cols[j].len();
+        let mut out = vec![0.0; k];
+        let rows = self.blocks[j].chunks_exact(k).take(self.samples);
+        for (row, &cs) in rows.zip(c) {
+            out.iter_mut().zip(row).for_each(|(o, x)| *o += cs * x);
+        }
+        out[self.place[j][col]] = c.iter().take(self.samples).map(|v| v * v).sum();
+        out
+    }
+
     /// Another accumulator's sums (flushed) added to these.
     pub(crate) fn merge(mut self, other: Self) -> Self {
         for (a, b) in self.grams.iter_mut().zip(other.grams) {

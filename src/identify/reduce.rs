@@ -157,7 +157,7 @@ fn not_finite(first: usize, e: NotFinite) -> IdentifyError {
 }
 
 /// The Gram matrix must be finite after the sums.
-fn finite_gram(g: &Mat<f64>) -> Result<(), IdentifyError> {
+pub(crate) fn finite_gram(g: &Mat<f64>) -> Result<(), IdentifyError> {
     let ok = (0..g.ncols()).all(|j| (j..g.nrows()).all(|i| g[(i, j)].is_finite()));
     if ok {
         Ok(())

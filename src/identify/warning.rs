@@ -43,6 +43,18 @@ pub enum IdentifyWarning {
         /// Weighted solves made.
         passes: usize,
     },
+    /// The friction law (and the prior's weight) were to be chosen from
+    /// the data by default, but the training data could not score them
+    /// (too few samples for the folds): the law the model names and the
+    /// weight given instead were fitted.
+    LawNotChosen {
+        /// Why the laws could not be scored.
+        reason: String,
+        /// The law fitted instead.
+        terms: Vec<String>,
+        /// The prior's weight fitted instead.
+        weight: f64,
+    },
 }
 
 impl fmt::Display for IdentifyWarning {
@@ -68,6 +80,15 @@ impl fmt::Display for IdentifyWarning {
             IdentifyWarning::LoadNotSettled { passes, change } => write!(
                 f,
                 "the load friction's load (the rigid model's torque) still changed by {change:.1e} (relative RMS) after {passes} passes: its coefficients are approximate"
+            ),
+            IdentifyWarning::LawNotChosen {
+                reason,
+                terms,
+                weight,
+            } => write!(
+                f,
+                "the friction law was not chosen from the data ({reason}): {} at weight {weight:e} fitted instead (give --friction and --weight to choose them)",
+                terms.join(" + ")
             ),
             IdentifyWarning::WeightsNotSettled { passes } => write!(
                 f,

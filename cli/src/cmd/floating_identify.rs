@@ -57,7 +57,14 @@ fn refused(a: &IdentifyArgs) -> Result<(), String> {
             a.joint_weighting != JointWeighting::Equal,
         ),
         ("--urdf-out/--mjcf-out", a.export.any()),
-        ("--weight auto", a.weight.trim() == "auto"),
+        (
+            "--weight auto",
+            a.weight.is_some_and(|w| w.trim() == "auto"),
+        ),
+        (
+            "--friction auto",
+            a.friction.is_some_and(|f| f.trim() == "auto"),
+        ),
         (
             "--stribeck-velocity",
             a.stribeck_velocity != momentlmi::dynamics::DEFAULT_STRIBECK_VELOCITY,
@@ -86,9 +93,10 @@ fn fit(a: &IdentifyArgs, robot: Robot) -> Result<FloatingFit, String> {
     if level == Level::Ellipsoid {
         return Err("--constraints ellipsoid is not available with --floating-base yet (no bounding volumes are computed for a free-flyer)".into());
     }
-    let weight: f64 = (a.weight.trim().parse().ok())
+    let given = a.weight.unwrap_or("1e-6");
+    let weight: f64 = (given.trim().parse().ok())
         .filter(|w: &f64| w.is_finite() && *w >= 0.0)
-        .ok_or_else(|| format!("--weight: '{}' is not a number ≥ 0", a.weight))?;
+        .ok_or_else(|| format!("--weight: '{given}' is not a number ≥ 0"))?;
     let mut id = Identification::for_free_flyer(&ff, rows).level_all(level);
     if weight > 0.0 {
         let prior = prior(&ff, a.prior)?;

@@ -5,7 +5,8 @@
 use momentlmi::dynamics::RobotDescription;
 use momentlmi::dynamics::{FrictionTerm, ParamChoice};
 use momentlmi::identify::{
-    Identification, IdentifyError, IdentifyResult, JointWeighting, Level, Regularizer, WEIGHT_GRID,
+    Identification, IdentifyError, IdentifyResult, IdentifyWarning, JointWeighting, Level,
+    Regularizer, WEIGHT_GRID,
 };
 use std::path::Path;
 
@@ -25,14 +26,15 @@ pub struct IdentifyArgs<'a> {
     pub constraints: &'a str,
     /// Prior: cad | true | FILE (default: cad, the description's prior: the sidecar's, else the URDF's own inertias).
     pub prior: Option<&'a str>,
-    /// Weight w_π.
-    pub weight: &'a str,
+    /// Weight w_π: a number or auto (None: [`IdentifyArgs::weight`]).
+    pub weight: Option<&'a str>,
     /// How the prior enters the objective.
     pub regularizer: Regularizer,
     /// Extra weight on the masses' distance from the prior's (None: the
     /// robot's, `Identification::for_robot`).
     pub prior_mass_weight: Option<f64>,
-    /// The friction terms identified (None: the model's default).
+    /// The friction terms identified, or auto (None: auto, for a floating
+    /// base the model's own).
     pub friction: Option<&'a str>,
     /// How the joints' rows are weighted.
     pub joint_weighting: JointWeighting,
@@ -62,6 +64,28 @@ pub struct IdentifyArgs<'a> {
     pub floating_base: bool,
     /// A floating base's rows (None: all with torques, else base).
     pub rows: Option<momentlmi::identify::Rows>,
+}
+
+/// The weight when `--friction` names a law and `--weight` is not given.
+const LISTED_LAW_WEIGHT: f64 = 1e-6;
+
+impl IdentifyArgs<'_> {
+    /// The friction law is chosen from the data: `--friction auto`, or no
+    /// `--friction` (the default).
+    fn friction_auto(&self) -> bool {
+        self.friction.is_none_or(|f| f.trim() == "auto")
+    }
+
+    /// The prior's weight, or None when it is chosen (`--weight auto`, or
+    /// no `--weight` with the friction law chosen from the data; a listed
+    /// law without `--weight`: [`LISTED_LAW_WEIGHT`]).
+    fn weight(&self) -> Result<Option<f64>, String> {
+        match self.weight {
+            Some(s) => parse_weight(s),
+            None if self.friction_auto() => Ok(None),
+            None => Ok(Some(LISTED_LAW_WEIGHT)),
+        }
+    }
 }
 
 /// Exit codes: 0 identified (constraints satisfied), 1 identified but a
@@ -256,7 +280,7 @@ fn identification<'r>(
     warn_inconsistent_prior(&robot.model.body_names(), &prior.params());
     let regularizer = a.regularizer;
     // auto: the grid's first weight until the choice (which needs the data)
-    let weight = parse_weight(a.weight)?.unwrap_or(WEIGHT_GRID[0]);
+    let weight = a.weight()?.unwrap_or(WEIGHT_GRID[0]);
     if regularizer == Regularizer::Entropic && weight <= 0.0 {
         return Err(format!(
             "--regularizer entropic needs --weight > 0 (typically 1e-3 to 1e-1, or auto), got {weight}"
@@ -324,7 +348,7 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
         parse_delta(b, 1, 2)?;
     }
     let mut robot = super::load_robot(a.robot, a.sidecar, a.package_paths)?;
-    let auto = a.friction.is_some_and(|f| f.trim() == "auto");
+    let auto = a.friction_auto();
     if a.friction
         .is_some_and(|f| !auto && f.split(',').any(|t| t.trim() == "auto"))
     {
@@ -370,16 +394,9 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
         if let (Some(h), Training::Whole(t)) = (&held, &mut train) {
             h.take_off(&mut t.data, "--data")?;
         }
-        let weight_auto = parse_weight(a.weight)?.is_none();
-        let selection = match (&train, auto) {
-            (Training::Whole(t), true) => {
-                let id = identification(a, &robot)?;
-                Some(
-                    (id.choose_model(&t.data, id.model_weights(weight_auto)))
-                        .map_err(|e| format!("--friction auto: {}", explain(e)))?,
-                )
-            }
-            _ => None,
+        let (selection, not_chosen) = match (&train, auto) {
+            (Training::Whole(t), true) => choose_law(a, &robot, &t.data)?,
+            _ => (None, None),
         };
         let chosen_robot;
         let robot = match &selection {
@@ -399,9 +416,10 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
         let (choice, red) = match &train {
             Training::Streamed(t) => (None, t.reduced.clone()),
             Training::Whole(t) => {
-                let choice = match parse_weight(a.weight)? {
+                let choice = match a.weight()? {
                     Some(_) => None,
                     None if selection.as_ref().is_some_and(|c| c.weight_chosen()) => None,
+                    None if not_chosen.is_some() => None,
                     None => Some(id.choose_weight(&t.data, &WEIGHT_GRID).map_err(explain)?),
                 };
                 (choice, id.reduce(&t.data).map_err(explain)?)
@@ -447,6 +465,7 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
         }
         r.weight_choice = choice;
         r.model_selection = selection;
+        r.warnings.extend(not_chosen);
         r.effects = held.map(|h| h.effects).unwrap_or_default();
         (r.timings.read_s, r.timings.filter_s, r.timings.streamed) = train.times();
         r.data_preparation = momentlmi::identify::DataPreparation {
@@ -461,6 +480,43 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
     }
     Ok((r, robot))
 }
+
+/// The friction law (and the weight, when it is chosen too) chosen on the
+/// training data `data`. With neither `--friction` nor `--weight` given,
+/// data too few to score the laws leave the model's own law at the grid's
+/// first weight, with the warning returned; else that is an error.
+fn choose_law(
+    a: &IdentifyArgs,
+    robot: &RobotDescription,
+    data: &momentlmi::data::Dataset,
+) -> Result<LawChoice, String> {
+    let id = identification(a, robot)?;
+    match id.choose_model(data, id.model_weights(a.weight()?.is_none())) {
+        Ok(c) => Ok((Some(c), None)),
+        Err(e @ IdentifyError::FoldTooSmall { .. })
+            if a.friction.is_none() && a.weight.is_none() =>
+        {
+            let terms = robot
+                .model
+                .friction_terms()
+                .iter()
+                .map(|t| t.name().to_string());
+            let warning = IdentifyWarning::LawNotChosen {
+                reason: e.to_string(),
+                terms: terms.collect(),
+                weight: WEIGHT_GRID[0],
+            };
+            Ok((None, Some(warning)))
+        }
+        Err(e) => Err(format!("--friction auto: {}", explain(e))),
+    }
+}
+
+/// The law chosen, or the warning that it could not be.
+type LawChoice = (
+    Option<momentlmi::identify::friction_choice::FrictionChoice>,
+    Option<IdentifyWarning>,
+);
 
 /// `robot` with the friction law `c` chose.
 fn with_law(
@@ -577,8 +633,7 @@ fn training(
     opts: &momentlmi::data::ReadOptions,
 ) -> Result<(Training, Option<momentlmi::identify::cutoff::CutoffCurve>), String> {
     let load = robot.model.friction_terms().contains(&FrictionTerm::Load);
-    let auto = a.friction.is_some_and(|f| f.trim() == "auto");
-    if parse_weight(a.weight)?.is_some() && !load && a.with_effects.is_none() && !auto {
+    if a.weight()?.is_some() && !load && a.with_effects.is_none() && !a.friction_auto() {
         let p: Vec<&Path> = a.data.iter().map(|p| p.as_path()).collect();
         match momentlmi::identify::reduce_logs(&robot.model, &p, opts) {
             Ok(Some(t)) => return Ok((Training::Streamed(t), None)),
@@ -713,12 +768,13 @@ fn print_friction_choice(c: &momentlmi::identify::friction_choice::FrictionChoic
         }
     }
     rows.sort_by(|&a, &b| c.laws[a].mean_rms.total_cmp(&c.laws[b].mean_rms));
+    let name = |l: &momentlmi::identify::friction_choice::LawScore| {
+        let vs = l.stribeck_velocity.map(|v| format!(" (v_s {v})"));
+        format!("{}{}", l.terms.join(", "), vs.unwrap_or_default())
+    };
+    let width = rows.iter().map(|&i| name(&c.laws[i]).chars().count()).max();
     for i in rows {
         let l = &c.laws[i];
-        let vs = l
-            .stribeck_velocity
-            .map(|v| format!(" (v_s {v})"))
-            .unwrap_or_default();
         let w = if weighed {
             format!("  weight {:<8.2e}", l.weight)
         } else {
@@ -730,9 +786,10 @@ fn print_friction_choice(c: &momentlmi::identify::friction_choice::FrictionChoic
             _ => "",
         };
         println!(
-            "  {:<42}{w} {:.4} N·m{mark}",
-            format!("{}{vs}", l.terms.join(", ")),
-            l.mean_rms
+            "  {:<width$}{w} {:.4} N·m{mark}",
+            name(l),
+            l.mean_rms,
+            width = width.unwrap_or(0) + 1
         );
     }
     println!("  chosen: {}", c.rule);
