@@ -346,7 +346,7 @@ class IdentifyResult(dict):
 
 
 def identify(robot: Robot, data, constraints: str = "ellipsoid", prior: str = "cad",
-             weight: Union[float, str] = 1e-6, regularizer: str = "euclidean", validate=None,
+             weight: Union[None, float, str] = None, regularizer: str = "euclidean", validate=None,
              cutoff_hz: Optional[float] = None, velocity: str = "differentiate",
              friction: Optional[str] = None,
              bounds: Union[None, float, str] = None) -> IdentifyResult:
@@ -360,11 +360,14 @@ def identify(robot: Robot, data, constraints: str = "ellipsoid", prior: str = "c
     with ``qdd`` is taken as it is; one without is filtered and differentiated as a raw
     log file (`cutoff_hz`: None chooses it; `velocity`: differentiate or file).
     `constraints`: none, semi, consistent or ellipsoid; `prior`: cad, true or a
-    parameter file; `weight`: a number or ``"auto"`` (cross-validation);
+    parameter file; `weight`: a number or ``"auto"`` (cross-validation; None, the
+    default: auto when the friction law is chosen, else 1e-6);
     `regularizer`: euclidean or entropic; `friction`: the friction terms identified
-    (``"viscous,coulomb,offset,load,stribeck"``; ``"auto"``: chosen by cross-validation
+    (``"viscous,coulomb,offset,load,stribeck"``); ``"auto"``: chosen by cross-validation
     on the training data, with the weight when it is ``"auto"`` and the prior Euclidean,
-    the table in ``result["model_selection"]``; None: the robot's); `bounds`: each
+    the table in ``result["model_selection"]``; None, the default: auto, with viscous +
+    Coulomb kept (a ``law_not_chosen`` warning) when the data are too short to choose —
+    as ``momentlmi identify`` without ``--friction``); `bounds`: each
     parameter's range over the constrained models whose residual is at most (1 + bounds)
     × the estimate's (``"auto"``: the 95 % confidence region; None: not computed), in
     ``result["bounds"]``. ``result["identifiability"]`` has the rank, the base
@@ -373,12 +376,12 @@ def identify(robot: Robot, data, constraints: str = "ellipsoid", prior: str = "c
     if bounds is not None and not (bounds == "auto" or (not isinstance(bounds, str) and float(bounds) >= 0)):
         raise ValueError(f"bounds: {bounds!r} is not a number >= 0 or 'auto'")
     b = None if bounds is None else ("auto" if bounds == "auto" else repr(float(bounds)))
-    if isinstance(weight, str):
-        if weight != "auto":
+    if weight is None or isinstance(weight, str):
+        if weight not in (None, "auto"):
             raise ValueError(f"weight: '{weight}' is not a number or 'auto'")
-        w = None
+        w = weight
     else:
-        w = float(weight)
+        w = repr(float(weight))
     return IdentifyResult(_native.identify(robot._r, _segments(data, joints, "data"), _segments(validate, joints, "validate"),
                                            constraints, os.fspath(prior), w, regularizer,
                                            None if cutoff_hz is None else float(cutoff_hz), velocity, friction, b))

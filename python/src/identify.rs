@@ -90,10 +90,12 @@ fn raw_logs(what: &str, segs: &[Segment], n: usize) -> PyResult<Vec<RawLog>> {
 
 /// The report (JSON) of the identification on the `data` segments, held
 /// out on `validate`'s: `constraints` a level, toward `prior` (cad, true or
-/// a parameter file) with `weight` (None: chosen by cross-validation, as
-/// `--weight auto`), `regularizer` euclidean or entropic; `cutoff_hz` and
+/// a parameter file) with `weight` (a number, or auto: chosen by
+/// cross-validation; None: auto when the friction law is chosen, else
+/// 1e-6 — `--weight`), `regularizer` euclidean or entropic; `cutoff_hz` and
 /// `velocity` (differentiate, file) prepare raw segments; `friction` the
-/// friction terms identified (None: the robot's); `bounds` each
+/// friction terms identified, or auto (None: auto, the model's own law
+/// kept when the data are too short to choose — `--friction`); `bounds` each
 /// parameter's range with that residual margin δ (`auto`: the 95 %
 /// confidence region; None: none).
 #[pyfunction]
@@ -106,13 +108,24 @@ fn identify(
     validate: Vec<Segment>,
     constraints: &str,
     prior: &str,
-    weight: Option<f64>,
+    weight: Option<&str>,
     regularizer: &str,
     cutoff_hz: Option<f64>,
     velocity: &str,
     friction: Option<&str>,
     bounds: Option<&str>,
 ) -> PyResult<String> {
+    // as the command line reads --friction and --weight
+    let auto = friction.is_none_or(|f| f.trim() == "auto");
+    let by_default = friction.is_none() && weight.is_none();
+    let weight = match weight.map(str::trim) {
+        Some("auto") => None,
+        Some(w) => Some(w.parse::<f64>().map_err(|_| {
+            PyValueError::new_err(format!("weight: '{w}' is not a number or 'auto'"))
+        })?),
+        None if auto => None,
+        None => Some(WEIGHT_GRID[0]),
+    };
     let setup = crate::setup::Setup::parse(constraints, regularizer, weight)?;
     let velocity = match velocity {
         "differentiate" => Velocity::Differentiate,
@@ -126,7 +139,6 @@ fn identify(
     if data.is_empty() {
         return Err(PyValueError::new_err("data: no segments"));
     }
-    let auto = friction.is_some_and(|f| f.trim() == "auto");
     let desc = &*with_friction(robot, friction.filter(|_| !auto))?;
     let mut opts = ReadOptions {
         cutoff_hz,
@@ -167,14 +179,20 @@ fn identify(
     let result = py.detach(|| {
         // friction "auto": the law (and a Euclidean prior's weight, when it
         // is auto) chosen on the training data, as --friction auto does
-        let selection = match auto {
-            false => None,
+        let (selection, kept) = match auto {
+            false => (None, None),
             true => {
+                use momentlmi::identify::friction_choice::LawChoice::{Chosen, Kept};
                 let id = setup.identification(desc, &choice, weight.unwrap_or(WEIGHT_GRID[0]))?;
-                Some(
-                    (id.choose_model(&train.data, id.model_weights(weight.is_none())))
-                        .map_err(|e| format!("friction auto: {e}"))?,
-                )
+                let weights = id.model_weights(weight.is_none());
+                let failed = |e| format!("friction auto: {e}");
+                match by_default {
+                    false => (Some(id.choose_model(&train.data, weights).map_err(failed)?), None),
+                    true => match id.choose_model_or_keep(&train.data, weights).map_err(failed)? {
+                        Chosen(c) => (Some(c), None),
+                        Kept(w) => (None, Some(w)),
+                    },
+                }
             }
         };
         let chosen_desc;
@@ -196,6 +214,7 @@ fn identify(
         let choice = match weight {
             Some(_) => None,
             None if selection.as_ref().is_some_and(|c| c.weight_chosen()) => None,
+            None if kept.is_some() => None,
             None => Some(
                 id.choose_weight(&train.data, &WEIGHT_GRID)
                     .map_err(|e| e.to_string())?,
@@ -220,6 +239,7 @@ fn identify(
         }
         r.weight_choice = choice;
         r.model_selection = selection;
+        r.warnings.extend(kept);
         r.data_preparation = DataPreparation {
             training: train.files.clone(),
             validation: val.as_ref().map(|v| v.files.clone()).unwrap_or_default(),

@@ -155,3 +155,22 @@ def test_friction_auto_chooses_as_the_command_line_does(leg, files, cli):
     assert sel["chosen"] == ref["chosen"] and len(sel["laws"]) == len(ref["laws"]) > 20
     assert mine["weight"] == sel["laws"][sel["chosen"]]["weight"] == theirs["weight"]
     same(mine, theirs)
+
+
+def test_the_default_chooses_the_law_as_the_command_line_does(leg, files, cli):
+    """No friction and no weight: the law and the weight chosen, as `identify` without
+    --friction and --weight; too short to choose: viscous + Coulomb kept, with a warning."""
+    d = arrays(files["train"], leg.joint_names)
+    mine = m.identify(leg, d)
+    theirs = json.loads(cli("identify", "--robot", "cheetah3-leg", "--data", files["train"], "--constraints",
+                            "ellipsoid", "--json").stdout)
+    sel, ref = mine["model_selection"], theirs["model_selection"]
+    assert sel["chosen"] == ref["chosen"] and len(sel["laws"]) == len(ref["laws"]) > 20
+    assert mine["weight"] == theirs["weight"] == sel["laws"][sel["chosen"]]["weight"]
+    same(mine, theirs)
+    short = {k: v[:100] for k, v in d.items()}
+    kept = m.identify(leg, short)
+    assert kept.get("model_selection") is None and kept["weight"] == 1e-6
+    assert [w["kind"] for w in kept["warnings"]].count("law_not_chosen") == 1, kept["warnings"]
+    with pytest.raises(Exception, match="cross-validation: fold"):
+        m.identify(leg, short, friction="auto")

@@ -100,48 +100,57 @@ fn strongest_within_noise(fold_rms: &[Vec<f64>], mean_rms: &[f64], best: usize) 
 }
 
 /// The (training, held-out) pairs of `d`'s cross-validation: by segment
-/// when it has several, else `k` blocks in time.
+/// when it has several, else `k` blocks in time ([`held_out`]).
 pub fn folds(d: &Dataset, k: usize) -> (Folds, Vec<(Dataset, Dataset)>) {
     let segments = d.segment_ranges();
     let joints: Vec<&str> = d.joints.iter().map(String::as_str).collect();
-    let split = |held: &dyn Fn(&std::ops::Range<usize>) -> std::ops::Range<usize>| {
-        let (mut train, mut out) = (Dataset::empty(&joints), Dataset::empty(&joints));
-        for s in &segments {
-            let h = held(s);
-            for part in [s.start..h.start, h.end..s.end] {
-                if !part.is_empty() {
-                    train.append_segment(d.slice(part));
+    let (kind, held) = held_out(d, k);
+    let pairs = (held.iter())
+        .map(|h| {
+            let (mut train, mut out) = (Dataset::empty(&joints), Dataset::empty(&joints));
+            for (s, h) in segments.iter().zip(h) {
+                for part in [s.start..h.start, h.end..s.end] {
+                    if !part.is_empty() {
+                        train.append_segment(d.slice(part));
+                    }
+                }
+                if !h.is_empty() {
+                    out.append_segment(d.slice(h.clone()));
                 }
             }
-            if !h.is_empty() {
-                out.append_segment(d.slice(h));
-            }
-        }
-        (train, out)
-    };
-    if segments.len() >= 2 {
-        let pairs = (0..segments.len())
-            .map(|f| {
-                split(&|s| {
-                    if *s == segments[f] {
-                        s.clone()
-                    } else {
-                        s.start..s.start
-                    }
-                })
-            })
-            .collect();
-        return (Folds::Segments, pairs);
-    }
-    let pairs = (0..k)
-        .map(|f| {
-            split(&|s| {
-                let len = s.end - s.start;
-                s.start + f * len / k..s.start + (f + 1) * len / k
-            })
+            (train, out)
         })
         .collect();
-    (Folds::Time, pairs)
+    (kind, pairs)
+}
+
+/// Per fold of `d`'s cross-validation, the samples it holds out of each
+/// segment (an empty range: none of it): each segment in turn when there
+/// are several, else `k` contiguous blocks in time.
+pub fn held_out(d: &Dataset, k: usize) -> (Folds, Vec<Vec<std::ops::Range<usize>>>) {
+    let segments = d.segment_ranges();
+    if segments.len() >= 2 {
+        let held = (0..segments.len())
+            .map(|f| {
+                let one = |(i, s): (usize, &std::ops::Range<usize>)| match i == f {
+                    true => s.clone(),
+                    false => s.start..s.start,
+                };
+                segments.iter().enumerate().map(one).collect()
+            })
+            .collect();
+        return (Folds::Segments, held);
+    }
+    let held = (0..k)
+        .map(|f| {
+            let block = |s: &std::ops::Range<usize>| {
+                let len = s.end - s.start;
+                s.start + f * len / k..s.start + (f + 1) * len / k
+            };
+            segments.iter().map(block).collect()
+        })
+        .collect();
+    (Folds::Time, held)
 }
 
 impl Identification<'_> {

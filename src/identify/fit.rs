@@ -101,8 +101,12 @@ impl Identification<'_> {
         let (mut last, mut reduced, mut change) = (train.tau.clone(), None, f64::INFINITY);
         // the rows kept, when they fit: a pass then replaces the load column
         let rows = LoadRows::new(model, train)?;
+        let bodies_end = 10 * model.num_bodies();
         for _ in 0..LOAD_PASSES {
-            let load = self.rigid_torques(&solved.0.theta, train)?;
+            let load = match &rows {
+                Some(rows) => rows.rigid_torques(&solved.0.theta, bodies_end),
+                None => self.rigid_torques(&solved.0.theta, train)?,
+            };
             change = relative_change(&last, &load);
             if change <= 1e-6 {
                 return Ok((solved, reduced, None));

@@ -24,8 +24,9 @@
 //! iterates it on its fit's): the measured torque would carry the held-out
 //! fold's noise into its own prediction.
 
-use super::choose_weight::{Folds, MIN_FOLD_SAMPLES, MIN_GAIN, TIME_FOLDS, folds, within_noise};
+use super::choose_weight::{Folds, MIN_FOLD_SAMPLES, MIN_GAIN, TIME_FOLDS, held_out, within_noise};
 use super::error::IdentifyError;
+use super::warning::IdentifyWarning;
 use crate::data::Dataset;
 use crate::dynamics::predict::predict_torques;
 use crate::dynamics::{
@@ -33,6 +34,7 @@ use crate::dynamics::{
 };
 use crate::moments::InertialParams;
 use nalgebra::{DMatrix, DVector, Matrix4, SMatrix};
+use rayon::prelude::*;
 use serde::Serialize;
 
 /// The Stribeck velocities (rad/s) tried: a drive's breakaway region is a
@@ -178,6 +180,41 @@ impl super::Identification<'_> {
         };
         choose_friction(self.model, train, &prior, weights)
     }
+
+    /// [`choose_model`](Self::choose_model) as a default that may stand
+    /// down: training data too short for the folds
+    /// ([`IdentifyError::FoldTooSmall`]) keep the model's own law at this
+    /// identification's weight, with the warning that says so, where an
+    /// explicit choice would be an error.
+    pub fn choose_model_or_keep(
+        &self,
+        train: &Dataset,
+        weights: &[f64],
+    ) -> Result<LawChoice, IdentifyError> {
+        match self.choose_model(train, weights) {
+            Ok(c) => Ok(LawChoice::Chosen(c)),
+            Err(e @ IdentifyError::FoldTooSmall { .. }) => {
+                let terms = self.model.friction_terms().iter();
+                Ok(LawChoice::Kept(IdentifyWarning::LawNotChosen {
+                    reason: e.to_string(),
+                    terms: terms.map(|t| t.name().to_string()).collect(),
+                    weight: self.weight,
+                }))
+            }
+            Err(e) => Err(e),
+        }
+    }
+}
+
+/// The law [`choose_model_or_keep`](super::Identification::choose_model_or_keep) chose, or why the
+/// model's own was kept.
+#[derive(Clone, Debug, PartialEq)]
+pub enum LawChoice {
+    /// Chosen from the data.
+    Chosen(FrictionChoice),
+    /// The model's own law kept at the identification's weight
+    /// ([`IdentifyWarning::LawNotChosen`]).
+    Kept(IdentifyWarning),
 }
 
 /// The prior's term of the objective as the Gram solves see it:
@@ -296,8 +333,17 @@ pub fn choose_friction(
     weights: &[f64],
 ) -> Result<FrictionChoice, IdentifyError> {
     let links = model.clone().with_friction_terms(&[]);
-    let (kind, pairs) = folds(train, TIME_FOLDS);
-    let held: Vec<Dataset> = pairs.into_iter().map(|(_, h)| h).collect();
+    let (kind, ranges) = held_out(train, TIME_FOLDS);
+    let joints: Vec<&str> = train.joints.iter().map(String::as_str).collect();
+    let held: Vec<Dataset> = (ranges.iter())
+        .map(|parts| {
+            let mut h = Dataset::empty(&joints);
+            for r in parts.iter().filter(|r| !r.is_empty()) {
+                h.append_segment(train.slice(r.clone()));
+            }
+            h
+        })
+        .collect();
     if let Some((fold, h)) = held
         .iter()
         .enumerate()
@@ -311,16 +357,19 @@ pub fn choose_friction(
         });
     }
     let cols = regressor_row_columns(&links);
-    let sums = held
-        .iter()
+    // the folds' sums, then the laws, in parallel
+    let sums = (held.par_iter())
         .map(|h| fold_sums(&links, h, &cols))
         .collect::<Result<Vec<_>, _>>()?;
     let pb = 10 * links.num_bodies();
-    let mut scored = vec![];
-    for l in laws() {
-        scored.extend(score(&l, &sums, &cols, (pb, prior, weights))?);
-    }
-    Ok(conclude(kind, held.len(), scored))
+    let scored = (laws().par_iter())
+        .map(|l| score(l, &sums, &cols, (pb, prior, weights)))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(conclude(
+        kind,
+        held.len(),
+        scored.into_iter().flatten().collect(),
+    ))
 }
 
 /// Each joint's sums over the samples of `d` (one fold).

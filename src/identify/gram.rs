@@ -190,6 +190,15 @@ impl GramAcc {
         None
     }
 
+    /// Another accumulator's chunk (not flushed; the same columns) appended
+    /// to this one's, its samples after these.
+    pub(crate) fn append(&mut self, other: GramAcc) {
+        for (a, b) in self.blocks.iter_mut().zip(other.blocks) {
+            a.extend_from_slice(&b);
+        }
+        self.samples += other.samples;
+    }
+
     /// Joint j's columns (global, increasing; the last τ).
     pub(crate) fn columns(&self, j: usize) -> &[usize] {
         &self.cols[j]
@@ -208,6 +217,16 @@ impl GramAcc {
         }
         out[self.place[j][col]] = c.iter().take(self.samples).map(|v| v * v).sum();
         out
+    }
+
+    /// Per sample in the chunk (not flushed), the product of joint j's row
+    /// with `w`, a weight per leading column of `columns(j)` (the rest
+    /// weigh 0).
+    pub(crate) fn row_products(&self, j: usize, w: &[f64]) -> Vec<f64> {
+        let k = self.cols[j].len();
+        (self.blocks[j].chunks_exact(k).take(self.samples))
+            .map(|row| row.iter().zip(w).map(|(x, v)| x * v).sum())
+            .collect()
     }
 
     /// Another accumulator's sums (flushed) added to these.

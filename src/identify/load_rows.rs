@@ -9,7 +9,8 @@
 //! kept (joint by joint, only their non-zero columns: ~2.6 kB a sample for
 //! a 7-joint arm with five friction terms), so a pass costs
 //! `samples × Σ_j columns(j)` multiply-adds instead of a reduction; past
-//! [`LOAD_ROWS_BUDGET_BYTES`] the passes reduce again instead.
+//! [`LOAD_ROWS_BUDGET_BYTES`] the passes reduce again instead (the rows
+//! are built in parallel pieces and joined: at most twice that at once).
 //!
 //! [`Identification::fit`]: super::Identification::fit
 
@@ -18,9 +19,10 @@ use super::gram::GramAcc;
 use super::reduce::Reduced;
 use crate::data::Dataset;
 use crate::dynamics::{Data, FrictionTerm, Model, Samples, regressor_row_columns};
+use rayon::prelude::*;
 
 /// The most memory the kept rows may take (bytes).
-pub const LOAD_ROWS_BUDGET_BYTES: usize = 256 << 20;
+pub const LOAD_ROWS_BUDGET_BYTES: usize = 128 << 20;
 
 /// A training set's regressor rows, kept for the load term's passes.
 pub(crate) struct LoadRows<'d> {
@@ -45,19 +47,41 @@ impl<'d> LoadRows<'d> {
         if per_sample.saturating_mul(train.len()) > LOAD_ROWS_BUDGET_BYTES {
             return Ok(None);
         }
-        let mut rows = GramAcc::new(model, train.len());
-        let mut data = Data::new(model);
-        for s in 0..train.len() {
-            let state = [&train.q[s], &train.qd[s], &train.qdd[s]];
-            (rows.push_state(model, &mut data, state, [&train.tau[s], &train.tau[s]]))
-                .map_err(|source| IdentifyError::Regressor { sample: s, source })?;
-        }
+        // built in pieces in parallel, then joined in order
+        let piece = train.len().div_ceil(rayon::current_num_threads()).max(1);
+        let starts: Vec<usize> = (0..train.len()).step_by(piece).collect();
+        let pieces = (starts.par_iter())
+            .map(|&start| rows_of(model, train, start..(start + piece).min(train.len())))
+            .collect::<Result<Vec<_>, _>>()?;
+        let mut pieces = pieces.into_iter();
+        let Some(mut rows) = pieces.next() else {
+            return Ok(None);
+        };
+        pieces.for_each(|p| rows.append(p));
         let (n, nb) = (model.dof(), model.num_bodies());
         Ok(Some(Self {
             rows,
             load_cols: (0..n).map(|j| 10 * nb + t * n + j).collect(),
             qd: &train.qd,
         }))
+    }
+
+    /// The rigid model's torques (links and rotors at `theta`'s first
+    /// `bodies_end` entries, no friction) at every sample, from the kept
+    /// rows: what `predict_torques` gives without friction, without the
+    /// dynamics again.
+    pub(crate) fn rigid_torques(&self, theta: &[f64], bodies_end: usize) -> Samples {
+        let n = self.load_cols.len();
+        let mut out = Samples::zeros(self.qd.len(), n);
+        for j in 0..n {
+            let cols = self.rows.columns(j);
+            let body = |c: &&usize| **c < bodies_end;
+            let w: Vec<f64> = cols.iter().take_while(body).map(|&c| theta[c]).collect();
+            for (s, v) in self.rows.row_products(j, &w).into_iter().enumerate() {
+                out[s][j] = v;
+            }
+        }
+        out
     }
 
     /// `base` (the reduction of the same samples, any load) with every
@@ -86,6 +110,22 @@ impl<'d> LoadRows<'d> {
         super::reduce::finite_gram(&red.gram)?;
         Ok(red)
     }
+}
+
+/// The rows of `train`'s samples `range`, kept (not flushed).
+fn rows_of(
+    model: &Model,
+    train: &Dataset,
+    range: std::ops::Range<usize>,
+) -> Result<GramAcc, IdentifyError> {
+    let mut rows = GramAcc::new(model, range.len());
+    let mut data = Data::new(model);
+    for s in range {
+        let state = [&train.q[s], &train.qd[s], &train.qdd[s]];
+        (rows.push_state(model, &mut data, state, [&train.tau[s], &train.tau[s]]))
+            .map_err(|source| IdentifyError::Regressor { sample: s, source })?;
+    }
+    Ok(rows)
 }
 
 #[cfg(test)]
@@ -147,6 +187,23 @@ mod tests {
         let moved = (0..base.gram.nrows())
             .any(|i| (base.gram[(i, i)] - got.gram[(i, i)]).abs() > 1e-6 * scale);
         assert!(moved);
+        // the rigid torques from the kept rows are the dynamics' own
+        let theta: Vec<f64> = (0..model.regressor_columns())
+            .map(|k| 0.1 + 0.01 * k as f64)
+            .collect();
+        let nb = 10 * model.num_bodies();
+        let got = rows.rigid_torques(&theta, nb);
+        let mut rigid = model.clone();
+        rigid.set_params(&theta[..nb]).unwrap();
+        let none = crate::dynamics::Friction::zeros(n);
+        let want = crate::dynamics::predict::predict_torques(
+            &rigid, &none, &train.q, &train.qd, &train.qdd,
+        )
+        .unwrap();
+        let big = want.as_flat().iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        for (a, b) in got.as_flat().iter().zip(want.as_flat()) {
+            assert!((a - b).abs() <= 1e-10 * big, "{a} vs {b}");
+        }
         // a model without the load term keeps no rows
         let plain = crate::dynamics::cheetah3::model();
         assert!(LoadRows::new(&plain, &train).unwrap().is_none());

@@ -483,33 +483,24 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
 
 /// The friction law (and the weight, when it is chosen too) chosen on the
 /// training data `data`. With neither `--friction` nor `--weight` given,
-/// data too few to score the laws leave the model's own law at the grid's
+/// data too few to score the laws keep the model's own law at the grid's
 /// first weight, with the warning returned; else that is an error.
 fn choose_law(
     a: &IdentifyArgs,
     robot: &RobotDescription,
     data: &momentlmi::data::Dataset,
 ) -> Result<LawChoice, String> {
+    use momentlmi::identify::friction_choice::LawChoice::{Chosen, Kept};
     let id = identification(a, robot)?;
-    match id.choose_model(data, id.model_weights(a.weight()?.is_none())) {
-        Ok(c) => Ok((Some(c), None)),
-        Err(e @ IdentifyError::FoldTooSmall { .. })
-            if a.friction.is_none() && a.weight.is_none() =>
-        {
-            let terms = robot
-                .model
-                .friction_terms()
-                .iter()
-                .map(|t| t.name().to_string());
-            let warning = IdentifyWarning::LawNotChosen {
-                reason: e.to_string(),
-                terms: terms.collect(),
-                weight: WEIGHT_GRID[0],
-            };
-            Ok((None, Some(warning)))
-        }
-        Err(e) => Err(format!("--friction auto: {}", explain(e))),
+    let weights = id.model_weights(a.weight()?.is_none());
+    let failed = |e| format!("--friction auto: {}", explain(e));
+    if a.friction.is_some() || a.weight.is_some() {
+        return Ok((Some(id.choose_model(data, weights).map_err(failed)?), None));
     }
+    Ok(match id.choose_model_or_keep(data, weights).map_err(failed)? {
+        Chosen(c) => (Some(c), None),
+        Kept(w) => (None, Some(w)),
+    })
 }
 
 /// The law chosen, or the warning that it could not be.
