@@ -187,8 +187,14 @@ fn identify(
                 let weights = id.model_weights(weight.is_none());
                 let failed = |e| format!("friction auto: {e}");
                 match by_default {
-                    false => (Some(id.choose_model(&train.data, weights).map_err(failed)?), None),
-                    true => match id.choose_model_or_keep(&train.data, weights).map_err(failed)? {
+                    false => (
+                        Some(id.choose_model(&train.data, weights).map_err(failed)?),
+                        None,
+                    ),
+                    true => match id
+                        .choose_model_or_keep(&train.data, weights)
+                        .map_err(failed)?
+                    {
                         Chosen(c) => (Some(c), None),
                         Kept(w) => (None, Some(w)),
                     },

@@ -82,7 +82,7 @@ impl Identification<'_> {
     /// ([`FrictionTerm::Load`]), whose first reduction scales the column by
     /// the measured torque, solves again on `train` reduced with the load
     /// the law means (the previous solution's rigid torque), until that
-    /// load settles (relative RMS change ≤ 1e-6, at most
+    /// load settles (relative RMS change ≤ [`LOAD_SETTLED`], at most
     /// [`LOAD_PASSES`] passes; else a warning). The last reduction is
     /// returned.
     fn solve_loaded(
@@ -100,7 +100,10 @@ impl Identification<'_> {
         };
         let (mut last, mut reduced, mut change) = (train.tau.clone(), None, f64::INFINITY);
         // the rows kept, when they fit: a pass then replaces the load column
-        let rows = LoadRows::new(model, train)?;
+        let rows = match &red.load_rows {
+            Some(rows) => Some(rows.clone()),
+            None => LoadRows::new(model, train)?.map(std::sync::Arc::new),
+        };
         let bodies_end = 10 * model.num_bodies();
         for _ in 0..LOAD_PASSES {
             let load = match &rows {
@@ -108,7 +111,7 @@ impl Identification<'_> {
                 None => self.rigid_torques(&solved.0.theta, train)?,
             };
             change = relative_change(&last, &load);
-            if change <= 1e-6 {
+            if change <= LOAD_SETTLED {
                 return Ok((solved, reduced, None));
             }
             let (q, qd, qdd) = (&train.q, &train.qd, &train.qdd);
@@ -175,6 +178,10 @@ impl Identification<'_> {
         self.fixed_base("Identification::reduce")?;
         with_torques(train)?;
         self.check_memory(train.len())?;
+        // a load term's passes need the rows again: kept, when they fit
+        if let Some(rows) = LoadRows::new(self.model(), train)? {
+            return rows.into_reduced(self.model().regressor_columns());
+        }
         reduce_samples(
             self.model(),
             &train.q,
@@ -316,6 +323,12 @@ impl Identification<'_> {
         })
     }
 }
+
+/// The relative RMS change of the load at which a load friction term's
+/// passes stop: the load term's torque then moves by μ·1e-4·|τ| (a
+/// harmonic drive's μ ≈ 0.05 and |τ| ≤ 100 N·m: 5e-4 N·m), far below any
+/// torque sensor's noise; each further pass is an SDP solve.
+pub const LOAD_SETTLED: f64 = 1e-4;
 
 /// The most passes of a load friction term's identification
 /// ([`Identification::fit_reduced`]).

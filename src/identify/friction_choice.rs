@@ -277,14 +277,17 @@ fn laws() -> Vec<Vec<usize>> {
 }
 
 /// One fold's and joint's sums: `G = Σ yᵀy`, `b = Σ yᵀτ`, `c = Σ τ²`, over
-/// the joint's compact rows (its links' columns, then every basis).
+/// the joint's compact rows (its links' columns, then every basis);
+/// `g`, `b` and `c` are set by [`Sums::finish`].
 struct Sums {
     g: DMatrix<f64>,
     b: DVector<f64>,
     c: f64,
     rows: usize,
+    /// The lower triangle of `[y τ]ᵀ[y τ]` so far.
+    acc: faer::Mat<f64>,
+    /// Rows `[y τ]` not yet added, row-major.
     buf: Vec<f64>,
-    tau: Vec<f64>,
 }
 
 impl Sums {
@@ -294,32 +297,51 @@ impl Sums {
             b: DVector::zeros(w),
             c: 0.0,
             rows: 0,
+            acc: faer::Mat::zeros(w + 1, w + 1),
             buf: vec![],
-            tau: vec![],
         }
     }
 
     fn push(&mut self, row: &[f64], tau: f64) {
         self.buf.extend_from_slice(row);
-        self.tau.push(tau);
-        if self.tau.len() == CHUNK {
+        self.buf.push(tau);
+        if self.buf.len() == CHUNK * self.acc.ncols() {
             self.flush();
         }
     }
 
+    /// Adds the rows gathered (faer's triangular product, as the
+    /// reduction's Gram matrices are).
     fn flush(&mut self) {
-        let (m, w) = (self.tau.len(), self.g.nrows());
+        use faer::linalg::matmul::triangular::{self, BlockStructure};
+        let w1 = self.acc.ncols();
+        let m = self.buf.len() / w1;
         if m > 0 {
-            let y = DMatrix::from_row_slice(m, w, &self.buf);
-            let t = DVector::from_column_slice(&self.tau);
-            let yt = y.transpose();
-            self.g += &yt * &y;
-            self.b += &yt * &t;
-            self.c += t.dot(&t);
+            let x = faer::MatRef::from_row_major_slice(&self.buf, m, w1);
+            triangular::matmul(
+                self.acc.as_mut(),
+                BlockStructure::TriangularLower,
+                faer::Accum::Add,
+                x.transpose(),
+                BlockStructure::Rectangular,
+                x,
+                BlockStructure::Rectangular,
+                1.0,
+                faer::Par::Seq,
+            );
             self.rows += m;
         }
         self.buf.clear();
-        self.tau.clear();
+    }
+
+    /// The last rows added, and `g`, `b`, `c` set from the sums.
+    fn finish(&mut self) {
+        self.flush();
+        let w = self.g.nrows();
+        let at = |i: usize, j: usize| self.acc[(i.max(j), i.min(j))];
+        self.g = DMatrix::from_fn(w, w, at);
+        self.b = DVector::from_fn(w, |i, _| at(w, i));
+        self.c = at(w, w);
     }
 }
 
@@ -403,7 +425,7 @@ fn fold_sums(links: &Model, d: &Dataset, cols: &[Vec<usize>]) -> Result<Vec<Sums
             sums[j].push(&row[j], d.tau[k][j]);
         }
     }
-    sums.iter_mut().for_each(Sums::flush);
+    sums.iter_mut().for_each(Sums::finish);
     Ok(sums)
 }
 
@@ -476,6 +498,17 @@ fn with_prior(
     (g, b)
 }
 
+/// `g⁻¹ b` by faer's Cholesky factorisation (`g` symmetric positive
+/// definite; None when it is not).
+fn solve_spd(g: &DMatrix<f64>, b: &DVector<f64>) -> Option<DVector<f64>> {
+    let p = g.nrows();
+    let a = faer::Mat::<f64>::from_fn(p, p, |i, j| g[(i, j)]);
+    let rhs = faer::Mat::<f64>::from_fn(p, 1, |i, _| b[i]);
+    use faer::linalg::solvers::Solve;
+    let x = a.llt(faer::Side::Lower).ok()?.solve(&rhs);
+    Some(DVector::from_fn(p, |i, _| x[(i, 0)]))
+}
+
 /// Held-out sum of squares per joint of `theta` on one fold's sums.
 fn heldout_sse(theta: &DVector<f64>, fold: &[Sums], map: &[Vec<(usize, usize)>]) -> Vec<f64> {
     (fold.iter().enumerate())
@@ -507,11 +540,9 @@ fn score(
         let normal = normal_equations(sums, f, &map, p);
         for (w, &weight) in weights.iter().enumerate() {
             let (g, b) = with_prior(normal.clone(), prior, weight);
-            let theta = (g.cholesky())
-                .ok_or(IdentifyError::Factorisation {
-                    what: "Cholesky factorisation of a friction law's Gram matrix",
-                })?
-                .solve(&b);
+            let theta = solve_spd(&g, &b).ok_or(IdentifyError::Factorisation {
+                what: "Cholesky factorisation of a friction law's Gram matrix",
+            })?;
             sse[w][f] = heldout_sse(&theta, &sums[f], &map);
         }
     }

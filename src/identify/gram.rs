@@ -12,6 +12,7 @@
 use crate::dynamics::{Data, DynamicsError, Model, regressor_blocks, regressor_row_columns};
 use faer::linalg::matmul::triangular::{self, BlockStructure};
 use faer::{Mat, MatRef};
+use rayon::prelude::*;
 
 /// A column that is not one of a joint's.
 const ABSENT: usize = usize::MAX;
@@ -134,22 +135,9 @@ impl GramAcc {
             return Ok(());
         }
         for (block, g) in self.blocks.iter().zip(&mut self.grams) {
-            let k = g.ncols();
-            let x = MatRef::from_row_major_slice(block, self.samples, k);
-            triangular::matmul(
-                g.as_mut(),
-                BlockStructure::TriangularLower,
-                faer::Accum::Add,
-                x.transpose(),
-                BlockStructure::Rectangular,
-                x,
-                BlockStructure::Rectangular,
-                1.0,
-                faer::Par::Seq,
-            );
+            add_products(g, block, self.samples);
         }
-        let diagonal = |g: &Mat<f64>| (0..g.ncols()).all(|i| g[(i, i)].is_finite());
-        if !self.grams.iter().all(diagonal)
+        if !self.grams.iter().all(finite_diagonal)
             && let Some(e) = self.first_not_finite()
         {
             return Err(e);
@@ -244,19 +232,73 @@ impl GramAcc {
         per_joint: bool,
     ) -> Result<(Mat<f64>, Vec<Mat<f64>>), NotFinite> {
         self.flush()?;
-        let p1 = self.p1;
-        let mut full = Mat::<f64>::zeros(p1, p1);
-        let mut joints = vec![];
-        for (cols, g) in self.cols.iter().zip(&self.grams) {
-            scatter_lower(&mut full, cols, g);
-            if per_joint {
-                let mut m = Mat::<f64>::zeros(p1, p1);
-                scatter_lower(&mut m, cols, g);
-                joints.push(m);
-            }
-        }
-        Ok((full, joints))
+        Ok(scattered(self.p1, &self.cols, &self.grams, per_joint))
     }
+
+    /// What [`finish`](Self::finish) would give for the rows of the chunk
+    /// alone (not flushed), the rows kept.
+    pub(crate) fn kept_grams(
+        &self,
+        per_joint: bool,
+    ) -> Result<(Mat<f64>, Vec<Mat<f64>>), NotFinite> {
+        // the joints in parallel, each product on the threads left
+        let grams: Vec<Mat<f64>> = (self.cols.par_iter().zip(&self.blocks))
+            .map(|(c, block)| {
+                let mut g = Mat::zeros(c.len(), c.len());
+                add_products(&mut g, block, self.samples);
+                g
+            })
+            .collect();
+        if !grams.iter().all(finite_diagonal)
+            && let Some(e) = self.first_not_finite()
+        {
+            return Err(e);
+        }
+        Ok(scattered(self.p1, &self.cols, &grams, per_joint))
+    }
+}
+
+/// Adds the lower triangle of `XᵀX` to `g`, X the `samples` row-major
+/// rows of `block`.
+fn add_products(g: &mut Mat<f64>, block: &[f64], samples: usize) {
+    let x = MatRef::from_row_major_slice(block, samples, g.ncols());
+    triangular::matmul(
+        g.as_mut(),
+        BlockStructure::TriangularLower,
+        faer::Accum::Add,
+        x.transpose(),
+        BlockStructure::Rectangular,
+        x,
+        BlockStructure::Rectangular,
+        1.0,
+        faer::Par::Seq,
+    );
+}
+
+fn finite_diagonal(g: &Mat<f64>) -> bool {
+    (0..g.ncols()).all(|i| g[(i, i)].is_finite())
+}
+
+/// The full Gram matrix (lower triangle) of the joints' compact ones
+/// `grams` (columns `cols`, `p1` in all) and, when `per_joint`, each
+/// joint's in place (lower triangle; empty otherwise).
+fn scattered(
+    p1: usize,
+    cols: &[Vec<usize>],
+    grams: &[Mat<f64>],
+    per_joint: bool,
+) -> (Mat<f64>, Vec<Mat<f64>>) {
+    let mut full = Mat::<f64>::zeros(p1, p1);
+    let mut joints = vec![];
+    for (cols, g) in cols.iter().zip(grams) {
+        scatter_lower(&mut full, cols, g);
+        if per_joint {
+            let mut m = Mat::<f64>::zeros(p1, p1);
+            scatter_lower(&mut m, cols, g);
+            joints.push(m);
+        }
+    }
+    (full, joints)
 }
 
 /// Adds the lower triangle of the compact `g` (rows and columns `cols` of

@@ -25,18 +25,25 @@ use rayon::prelude::*;
 pub const LOAD_ROWS_BUDGET_BYTES: usize = 128 << 20;
 
 /// A training set's regressor rows, kept for the load term's passes.
-pub(crate) struct LoadRows<'d> {
+pub(crate) struct LoadRows {
     rows: GramAcc,
     /// Per joint, its load column (global).
     load_cols: Vec<usize>,
-    qd: &'d Samples,
+    /// The samples' velocities (the load column's sign).
+    qd: Samples,
 }
 
-impl<'d> LoadRows<'d> {
+impl std::fmt::Debug for LoadRows {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "LoadRows {{ {} samples }}", self.qd.len())
+    }
+}
+
+impl LoadRows {
     /// `train`'s rows for `model` (which has a load term), or `None` when
     /// they would take over [`LOAD_ROWS_BUDGET_BYTES`] or the model has
     /// no load term.
-    pub(crate) fn new(model: &Model, train: &'d Dataset) -> Result<Option<Self>, IdentifyError> {
+    pub(crate) fn new(model: &Model, train: &Dataset) -> Result<Option<Self>, IdentifyError> {
         let terms = model.friction_terms();
         let Some(t) = terms.iter().position(|t| *t == FrictionTerm::Load) else {
             return Ok(None);
@@ -62,8 +69,30 @@ impl<'d> LoadRows<'d> {
         Ok(Some(Self {
             rows,
             load_cols: (0..n).map(|j| 10 * nb + t * n + j).collect(),
-            qd: &train.qd,
+            qd: train.qd.clone(),
         }))
+    }
+
+    /// The reduction of the kept rows, the load column's load the measured
+    /// torque (as [`reduce_samples`](super::reduce::reduce_samples) makes
+    /// it), with these rows in it for the passes.
+    pub(crate) fn into_reduced(self, p: usize) -> Result<Reduced, IdentifyError> {
+        let t0 = std::time::Instant::now();
+        let per_joint = super::reduce::keep_joint_grams(self.load_cols.len(), p + 1);
+        let (mut gram, mut joint_grams) =
+            (self.rows.kept_grams(per_joint)).map_err(|e| super::reduce::not_finite(0, e))?;
+        super::reduce::finite_gram(&gram)?;
+        super::reduce::symmetrize(&mut gram);
+        joint_grams.iter_mut().for_each(super::reduce::symmetrize);
+        Ok(Reduced {
+            gram,
+            samples: self.qd.len(),
+            p,
+            joint_grams,
+            reduce_time_s: t0.elapsed().as_secs_f64(),
+            row_range: Some(0..self.load_cols.len()),
+            load_rows: Some(std::sync::Arc::new(self)),
+        })
     }
 
     /// The rigid model's torques (links and rotors at `theta`'s first
@@ -176,6 +205,19 @@ mod tests {
         assert_eq!(got.joint_grams.len(), n);
         let pairs = std::iter::once((&got.gram, &want.gram))
             .chain(got.joint_grams.iter().zip(&want.joint_grams));
+        for (a, b) in pairs {
+            for j in 0..a.ncols() {
+                for i in 0..a.nrows() {
+                    assert!((a[(i, j)] - b[(i, j)]).abs() <= 1e-11 * scale, "({i}, {j})");
+                }
+            }
+        }
+        // the reduction made from the kept rows is the reduction's own
+        let own = LoadRows::new(&model, &train).unwrap().unwrap();
+        let own = own.into_reduced(model.regressor_columns()).unwrap();
+        assert!(own.load_rows.is_some() && own.samples == base.samples);
+        let pairs = std::iter::once((&own.gram, &base.gram))
+            .chain(own.joint_grams.iter().zip(&base.joint_grams));
         for (a, b) in pairs {
             for j in 0..a.ncols() {
                 for i in 0..a.nrows() {

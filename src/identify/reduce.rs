@@ -39,6 +39,9 @@ pub struct Reduced {
     /// free-flyer's [`Rows`](super::Rows)): a solve whose layout fits other
     /// rows is refused. `None`: not recorded.
     pub row_range: Option<std::ops::Range<usize>>,
+    /// The regressor rows, kept when the model has a load friction term
+    /// (its passes replace one column: [`super::load_rows`]).
+    pub(crate) load_rows: Option<std::sync::Arc<super::load_rows::LoadRows>>,
 }
 
 /// The most memory the per-joint Gram matrices kept in [`Reduced`] may take.
@@ -75,6 +78,7 @@ impl Reduced {
             joint_grams: vec![],
             reduce_time_s: 0.0,
             row_range: None,
+            load_rows: None,
         })
     }
 
@@ -134,7 +138,7 @@ impl Reduced {
 }
 
 /// Copies the lower triangle of `g` to its upper triangle.
-fn symmetrize(g: &mut Mat<f64>) {
+pub(crate) fn symmetrize(g: &mut Mat<f64>) {
     for j in 0..g.ncols() {
         for i in j + 1..g.nrows() {
             g[(j, i)] = g[(i, j)];
@@ -145,7 +149,7 @@ fn symmetrize(g: &mut Mat<f64>) {
 /// A sample's regressor row and torque must be finite: an overflow (a huge
 /// velocity squared, say) is named where it happens, not left to turn the
 /// Gram matrix into NaN; `first` is the chunk's first sample.
-fn not_finite(first: usize, e: NotFinite) -> IdentifyError {
+pub(crate) fn not_finite(first: usize, e: NotFinite) -> IdentifyError {
     IdentifyError::NonFinite {
         sample: first + e.sample,
         what: if e.torque {
@@ -225,7 +229,7 @@ pub fn cost(model: &Model, samples: usize) -> Cost {
 }
 
 /// Whether the per-joint Gram matrices fit [`JOINT_GRAMS_BUDGET_BYTES`].
-fn keep_joint_grams(n: usize, p1: usize) -> bool {
+pub(crate) fn keep_joint_grams(n: usize, p1: usize) -> bool {
     n * p1 * p1 * std::mem::size_of::<f64>() <= JOINT_GRAMS_BUDGET_BYTES
 }
 
@@ -342,6 +346,7 @@ pub(crate) fn reduce_with_load(
         joint_grams,
         reduce_time_s: t0.elapsed().as_secs_f64(),
         row_range: Some(0..n),
+        load_rows: None,
     })
 }
 
@@ -454,6 +459,7 @@ impl<'m> StreamReducer<'m> {
             joint_grams,
             reduce_time_s: 0.0,
             row_range: Some(0..n),
+            load_rows: None,
         })
     }
 }
@@ -507,6 +513,7 @@ mod tests {
             joint_grams: joints,
             reduce_time_s: 0.0,
             row_range: None,
+            load_rows: None,
         };
         let rss = red.joint_rss(&theta).unwrap();
         for (i, got) in rss.iter().enumerate() {

@@ -497,10 +497,12 @@ fn choose_law(
     if a.friction.is_some() || a.weight.is_some() {
         return Ok((Some(id.choose_model(data, weights).map_err(failed)?), None));
     }
-    Ok(match id.choose_model_or_keep(data, weights).map_err(failed)? {
-        Chosen(c) => (Some(c), None),
-        Kept(w) => (None, Some(w)),
-    })
+    Ok(
+        match id.choose_model_or_keep(data, weights).map_err(failed)? {
+            Chosen(c) => (Some(c), None),
+            Kept(w) => (None, Some(w)),
+        },
+    )
 }
 
 /// The law chosen, or the warning that it could not be.
