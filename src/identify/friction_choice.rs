@@ -313,22 +313,9 @@ impl Sums {
     /// Adds the rows gathered (faer's triangular product, as the
     /// reduction's Gram matrices are).
     fn flush(&mut self) {
-        use faer::linalg::matmul::triangular::{self, BlockStructure};
-        let w1 = self.acc.ncols();
-        let m = self.buf.len() / w1;
+        let m = self.buf.len() / self.acc.ncols();
         if m > 0 {
-            let x = faer::MatRef::from_row_major_slice(&self.buf, m, w1);
-            triangular::matmul(
-                self.acc.as_mut(),
-                BlockStructure::TriangularLower,
-                faer::Accum::Add,
-                x.transpose(),
-                BlockStructure::Rectangular,
-                x,
-                BlockStructure::Rectangular,
-                1.0,
-                faer::Par::Seq,
-            );
+            super::gram::add_products(&mut self.acc, &self.buf, m);
             self.rows += m;
         }
         self.buf.clear();

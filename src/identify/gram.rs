@@ -260,7 +260,7 @@ impl GramAcc {
 
 /// Adds the lower triangle of `XᵀX` to `g`, X the `samples` row-major
 /// rows of `block`.
-fn add_products(g: &mut Mat<f64>, block: &[f64], samples: usize) {
+pub(crate) fn add_products(g: &mut Mat<f64>, block: &[f64], samples: usize) {
     let x = MatRef::from_row_major_slice(block, samples, g.ncols());
     triangular::matmul(
         g.as_mut(),

@@ -159,7 +159,7 @@ fn rows_of(
 
 #[cfg(test)]
 mod tests {
-    use super::LoadRows;
+    use super::{LoadRows, Reduced};
     use crate::data::Dataset;
     use crate::dynamics::{FrictionTerm, Samples, random_states};
     use crate::identify::reduce::{reduce_samples, reduce_with_load};
@@ -202,29 +202,26 @@ mod tests {
         let scale = (0..want.gram.nrows())
             .map(|i| want.gram[(i, i)])
             .fold(0.0, f64::max);
-        assert_eq!(got.joint_grams.len(), n);
-        let pairs = std::iter::once((&got.gram, &want.gram))
-            .chain(got.joint_grams.iter().zip(&want.joint_grams));
-        for (a, b) in pairs {
-            for j in 0..a.ncols() {
-                for i in 0..a.nrows() {
-                    assert!((a[(i, j)] - b[(i, j)]).abs() <= 1e-11 * scale, "({i}, {j})");
+        // every entry of the full and the joints' Gram matrices
+        let same = |x: &Reduced, y: &Reduced| {
+            assert_eq!(x.joint_grams.len(), y.joint_grams.len());
+            let pairs =
+                std::iter::once((&x.gram, &y.gram)).chain(x.joint_grams.iter().zip(&y.joint_grams));
+            for (a, b) in pairs {
+                for j in 0..a.ncols() {
+                    for i in 0..a.nrows() {
+                        assert!((a[(i, j)] - b[(i, j)]).abs() <= 1e-11 * scale, "({i}, {j})");
+                    }
                 }
             }
-        }
+        };
+        assert_eq!(got.joint_grams.len(), n);
+        same(&got, &want);
         // the reduction made from the kept rows is the reduction's own
         let own = LoadRows::new(&model, &train).unwrap().unwrap();
         let own = own.into_reduced(model.regressor_columns()).unwrap();
         assert!(own.load_rows.is_some() && own.samples == base.samples);
-        let pairs = std::iter::once((&own.gram, &base.gram))
-            .chain(own.joint_grams.iter().zip(&base.joint_grams));
-        for (a, b) in pairs {
-            for j in 0..a.ncols() {
-                for i in 0..a.nrows() {
-                    assert!((a[(i, j)] - b[(i, j)]).abs() <= 1e-11 * scale, "({i}, {j})");
-                }
-            }
-        }
+        same(&own, &base);
         // the load changed the Gram matrix: the test compares something
         let moved = (0..base.gram.nrows())
             .any(|i| (base.gram[(i, i)] - got.gram[(i, i)]).abs() > 1e-6 * scale);
