@@ -122,3 +122,57 @@ fn friction_auto_chooses_a_simulated_stribeck_law_and_the_model_file_carries_it(
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("auto stands alone"));
 }
+
+/// Training files over the 64 MiB the default's choice reads whole are
+/// streamed with viscous + Coulomb, and the warning says so (memory stays
+/// bounded by default); `--friction auto` still chooses.
+#[test]
+fn a_large_training_file_is_streamed_with_the_listed_law_by_default() {
+    let t = TempDir::new("friction-auto-large");
+    let small = t.0.join("small.csv");
+    let small_s = small.to_str().unwrap();
+    ok(&[
+        "simulate",
+        "--robot",
+        "cheetah3-leg",
+        "--seconds",
+        "2",
+        "--out",
+        small_s,
+    ]);
+    let text = std::fs::read_to_string(&small).unwrap();
+    let mut lines = text.lines();
+    let header = lines.next().unwrap();
+    let rows: Vec<&str> = lines.collect();
+    // the rows repeated with the time running on, past 64 MiB
+    let mut out = String::with_capacity(70 << 20);
+    out.push_str(header);
+    out.push('\n');
+    let mut k = 0usize;
+    while out.len() <= 65 << 20 {
+        let row = rows[k % rows.len()];
+        let rest = row.split_once(',').unwrap().1;
+        out.push_str(&format!("{},{rest}\n", k as f64 * 1e-3));
+        k += 1;
+    }
+    let large = t.write("large.csv", &out);
+    let args = [
+        "identify",
+        "--robot",
+        "cheetah3-leg",
+        "--data",
+        large.to_str().unwrap(),
+        "--json",
+    ];
+    let j: serde_json::Value = serde_json::from_slice(&ok(&args)).unwrap();
+    assert!(j["model_selection"].is_null(), "{}", j["model_selection"]);
+    assert_eq!(j["timings"]["streamed"], true);
+    assert_eq!(j["weight"], 1e-6);
+    let w = j["warnings"].as_array().unwrap();
+    assert!(
+        w.iter()
+            .any(|w| w["kind"] == "law_not_chosen"
+                && w["reason"].as_str().unwrap().contains("64 MiB")),
+        "{w:?}"
+    );
+}

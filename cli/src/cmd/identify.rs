@@ -11,6 +11,7 @@ use momentlmi::identify::{
 use std::path::Path;
 
 /// Arguments of `identify`.
+#[derive(Clone, Copy)]
 pub struct IdentifyArgs<'a> {
     /// Robot.
     pub robot: &'a str,
@@ -69,6 +70,41 @@ pub struct IdentifyArgs<'a> {
 /// The weight when `--friction` names a law and `--weight` is not given.
 const LISTED_LAW_WEIGHT: f64 = 1e-6;
 
+/// The most bytes of training files the default's choice of the friction
+/// law reads whole (it needs every fold's samples); larger ones are
+/// streamed with viscous + Coulomb, so that memory does not grow with the
+/// logs by default.
+const CHOICE_MAX_BYTES: u64 = 64 << 20;
+
+/// `a` as it is, or, when neither `--friction` nor `--weight` is given and
+/// the training files exceed [`CHOICE_MAX_BYTES`], with viscous + Coulomb
+/// at [`LISTED_LAW_WEIGHT`] listed, and the warning that says so.
+fn streamed_default<'a>(a: &IdentifyArgs<'a>) -> (IdentifyArgs<'a>, Option<IdentifyWarning>) {
+    if a.friction.is_some() || a.weight.is_some() {
+        return (*a, None);
+    }
+    let sizes = a.data.iter().filter_map(|p| std::fs::metadata(p).ok());
+    let bytes: u64 = sizes.map(|m| m.len()).sum();
+    if bytes <= CHOICE_MAX_BYTES {
+        return (*a, None);
+    }
+    let warning = IdentifyWarning::LawNotChosen {
+        reason: format!(
+            "the training files hold {} MiB, over the {} MiB the choice reads whole; give --friction auto to choose anyway",
+            bytes >> 20,
+            CHOICE_MAX_BYTES >> 20
+        ),
+        terms: vec!["viscous".into(), "coulomb".into()],
+        weight: LISTED_LAW_WEIGHT,
+    };
+    let listed = IdentifyArgs {
+        friction: Some("viscous,coulomb"),
+        weight: Some("1e-6"),
+        ..*a
+    };
+    (listed, Some(warning))
+}
+
 impl IdentifyArgs<'_> {
     /// The friction law is chosen from the data: `--friction auto`, or no
     /// `--friction` (the default).
@@ -116,8 +152,11 @@ pub fn run(a: &IdentifyArgs) -> i32 {
             return 2;
         }
     };
+    let (a, large) = streamed_default(a);
+    let a = &a;
     match run_inner(a) {
         Ok((mut r, robot)) => {
+            r.warnings.extend(large);
             let total = t0.elapsed().as_secs_f64();
             r.total_time_s = total;
             r.timings.total_s = total;
