@@ -247,10 +247,12 @@ enum Command {
         /// auto (the default): viscous + Coulomb with or without offset, load and Stribeck
         /// (v_s 0.02–0.2 rad/s), the law chosen by cross-validation on the training data
         /// (the fewest terms within the noise of the best), the table in the report and JSON
-        /// (model_selection). Too few training samples to score the laws, or training files
-        /// over 64 MiB (the choice reads them whole) with no --friction: viscous + Coulomb,
-        /// with a warning. A list reads prepared logs streamed, as fast as before the choice
-        /// existed (docs/identification.md, "Friction terms").
+        /// (model_selection). With neither --friction nor --weight given, too few training
+        /// samples to score the laws, or training files over 64 MiB (the choice reads them
+        /// whole), leave viscous + Coulomb at 1e-6, with a warning. A list at a set weight
+        /// streams prepared CSV logs as before the choice existed. A floating base
+        /// (--floating-base) fits its model's own law at 1e-6 (auto is refused there).
+        /// (docs/identification.md, "Friction terms")
         #[arg(long, value_name = "LIST|auto")]
         friction: Option<String>,
         /// How each joint's rows weigh in the fit: equal (least squares) or noise (weighted

@@ -185,7 +185,11 @@ fn identify(
                 use momentlmi::identify::friction_choice::LawChoice::{Chosen, Kept};
                 let id = setup.identification(desc, &choice, weight.unwrap_or(WEIGHT_GRID[0]))?;
                 let weights = id.model_weights(weight.is_none());
-                let failed = |e| format!("friction auto: {e}");
+                let what = match by_default || friction.is_none() {
+                    true => "choosing the friction law (the default; friction=LIST fits one)",
+                    false => "friction auto",
+                };
+                let failed = |e| format!("{what}: {e}");
                 match by_default {
                     false => (
                         Some(id.choose_model(&train.data, weights).map_err(failed)?),

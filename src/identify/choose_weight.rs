@@ -196,15 +196,7 @@ impl Identification<'_> {
             }
         }
         // each fold's training data reduced once, whatever the weight
-        let reduced = (pairs.iter().enumerate())
-            .map(|(fold, (t, _))| {
-                self.reduce(t).map_err(|e| IdentifyError::Fold {
-                    weight: weights[0],
-                    fold,
-                    source: Box::new(e),
-                })
-            })
-            .collect::<Result<Vec<_>, _>>()?;
+        let reduced = self.fold_reductions(&pairs, weights[0])?;
         let (mut heldout_rms, mut fold_rms, mut fold_notes) = (vec![], vec![], vec![]);
         for &w in &weights {
             self.weight = w;
@@ -230,6 +222,27 @@ impl Identification<'_> {
             mean_rms,
             fold_notes,
         })
+    }
+
+    /// Each fold's training part reduced (a failure named with `weight`,
+    /// the grid's first); every fold's reduction is kept, not a load term's
+    /// rows (its passes keep them for one fit at a time).
+    fn fold_reductions(
+        &self,
+        pairs: &[(Dataset, Dataset)],
+        weight: f64,
+    ) -> Result<Vec<super::Reduced>, IdentifyError> {
+        (pairs.iter().enumerate())
+            .map(|(fold, (t, _))| {
+                let mut red = self.reduce(t).map_err(|e| IdentifyError::Fold {
+                    weight,
+                    fold,
+                    source: Box::new(e),
+                })?;
+                red.load_rows = None;
+                Ok(red)
+            })
+            .collect()
     }
 
     /// Each joint's held-out RMS pooled over `pairs` (fitted at the weight

@@ -5,6 +5,7 @@
 
 use super::builder::Identification;
 use super::error::IdentifyError;
+use super::load_passes::{reduced_from, with_load};
 use super::load_rows::LoadRows;
 use super::options::IdentifyOptions;
 use super::reduce::{Reduced, reduce_samples, reduce_with_load};
@@ -39,9 +40,11 @@ pub fn identify(
 }
 
 impl Identification<'_> {
-    /// The planned memory of `samples` samples is within the limit.
+    /// The planned memory of `samples` samples (the reduction's, and a load
+    /// term's kept rows) is within the limit.
     fn check_memory(&self, samples: usize) -> Result<(), IdentifyError> {
-        let need = crate::identify::cost(self.model(), samples).bytes;
+        let rows = LoadRows::bytes(self.model(), samples) as u64;
+        let need = crate::identify::cost(self.model(), samples).bytes + rows;
         if need > self.memory_limit() {
             return Err(IdentifyError::TooLarge {
                 needed_gib: need as f64 / (1u64 << 30) as f64,
@@ -101,8 +104,8 @@ impl Identification<'_> {
         let (mut last, mut reduced, mut change) = (train.tau.clone(), None, f64::INFINITY);
         // the rows kept, when they fit: a pass then replaces the load column
         let rows = match &red.load_rows {
-            Some(rows) => Some(rows.clone()),
-            None => LoadRows::new(model, train)?.map(std::sync::Arc::new),
+            Some(rows) if rows.samples() == train.len() => Some(rows.clone()),
+            _ => LoadRows::new(model, train)?.map(std::sync::Arc::new),
         };
         let bodies_end = 10 * model.num_bodies();
         for _ in 0..LOAD_PASSES {
@@ -116,7 +119,7 @@ impl Identification<'_> {
             }
             let (q, qd, qdd) = (&train.q, &train.qd, &train.qdd);
             let red = match &rows {
-                Some(rows) => rows.reduce(red, &load)?,
+                Some(rows) => with_load(rows, red, &load)?,
                 None => reduce_with_load(model, [q, qd, qdd, &train.tau], &load, 256)?,
             };
             solved = self.solve_weighted(&red)?;
@@ -179,8 +182,9 @@ impl Identification<'_> {
         with_torques(train)?;
         self.check_memory(train.len())?;
         // a load term's passes need the rows again: kept, when they fit
+        let t0 = std::time::Instant::now();
         if let Some(rows) = LoadRows::new(self.model(), train)? {
-            return rows.into_reduced(self.model().regressor_columns());
+            return reduced_from(rows, self.model().regressor_columns(), t0);
         }
         reduce_samples(
             self.model(),

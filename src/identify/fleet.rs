@@ -73,6 +73,8 @@ impl Reduced {
         }
         self.samples = samples;
         self.reduce_time_s += other.reduce_time_s;
+        // the rows kept for a load term are one part's: not the sum's
+        self.load_rows = None;
         Ok(self)
     }
 

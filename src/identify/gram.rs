@@ -198,6 +198,10 @@ impl GramAcc {
     /// `Σ_s c_s x_s` in `columns(j)`'s order, `Σ_s c_s²` at `col`'s place.
     pub(crate) fn column_products(&self, j: usize, col: usize, c: &[f64]) -> Vec<f64> {
         let k = self.cols[j].len();
+        debug_assert_ne!(
+            self.place[j][col], ABSENT,
+            "column {col} is not joint {j}'s"
+        );
         let mut out = vec![0.0; k];
         let rows = self.blocks[j].chunks_exact(k).take(self.samples);
         for (row, &cs) in rows.zip(c) {
@@ -241,7 +245,7 @@ impl GramAcc {
         &self,
         per_joint: bool,
     ) -> Result<(Mat<f64>, Vec<Mat<f64>>), NotFinite> {
-        // the joints in parallel, each product on the threads left
+        // the joints in parallel (each product on one thread)
         let grams: Vec<Mat<f64>> = (self.cols.par_iter().zip(&self.blocks))
             .map(|(c, block)| {
                 let mut g = Mat::zeros(c.len(), c.len());

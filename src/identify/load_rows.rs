@@ -11,12 +11,12 @@
 //! `samples × Σ_j columns(j)` multiply-adds instead of a reduction; past
 //! [`LOAD_ROWS_BUDGET_BYTES`] the passes reduce again instead (the rows
 //! are built in parallel pieces and joined: at most twice that at once).
+//! The reductions made from them: [`super::load_passes`].
 //!
 //! [`Identification::fit`]: super::Identification::fit
 
 use super::error::IdentifyError;
 use super::gram::GramAcc;
-use super::reduce::Reduced;
 use crate::data::Dataset;
 use crate::dynamics::{Data, FrictionTerm, Model, Samples, regressor_row_columns};
 use rayon::prelude::*;
@@ -40,6 +40,23 @@ impl std::fmt::Debug for LoadRows {
 }
 
 impl LoadRows {
+    /// The peak memory (bytes) of keeping `samples` samples' rows for
+    /// `model`: twice the rows (their pieces are joined), 0 when `model`
+    /// has no load term or the rows would exceed [`LOAD_ROWS_BUDGET_BYTES`]
+    /// (then none are kept).
+    pub(crate) fn bytes(model: &Model, samples: usize) -> usize {
+        if !model.friction_terms().contains(&FrictionTerm::Load) {
+            return 0;
+        }
+        let per_sample: usize = (regressor_row_columns(model).iter())
+            .map(|c| (c.len() + 1) * std::mem::size_of::<f64>())
+            .sum();
+        match per_sample.saturating_mul(samples) {
+            b if b > LOAD_ROWS_BUDGET_BYTES => 0,
+            b => 2 * b,
+        }
+    }
+
     /// `train`'s rows for `model` (which has a load term), or `None` when
     /// they would take over [`LOAD_ROWS_BUDGET_BYTES`] or the model has
     /// no load term.
@@ -48,10 +65,7 @@ impl LoadRows {
         let Some(t) = terms.iter().position(|t| *t == FrictionTerm::Load) else {
             return Ok(None);
         };
-        let per_sample: usize = (regressor_row_columns(model).iter())
-            .map(|c| (c.len() + 1) * std::mem::size_of::<f64>())
-            .sum();
-        if per_sample.saturating_mul(train.len()) > LOAD_ROWS_BUDGET_BYTES {
+        if Self::bytes(model, train.len()) == 0 {
             return Ok(None);
         }
         // built in pieces in parallel, then joined in order
@@ -73,28 +87,6 @@ impl LoadRows {
         }))
     }
 
-    /// The reduction of the kept rows, the load column's load the measured
-    /// torque (as [`reduce_samples`](super::reduce::reduce_samples) makes
-    /// it), with these rows in it for the passes.
-    pub(crate) fn into_reduced(self, p: usize) -> Result<Reduced, IdentifyError> {
-        let t0 = std::time::Instant::now();
-        let per_joint = super::reduce::keep_joint_grams(self.load_cols.len(), p + 1);
-        let (mut gram, mut joint_grams) =
-            (self.rows.kept_grams(per_joint)).map_err(|e| super::reduce::not_finite(0, e))?;
-        super::reduce::finite_gram(&gram)?;
-        super::reduce::symmetrize(&mut gram);
-        joint_grams.iter_mut().for_each(super::reduce::symmetrize);
-        Ok(Reduced {
-            gram,
-            samples: self.qd.len(),
-            p,
-            joint_grams,
-            reduce_time_s: t0.elapsed().as_secs_f64(),
-            row_range: Some(0..self.load_cols.len()),
-            load_rows: Some(std::sync::Arc::new(self)),
-        })
-    }
-
     /// The rigid model's torques (links and rotors at `theta`'s first
     /// `bodies_end` entries, no friction) at every sample, from the kept
     /// rows: what `predict_torques` gives without friction, without the
@@ -113,31 +105,38 @@ impl LoadRows {
         out
     }
 
-    /// `base` (the reduction of the same samples, any load) with every
-    /// joint's load column made from `load` (N·m, n per sample).
-    pub(crate) fn reduce(&self, base: &Reduced, load: &Samples) -> Result<Reduced, IdentifyError> {
-        if base.samples != self.qd.len() || load.len() != self.qd.len() {
-            return Err(IdentifyError::SampleCount {
-                what: "the load term's reduction",
-                expected: self.qd.len(),
-                found: base.samples.min(load.len()),
-            });
-        }
-        let mut red = base.clone();
-        for (j, &col) in self.load_cols.iter().enumerate() {
-            let c: Vec<f64> = (0..self.qd.len())
-                .map(|s| FrictionTerm::Load.basis(self.qd[s][j], load[s][j], 0.0))
-                .collect();
-            let products = self.rows.column_products(j, col, &c);
-            for (&g, &x) in self.rows.columns(j).iter().zip(&products) {
-                for m in std::iter::once(&mut red.gram).chain(red.joint_grams.get_mut(j)) {
-                    m[(col, g)] = x;
-                    m[(g, col)] = x;
-                }
-            }
-        }
-        super::reduce::finite_gram(&red.gram)?;
-        Ok(red)
+    /// The samples kept.
+    pub(crate) fn samples(&self) -> usize {
+        self.qd.len()
+    }
+
+    /// The joints (each joint's rows).
+    pub(crate) fn joints(&self) -> usize {
+        self.load_cols.len()
+    }
+
+    /// The Gram matrices of the kept rows as they were built (the load
+    /// column's load the measured torque): the full one and, when
+    /// `per_joint`, each joint's (lower triangles).
+    pub(crate) fn kept_grams(
+        &self,
+        per_joint: bool,
+    ) -> Result<(faer::Mat<f64>, Vec<faer::Mat<f64>>), super::gram::NotFinite> {
+        self.rows.kept_grams(per_joint)
+    }
+
+    /// Joint j's load column (global) made from `load` (N·m, n per sample),
+    /// and its products with each of j's columns: (column, value).
+    pub(crate) fn load_column(&self, j: usize, load: &Samples) -> (usize, Vec<(usize, f64)>) {
+        let col = self.load_cols[j];
+        let c: Vec<f64> = (0..self.qd.len())
+            .map(|s| FrictionTerm::Load.basis(self.qd[s][j], load[s][j], 0.0))
+            .collect();
+        let products = self.rows.column_products(j, col, &c);
+        (
+            col,
+            self.rows.columns(j).iter().copied().zip(products).collect(),
+        )
     }
 }
 
@@ -155,96 +154,4 @@ fn rows_of(
             .map_err(|source| IdentifyError::Regressor { sample: s, source })?;
     }
     Ok(rows)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::{LoadRows, Reduced};
-    use crate::data::Dataset;
-    use crate::dynamics::{FrictionTerm, Samples, random_states};
-    use crate::identify::reduce::{reduce_samples, reduce_with_load};
-
-    /// A pass's Gram matrices from the kept rows equal a reduction made
-    /// again with the new load (the full matrix and each joint's), on the
-    /// leg with offset and load terms.
-    #[test]
-    fn a_pass_from_kept_rows_equals_a_new_reduction() {
-        use FrictionTerm::*;
-        let model = crate::dynamics::cheetah3::model()
-            .with_friction_terms(&[Viscous, Coulomb, Load, Offset]);
-        let n = model.dof();
-        let [q, qd, qdd] = random_states(&model, 80, 7).map(|v| Samples::from_flat(n, v).unwrap());
-        let wave = |k: usize, a: f64| {
-            (0..80 * n)
-                .map(|i| a * (0.3 * (i + k) as f64).sin())
-                .collect()
-        };
-        let tau = Samples::from_flat(n, wave(1, 5.0)).unwrap();
-        let load = Samples::from_flat(n, wave(5, 3.0)).unwrap();
-        let joints: Vec<String> = model.joint_names().iter().map(|j| j.to_string()).collect();
-        let t = (0..80).map(|s| s as f64 * 1e-3).collect();
-        let train = Dataset {
-            joints,
-            t,
-            q,
-            qd,
-            qdd,
-            tau,
-            segments: vec![],
-        };
-        let base = reduce_samples(&model, &train.q, &train.qd, &train.qdd, &train.tau, 16).unwrap();
-        let rows = LoadRows::new(&model, &train)
-            .unwrap()
-            .expect("within the budget");
-        let got = rows.reduce(&base, &load).unwrap();
-        let states = [&train.q, &train.qd, &train.qdd, &train.tau];
-        let want = reduce_with_load(&model, states, &load, 16).unwrap();
-        let scale = (0..want.gram.nrows())
-            .map(|i| want.gram[(i, i)])
-            .fold(0.0, f64::max);
-        // every entry of the full and the joints' Gram matrices
-        let same = |x: &Reduced, y: &Reduced| {
-            assert_eq!(x.joint_grams.len(), y.joint_grams.len());
-            let pairs =
-                std::iter::once((&x.gram, &y.gram)).chain(x.joint_grams.iter().zip(&y.joint_grams));
-            for (a, b) in pairs {
-                for j in 0..a.ncols() {
-                    for i in 0..a.nrows() {
-                        assert!((a[(i, j)] - b[(i, j)]).abs() <= 1e-11 * scale, "({i}, {j})");
-                    }
-                }
-            }
-        };
-        assert_eq!(got.joint_grams.len(), n);
-        same(&got, &want);
-        // the reduction made from the kept rows is the reduction's own
-        let own = LoadRows::new(&model, &train).unwrap().unwrap();
-        let own = own.into_reduced(model.regressor_columns()).unwrap();
-        assert!(own.load_rows.is_some() && own.samples == base.samples);
-        same(&own, &base);
-        // the load changed the Gram matrix: the test compares something
-        let moved = (0..base.gram.nrows())
-            .any(|i| (base.gram[(i, i)] - got.gram[(i, i)]).abs() > 1e-6 * scale);
-        assert!(moved);
-        // the rigid torques from the kept rows are the dynamics' own
-        let theta: Vec<f64> = (0..model.regressor_columns())
-            .map(|k| 0.1 + 0.01 * k as f64)
-            .collect();
-        let nb = 10 * model.num_bodies();
-        let got = rows.rigid_torques(&theta, nb);
-        let mut rigid = model.clone();
-        rigid.set_params(&theta[..nb]).unwrap();
-        let none = crate::dynamics::Friction::zeros(n);
-        let want = crate::dynamics::predict::predict_torques(
-            &rigid, &none, &train.q, &train.qd, &train.qdd,
-        )
-        .unwrap();
-        let big = want.as_flat().iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-        for (a, b) in got.as_flat().iter().zip(want.as_flat()) {
-            assert!((a - b).abs() <= 1e-10 * big, "{a} vs {b}");
-        }
-        // a model without the load term keeps no rows
-        let plain = crate::dynamics::cheetah3::model();
-        assert!(LoadRows::new(&plain, &train).unwrap().is_none());
-    }
 }

@@ -27,6 +27,7 @@ pub mod floating_fit;
 pub mod friction_choice;
 mod gram;
 pub mod identifiability;
+mod load_passes;
 mod load_rows;
 mod options;
 pub mod reduce;

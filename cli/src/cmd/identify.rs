@@ -532,7 +532,11 @@ fn choose_law(
     use momentlmi::identify::friction_choice::LawChoice::{Chosen, Kept};
     let id = identification(a, robot)?;
     let weights = id.model_weights(a.weight()?.is_none());
-    let failed = |e| format!("--friction auto: {}", explain(e));
+    let what = match a.friction {
+        Some(_) => "--friction auto",
+        None => "choosing the friction law (the default; --friction LIST fits one)",
+    };
+    let failed = |e| format!("{what}: {}", explain(e));
     if a.friction.is_some() || a.weight.is_some() {
         return Ok((Some(id.choose_model(data, weights).map_err(failed)?), None));
     }
