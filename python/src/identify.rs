@@ -185,7 +185,7 @@ fn identify(
                 use momentlmi::identify::friction_choice::LawChoice::{Chosen, Kept};
                 let id = setup.identification(desc, &choice, weight.unwrap_or(WEIGHT_GRID[0]))?;
                 let weights = id.model_weights(weight.is_none());
-                let what = match by_default || friction.is_none() {
+                let what = match friction.is_none() {
                     true => "choosing the friction law (the default; friction=LIST fits one)",
                     false => "friction auto",
                 };

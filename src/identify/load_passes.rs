@@ -4,7 +4,7 @@
 
 use super::error::IdentifyError;
 use super::load_rows::LoadRows;
-use super::reduce::{Reduced, finite_gram, keep_joint_grams, not_finite, symmetrize};
+use super::reduce::{Reduced, finite_gram, keep_joint_grams, not_finite};
 use crate::dynamics::Samples;
 
 /// The reduction of the kept `rows` (`p` regressor columns), the load
@@ -17,19 +17,9 @@ pub(crate) fn reduced_from(
     t0: std::time::Instant,
 ) -> Result<Reduced, IdentifyError> {
     let per_joint = keep_joint_grams(rows.joints(), p + 1);
-    let (mut gram, mut joint_grams) = rows.kept_grams(per_joint).map_err(|e| not_finite(0, e))?;
-    finite_gram(&gram)?;
-    symmetrize(&mut gram);
-    joint_grams.iter_mut().for_each(symmetrize);
-    Ok(Reduced {
-        gram,
-        samples: rows.samples(),
-        p,
-        joint_grams,
-        reduce_time_s: t0.elapsed().as_secs_f64(),
-        row_range: Some(0..rows.joints()),
-        load_rows: Some(std::sync::Arc::new(rows)),
-    })
+    let grams = rows.kept_grams(per_joint).map_err(|e| not_finite(0, e))?;
+    let shape = (rows.samples(), rows.joints());
+    Reduced::assembled(grams, shape, t0, Some(std::sync::Arc::new(rows)))
 }
 
 /// `base` (the reduction of the same samples as `rows`, any load) with

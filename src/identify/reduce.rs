@@ -82,6 +82,30 @@ impl Reduced {
         })
     }
 
+    /// A fixed base's reduction of `samples` samples of `n` joints from its
+    /// Gram matrices `grams` (the full one and each joint's, lower
+    /// triangles), checked finite and made symmetric; `t0` when the
+    /// reduction began, `load_rows` the rows kept for a load term.
+    pub(crate) fn assembled(
+        (mut gram, mut joint_grams): (Mat<f64>, Vec<Mat<f64>>),
+        (samples, n): (usize, usize),
+        t0: std::time::Instant,
+        load_rows: Option<std::sync::Arc<super::load_rows::LoadRows>>,
+    ) -> Result<Self, IdentifyError> {
+        finite_gram(&gram)?;
+        symmetrize(&mut gram);
+        joint_grams.iter_mut().for_each(symmetrize);
+        Ok(Self {
+            p: gram.nrows() - 1,
+            gram,
+            samples,
+            joint_grams,
+            reduce_time_s: t0.elapsed().as_secs_f64(),
+            row_range: Some(0..n),
+            load_rows,
+        })
+    }
+
     /// A factor F with `FᵀF = G` (r × (p + 1), r ≤ p + 1 the numerical rank
     /// of G): pivoted Cholesky of G with its columns scaled to unit diagonal
     /// (directions below `(p + 1)·ε` of that scale, unexcited by the data,
@@ -138,7 +162,7 @@ impl Reduced {
 }
 
 /// Copies the lower triangle of `g` to its upper triangle.
-pub(crate) fn symmetrize(g: &mut Mat<f64>) {
+fn symmetrize(g: &mut Mat<f64>) {
     for j in 0..g.ncols() {
         for i in j + 1..g.nrows() {
             g[(j, i)] = g[(i, j)];
@@ -333,21 +357,10 @@ pub(crate) fn reduce_with_load(
             },
         )
         .try_reduce(|| Acc::new(model, 1), |a, b| Ok(a.merge(b)))?;
-    let (mut gram, mut joint_grams) = (acc.gram)
+    let grams = (acc.gram)
         .finish(keep_joint_grams(n, p + 1))
         .map_err(|e| not_finite(0, e))?; // every chunk was flushed: nothing is left to fail
-    finite_gram(&gram)?;
-    symmetrize(&mut gram);
-    joint_grams.iter_mut().for_each(symmetrize);
-    Ok(Reduced {
-        gram,
-        samples: q.len(),
-        p,
-        joint_grams,
-        reduce_time_s: t0.elapsed().as_secs_f64(),
-        row_range: Some(0..n),
-        load_rows: None,
-    })
+    Reduced::assembled(grams, (q.len(), n), t0, None)
 }
 
 /// A streaming reducer: push samples one at a time (e.g. while reading a
@@ -446,20 +459,14 @@ impl<'m> StreamReducer<'m> {
     pub fn finish(self) -> Result<Reduced, IdentifyError> {
         let first = self.first + self.samples - self.gram.samples;
         let (n, p) = (self.model.dof(), self.model.regressor_columns());
-        let (mut gram, mut joint_grams) = (self.gram)
+        let grams = (self.gram)
             .finish(keep_joint_grams(n, p + 1))
             .map_err(|e| not_finite(first, e))?;
-        finite_gram(&gram)?;
-        symmetrize(&mut gram);
-        joint_grams.iter_mut().for_each(symmetrize);
+        let red = Reduced::assembled(grams, (self.samples, n), std::time::Instant::now(), None)?;
+        // (the caller's stream timed the reduction)
         Ok(Reduced {
-            gram,
-            samples: self.samples,
-            p,
-            joint_grams,
             reduce_time_s: 0.0,
-            row_range: Some(0..n),
-            load_rows: None,
+            ..red
         })
     }
 }
