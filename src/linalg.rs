@@ -141,3 +141,33 @@ mod tests {
         assert!(!cholesky_in_place(&mut nan, 1));
     }
 }
+
+/// `A⁻¹ b` for `a` symmetric positive definite (its lower triangle read),
+/// by faer's Cholesky factorisation on the calling thread (the callers
+/// solve many small systems in parallel already: a nested parallel
+/// factorisation costs more in joins than it gains); `None` when `a` is
+/// not positive definite.
+pub(crate) fn spd_solve(mut a: faer::Mat<f64>, b: &[f64]) -> Option<Vec<f64>> {
+    use faer::dyn_stack::{MemBuffer, MemStack};
+    use faer::linalg::cholesky::llt::factor::{
+        LltRegularization, cholesky_in_place, cholesky_in_place_scratch,
+    };
+    use faer::linalg::triangular_solve::{
+        solve_lower_triangular_in_place, solve_upper_triangular_in_place,
+    };
+    let (p, seq) = (a.nrows(), faer::Par::Seq);
+    let mut buf = MemBuffer::new(cholesky_in_place_scratch::<f64>(p, seq, Default::default()));
+    let reg = LltRegularization::default();
+    cholesky_in_place(
+        a.as_mut(),
+        reg,
+        seq,
+        MemStack::new(&mut buf),
+        Default::default(),
+    )
+    .ok()?;
+    let mut x = faer::Mat::<f64>::from_fn(p, 1, |i, _| b[i]);
+    solve_lower_triangular_in_place(a.as_ref(), x.as_mut(), seq);
+    solve_upper_triangular_in_place(a.as_ref().transpose(), x.as_mut(), seq);
+    Some((0..p).map(|i| x[(i, 0)]).collect())
+}

@@ -179,7 +179,7 @@ fn identify(
     let result = py.detach(|| {
         // friction "auto": the law (and a Euclidean prior's weight, when it
         // is auto) chosen on the training data, as --friction auto does
-        let (selection, kept) = match auto {
+        let (mut selection, kept) = match auto {
             false => (None, None),
             true => {
                 use momentlmi::identify::friction_choice::LawChoice::{Chosen, Kept};
@@ -230,7 +230,7 @@ fn identify(
                     .map_err(|e| e.to_string())?,
             ),
         };
-        let red = id.reduce(&train.data).map_err(|e| e.to_string())?;
+        let red = (id.reduce_chosen(&train.data, selection.as_mut())).map_err(|e| e.to_string())?;
         let mut r = id
             .fit_reduced(&train.data, &red)
             .map_err(|e| e.to_string())?;

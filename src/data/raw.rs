@@ -41,6 +41,25 @@ impl RawLog {
         self.t.len()
     }
 
+    /// Appends `other`'s samples (a later part of the same file: the same
+    /// series recorded) and warnings.
+    pub(crate) fn append(&mut self, mut other: RawLog) {
+        self.t.append(&mut other.t);
+        self.q.append(&mut other.q);
+        for (mine, theirs) in [
+            (&mut self.qd, &mut other.qd),
+            (&mut self.qdd, &mut other.qdd),
+            (&mut self.tau, &mut other.tau),
+        ] {
+            match (mine.as_mut(), theirs.as_mut()) {
+                (Some(m), Some(t)) => m.append(t),
+                (None, Some(_)) => *mine = theirs.take(),
+                _ => {}
+            }
+        }
+        self.warnings.append(&mut other.warnings);
+    }
+
     /// Whether there are none.
     pub fn is_empty(&self) -> bool {
         self.t.is_empty()

@@ -1,43 +1,13 @@
 //! Reading logs: one or several files (each its own segment), in any of
 //! the formats ([`csv`](super::csv), [`npz`](super::npz)), through one
-//! [`Mapping`], prepared ([`super::prepare`]) and joined.
+//! [`Mapping`](super::mapping::Mapping), prepared ([`super::prepare`]) and joined.
 
 use super::dataset::Dataset;
 use super::error::DataError;
-use super::mapping::Mapping;
-use super::prepare::{FileReport, Prepare, Velocity, prepare};
+use super::options::ReadOptions;
+use super::prepare::{FileReport, Prepare, prepare};
 use super::raw::RawLog;
 use std::path::Path;
-
-/// Options for reading.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ReadOptions {
-    /// The low-pass cut-off (Hz) of raw logs; `None`: chosen from the data.
-    pub cutoff_hz: Option<f64>,
-    /// Where a raw log's q̇ comes from.
-    pub velocity: Velocity,
-    /// Whether torques are required.
-    pub require_tau: bool,
-    /// Which array or column is what (default: each format's own names).
-    pub mapping: Option<Mapping>,
-    /// Whether `mapping` is only the robot's default (its sidecar's), not
-    /// the user's: a file that has its format's own time name (`t`) and not
-    /// the mapping's is then read with the format's own names (a log that
-    /// `simulate` wrote, say).
-    pub mapping_is_default: bool,
-}
-
-impl Default for ReadOptions {
-    fn default() -> Self {
-        Self {
-            cutoff_hz: None,
-            velocity: Velocity::Differentiate,
-            require_tau: true,
-            mapping: None,
-            mapping_is_default: false,
-        }
-    }
-}
 
 /// Logs read and prepared: the samples, joined, and what was done to each
 /// file.
@@ -150,6 +120,9 @@ fn read_raw(path: &Path, joints: &[&str], opts: &ReadOptions) -> Result<RawLog, 
             ),
         }),
         _ => {
+            if let Some(raw) = read_prepared_csv(path, joints, opts)? {
+                return Ok(raw);
+            }
             let p = path.display().to_string();
             let file = std::fs::File::open(path).map_err(|source| DataError::Io {
                 path: p.clone(),
@@ -164,6 +137,27 @@ fn read_raw(path: &Path, joints: &[&str], opts: &ReadOptions) -> Result<RawLog, 
             )
         }
     }
+}
+
+/// A prepared CSV log (q̇ and q̈ for every joint) parsed in blocks on the
+/// thread pool ([`super::stream`]): the samples and the errors of the
+/// whole-file reader, faster; `None` when that reader is to read the file
+/// (not a prepared log, or text the blocks leave to it).
+fn read_prepared_csv(
+    path: &Path,
+    joints: &[&str],
+    opts: &ReadOptions,
+) -> Result<Option<RawLog>, DataError> {
+    let mut out: Option<RawLog> = None;
+    let fold = |part: RawLog| {
+        match &mut out {
+            None => out = Some(part),
+            Some(o) => o.append(part),
+        }
+        true
+    };
+    let read = super::stream::stream_prepared_csv(path, joints, opts, |b| b.raw.clone(), fold)?;
+    Ok(read.and(out))
 }
 
 /// Raw logs (recorded samples, from a reader or the caller's arrays)

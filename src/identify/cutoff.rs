@@ -30,11 +30,12 @@
 //! constraint level or prior.
 
 use super::error::IdentifyError;
+use super::gram::{add_products, scattered};
 use crate::data::prepare::{filter_segment, uniform_segments};
 use crate::data::spectrum;
 use crate::data::{DataError, RawLog, Velocity};
 use crate::dynamics::{Data, Model, regressor_blocks, regressor_row_columns};
-use nalgebra::{DMatrix, DVector};
+use faer::Mat;
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -199,13 +200,12 @@ fn grid(top: f64) -> Vec<f64> {
 }
 
 /// One joint's rows in one fold: its regressor row restricted to the
-/// columns it can be non-zero in ([`regressor_row_columns`]), a row per
-/// sample, and the torques it is fitted to (low-passed) and scored against
-/// (raw).
+/// columns it can be non-zero in ([`regressor_row_columns`]) and the torque
+/// it is fitted to (low-passed), a row per sample (row-major), and the
+/// torques it is scored against (raw).
 #[derive(Default)]
 struct JointRows {
     rows: Vec<f64>,
-    fit: Vec<f64>,
     raw: Vec<f64>,
 }
 
@@ -252,7 +252,7 @@ fn score(
                 let fold = &mut folds[FOLDS * k / d.len()];
                 for (j, jr) in fold.iter_mut().enumerate() {
                     jr.rows.extend_from_slice(&row[j]);
-                    jr.fit.push(d.tau[k][j]);
+                    jr.rows.push(d.tau[k][j]);
                     jr.raw.push(raw_tau[k + trim][j]);
                 }
                 sample += 1;
@@ -271,45 +271,38 @@ fn pooled(
     p: usize,
 ) -> Result<Vec<f64>, IdentifyError> {
     let n = cols.len();
-    let mats: Vec<(DMatrix<f64>, DVector<f64>)> = (folds.iter())
+    if folds.iter().any(|f| f[0].raw.is_empty()) {
+        return Ok(vec![f64::NAN; n]);
+    }
+    // each fold's normal equations [G b] (lower triangle of the products
+    // of its rows [y τ], scattered into the p columns)
+    let mats: Vec<Mat<f64>> = (folds.iter())
         .map(|f| {
-            let (mut g, mut b) = (DMatrix::zeros(p, p), DVector::zeros(p));
-            for (jr, cs) in f.iter().zip(cols) {
-                let y = DMatrix::from_row_slice(jr.fit.len(), cs.len(), &jr.rows);
-                let yt = y.transpose();
-                let (gj, bj) = (&yt * &y, &yt * DVector::from_column_slice(&jr.fit));
-                for (a, &ca) in cs.iter().enumerate() {
-                    b[ca] += bj[a];
-                    cs.iter()
-                        .enumerate()
-                        .for_each(|(e, &ce)| g[(ca, ce)] += gj[(a, e)]);
-                }
-            }
-            (g, b)
+            let grams: Vec<Mat<f64>> = (f.iter().zip(cols))
+                .map(|(jr, cs)| {
+                    let mut g = Mat::zeros(cs.len() + 1, cs.len() + 1);
+                    add_products(&mut g, &jr.rows, jr.raw.len());
+                    g
+                })
+                .collect();
+            let with_tau: Vec<Vec<usize>> = cols
+                .iter()
+                .map(|c| c.iter().copied().chain([p]).collect())
+                .collect();
+            scattered(p + 1, &with_tau, &grams, false).0
         })
         .collect();
-    let gram: DMatrix<f64> = mats.iter().fold(DMatrix::zeros(p, p), |a, m| a + &m.0);
-    let rhs: DVector<f64> = mats.iter().fold(DVector::zeros(p), |a, m| a + &m.1);
+    let total = mats
+        .iter()
+        .fold(Mat::<f64>::zeros(p + 1, p + 1), |a, m| a + m);
     let (mut sum, mut count) = (vec![0.0; n], 0usize);
     for (f, m) in folds.iter().zip(&mats) {
-        if f[0].raw.is_empty() {
-            return Ok(vec![f64::NAN; n]);
-        }
-        let mut g = &gram - &m.0;
-        let ridge = 1e-10 * (g.trace() / p as f64).max(f64::MIN_POSITIVE);
-        (0..p).for_each(|i| g[(i, i)] += ridge);
-        let theta = (g.cholesky())
-            .ok_or(IdentifyError::Factorisation {
-                what: "Cholesky factorisation of a cut-off candidate's Gram matrix",
-            })?
-            .solve(&(&rhs - &m.1));
+        let theta = solve_lower_normal(&(&total - m), p)?;
         for (j, (jr, cs)) in f.iter().zip(cols).enumerate() {
-            let th = DVector::from_iterator(cs.len(), cs.iter().map(|&c| theta[c]));
-            let pred = DMatrix::from_row_slice(jr.raw.len(), cs.len(), &jr.rows) * th;
-            sum[j] += pred
-                .iter()
-                .zip(&jr.raw)
-                .map(|(a, b)| (a - b).powi(2))
+            let th: Vec<f64> = cs.iter().map(|&c| theta[c]).collect();
+            let rows = jr.rows.chunks_exact(cs.len() + 1);
+            sum[j] += (rows.zip(&jr.raw))
+                .map(|(r, t)| (r.iter().zip(&th).map(|(a, b)| a * b).sum::<f64>() - t).powi(2))
                 .sum::<f64>();
         }
         count += f[0].raw.len();
@@ -318,6 +311,21 @@ fn pooled(
         .iter()
         .map(|s| (s / count.max(1) as f64).sqrt())
         .collect())
+}
+
+/// `G⁻¹ b` for the lower triangle of `[G b]ᵀ`-shaped sums `m` ((p + 1)²:
+/// G its first p rows and columns, b its last row), with a ridge of
+/// 1e-10 of G's mean diagonal; by Cholesky on the calling thread.
+fn solve_lower_normal(m: &Mat<f64>, p: usize) -> Result<Vec<f64>, IdentifyError> {
+    let trace: f64 = (0..p).map(|i| m[(i, i)]).sum();
+    let ridge = 1e-10 * (trace / p as f64).max(f64::MIN_POSITIVE);
+    let g = Mat::<f64>::from_fn(p, p, |i, j| {
+        m[(i.max(j), i.min(j))] + if i == j { ridge } else { 0.0 }
+    });
+    let b: Vec<f64> = (0..p).map(|i| m[(p, i)]).collect();
+    crate::linalg::spd_solve(g, &b).ok_or(IdentifyError::Factorisation {
+        what: "Cholesky factorisation of a cut-off candidate's Gram matrix",
+    })
 }
 
 #[cfg(test)]

@@ -42,7 +42,7 @@ pub fn identify(
 impl Identification<'_> {
     /// The planned memory of `samples` samples (the reduction's, and a load
     /// term's kept rows) is within the limit.
-    fn check_memory(&self, samples: usize) -> Result<(), IdentifyError> {
+    pub(crate) fn check_memory(&self, samples: usize) -> Result<(), IdentifyError> {
         let rows = LoadRows::bytes(self.model(), samples) as u64;
         let need = crate::identify::cost(self.model(), samples).bytes + rows;
         if need > self.memory_limit() {
@@ -81,9 +81,33 @@ impl Identification<'_> {
         self.fit_reduced(train, &self.reduce(train)?)
     }
 
+    /// [`solve_loaded`](Self::solve_loaded), the model's structural rank
+    /// (random states, an SVD) computed meanwhile on another thread (the
+    /// SDP is solved on one core) when it is not yet known.
+    fn solve_ranked(
+        &self,
+        train: Option<&Dataset>,
+        red: &Reduced,
+    ) -> Result<(Weighted, Option<Reduced>, Option<IdentifyWarning>), IdentifyError> {
+        let model = self.model;
+        let (loaded, rank) = std::thread::scope(|s| {
+            let rank = (self.structural_rank.get().is_none())
+                .then(|| s.spawn(move || super::identifiability::structural_rank(model)));
+            (self.solve_loaded(train, red), rank.map(|r| r.join()))
+        });
+        if let Some(rank) = rank {
+            let rank = rank.map_err(|_| IdentifyError::Factorisation {
+                what: "the structural rank's computation (its thread panicked)",
+            })??;
+            let _ = self.structural_rank.set(rank);
+        }
+        loaded
+    }
+
     /// Solves on `red`; with a load friction term
     /// ([`FrictionTerm::Load`]), whose first reduction scales the column by
-    /// the measured torque, solves again on `train` reduced with the load
+    /// the measured torque (or, made from the friction law's choice, by the
+    /// model's own bodies' rigid torque), solves again on `train` reduced with the load
     /// the law means (the previous solution's rigid torque), until that
     /// load settles (relative RMS change ≤ [`LOAD_SETTLED`], at most
     /// [`LOAD_PASSES`] passes; else a warning). The last reduction is
@@ -101,12 +125,17 @@ impl Identification<'_> {
         let Some(train) = train else {
             return Err(IdentifyError::LoadNeedsSamples);
         };
-        let (mut last, mut reduced, mut change) = (train.tau.clone(), None, f64::INFINITY);
         // the rows kept, when they fit: a pass then replaces the load column
         let rows = match &red.load_rows {
             Some(rows) if rows.samples() == train.len() => Some(rows.clone()),
             _ => LoadRows::new(model, train)?.map(std::sync::Arc::new),
         };
+        // the load `red` was made with
+        let mut last = match &red.load_rows {
+            Some(rows) if rows.samples() == train.len() => rows.load().clone(),
+            _ => train.tau.clone(),
+        };
+        let (mut reduced, mut change) = (None, f64::INFINITY);
         let bodies_end = 10 * model.num_bodies();
         for _ in 0..LOAD_PASSES {
             let load = match &rows {
@@ -234,7 +263,7 @@ impl Identification<'_> {
         self.fixed_base("Identification::fit")?;
         let model = self.model();
         let t0 = std::time::Instant::now();
-        let (solved, reloaded, load_warning) = self.solve_loaded(train, red)?;
+        let (solved, reloaded, load_warning) = self.solve_ranked(train, red)?;
         let (solved, joint_noise, weights_warning) = solved;
         let red = reloaded.as_ref().unwrap_or(red);
         let theta = &solved.theta;
@@ -309,30 +338,33 @@ impl Identification<'_> {
 
 impl Identification<'_> {
     /// The solve's identifiability report with the model's structural
-    /// rank (computed once per identification).
+    /// rank.
     fn with_structure(
         &self,
         solved: &super::solved::Solved,
     ) -> Result<super::identifiability::Identifiability, IdentifyError> {
-        let rank = match self.structural_rank.get() {
-            Some(rank) => *rank,
-            None => {
-                let rank = super::identifiability::structural_rank(self.model)?;
-                *self.structural_rank.get_or_init(|| rank)
-            }
-        };
         Ok(super::identifiability::Identifiability {
-            structural_rank: rank,
+            structural_rank: self.structural_rank()?,
             ..solved.identifiability.clone()
         })
+    }
+
+    /// The model's structural rank, computed once per identification.
+    fn structural_rank(&self) -> Result<Option<usize>, IdentifyError> {
+        if let Some(rank) = self.structural_rank.get() {
+            return Ok(*rank);
+        }
+        let rank = super::identifiability::structural_rank(self.model)?;
+        Ok(*self.structural_rank.get_or_init(|| rank))
     }
 }
 
 /// The relative RMS change of the load at which a load friction term's
-/// passes stop: the load term's torque then moves by μ·1e-4·|τ| (a
-/// harmonic drive's μ ≈ 0.05 and |τ| ≤ 100 N·m: 5e-4 N·m), far below any
-/// torque sensor's noise; each further pass is an SDP solve.
-pub const LOAD_SETTLED: f64 = 1e-4;
+/// passes stop: the load term's torque then moves by μ·1e-3·|τ| (a
+/// harmonic drive's μ ≈ 0.05 and |τ| ≤ 100 N·m: 5e-3 N·m), an order below
+/// the noise of the best joint torque sensors (~0.05 N·m); each further
+/// pass is an SDP solve.
+pub const LOAD_SETTLED: f64 = 1e-3;
 
 /// The most passes of a load friction term's identification
 /// ([`Identification::fit_reduced`]).

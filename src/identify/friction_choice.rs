@@ -8,11 +8,13 @@
 //! would fit it without constraints: the links' parameters and the law's
 //! coefficients by least squares, `(1/n_s) Σ‖Y θ − τ‖² + w ‖π − π̂‖²` with
 //! the prior and weight of the identification. One pass over the data
-//! builds each fold's and joint's Gram matrix over every candidate column
-//! (a joint's row has its links' columns and its own friction columns);
-//! each law is then a solve of the folds' sums, scored on the held-out
-//! fold by its quadratic form. A law's score is the mean over joints of
-//! the held-out RMS pooled over the folds.
+//! (`identify::choice_pass`) builds each fold's and joint's Gram matrix over
+//! every candidate column (a joint's row has its links' columns and its
+//! own friction columns); each law is then a solve of the folds' sums,
+//! scored on the held-out fold by its quadratic form
+//! (`identify::law_scores`). A law's score is the mean over joints of the
+//! held-out RMS pooled over the folds. The chosen law's reduction comes
+//! from the same pass ([`super::Identification::reduce_chosen`]).
 //!
 //! **Parsimony**: the law with the fewest terms whose score is within the
 //! noise of the best's is chosen — within the noise when the mean over the
@@ -24,16 +26,16 @@
 //! iterates it on its fit's): the measured torque would carry the held-out
 //! fold's noise into its own prediction.
 
+use super::choice_pass::{ChoicePass, Sums};
 use super::choose_weight::{Folds, MIN_FOLD_SAMPLES, MIN_GAIN, TIME_FOLDS, held_out, within_noise};
 use super::error::IdentifyError;
+pub use super::law_scores::PriorTerm;
+use super::law_scores::law_sse;
 use super::warning::IdentifyWarning;
 use crate::data::Dataset;
-use crate::dynamics::predict::predict_torques;
-use crate::dynamics::{
-    Data, Friction, FrictionTerm, Model, regressor_blocks, regressor_row_columns,
-};
+use crate::dynamics::{FrictionTerm, Model, regressor_row_columns};
 use crate::moments::InertialParams;
-use nalgebra::{DMatrix, DVector, Matrix4, SMatrix};
+use nalgebra::{Matrix4, SMatrix};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -46,11 +48,8 @@ pub const STRIBECK_VELOCITIES: [f64; 4] = [0.02, 0.05, 0.1, 0.2];
 pub const WEIGHTS: [f64; 13] = [
     1e-6, 3.16e-6, 1e-5, 3.16e-5, 1e-4, 3.16e-4, 1e-3, 3.16e-3, 1e-2, 3.16e-2, 1e-1, 3.16e-1, 1.0,
 ];
-/// Rows gathered before they are multiplied into a Gram matrix.
-const CHUNK: usize = 256;
-
 /// The candidate friction columns per joint, in order.
-fn bases() -> Vec<(FrictionTerm, f64)> {
+pub(crate) fn bases() -> Vec<(FrictionTerm, f64)> {
     let mut b = vec![
         (FrictionTerm::Viscous, 0.0),
         (FrictionTerm::Coulomb, 0.0),
@@ -93,6 +92,31 @@ pub struct FrictionChoice {
     pub chosen: usize,
     /// Why, in words.
     pub rule: String,
+    /// The pass over the training data the laws were scored from, whence
+    /// the chosen law's reduction ([`super::Identification::reduce_chosen`]).
+    #[serde(skip)]
+    pub(crate) pass: Pass,
+}
+
+/// A [`FrictionChoice`]'s pass over its training data: kept to reduce the
+/// chosen law's data without a second pass; not part of the choice's value
+/// (choices compare equal whatever their passes).
+#[derive(Clone, Default)]
+pub(crate) struct Pass(pub(crate) Option<std::sync::Arc<ChoicePass>>);
+
+impl PartialEq for Pass {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl std::fmt::Debug for Pass {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match &self.0 {
+            Some(p) => write!(f, "{p:?}"),
+            None => write!(f, "no pass kept"),
+        }
+    }
 }
 
 impl FrictionChoice {
@@ -125,6 +149,20 @@ impl FrictionChoice {
     /// Whether more than one weight was tried.
     pub fn weight_chosen(&self) -> bool {
         self.laws.iter().any(|l| l.weight != self.laws[0].weight)
+    }
+
+    /// The chosen law as indices of [`bases`].
+    fn law_indices(&self) -> Vec<usize> {
+        let law = &self.laws[self.chosen];
+        let b = bases();
+        (law.terms.iter())
+            .filter_map(|name| {
+                b.iter().position(|(t, v)| {
+                    t.name() == name
+                        && (*t != FrictionTerm::Stribeck || Some(*v) == law.stribeck_velocity)
+                })
+            })
+            .collect()
     }
 }
 
@@ -206,6 +244,35 @@ impl super::Identification<'_> {
     }
 }
 
+impl super::Identification<'_> {
+    /// [`reduce`](Self::reduce) of `train` for this identification, whose
+    /// model has the law `choice` chose on the same `train`: made from the
+    /// choice's pass over it when it kept what the law needs
+    /// (`identify::choice_pass`), else by a reduction. The pass is taken
+    /// from `choice` (its rows freed once the reduction has what it needs).
+    pub fn reduce_chosen(
+        &self,
+        train: &Dataset,
+        choice: Option<&mut FrictionChoice>,
+    ) -> Result<super::Reduced, IdentifyError> {
+        let Some(c) = choice else {
+            return self.reduce(train);
+        };
+        let law = c.law_indices();
+        match c.pass.0.take() {
+            Some(pass) if pass.samples() == train.len() => {
+                self.fixed_base("Identification::reduce_chosen")?;
+                self.check_memory(train.len())?;
+                match pass.reduced(self.model(), &law)? {
+                    Some(red) => Ok(red),
+                    None => self.reduce(train),
+                }
+            }
+            _ => self.reduce(train),
+        }
+    }
+}
+
 /// The law [`choose_model_or_keep`](super::Identification::choose_model_or_keep) chose, or why the
 /// model's own was kept.
 #[derive(Clone, Debug, PartialEq)]
@@ -215,19 +282,6 @@ pub enum LawChoice {
     /// The model's own law kept at the identification's weight
     /// ([`IdentifyWarning::LawNotChosen`]).
     Kept(IdentifyWarning),
-}
-
-/// The prior's term of the objective as the Gram solves see it:
-/// `w Σ_b (π_b − π̂_b)ᵀ M_b (π_b − π̂_b) + w_m Σ_b (m_b − m̂_b)²`, `M_b = I`
-/// (Euclidean) or the entropic divergence's second-order term at the
-/// prior (entropic; [`entropic_metric`]).
-pub struct PriorTerm<'a> {
-    /// 10 per body, or empty (no prior).
-    pub values: &'a [f64],
-    /// `M_b` per body.
-    pub metric: Vec<SMatrix<f64, 10, 10>>,
-    /// The masses' extra weight.
-    pub mass_weight: f64,
 }
 
 /// Per body, `M = ½ H` with `H_kl = tr(Ĵ⁻¹ J(e_k) Ĵ⁻¹ J(e_l))`: the
@@ -276,62 +330,6 @@ fn laws() -> Vec<Vec<usize>> {
     out
 }
 
-/// One fold's and joint's sums: `G = Σ yᵀy`, `b = Σ yᵀτ`, `c = Σ τ²`, over
-/// the joint's compact rows (its links' columns, then every basis);
-/// `g`, `b` and `c` are set by [`Sums::finish`].
-struct Sums {
-    g: DMatrix<f64>,
-    b: DVector<f64>,
-    c: f64,
-    rows: usize,
-    /// The lower triangle of `[y τ]ᵀ[y τ]` so far.
-    acc: faer::Mat<f64>,
-    /// Rows `[y τ]` not yet added, row-major.
-    buf: Vec<f64>,
-}
-
-impl Sums {
-    fn new(w: usize) -> Self {
-        Self {
-            g: DMatrix::zeros(w, w),
-            b: DVector::zeros(w),
-            c: 0.0,
-            rows: 0,
-            acc: faer::Mat::zeros(w + 1, w + 1),
-            buf: vec![],
-        }
-    }
-
-    fn push(&mut self, row: &[f64], tau: f64) {
-        self.buf.extend_from_slice(row);
-        self.buf.push(tau);
-        if self.buf.len() == CHUNK * self.acc.ncols() {
-            self.flush();
-        }
-    }
-
-    /// Adds the rows gathered (faer's triangular product, as the
-    /// reduction's Gram matrices are).
-    fn flush(&mut self) {
-        let m = self.buf.len() / self.acc.ncols();
-        if m > 0 {
-            super::gram::add_products(&mut self.acc, &self.buf, m);
-            self.rows += m;
-        }
-        self.buf.clear();
-    }
-
-    /// The last rows added, and `g`, `b`, `c` set from the sums.
-    fn finish(&mut self) {
-        self.flush();
-        let w = self.g.nrows();
-        let at = |i: usize, j: usize| self.acc[(i.max(j), i.min(j))];
-        self.g = DMatrix::from_fn(w, w, at);
-        self.b = DVector::from_fn(w, |i, _| at(w, i));
-        self.c = at(w, w);
-    }
-}
-
 /// Chooses the friction law for `model`'s links and rotors (its own
 /// friction terms ignored) on `train` (module doc), with the
 /// identification's `prior` and each of `weights` (one law per weight).
@@ -343,171 +341,26 @@ pub fn choose_friction(
 ) -> Result<FrictionChoice, IdentifyError> {
     let links = model.clone().with_friction_terms(&[]);
     let (kind, ranges) = held_out(train, TIME_FOLDS);
-    let joints: Vec<&str> = train.joints.iter().map(String::as_str).collect();
-    let held: Vec<Dataset> = (ranges.iter())
-        .map(|parts| {
-            let mut h = Dataset::empty(&joints);
-            for r in parts.iter().filter(|r| !r.is_empty()) {
-                h.append_segment(train.slice(r.clone()));
-            }
-            h
-        })
+    let lens: Vec<usize> = (ranges.iter())
+        .map(|parts| parts.iter().map(|r| r.len()).sum())
         .collect();
-    if let Some((fold, h)) = held
-        .iter()
-        .enumerate()
-        .find(|(_, h)| h.len() < MIN_FOLD_SAMPLES)
-    {
+    if let Some((fold, &h)) = (lens.iter().enumerate()).find(|(_, h)| **h < MIN_FOLD_SAMPLES) {
         return Err(IdentifyError::FoldTooSmall {
             fold,
-            training: train.len() - h.len(),
-            held_out: h.len(),
+            training: train.len() - h,
+            held_out: h,
             min: MIN_FOLD_SAMPLES,
         });
     }
     let cols = regressor_row_columns(&links);
-    // the folds' sums, then the laws, in parallel
-    let sums = (held.par_iter())
-        .map(|h| fold_sums(&links, h, &cols))
-        .collect::<Result<Vec<_>, _>>()?;
+    let pass = ChoicePass::new(&links, train, &ranges, (&cols, bases()))?;
     let pb = 10 * links.num_bodies();
     let scored = (laws().par_iter())
-        .map(|l| score(l, &sums, &cols, (pb, prior, weights)))
+        .map(|l| score(l, &pass.sums, &cols, (pb, prior, weights)))
         .collect::<Result<Vec<_>, _>>()?;
-    Ok(conclude(
-        kind,
-        held.len(),
-        scored.into_iter().flatten().collect(),
-    ))
-}
-
-/// Each joint's sums over the samples of `d` (one fold).
-fn fold_sums(links: &Model, d: &Dataset, cols: &[Vec<usize>]) -> Result<Vec<Sums>, IdentifyError> {
-    let (n, p) = (links.dof(), links.regressor_columns());
-    let nb = bases();
-    let mut at = vec![vec![usize::MAX; p]; n];
-    (cols.iter().enumerate())
-        .for_each(|(j, cs)| cs.iter().enumerate().for_each(|(a, &c)| at[j][c] = a));
-    let mut sums: Vec<Sums> = cols.iter().map(|c| Sums::new(c.len() + nb.len())).collect();
-    let mut row: Vec<Vec<f64>> = cols.iter().map(|c| vec![0.0; c.len() + nb.len()]).collect();
-    // the load term's basis: the rigid torque of the model's own bodies (the
-    // measured torque would carry the held-out noise into the column)
-    let rigid = predict_torques(links, &Friction::zeros(n), &d.q, &d.qd, &d.qdd)
-        .map_err(|source| IdentifyError::Regressor { sample: 0, source })?;
-    let mut data = Data::new(links);
-    for k in 0..d.len() {
-        row.iter_mut().for_each(|r| r.fill(0.0));
-        regressor_blocks(
-            links,
-            &mut data,
-            [&d.q[k], &d.qd[k], &d.qdd[k]],
-            |j, c0, v| (v.iter().enumerate()).for_each(|(a, x)| row[j][at[j][c0 + a]] += x),
-        )
-        .map_err(|source| IdentifyError::Regressor { sample: k, source })?;
-        for j in 0..n {
-            let l = cols[j].len();
-            for (t, (term, vs)) in nb.iter().enumerate() {
-                row[j][l + t] = term.basis(d.qd[k][j], rigid[k][j], *vs);
-            }
-            sums[j].push(&row[j], d.tau[k][j]);
-        }
-    }
-    sums.iter_mut().for_each(Sums::finish);
-    Ok(sums)
-}
-
-/// Joint j's compact index → global unknown, for `law`'s columns (the
-/// links' `pb` parameters first, then the law's, term-major).
-fn unknowns(law: &[usize], cols: &[Vec<usize>], pb: usize) -> Vec<Vec<(usize, usize)>> {
-    let n = cols.len();
-    (0..n)
-        .map(|j| {
-            let l = cols[j].len();
-            let mut m: Vec<(usize, usize)> =
-                cols[j].iter().enumerate().map(|(a, &c)| (a, c)).collect();
-            m.extend(
-                law.iter()
-                    .enumerate()
-                    .map(|(s, &t)| (l + t, pb + s * n + j)),
-            );
-            m
-        })
-        .collect()
-}
-
-/// The normal equations `(G, b)` of the folds but `f` (each scaled by the
-/// samples, as the objective is), for the unknowns of `map`.
-fn normal_equations(
-    sums: &[Vec<Sums>],
-    f: usize,
-    map: &[Vec<(usize, usize)>],
-    p: usize,
-) -> (DMatrix<f64>, DVector<f64>) {
-    let (mut g, mut b) = (DMatrix::<f64>::zeros(p, p), DVector::<f64>::zeros(p));
-    let mut ns = 0usize;
-    for fold in (sums.iter().enumerate())
-        .filter(|(h, _)| *h != f)
-        .map(|(_, s)| s)
-    {
-        ns += fold[0].rows;
-        for (j, s) in fold.iter().enumerate() {
-            for &(a, ga) in &map[j] {
-                b[ga] += s.b[a];
-                (map[j].iter()).for_each(|&(e, ge)| g[(ga, ge)] += s.g[(a, e)]);
-            }
-        }
-    }
-    let scale = 1.0 / ns.max(1) as f64;
-    (g * scale, b * scale)
-}
-
-/// `(G, b)` with the prior's term at `weight` added (the first `pb`
-/// unknowns are the links'), and a ridge of 1e-10 of G's mean diagonal.
-fn with_prior(
-    (mut g, mut b): (DMatrix<f64>, DVector<f64>),
-    prior: &PriorTerm,
-    weight: f64,
-) -> (DMatrix<f64>, DVector<f64>) {
-    let p = g.nrows();
-    let ridge = 1e-10 * (g.trace() / p as f64).max(f64::MIN_POSITIVE);
-    (0..p).for_each(|i| g[(i, i)] += ridge);
-    for (body, m) in prior.metric.iter().enumerate() {
-        let o = 10 * body;
-        let mut wm = m * weight;
-        wm[(0, 0)] += prior.mass_weight;
-        let pi = nalgebra::SVector::<f64, 10>::from_column_slice(&prior.values[o..o + 10]);
-        let rhs = wm * pi;
-        for k in 0..10 {
-            b[o + k] += rhs[k];
-            (0..10).for_each(|l| g[(o + k, o + l)] += wm[(k, l)]);
-        }
-    }
-    (g, b)
-}
-
-/// `g⁻¹ b` by faer's Cholesky factorisation (`g` symmetric positive
-/// definite; None when it is not).
-fn solve_spd(g: &DMatrix<f64>, b: &DVector<f64>) -> Option<DVector<f64>> {
-    let p = g.nrows();
-    let a = faer::Mat::<f64>::from_fn(p, p, |i, j| g[(i, j)]);
-    let rhs = faer::Mat::<f64>::from_fn(p, 1, |i, _| b[i]);
-    use faer::linalg::solvers::Solve;
-    let x = a.llt(faer::Side::Lower).ok()?.solve(&rhs);
-    Some(DVector::from_fn(p, |i, _| x[(i, 0)]))
-}
-
-/// Held-out sum of squares per joint of `theta` on one fold's sums.
-fn heldout_sse(theta: &DVector<f64>, fold: &[Sums], map: &[Vec<(usize, usize)>]) -> Vec<f64> {
-    (fold.iter().enumerate())
-        .map(|(j, s)| {
-            let th: Vec<(usize, f64)> = map[j].iter().map(|&(a, ga)| (a, theta[ga])).collect();
-            let quad: f64 = (th.iter())
-                .map(|&(a, x)| x * th.iter().map(|&(e, y)| s.g[(a, e)] * y).sum::<f64>())
-                .sum();
-            let lin: f64 = th.iter().map(|&(a, x)| x * s.b[a]).sum();
-            (quad - 2.0 * lin + s.c).max(0.0)
-        })
-        .collect()
+    let mut choice = conclude(kind, ranges.len(), scored.into_iter().flatten().collect());
+    choice.pass = Pass(Some(std::sync::Arc::new(pass)));
+    Ok(choice)
 }
 
 /// The cross-validated scores of `law` (indices of [`bases`]), one per
@@ -519,20 +372,8 @@ fn score(
     (pb, prior, weights): (usize, &PriorTerm, &[f64]),
 ) -> Result<Vec<LawScore>, IdentifyError> {
     let (n, k) = (cols.len(), sums.len());
-    let p = pb + law.len() * n;
-    let map = unknowns(law, cols, pb);
+    let sse = law_sse(law, sums, cols, (pb, prior, weights))?;
     let rows: Vec<usize> = sums.iter().map(|s| s[0].rows).collect();
-    let mut sse = vec![vec![vec![0.0; n]; k]; weights.len()];
-    for f in 0..k {
-        let normal = normal_equations(sums, f, &map, p);
-        for (w, &weight) in weights.iter().enumerate() {
-            let (g, b) = with_prior(normal.clone(), prior, weight);
-            let theta = solve_spd(&g, &b).ok_or(IdentifyError::Factorisation {
-                what: "Cholesky factorisation of a friction law's Gram matrix",
-            })?;
-            sse[w][f] = heldout_sse(&theta, &sums[f], &map);
-        }
-    }
     let b = bases();
     let total: usize = rows.iter().sum();
     Ok((weights.iter().zip(&sse))
@@ -597,5 +438,6 @@ fn conclude(kind: Folds, k: usize, laws: Vec<LawScore>) -> FrictionChoice {
         best,
         chosen,
         rule,
+        pass: Pass(None),
     }
 }

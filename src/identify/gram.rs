@@ -75,6 +75,34 @@ impl GramAcc {
         }
     }
 
+    /// Kept rows made elsewhere: joint j's `samples` rows in `blocks[j]`
+    /// (row-major) over the columns `cols[j]` (increasing, the last τ's,
+    /// `p1 − 1`).
+    pub(crate) fn from_rows(
+        p1: usize,
+        cols: Vec<Vec<usize>>,
+        blocks: Vec<Vec<f64>>,
+        samples: usize,
+    ) -> Self {
+        let place = (cols.iter())
+            .map(|c| {
+                let mut at = vec![ABSENT; p1];
+                c.iter().enumerate().for_each(|(k, &col)| at[col] = k);
+                at
+            })
+            .collect();
+        let grams = cols.iter().map(|c| Mat::zeros(c.len(), c.len())).collect();
+        debug_assert!((cols.iter().zip(&blocks)).all(|(c, b)| b.len() == samples * c.len()));
+        Self {
+            p1,
+            cols,
+            place,
+            blocks,
+            samples,
+            grams,
+        }
+    }
+
     /// Appends one sample: `y` the dense regressor (column-major
     /// n × (p1 − 1)), `tau` its n torques (the tests' reference for
     /// [`push_state`](Self::push_state)).
@@ -286,7 +314,7 @@ fn finite_diagonal(g: &Mat<f64>) -> bool {
 /// The full Gram matrix (lower triangle) of the joints' compact ones
 /// `grams` (columns `cols`, `p1` in all) and, when `per_joint`, each
 /// joint's in place (lower triangle; empty otherwise).
-fn scattered(
+pub(crate) fn scattered(
     p1: usize,
     cols: &[Vec<usize>],
     grams: &[Mat<f64>],

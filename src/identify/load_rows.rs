@@ -31,6 +31,8 @@ pub(crate) struct LoadRows {
     load_cols: Vec<usize>,
     /// The samples' velocities (the load column's sign).
     qd: Samples,
+    /// The load the rows' load column was made with.
+    load: Samples,
 }
 
 impl std::fmt::Debug for LoadRows {
@@ -84,7 +86,28 @@ impl LoadRows {
             rows,
             load_cols: (0..n).map(|j| 10 * nb + t * n + j).collect(),
             qd: train.qd.clone(),
+            load: train.tau.clone(),
         }))
+    }
+
+    /// Rows built elsewhere ([`super::choice_pass`]) for `model` (which
+    /// has a load term: else `None`), the samples' velocities `qd`, the
+    /// load column made with `load`.
+    pub(crate) fn from_rows(
+        model: &Model,
+        rows: GramAcc,
+        qd: Samples,
+        load: Samples,
+    ) -> Option<Self> {
+        let terms = model.friction_terms();
+        let t = terms.iter().position(|t| *t == FrictionTerm::Load)?;
+        let (n, nb) = (model.dof(), model.num_bodies());
+        Some(Self {
+            rows,
+            load_cols: (0..n).map(|j| 10 * nb + t * n + j).collect(),
+            qd,
+            load,
+        })
     }
 
     /// The rigid model's torques (links and rotors at `theta`'s first
@@ -103,6 +126,13 @@ impl LoadRows {
             }
         }
         out
+    }
+
+    /// The load the rows' load column was made with (N·m, n per sample):
+    /// the measured torque, or the model's own rigid torque
+    /// ([`super::choice_pass`]).
+    pub(crate) fn load(&self) -> &Samples {
+        &self.load
     }
 
     /// The samples kept.

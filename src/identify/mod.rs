@@ -13,10 +13,15 @@
 //! (the end-to-end identification), `result` (its report), `stream` (training logs
 //! reduced while they are read), `weighting` (per-joint
 //! weighted least squares), `choose_weight` (the prior's weight by
-//! cross-validation).
+//! cross-validation), `cutoff` (a raw log's low-pass by held-out torque
+//! error), `friction_choice` (the friction law and weight chosen),
+//! `choice_pass` (its one pass over the data, whence the chosen law's
+//! reduction), `law_scores` (a law's held-out errors from that pass),
+//! `load_rows` and `load_passes` (a load term's passes from kept rows).
 
 pub mod bounds;
 mod builder;
+mod choice_pass;
 pub mod choose_weight;
 pub mod cutoff;
 mod error;
@@ -27,6 +32,7 @@ pub mod floating_fit;
 pub mod friction_choice;
 mod gram;
 pub mod identifiability;
+mod law_scores;
 mod load_passes;
 mod load_rows;
 mod options;

@@ -433,7 +433,7 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
         if let (Some(h), Training::Whole(t)) = (&held, &mut train) {
             h.take_off(&mut t.data, "--data")?;
         }
-        let (selection, not_chosen) = match (&train, auto) {
+        let (mut selection, not_chosen) = match (&train, auto) {
             (Training::Whole(t), true) => choose_law(a, &robot, &t.data)?,
             _ => (None, None),
         };
@@ -461,7 +461,8 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
                     None if not_chosen.is_some() => None,
                     None => Some(id.choose_weight(&t.data, &WEIGHT_GRID).map_err(explain)?),
                 };
-                (choice, id.reduce(&t.data).map_err(explain)?)
+                let red = id.reduce_chosen(&t.data, selection.as_mut());
+                (choice, red.map_err(explain)?)
             }
         };
         // the held-out files are read while the SDP is solved (on the core

@@ -28,8 +28,8 @@ mod tally;
 
 use super::csv::{Columns, MAX_LINE_BYTES, columns_of};
 use super::error::DataError;
+use super::options::ReadOptions;
 use super::prepare::FileReport;
-use super::read::ReadOptions;
 use blocks::{Text, blocks};
 use fields::Splitter;
 use parse::Parse;
