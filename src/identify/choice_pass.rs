@@ -365,22 +365,8 @@ mod tests {
         }
     }
 
-    /// Every entry of the full and the joints' Gram matrices agree.
     fn same(x: &Reduced, y: &Reduced) {
-        let scale = (0..y.gram.nrows())
-            .map(|i| y.gram[(i, i)])
-            .fold(0.0, f64::max);
-        assert_eq!((x.samples, x.p), (y.samples, y.p));
-        assert_eq!(x.joint_grams.len(), y.joint_grams.len());
-        let pairs =
-            std::iter::once((&x.gram, &y.gram)).chain(x.joint_grams.iter().zip(&y.joint_grams));
-        for (a, b) in pairs {
-            for j in 0..a.ncols() {
-                for i in 0..a.nrows() {
-                    assert!((a[(i, j)] - b[(i, j)]).abs() <= 1e-10 * scale, "({i}, {j})");
-                }
-            }
-        }
+        crate::identify::reduce::assert_same(x, y, 1e-10);
     }
 
     /// The chosen law's reduction made from the pass equals a reduction of

@@ -103,18 +103,7 @@ mod tests {
             .map(|i| want.gram[(i, i)])
             .fold(0.0, f64::max);
         // every entry of the full and the joints' Gram matrices
-        let same = |x: &Reduced, y: &Reduced| {
-            assert_eq!(x.joint_grams.len(), y.joint_grams.len());
-            let pairs =
-                std::iter::once((&x.gram, &y.gram)).chain(x.joint_grams.iter().zip(&y.joint_grams));
-            for (a, b) in pairs {
-                for j in 0..a.ncols() {
-                    for i in 0..a.nrows() {
-                        assert!((a[(i, j)] - b[(i, j)]).abs() <= 1e-11 * scale, "({i}, {j})");
-                    }
-                }
-            }
-        };
+        let same = |x: &Reduced, y: &Reduced| crate::identify::reduce::assert_same(x, y, 1e-11);
         assert_eq!(got.joint_grams.len(), n);
         same(&got, &want);
         // the reduction made from the kept rows is the reduction's own

@@ -471,6 +471,25 @@ impl<'m> StreamReducer<'m> {
     }
 }
 
+/// Test helper: every entry of the full and the joints' Gram matrices of
+/// `x` and `y` agree to `rel` of `y`'s largest diagonal entry.
+#[cfg(test)]
+pub(crate) fn assert_same(x: &Reduced, y: &Reduced, rel: f64) {
+    let scale = (0..y.gram.nrows())
+        .map(|i| y.gram[(i, i)])
+        .fold(0.0, f64::max);
+    assert_eq!((x.samples, x.p), (y.samples, y.p));
+    assert_eq!(x.joint_grams.len(), y.joint_grams.len());
+    let pairs = std::iter::once((&x.gram, &y.gram)).chain(x.joint_grams.iter().zip(&y.joint_grams));
+    for (a, b) in pairs {
+        for j in 0..a.ncols() {
+            for i in 0..a.nrows() {
+                assert!((a[(i, j)] - b[(i, j)]).abs() <= rel * scale, "({i}, {j})");
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::symmetrize;
