@@ -51,6 +51,10 @@ impl RawLog {
             (&mut self.qdd, &mut other.qdd),
             (&mut self.tau, &mut other.tau),
         ] {
+            debug_assert!(
+                self.t.is_empty() || other.t.is_empty() || mine.is_some() == theirs.is_some(),
+                "parts of one file record the same series"
+            );
             match (mine.as_mut(), theirs.as_mut()) {
                 (Some(m), Some(t)) => m.append(t),
                 (None, Some(_)) => *mine = theirs.take(),

@@ -30,6 +30,8 @@ use std::ops::Range;
 
 /// The most samples a piece of the pass holds.
 const PIECE: usize = 1024;
+/// Pieces computed at once (their products held until added).
+const WAVE: usize = 64;
 
 /// One fold's and joint's sums: `G = Σ yᵀy`, `b = Σ yᵀτ`, `c = Σ τ²` over
 /// the joint's rows (its links' columns, then every basis), and the lower
@@ -80,6 +82,25 @@ pub(crate) struct ChoicePass {
     pieces: Option<Vec<Piece>>,
     /// The training velocities (a load column's sign).
     qd: crate::dynamics::Samples,
+    /// The samples of the pass.
+    samples: usize,
+    /// The fingerprint of the data and links it was made from.
+    data: u64,
+}
+
+/// A fingerprint of `train`'s values and `links`' parameters (every bit
+/// of each), to tell a pass from one of other data.
+fn fingerprint(links: &Model, train: &Dataset) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    let series = [&train.q, &train.qd, &train.qdd, &train.tau];
+    let params = links.params();
+    let values = (train.t.iter())
+        .chain(series.into_iter().flat_map(|s| s.as_flat().iter()))
+        .chain(params.iter());
+    values.for_each(|v| v.to_bits().hash(&mut h));
+    train.segments.hash(&mut h);
+    h.finish()
 }
 
 impl std::fmt::Debug for ChoicePass {
@@ -113,16 +134,26 @@ impl ChoicePass {
         let bytes =
             (widths.iter().sum::<usize>() * std::mem::size_of::<f64>()).saturating_mul(train.len());
         let keep = bytes <= LOAD_ROWS_BUDGET_BYTES;
-        let mut pieces = (pieces_of(folds).into_par_iter())
-            .map(|(range, fold)| piece(links, train, (range, fold), (cols, &bases), keep))
-            .collect::<Result<Vec<_>, _>>()?;
         let mut sums: Vec<Vec<(Mat<f64>, usize)>> = (0..folds.len())
             .map(|_| widths.iter().map(|&w| (Mat::zeros(w, w), 0)).collect())
             .collect();
-        for p in &mut pieces {
-            for (s, l) in sums[p.fold].iter_mut().zip(std::mem::take(&mut p.lower)) {
-                s.0 += l;
-                s.1 += p.range.len();
+        // a wave of pieces at a time, their products added as they come (a
+        // piece's products are dropped once added; its rows kept or not)
+        let mut kept = vec![];
+        for wave in pieces_of(folds).chunks(WAVE) {
+            let done = (wave.par_iter())
+                .map(|(range, fold)| {
+                    piece(links, train, (range.clone(), *fold), (cols, &bases), keep)
+                })
+                .collect::<Result<Vec<_>, _>>()?;
+            for mut p in done {
+                for (s, l) in sums[p.fold].iter_mut().zip(std::mem::take(&mut p.lower)) {
+                    s.0 += l;
+                    s.1 += p.range.len();
+                }
+                if keep {
+                    kept.push(p);
+                }
             }
         }
         let sums = (sums.into_iter())
@@ -132,14 +163,22 @@ impl ChoicePass {
             sums,
             cols: cols.to_vec(),
             bases,
-            pieces: keep.then_some(pieces),
+            pieces: keep.then_some(kept),
             qd: train.qd.clone(),
+            samples: train.len(),
+            data: fingerprint(links, train),
         })
+    }
+
+    /// Whether `train` and `links` are the ones the pass was made from (by
+    /// their values' fingerprint).
+    pub(crate) fn made_from(&self, links: &Model, train: &Dataset) -> bool {
+        self.samples == train.len() && self.data == fingerprint(links, train)
     }
 
     /// The samples of the pass.
     pub(crate) fn samples(&self) -> usize {
-        self.qd.len()
+        self.samples
     }
 }
 
@@ -208,7 +247,7 @@ fn piece(
         })
         .collect();
     if !keep {
-        rows.clear();
+        (rows, rigid) = (vec![], crate::dynamics::Samples::zeros(0, n));
     }
     Ok(Piece {
         range,
@@ -384,6 +423,17 @@ mod tests {
         let bases = super::super::friction_choice::bases();
         let pass = ChoicePass::new(&links, &train, &folds, (&cols, bases.clone())).unwrap();
         assert_eq!(pass.samples(), train.len());
+        // the pass knows its data: one torque changed, or other bodies, is
+        // other data
+        assert!(pass.made_from(&links, &train));
+        let mut other = train.clone();
+        other.tau[1700][1] += 1e-9;
+        assert!(!pass.made_from(&links, &other));
+        let mut heavier = links.clone();
+        let mut params = heavier.params();
+        params[0] *= 1.01;
+        heavier.set_params(&params).unwrap();
+        assert!(!pass.made_from(&heavier, &train));
         assert_eq!(pass.sums[0][0].rows + pass.sums[1][0].rows, train.len());
         let at = |t: FrictionTerm, v: f64| bases.iter().position(|b| *b == (t, v)).unwrap();
         // viscous + Coulomb + Stribeck at 0.05: no load term

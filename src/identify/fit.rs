@@ -95,13 +95,15 @@ impl Identification<'_> {
                 .then(|| s.spawn(move || super::identifiability::structural_rank(model)));
             (self.solve_loaded(train, red), rank.map(|r| r.join()))
         });
+        // the solve's error first
+        let loaded = loaded?;
         if let Some(rank) = rank {
             let rank = rank.map_err(|_| IdentifyError::Factorisation {
                 what: "the structural rank's computation (its thread panicked)",
             })??;
             let _ = self.structural_rank.set(rank);
         }
-        loaded
+        Ok(loaded)
     }
 
     /// Solves on `red`; with a load friction term

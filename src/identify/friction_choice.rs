@@ -247,8 +247,10 @@ impl super::Identification<'_> {
 impl super::Identification<'_> {
     /// [`reduce`](Self::reduce) of `train` for this identification, whose
     /// model has the law `choice` chose on the same `train`: made from the
-    /// choice's pass over it when it kept what the law needs
-    /// (`identify::choice_pass`), else by a reduction. The pass is taken
+    /// choice's pass over it (when `train` and the model's bodies are the
+    /// ones the pass was made from, by a fingerprint of their values, and
+    /// it kept what the law needs
+    /// (`identify::choice_pass`)), else by a reduction. The pass is taken
     /// from `choice` (its rows freed once the reduction has what it needs).
     pub fn reduce_chosen(
         &self,
@@ -259,8 +261,9 @@ impl super::Identification<'_> {
             return self.reduce(train);
         };
         let law = c.law_indices();
+        let links = self.model().clone().with_friction_terms(&[]);
         match c.pass.0.take() {
-            Some(pass) if pass.samples() == train.len() => {
+            Some(pass) if pass.made_from(&links, train) => {
                 self.fixed_base("Identification::reduce_chosen")?;
                 self.check_memory(train.len())?;
                 match pass.reduced(self.model(), &law)? {
