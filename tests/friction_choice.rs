@@ -95,3 +95,23 @@ fn the_weight_is_chosen_with_the_law_strong_for_a_true_prior_weak_for_a_wrong_on
     let c = id.choose_friction(&d).unwrap();
     assert!(!c.weight_chosen() && c.weight() == 1e-6);
 }
+
+/// Training data without torques is a named error, not a panic.
+#[test]
+fn data_without_torques_is_an_error_naming_it() {
+    let robot = panda();
+    let cfg = SimConfig::for_robot(&robot, 1.0, Effects::parse("", &[]).unwrap(), 3);
+    let mut d = simulate(&robot, &cfg, |_, _| {}).unwrap();
+    d.tau = momentlmi::dynamics::Samples::new(d.joints.len());
+    let e = Identification::for_robot(&robot, Level::Consistent, 1e-6)
+        .unwrap()
+        .choose_friction(&d)
+        .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            momentlmi::identify::IdentifyError::NoTrainingData { torques: 0, .. }
+        ),
+        "{e}"
+    );
+}

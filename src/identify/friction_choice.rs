@@ -342,6 +342,12 @@ pub fn choose_friction(
     prior: &PriorTerm,
     weights: &[f64],
 ) -> Result<FrictionChoice, IdentifyError> {
+    if train.tau.len() != train.len() || train.is_empty() {
+        return Err(IdentifyError::NoTrainingData {
+            samples: train.len(),
+            torques: train.tau.len(),
+        });
+    }
     let links = model.clone().with_friction_terms(&[]);
     let (kind, ranges) = held_out(train, TIME_FOLDS);
     let lens: Vec<usize> = (ranges.iter())
