@@ -128,14 +128,15 @@ impl Identification<'_> {
             return Err(IdentifyError::LoadNeedsSamples);
         };
         // the rows kept, when they fit: a pass then replaces the load column
-        let rows = match &red.load_rows {
-            Some(rows) if rows.samples() == train.len() => Some(rows.clone()),
-            _ => LoadRows::new(model, train)?.map(std::sync::Arc::new),
-        };
-        // the load `red` was made with
-        let mut last = match &red.load_rows {
-            Some(rows) if rows.samples() == train.len() => rows.load().clone(),
-            _ => train.tau.clone(),
+        // (and the load `red` was made with)
+        let (rows, mut last) = match &red.load_rows {
+            Some(rows) if rows.samples() == train.len() => {
+                (Some(rows.clone()), rows.load().clone())
+            }
+            _ => (
+                LoadRows::new(model, train)?.map(std::sync::Arc::new),
+                train.tau.clone(),
+            ),
         };
         let (mut reduced, mut change) = (None, f64::INFINITY);
         let bodies_end = 10 * model.num_bodies();
