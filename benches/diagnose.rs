@@ -4,7 +4,8 @@
 //! `robots/panda` with an encoder zero offset withheld; and the real KUKA
 //! LWR4+ of `robots/kuka-lwr4` (run 3 against the model identified on runs
 //! 1–2, their repeatability as the floor: the null row of
-//! `examples/confusion_real.rs`).
+//! `examples/confusion_real.rs`; and the same with runs 1–2 given as the
+//! nominal's own data, `--nominal-data`).
 //!
 //! Run: `cargo bench --bench diagnose`
 
@@ -75,9 +76,14 @@ fn bench(c: &mut Criterion) {
             })
         });
     }
-    let (_, m, f, floor, run3) = confusion_real::setup().unwrap();
+    let (_, m, f, floor, run3, runs12) = confusion_real::setup().unwrap();
     let opts = DiagnoseOptions::default().with_noise_floor(floor);
     g.bench_function("kuka_run3_real", |b| {
+        b.iter(|| black_box(diagnose(&m, &f, &run3, &opts).unwrap().accepted))
+    });
+    // the same with the nominal's own data (runs 1–2): its bodies refit
+    let opts = opts.with_nominal_data(runs12);
+    g.bench_function("kuka_run3_real_nominal_data", |b| {
         b.iter(|| black_box(diagnose(&m, &f, &run3, &opts).unwrap().accepted))
     });
     g.finish();

@@ -14,11 +14,15 @@
 //!
 //! Run: `cargo run --release --example confusion_real` (`-- NAME`: only
 //! the cases of effect NAME; `DROP=a,b`: without those candidates, to see
-//! what absorbs what).
+//! what absorbs what; `NOMINAL_OWN=1`: the nominal holds runs 1–2's own
+//! effects, `NOMINAL_DATA=1`: runs 1–2 given as its data, see [`Nominal`];
+//! `VERBOSE=1`: every accepted effect's variant, joints, fold gains and
+//! sizes on stderr, `VERBOSE=NAME` also NAME's reports in every round,
+//! `VERBOSE=law` the law's refit coefficients).
 
 use momentlmi::data::{Dataset, Mapping, ReadOptions, read_logs, rms_per_joint};
 use momentlmi::diagnose::floor::{NoiseFloor, repeat_floor};
-use momentlmi::diagnose::{DiagnoseOptions, Diagnosis, diagnose};
+use momentlmi::diagnose::{DiagnoseOptions, Diagnosis, diagnose, diagnose_with};
 use momentlmi::dynamics::predict::predict_torques;
 use momentlmi::dynamics::robots::load_robot;
 use momentlmi::dynamics::{Friction, FrictionTerm, Model, RobotDescription, sign};
@@ -251,7 +255,17 @@ fn kuka() -> Result<(RobotDescription, Dataset, Dataset), Box<dyn Error>> {
 /// The KUKA, its nominal model and friction (identified on runs 1–2 at the
 /// recommended options), the repeatability floor of runs 1–2, and run 3.
 #[allow(clippy::type_complexity)]
-pub fn setup() -> Result<(RobotDescription, Model, Friction, NoiseFloor, Dataset), Box<dyn Error>> {
+pub fn setup() -> Result<
+    (
+        RobotDescription,
+        Model,
+        Friction,
+        NoiseFloor,
+        Dataset,
+        Dataset,
+    ),
+    Box<dyn Error>,
+> {
     let (robot, train, val) = kuka()?;
     let id = Identification::for_robot(&robot, Level::Ellipsoid, 1e-2)?
         .regularizer(Regularizer::Entropic);
@@ -263,13 +277,33 @@ pub fn setup() -> Result<(RobotDescription, Model, Friction, NoiseFloor, Dataset
         .collect();
     let floor = repeat_floor(&segs[0], &segs[1], ["run 1", "run 2"])?;
     drop(id);
-    Ok((robot, model, friction, floor, val))
+    Ok((robot, model, friction, floor, val, train))
+}
+
+/// What the diagnosis knows of the nominal model besides its parameters.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Nominal {
+    /// The effects runs 1–2 show against their own model are part of it:
+    /// runs 1–2 are diagnosed first, and their diagnosis' model (bodies
+    /// and law refit, the accepted effects) is the nominal
+    /// (`NOMINAL_OWN=1`).
+    pub own_effects: bool,
+    /// The data it was identified on (runs 1–2) are given
+    /// (`DiagnoseOptions::with_nominal_data`, `--nominal-data`): its bodies
+    /// are refit with the law on those data and the fitting part
+    /// (`NOMINAL_DATA=1`).
+    pub own_data: bool,
 }
 
 /// The null row's diagnosis and the cases whose effect name contains
-/// `only`, diagnosed without the candidates `drop`.
-pub fn run(only: &str, drop: &[&str]) -> Result<(Diagnosis, Vec<Row>), Box<dyn Error>> {
-    let (robot, model, friction, floor, val) = setup()?;
+/// `only`, diagnosed without the candidates `drop`, against the nominal
+/// model with what `nominal` says it knows.
+pub fn run(
+    only: &str,
+    drop: &[&str],
+    nominal: Nominal,
+) -> Result<(Diagnosis, Vec<Row>), Box<dyn Error>> {
+    let (robot, model, friction, floor, val, train) = setup()?;
     let mut lib = Library::empty();
     for e in Library::builtin()
         .effects()
@@ -278,10 +312,30 @@ pub fn run(only: &str, drop: &[&str]) -> Result<(Diagnosis, Vec<Row>), Box<dyn E
     {
         lib.push(e.clone())?;
     }
-    let dopts = DiagnoseOptions::default()
+    let mut dopts = DiagnoseOptions::default()
         .with_noise_floor(floor)
         .with_library(lib);
-    let null = diagnose(&model, &friction, &val, &dopts)?;
+    if nominal.own_data {
+        dopts = dopts.with_nominal_data(train.clone());
+    }
+    let (model, friction, effects) = match nominal.own_effects {
+        true => {
+            let own = diagnose(&model, &friction, &train, &dopts)?;
+            if std::env::var_os("VERBOSE").is_some() {
+                show("runs 1–2 against their own model", &own);
+            }
+            let mut m = model.clone();
+            let f = own.model.apply(&mut m, "runs 1–2's diagnosis")?;
+            (m, f, own.model.effects.clone())
+        }
+        false => (model, friction, vec![]),
+    };
+    let diagnose =
+        |d: &Dataset, o: &DiagnoseOptions| diagnose_with((&model, &friction, &effects), d, o);
+    let null = diagnose(&val, &dopts)?;
+    if std::env::var_os("VERBOSE").is_some() {
+        show("the untouched run", &null);
+    }
     let n = val.joints.len();
     let mut rows = vec![];
     let tool = robot.model.tool.ok_or("the KUKA has no tool point")?;
@@ -300,7 +354,13 @@ pub fn run(only: &str, drop: &[&str]) -> Result<(Diagnosis, Vec<Row>), Box<dyn E
                 .unwrap_or(0),
             _ => j,
         };
-        let dg = diagnose(&model, &friction, &d, &dopts)?;
+        let dg = diagnose(&d, &dopts)?;
+        if std::env::var_os("VERBOSE").is_some() {
+            show(
+                &format!("{} {} on {}", inj.effect(), inj.size(), val.joints[j]),
+                &dg,
+            );
+        }
         let joint = val.joints[j].clone();
         let (found, how, fitted) = match law_term(inj.effect()) {
             Some(term) => {
@@ -353,7 +413,11 @@ fn main() -> Result<(), Box<dyn Error>> {
     let only = std::env::args().nth(1).unwrap_or_default();
     let drop = std::env::var("DROP").unwrap_or_default();
     let drop: Vec<&str> = drop.split(',').filter(|s| !s.is_empty()).collect();
-    let (null, rows) = run(&only, &drop)?;
+    let nominal = Nominal {
+        own_effects: std::env::var_os("NOMINAL_OWN").is_some(),
+        own_data: std::env::var_os("NOMINAL_DATA").is_some(),
+    };
+    let (null, rows) = run(&only, &drop, nominal)?;
     println!(
         "| injected | joint | injected RMS there (N·m) | floor there | accepted (tied with) | found | fitted / injected | accepted beyond the null row |"
     );
@@ -392,6 +456,43 @@ fn main() -> Result<(), Box<dyn Error>> {
     );
     println!("null row re-estimates: {}", reestimated(&null));
     Ok(())
+}
+
+/// `VERBOSE`: each accepted (or removed) effect's variant, joints, fold
+/// gains, sizes and rule; `VERBOSE=NAME` also NAME's report in every round,
+/// `VERBOSE=law` the law's refit coefficients.
+fn show(case: &str, d: &Diagnosis) {
+    eprintln!("{case}:");
+    let also = std::env::var("VERBOSE").unwrap_or_default();
+    for r in d.friction_refit.iter().filter(|_| also == "law") {
+        eprintln!(
+            "  law {} {:.4} [{:.4}, {:.4}]",
+            r.name, r.value, r.low, r.high
+        );
+    }
+    for e in
+        (d.ranked_effects.iter()).filter(|e| e.accepted || e.effect == also || e.removed.is_some())
+    {
+        let sizes: Vec<String> = (e.sizes.iter())
+            .map(|s| {
+                format!(
+                    "{} {:.4} [{:.4}, {:.4}] {}",
+                    s.name, s.value, s.low, s.high, s.unit
+                )
+            })
+            .collect();
+        let rule = e.rule.chars().take(200).collect::<String>();
+        let gains: Vec<String> = e.fold_gains.iter().map(|g| format!("{g:.4}")).collect();
+        eprintln!(
+            "  r{} {} ({}) on {:?} folds [{}]: {} [{rule}]",
+            e.round,
+            e.effect,
+            e.detail,
+            e.joints,
+            gains.join(" "),
+            sizes.join("; ")
+        );
+    }
 }
 
 /// Accepted effects, with what is the same hypothesis and ties.

@@ -325,6 +325,13 @@ enum Command {
         /// default: the model's own parameters, no friction.
         #[arg(long)]
         nominal: Option<String>,
+        /// The data the nominal model was identified on (read like --data; repeatable): its
+        /// bodies are then refit with the friction law, on these data and the fitting part
+        /// together, so that what these data could not determine is not named an effect
+        /// (link_inertia and rotor_inertia are then not proposed) [default: the bodies are
+        /// held as given].
+        #[arg(long, value_name = "FILE")]
+        nominal_data: Vec<PathBuf>,
         /// Two runs of one trajectory (read like --data) whose torque difference, once
         /// aligned by positions, is the noise floor: RMS(τ₁ − τ₂)/√2 per joint [default:
         /// the residual's first differences, a lower bound on low-pass filtered data].
@@ -606,6 +613,7 @@ pub fn main() -> i32 {
             data,
             read,
             nominal,
+            nominal_data,
             repeats,
             json,
             out,
@@ -614,6 +622,7 @@ pub fn main() -> i32 {
             max_memory_gib,
             floating,
         } => diagnose::run(&diagnose::DiagnoseArgs {
+            nominal_data: &nominal_data,
             model_out: model_out.as_deref(),
             folds: folds as usize,
             floating_base: floating.floating_base,

@@ -159,6 +159,77 @@ fn a_model_out_onto_an_input_is_refused_and_nothing_is_written() {
     assert_eq!(std::fs::read(&record).unwrap(), record_before);
 }
 
+/// With `--nominal-data` (the nominal's bodies refit with the law on
+/// those data and the fitting part) the claim holds as well: `predict`
+/// with the model file gives the reported held-out error; a `--model-out`
+/// onto the nominal's data file is refused (exit 2) and nothing written.
+#[test]
+fn the_claim_holds_with_the_nominals_data_and_they_are_protected() {
+    let d = dir("nomdata");
+    let (a, b, c, e) = (
+        d.join("a.csv"),
+        d.join("b.csv"),
+        d.join("c.csv"),
+        d.join("e.csv"),
+    );
+    let m = d.join("m.json");
+    for (p, seed) in [(&a, "1"), (&c, "7"), (&b, "2"), (&e, "9")] {
+        leg_log(p, seed);
+    }
+    let before = std::fs::read(&e).unwrap();
+    let o = diagnose(&a, &c, &e)
+        .arg("--data")
+        .arg(&b)
+        .arg("--nominal-data")
+        .arg(&e)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("e.csv") && err.contains("--model-out"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read(&e).unwrap(), before);
+    let o = diagnose(&a, &c, &m)
+        .arg("--data")
+        .arg(&b)
+        .arg("--nominal-data")
+        .arg(&e)
+        .arg("--json")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let report: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let reported: Vec<f64> = (report["heldout_rms_final"].as_array().unwrap().iter())
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    let p = d.join("p.csv");
+    let o = bin()
+        .args(["predict", "--robot", "cheetah3-leg", "--params"])
+        .arg(&m)
+        .arg("--data")
+        .arg(&b)
+        .arg("--out")
+        .arg(&p)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (measured, predicted) = (columns(&b, "tau_"), columns(&p, "tau_"));
+    for (i, ((_, tau), (_, hat))) in measured.iter().zip(&predicted).enumerate() {
+        let ms = (tau.iter().zip(hat))
+            .map(|(x, y)| (x - y).powi(2))
+            .sum::<f64>()
+            / tau.len() as f64;
+        assert!(
+            (ms.sqrt() - reported[i]).abs() <= 1e-6,
+            "joint {i}: {} vs {}",
+            ms.sqrt(),
+            reported[i]
+        );
+    }
+}
+
 /// `identify --with-effects FILE` holds a model file's fitted effects: with
 /// zero coefficients it fits what a plain identify fits (the plumbing
 /// changes nothing else), with a gain it fits other torques; the

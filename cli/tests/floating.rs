@@ -272,6 +272,18 @@ fn options_a_floating_base_cannot_take_are_named() {
         &["predict", "--robot", &robot, "--data", &log, "--out", &log],
         &["log.csv"],
     );
+    refused(
+        &[
+            "diagnose",
+            "--robot",
+            &robot,
+            "--data",
+            &log,
+            "--nominal-data",
+            &log,
+        ],
+        &["--nominal-data", "not available with --floating-base"],
+    );
     let npz = dir.write("run.npz", "PK");
     let npz = npz.to_str().unwrap();
     refused(

@@ -406,16 +406,20 @@ def excite(robot: Robot, seconds: float = 10.0, criterion: str = "d", harmonics:
     return report
 
 
-def diagnose(robot: Robot, data, nominal: Optional[str] = None, repeats=None) -> dict:
+def diagnose(robot: Robot, data, nominal: Optional[str] = None, repeats=None, nominal_data=None) -> dict:
     """Where `data` depart from the `nominal` model (None: the robot's own parameters;
     ``"cad"``, ``"true"`` or a parameter file), which unmodelled effects explain the
     gap and how far it shrinks on held-out data, as ``momentlmi diagnose --json``
     reports it. `data` as for :func:`identify`; `repeats`, two runs of one trajectory,
-    give the noise floor (needed when the torques were low-pass filtered)."""
+    give the noise floor (needed when the torques were low-pass filtered);
+    `nominal_data`, the data the nominal was identified on (as `data`), have its
+    bodies refit with the friction law so that what they could not determine is not
+    named an effect (``--nominal-data``)."""
     joints = robot.joint_names
     reps = _segments(repeats, joints, "repeats")
+    own = _segments(nominal_data, joints, "nominal_data")
     nom = None if nominal is None else os.fspath(nominal)
-    return json.loads(_native.diagnosis(robot._r, _segments(data, joints, "data"), nom, reps))
+    return json.loads(_native.diagnosis(robot._r, _segments(data, joints, "data"), nom, reps, own))
 
 
 # -- the fleet path ---------------------------------------------------------

@@ -19,15 +19,18 @@ pub(crate) fn add(m: &Bound<'_, PyModule>) -> PyResult<()> {
 /// The report (JSON) of where the `data` segments depart from the
 /// `nominal` model (None: the robot's own parameters; cad, true or a
 /// parameter file), which unmodelled effects explain it and how far; the
-/// noise floor from two `repeats` of one trajectory when given.
+/// noise floor from two `repeats` of one trajectory when given; the data
+/// the nominal was identified on (`nominal_data`) when given, its bodies
+/// refit with the law (`--nominal-data`).
 #[pyfunction]
-#[pyo3(signature = (robot, data, nominal, repeats))]
+#[pyo3(signature = (robot, data, nominal, repeats, nominal_data))]
 fn diagnosis(
     py: Python<'_>,
     robot: &Robot,
     data: Vec<Segment>,
     nominal: Option<&str>,
     repeats: Vec<Segment>,
+    nominal_data: Vec<Segment>,
 ) -> PyResult<String> {
     if data.is_empty() {
         return Err(PyValueError::new_err("data: no segments"));
@@ -63,6 +66,10 @@ fn diagnosis(
         let floor = repeat_floor(x, y, ["repeats[0]", "repeats[1]"])
             .map_err(|e| err(format!("repeats: {e}")))?;
         dopts = dopts.with_noise_floor(floor);
+    }
+    if !nominal_data.is_empty() {
+        let own = prepared(desc, "nominal_data", &nominal_data, &opts)?.data;
+        dopts = dopts.with_nominal_data(own);
     }
     let dg = py
         .detach(|| diagnose(&model, &friction, &d, &dopts))

@@ -75,6 +75,9 @@ pub enum DiagnoseError {
         #[source]
         source: DynamicsError,
     },
+    /// The data the nominal model was identified on do not fit it.
+    #[error("the data the nominal model was identified on: {0}")]
+    NominalData(#[source] Box<DiagnoseError>),
     /// The model has no tool point (no moving body) for the payload candidate.
     #[error("the model has no tool point (no moving body) for the payload candidate")]
     NoTool,

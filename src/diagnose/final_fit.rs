@@ -65,7 +65,8 @@ impl FinalSetup<'_> {
         let ids: Vec<usize> = groups.iter().flat_map(|g| g.ids.iter().copied()).collect();
         let end = self.folds.first_heldout();
         let blocks = self.block_normals(&ids, end);
-        let total = sum_normals(&blocks, None);
+        let sum = |leave| self.store.with_prior(&ids, sum_normals(&blocks, leave));
+        let total = sum(None);
         let (full, unconstrained) = match fit_normal(&total.0, &total.1, total.2, &groups, &enforce)
         {
             Ok(f) => (f, None),
@@ -77,13 +78,16 @@ impl FinalSetup<'_> {
         };
         let replicates: Vec<Fit> = (0..blocks.len())
             .filter_map(|b| {
-                let (g, x, rr) = sum_normals(&blocks, Some(b));
+                let (g, x, rr) = sum(Some(b));
                 fit_normal(&g, &x, rr, &groups, &enforce).ok()
             })
             .collect();
         let samples = self.folds.ranges.last().map_or(0, |r| r.end);
         let law_ids = &self.law.group.ids;
-        let (lg, lx, lrr) = sum_normals(&self.block_normals(law_ids, end), None);
+        let law_blocks = self.block_normals(law_ids, end);
+        let (lg, lx, lrr) = self
+            .store
+            .with_prior(law_ids, sum_normals(&law_blocks, None));
         let law_fit = fit_normal(&lg, &lx, lrr, &[&self.law.group], &[true])?;
         let refit = self.store.residual_on(law_ids, &law_fit.beta, end..samples);
         Ok(Final {

@@ -8,7 +8,7 @@
 //! lacks is a candidate like any other effect.
 
 use super::refit::Group;
-use super::store::Store;
+use super::store::{Prior, Store};
 use crate::data::Dataset;
 use crate::dynamics::predict::predict_torques;
 use crate::dynamics::{DynamicsError, Friction, FrictionTerm, Model};
@@ -28,6 +28,10 @@ pub struct Law {
     pub labels: Vec<(FrictionTerm, usize)>,
     /// The nominal coefficient of each column.
     pub nominal: Vec<f64>,
+    /// Body columns after the friction columns (10 per body of the model,
+    /// in its parameter order) when the nominal's bodies are refit with
+    /// the law ([`Law::with_bodies`]); 0 when they are held.
+    pub bodies: usize,
 }
 
 /// The terms of the nominal law: those the model identifies
@@ -91,7 +95,38 @@ impl Law {
             },
             labels,
             nominal,
+            bodies: 0,
         })
+    }
+
+    /// The same law with the nominal's bodies refit with it: their
+    /// regressor columns `cols` (10 per body) added to `store` and to the
+    /// group after the friction columns, unbounded, and the rows of the
+    /// data the nominal was identified on (`prior`, over those columns in
+    /// order) set as the store's rows outside the folds — a change of the
+    /// bodies costs what it costs on those data, so one they could not
+    /// determine is part of the baseline, not a finding.
+    pub fn with_bodies(mut self, cols: Vec<Vec<f64>>, prior: Prior, store: &mut Store) -> Self {
+        let ids: Vec<usize> = cols.into_iter().map(|c| store.add_in(c, None)).collect();
+        self.bodies = ids.len();
+        self.group.ids.extend(&ids);
+        if let Some(lower) = self.group.lower.as_mut() {
+            lower.extend(std::iter::repeat_n(f64::NEG_INFINITY, ids.len()));
+        }
+        store.set_prior(Prior { ids, ..prior });
+        self
+    }
+
+    /// The friction columns alone (without refit bodies).
+    pub fn friction_group(&self) -> Group {
+        self.group.only(&(0..self.labels.len()).collect::<Vec<_>>())
+    }
+
+    /// The bodies' changes in a fit's coefficients `beta` (the law's
+    /// first): empty when the bodies are held.
+    pub fn body_delta<'b>(&self, beta: &'b [f64]) -> &'b [f64] {
+        let k = self.labels.len();
+        beta.get(k..k + self.bodies).unwrap_or(&[])
     }
 
     /// The nominal friction with the law's changes `delta` (one per column)

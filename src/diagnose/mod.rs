@@ -37,6 +37,7 @@ mod implausible;
 mod law;
 mod memory;
 mod model_out;
+mod nominal_data;
 mod options;
 mod reestimate;
 mod refine;
@@ -159,6 +160,15 @@ pub fn diagnose_with(
     let mut store = Store::new(r_nominal.clone(), n, &folds);
     let law = Law::new(model, friction, data, &mut store).map_err(DiagnoseError::Predict)?;
     let cx = Context::new(model, friction, data, &r_nominal, folds.first_heldout());
+    let law = match opts.nominal_data() {
+        Some(own) => {
+            let prior = nominal_data::prior(nominal, own, opts.library())?;
+            let cols = (cx.regressor_columns(model.params().len(), |y, i, c| y[(i, c)]))
+                .map_err(DiagnoseError::Effects)?;
+            law.with_bodies(cols, prior, &mut store)
+        }
+        None => law,
+    };
     let candidates = build::candidates(
         opts.library(),
         &cx,

@@ -50,6 +50,8 @@ pub fn model_out(
         effects: effects.to_vec(),
     };
     let mut params = model.params();
+    // bodies refit with the law (the nominal's own data given)
+    (params.iter_mut().zip(law.body_delta(&beta[..k]))).for_each(|(p, d)| *p += d);
     let joints: Vec<String> = model.joint_names().iter().map(|s| s.to_string()).collect();
     let mut at = k;
     for a in accepted {

@@ -3,7 +3,9 @@
 
 use super::error::DiagnoseError;
 use super::floor::NoiseFloor;
+use crate::data::Dataset;
 use crate::effects::Library;
+use std::sync::Arc;
 
 /// Options, validated at construction ([`DiagnoseOptions::new`]).
 #[derive(Clone, Debug, PartialEq)]
@@ -15,6 +17,7 @@ pub struct DiagnoseOptions {
     library: Library,
     noise_floor: Option<NoiseFloor>,
     folds: usize,
+    nominal_data: Option<Arc<Dataset>>,
 }
 
 /// The memory a diagnosis may plan for by default (8 GiB).
@@ -32,6 +35,7 @@ impl Default for DiagnoseOptions {
             library: Library::builtin(),
             noise_floor: None,
             folds: super::folds::TIME_FOLDS,
+            nominal_data: None,
         }
     }
 }
@@ -72,6 +76,24 @@ impl DiagnoseOptions {
             blocks,
             ..Self::default()
         })
+    }
+
+    /// The data the nominal model was identified on (samples of its
+    /// joints, with torques): its bodies are then refit with the friction
+    /// law in every fit, on those data and the diagnosed fitting folds
+    /// together, so that a change of the bodies those data could not
+    /// determine is not named an effect (`diagnose::nominal_data`); the
+    /// candidates that change the nominal's bodies (`link_inertia`,
+    /// `rotor_inertia`) are then not proposed. Without them the bodies are
+    /// held as given.
+    pub fn with_nominal_data(mut self, data: Dataset) -> Self {
+        self.nominal_data = Some(Arc::new(data));
+        self
+    }
+
+    /// The data the nominal model was identified on, if given.
+    pub fn nominal_data(&self) -> Option<&Dataset> {
+        self.nominal_data.as_deref()
     }
 
     /// Fraction of the samples (from the start) used for fitting.

@@ -97,7 +97,7 @@ impl Refine<'_> {
         let law =
             Law::new(&out.model, &out.friction, d, &mut store).map_err(DiagnoseError::Predict)?;
         let k = self.law.group.ids.len();
-        let mut groups = vec![self.law_group(&law, &out.friction, &beta[..k])];
+        let mut groups = vec![self.law_group(&law, &out.friction, &beta[..k], &mut store)];
         let zeros = vec![0.0; d.len() * n];
         let cx = Context::new(
             &out.model,
@@ -117,8 +117,29 @@ impl Refine<'_> {
 
     /// The law's columns for the nominal law's terms (`law` is built on the
     /// current model, whose law may have more terms), bounded at the
-    /// current coefficients.
-    fn law_group(&self, law: &Law, friction: &Friction, delta: &[f64]) -> Group {
+    /// current coefficients; with the bodies refit with the law, their
+    /// columns (which do not change) and the nominal's own rows at the
+    /// current change.
+    fn law_group(&self, law: &Law, friction: &Friction, delta: &[f64], store: &mut Store) -> Group {
+        let mut group = self.friction_group(law, friction, delta);
+        let body_ids = &self.law.group.ids[self.law.labels.len()..];
+        if let (Some(prior), false) = (self.store.prior(), body_ids.is_empty()) {
+            let ids: Vec<usize> = (body_ids.iter())
+                .map(|&id| store.add_in(self.store.col(id).values.clone(), None))
+                .collect();
+            store.set_prior(prior.at(ids.clone(), self.law.body_delta(delta)));
+            group.ids.extend(ids);
+            if let Some(lower) = group.lower.as_mut() {
+                lower.extend(std::iter::repeat_n(f64::NEG_INFINITY, body_ids.len()));
+            }
+        }
+        group.applied = Some(delta.to_vec());
+        group
+    }
+
+    /// The law's friction columns for the nominal law's terms, bounded at
+    /// the current coefficients.
+    fn friction_group(&self, law: &Law, friction: &Friction, delta: &[f64]) -> Group {
         let ids = (self.law.labels.iter())
             .map(|l| {
                 law.labels
@@ -137,7 +158,7 @@ impl Refine<'_> {
         Group {
             ids,
             lower: Some(lower),
-            applied: Some(delta.to_vec()),
+            applied: Some(delta[..self.law.labels.len().min(delta.len())].to_vec()),
             ..Group::default()
         }
     }

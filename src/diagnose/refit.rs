@@ -78,7 +78,8 @@ impl Group {
     }
 }
 
-/// The coefficients of `groups` (concatenated) fitted on the folds `on`;
+/// The coefficients of `groups` (concatenated) fitted on the folds `on`
+/// (and the rows outside the folds where the store has them, [`Store::with_prior`]);
 /// the constraints of group g are enforced when `enforce[g]`. A solve that
 /// is not solved is an error; an inaccurate one is flagged.
 pub fn fit(
@@ -88,7 +89,7 @@ pub fn fit(
     enforce: &[bool],
 ) -> Result<Fit, FitError> {
     let ids: Vec<usize> = groups.iter().flat_map(|g| g.ids.iter().copied()).collect();
-    let (g, b, rr) = store.normal(&ids, on);
+    let (g, b, rr) = store.with_prior(&ids, store.normal(&ids, on));
     fit_normal(&g, &b, rr, groups, enforce)
 }
 

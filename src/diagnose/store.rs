@@ -37,6 +37,69 @@ pub struct Store {
     xr: Vec<Vec<f64>>,
     /// `(a, b)`, a ≤ b → per fold Σ x_a x_b.
     gram: RwLock<HashMap<(usize, usize), Box<[f64]>>>,
+    /// Rows every fit of its columns includes and no fold holds out.
+    prior: Option<Prior>,
+}
+
+/// The normal equations of rows outside the folds — the data the nominal
+/// model was identified on — over some of the store's columns: every fit
+/// that includes one of those columns includes these rows, no score
+/// measures them.
+#[derive(Clone, Debug)]
+pub struct Prior {
+    /// The store's columns they are over.
+    pub ids: Vec<usize>,
+    /// `YᵀY` over those rows (one row and column per id).
+    pub g: Mat<f64>,
+    /// `Yᵀr`: r the nominal's residual there.
+    pub xr: Vec<f64>,
+    /// `rᵀr`.
+    pub rr: f64,
+}
+
+impl Prior {
+    /// The same rows with the coefficients `applied` already taken off
+    /// their residual (`r − Y·applied`).
+    pub fn at(&self, ids: Vec<usize>, applied: &[f64]) -> Self {
+        let m = self.xr.len();
+        let ga: Vec<f64> = (0..m)
+            .map(|a| (0..m).map(|b| self.g[(a, b)] * applied[b]).sum())
+            .collect();
+        let ab: f64 = applied.iter().zip(&self.xr).map(|(x, y)| x * y).sum();
+        let aga: f64 = applied.iter().zip(&ga).map(|(x, y)| x * y).sum();
+        Self {
+            ids,
+            g: self.g.clone(),
+            xr: self.xr.iter().zip(&ga).map(|(b, g)| b - g).collect(),
+            rr: (self.rr - 2.0 * ab + aga).max(0.0),
+        }
+    }
+
+    /// `normal` (of the columns `ids`) with these rows added where `ids`
+    /// has their columns.
+    pub fn add_to(
+        &self,
+        ids: &[usize],
+        (mut g, mut xr, mut rr): (Mat<f64>, Vec<f64>, f64),
+    ) -> (Mat<f64>, Vec<f64>, f64) {
+        let at: Vec<Option<usize>> = (ids.iter())
+            .map(|id| self.ids.iter().position(|x| x == id))
+            .collect();
+        if at.iter().all(Option::is_none) {
+            return (g, xr, rr);
+        }
+        for (a, pa) in at.iter().enumerate() {
+            let Some(pa) = *pa else { continue };
+            xr[a] += self.xr[pa];
+            for (b, pb) in at.iter().enumerate() {
+                if let Some(pb) = *pb {
+                    g[(a, b)] += self.g[(pa, pb)];
+                }
+            }
+        }
+        rr += self.rr;
+        (g, xr, rr)
+    }
 }
 
 use crate::effects::fitted::joint_of;
@@ -61,6 +124,31 @@ impl Store {
             rr,
             xr: vec![],
             gram: RwLock::new(HashMap::new()),
+            prior: None,
+        }
+    }
+
+    /// Rows outside the folds that every fit of their columns includes
+    /// ([`Prior`]).
+    pub fn set_prior(&mut self, prior: Prior) {
+        self.prior = Some(prior);
+    }
+
+    /// The rows outside the folds, if any.
+    pub fn prior(&self) -> Option<&Prior> {
+        self.prior.as_ref()
+    }
+
+    /// `normal` of the columns `ids` with the rows outside the folds added
+    /// (a fit's normal equations; unchanged without them).
+    pub fn with_prior(
+        &self,
+        ids: &[usize],
+        normal: (Mat<f64>, Vec<f64>, f64),
+    ) -> (Mat<f64>, Vec<f64>, f64) {
+        match &self.prior {
+            Some(p) => p.add_to(ids, normal),
+            None => normal,
         }
     }
 
@@ -337,5 +425,73 @@ mod tests {
             let want = r[i] - 0.5 * local[i] + 2.0 * other[i] - 0.25 * dense[i];
             assert!((v - want).abs() < 1e-12);
         }
+    }
+
+    /// Rows outside the folds: a fit of their columns on some folds is the
+    /// least squares over those folds' rows and the outside rows together
+    /// (two columns, only the first has outside rows); the same rows with
+    /// coefficients applied (`Prior::at`) are those of `r − Y·applied`.
+    #[test]
+    fn rows_outside_the_folds_join_every_fit_of_their_columns() {
+        use super::Prior;
+        use crate::diagnose::refit::{Group, fit};
+        let samples = 60;
+        let x0: Vec<f64> = (0..samples).map(|k| (k as f64 * 0.3).sin()).collect();
+        let x1: Vec<f64> = (0..samples).map(|k| (k as f64 * 0.05).cos()).collect();
+        let r: Vec<f64> = (0..samples)
+            .map(|k| 2.0 * x0[k] - x1[k] + (k as f64).sin())
+            .collect();
+        let mut s = Store::new(r.clone(), 1, &folds(samples, 3));
+        let ids = s.add_all(vec![x0.clone(), x1.clone()]);
+        // outside rows over x0 only: y and their residual e
+        let y: Vec<f64> = (0..25).map(|k| 1.0 + (k as f64 * 0.7).cos()).collect();
+        let e: Vec<f64> = (0..25)
+            .map(|k| 0.3 * y[k] + 0.1 * (k as f64).cos())
+            .collect();
+        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(p, q)| p * q).sum::<f64>();
+        let prior = Prior {
+            ids: vec![ids[0]],
+            g: faer::Mat::from_fn(1, 1, |_, _| dot(&y, &y)),
+            xr: vec![dot(&y, &e)],
+            rr: dot(&e, &e),
+        };
+        s.set_prior(prior.clone());
+        let on = [true, true, false];
+        let beta = fit(&s, &[&Group::plain(ids.clone())], &on, &[true])
+            .unwrap()
+            .beta;
+        // the same least squares written out: rows of folds 1–2, then the outside rows
+        let rows: Vec<usize> = (0..40).collect();
+        let col = |c: &[f64], out: &[f64]| -> Vec<f64> {
+            rows.iter()
+                .map(|&k| c[k])
+                .chain(out.iter().copied())
+                .collect()
+        };
+        let (a0, a1) = (col(&x0, &y), col(&x1, &[0.0; 25]));
+        let b = col(&r, &e);
+        let (g00, g01, g11) = (dot(&a0, &a0), dot(&a0, &a1), dot(&a1, &a1));
+        let (b0, b1) = (dot(&a0, &b), dot(&a1, &b));
+        let det = g00 * g11 - g01 * g01;
+        let want = [(g11 * b0 - g01 * b1) / det, (g00 * b1 - g01 * b0) / det];
+        for (got, w) in beta.iter().zip(want) {
+            assert!(
+                (got - w).abs() < 1e-7 * (1.0 + w.abs()),
+                "{beta:?} vs {want:?}"
+            );
+        }
+        // without the outside rows' column the fit is that of the folds alone
+        let only1 = fit(&s, &[&Group::plain(vec![ids[1]])], &on, &[true])
+            .unwrap()
+            .beta;
+        let rows40: Vec<f64> = rows.iter().map(|&k| x1[k]).collect();
+        let r40: Vec<f64> = rows.iter().map(|&k| r[k]).collect();
+        assert!((only1[0] - dot(&rows40, &r40) / dot(&rows40, &rows40)).abs() < 1e-9);
+        // applied coefficients taken off the outside residual
+        let moved = prior.at(vec![7], &[0.25]);
+        let e2: Vec<f64> = e.iter().zip(&y).map(|(a, b)| a - 0.25 * b).collect();
+        assert_eq!(moved.ids, vec![7]);
+        assert!((moved.xr[0] - dot(&y, &e2)).abs() < 1e-12);
+        assert!((moved.rr - dot(&e2, &e2)).abs() < 1e-12);
     }
 }

@@ -20,6 +20,8 @@ pub struct DiagnoseArgs<'a> {
     pub read: super::ReadChoice<'a>,
     /// `cad`, `true` or a parameter file.
     pub nominal: Option<&'a str>,
+    /// The data the nominal was identified on (none: its bodies held).
+    pub nominal_data: &'a [std::path::PathBuf],
     /// Two runs of one trajectory for the noise floor (none: first
     /// differences).
     pub repeats: &'a [std::path::PathBuf],
@@ -66,6 +68,12 @@ fn diagnosis(a: &DiagnoseArgs) -> Result<Diagnosis, String> {
         let floor =
             repeat_floor(&x, &y, [&shown[0], &shown[1]]).map_err(|e| format!("--repeats: {e}"))?;
         opts = opts.with_noise_floor(floor);
+    }
+    if !a.nominal_data.is_empty() {
+        let paths: Vec<&Path> = a.nominal_data.iter().map(|p| p.as_path()).collect();
+        let r = super::read_data(&paths, &names, &read, a.robot, a.sidecar)?;
+        super::report_reading("--nominal-data", &r);
+        opts = opts.with_nominal_data(r.data);
     }
     diagnose_with((&model, &friction, &effects), &d, &opts).map_err(|e| match e {
         e @ momentlmi::diagnose::DiagnoseError::TooLarge { .. } => {
@@ -169,7 +177,8 @@ pub fn run(a: &DiagnoseArgs) -> i32 {
 
 /// The files the command reads, which no output may be.
 fn inputs<'a>(a: &'a DiagnoseArgs) -> Vec<&'a Path> {
-    let files: Vec<&Path> = (a.data.iter().chain(a.repeats).map(|p| p.as_path()))
+    let files: Vec<&Path> = (a.data.iter().chain(a.repeats).chain(a.nominal_data))
+        .map(|p| p.as_path())
         .chain(a.sidecar)
         .collect();
     super::input_files(&files, &[a.robot, a.nominal.unwrap_or("")])
@@ -193,7 +202,7 @@ fn check_outputs(a: &DiagnoseArgs) -> Result<(), String> {
     if parent.is_some_and(|p| !p.is_dir()) {
         return bad("its folder does not exist");
     }
-    let records: Vec<std::path::PathBuf> = (a.data.iter().chain(a.repeats))
+    let records: Vec<std::path::PathBuf> = (a.data.iter().chain(a.repeats).chain(a.nominal_data))
         .map(|p| momentlmi::data::record_path(p))
         .filter(|r| r.is_file())
         .collect();

@@ -23,7 +23,10 @@ pub fn run(a: &DiagnoseArgs, robot: Robot) -> i32 {
 }
 
 fn diagnosis(a: &DiagnoseArgs, robot: Robot) -> Result<(), String> {
-    refuse(&[("--repeats", !a.repeats.is_empty())])?;
+    refuse(&[
+        ("--repeats", !a.repeats.is_empty()),
+        ("--nominal-data", !a.nominal_data.is_empty()),
+    ])?;
     refuse(&reading_options(&a.read))?;
     let files: Vec<&Path> = (a.data.iter().map(|p| p.as_path()))
         .chain(a.sidecar)
