@@ -284,9 +284,9 @@ pub fn setup() -> Result<
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Nominal {
     /// The effects runs 1–2 show against their own model are part of it:
-    /// runs 1–2 are diagnosed first, and their diagnosis' model (bodies
-    /// and law refit, the accepted effects) is the nominal
-    /// (`NOMINAL_OWN=1`).
+    /// runs 1–2 are diagnosed first (their bodies held), and their
+    /// diagnosis' model (the law refit, the accepted effects, an accepted
+    /// inertial change in its bodies) is the nominal (`NOMINAL_OWN=1`).
     pub own_effects: bool,
     /// The data it was identified on (runs 1–2) are given
     /// (`DiagnoseOptions::with_nominal_data`, `--nominal-data`): its bodies
@@ -315,11 +315,10 @@ pub fn run(
     let mut dopts = DiagnoseOptions::default()
         .with_noise_floor(floor)
         .with_library(lib);
-    if nominal.own_data {
-        dopts = dopts.with_nominal_data(train.clone());
-    }
     let (model, friction, effects) = match nominal.own_effects {
         true => {
+            // runs 1–2 against the model identified on them (their bodies
+            // held: given as its own data they would be fitted in every fold)
             let own = diagnose(&model, &friction, &train, &dopts)?;
             if std::env::var_os("VERBOSE").is_some() {
                 show("runs 1–2 against their own model", &own);
@@ -330,6 +329,9 @@ pub fn run(
         }
         false => (model, friction, vec![]),
     };
+    if nominal.own_data {
+        dopts = dopts.with_nominal_data(train.clone());
+    }
     let diagnose =
         |d: &Dataset, o: &DiagnoseOptions| diagnose_with((&model, &friction, &effects), d, o);
     let null = diagnose(&val, &dopts)?;

@@ -222,7 +222,7 @@ fn the_untouched_real_run_names_no_payload_against_a_nominal_that_knows_its_data
         (d.accepted.iter()).any(|a| a == "payload" || a == "link_inertia")
     };
     let nominal = confusion_real::Nominal {
-        own_effects: true,
+        own_effects: false,
         own_data: true,
     };
     let (null, rows) = confusion_real::run("payload", &[], nominal).unwrap();

@@ -104,7 +104,7 @@ fn a_short_runs_own_estimation_error_is_not_an_effect_with_its_data() {
 }
 
 /// Data the nominal was identified on that do not fit it are a named
-/// error: other joints, no torques.
+/// error: other joints, the diagnosed data themselves, no torques.
 #[test]
 fn nominal_data_that_do_not_fit_are_named() {
     let (m, f, own) = nominal(2.0);
@@ -120,6 +120,17 @@ fn nominal_data_that_do_not_fit_are_named() {
     .unwrap_err();
     assert!(
         e.to_string().contains("identified on") && e.to_string().contains("elbow"),
+        "{e}"
+    );
+    let e = diagnose(
+        &m,
+        &f,
+        &d,
+        &DiagnoseOptions::default().with_nominal_data(d.clone()),
+    )
+    .unwrap_err();
+    assert!(
+        matches!(e, momentlmi::diagnose::DiagnoseError::Overlap { rows, total } if rows == total),
         "{e}"
     );
     let mut bare = own;

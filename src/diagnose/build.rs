@@ -21,15 +21,6 @@ const IN_LAW: &str = "not proposed: the nominal model's friction law has this te
 /// refit with the law.
 const BODIES_REFIT: &str = "not proposed: the nominal's bodies are refit with the friction law, on these data and the data it was identified on";
 
-/// Whether every variant of `c` changes bodies the nominal model has (not
-/// a body of its own, as a payload is).
-fn corrects_bodies(c: &Candidate) -> bool {
-    (c.variants.iter()).all(|v| {
-        let b = &v.columns.bodies;
-        !b.is_empty() && b.iter().all(|p| p.iter().any(|x| *x != 0.0))
-    })
-}
-
 /// Why a hypothesis within the law's span is not proposed.
 const LAW_SPAN: &str = "not proposed: on these data its columns lie within those of the nominal friction law, refit with the law";
 
@@ -50,6 +41,7 @@ fn proposed(
         }
         let why = match e.inapplicable(cx.model) {
             Some(why) => Some(why),
+            None if law.bodies > 0 && e.changes_nominal_bodies() => Some(BODIES_REFIT),
             None => (e.law_term()).and_then(|t| law.terms.contains(&t).then_some(IN_LAW)),
         };
         match why {
@@ -81,7 +73,6 @@ pub fn candidates(
     let mut out = vec![];
     for (e, b) in proposed.iter().zip(built) {
         let why = match b.map(|h| Candidate::new(e.clone(), h, store)) {
-            Ok(Some(c)) if law.bodies > 0 && corrects_bodies(&c) => BODIES_REFIT.to_string(),
             Ok(Some(c)) if within_law(&c, &law.friction_group(), store) => LAW_SPAN.to_string(),
             Ok(Some(c)) => {
                 out.push(c);

@@ -55,8 +55,7 @@ impl Candidate {
                     ids,
                     bodies: columns.bodies.clone(),
                     nonneg: columns.nonneg,
-                    lower: None,
-                    applied: None,
+                    ..Group::default()
                 };
                 Variant {
                     columns,

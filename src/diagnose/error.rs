@@ -78,6 +78,16 @@ pub enum DiagnoseError {
     /// The data the nominal model was identified on do not fit it.
     #[error("the data the nominal model was identified on: {0}")]
     NominalData(#[source] Box<DiagnoseError>),
+    /// The data diagnosed are among the data the nominal was identified on.
+    #[error(
+        "{rows} of the {total} samples diagnosed are also among the data the nominal model was identified on: its rows join every fit, so the folds held out would be fitted; give the runs it was not identified on"
+    )]
+    Overlap {
+        /// The samples found in both.
+        rows: usize,
+        /// The samples diagnosed.
+        total: usize,
+    },
     /// The model has no tool point (no moving body) for the payload candidate.
     #[error("the model has no tool point (no moving body) for the payload candidate")]
     NoTool,

@@ -4,8 +4,11 @@
 //! another part of the friction curve), so the coefficients of the terms
 //! the nominal model has are free in every fit; its inertias, which do not
 //! change between runs, are held, and a change there is a finding
-//! (`payload`, `link_inertia`, `rotor_inertia`). A friction term the law
-//! lacks is a candidate like any other effect.
+//! (`payload`, `link_inertia`, `rotor_inertia`) — unless the data the
+//! nominal was identified on are given: then its bodies are refit with the
+//! law on those data and the fitting part ([`Law::with_bodies`],
+//! `super::nominal_data`), kept consistent (`J ⪰ 0`) in the final fit. A
+//! friction term the law lacks is a candidate like any other effect.
 
 use super::refit::Group;
 use super::store::{Prior, Store};
@@ -106,9 +109,18 @@ impl Law {
     /// order) set as the store's rows outside the folds — a change of the
     /// bodies costs what it costs on those data, so one they could not
     /// determine is part of the baseline, not a finding.
-    pub fn with_bodies(mut self, cols: Vec<Vec<f64>>, prior: Prior, store: &mut Store) -> Self {
+    pub fn with_bodies(
+        mut self,
+        (cols, params): (Vec<Vec<f64>>, &[f64]),
+        prior: Prior,
+        store: &mut Store,
+    ) -> Self {
         let ids: Vec<usize> = cols.into_iter().map(|c| store.add_in(c, None)).collect();
         self.bodies = ids.len();
+        self.group.bodies_at = self.group.ids.len();
+        self.group.bodies = (params.chunks_exact(10))
+            .map(|p| std::array::from_fn(|q| p[q]))
+            .collect();
         self.group.ids.extend(&ids);
         if let Some(lower) = self.group.lower.as_mut() {
             lower.extend(std::iter::repeat_n(f64::NEG_INFINITY, ids.len()));

@@ -23,6 +23,7 @@
 mod alias;
 mod build;
 mod candidate;
+mod check;
 mod choose;
 mod conclude;
 mod cv;
@@ -68,8 +69,8 @@ use split::Split;
 use store::Store;
 use where_::JointWhere;
 
-/// The fewest samples a diagnosis takes.
-pub const MIN_SAMPLES: usize = 100;
+pub use check::MIN_SAMPLES;
+use check::check_data;
 
 /// The noise floor given in `opts` (one per joint, else an error), else
 /// the residual's first differences, naming the joints where they are a
@@ -95,33 +96,6 @@ fn noise_floor(opts: &DiagnoseOptions, where_: &[JointWhere]) -> Result<NoiseFlo
                 .collect(),
         },
     })
-}
-
-/// Checks that `data` can be diagnosed against `model`: enough samples
-/// with torques, the model's joints, some motion.
-fn check_data(model: &Model, data: &Dataset) -> Result<(), DiagnoseError> {
-    if data.tau.len() != data.len() || data.len() < MIN_SAMPLES {
-        return Err(DiagnoseError::TooFewSamples {
-            needed: MIN_SAMPLES,
-            found: if data.tau.len() == data.len() {
-                data.len()
-            } else {
-                0
-            },
-        });
-    }
-    let names: Vec<String> = model.joint_names().iter().map(|s| s.to_string()).collect();
-    if data.joints != names {
-        return Err(DiagnoseError::Joints {
-            expected: names,
-            found: data.joints.clone(),
-        });
-    }
-    let n = model.dof();
-    if (0..n).all(|i| data.q.iter().all(|q| q[i] == data.q[0][i])) {
-        return Err(DiagnoseError::NoMotion);
-    }
-    Ok(())
 }
 
 /// Diagnoses `data` against the nominal `model` + `friction` with the
@@ -162,10 +136,10 @@ pub fn diagnose_with(
     let cx = Context::new(model, friction, data, &r_nominal, folds.first_heldout());
     let law = match opts.nominal_data() {
         Some(own) => {
-            let prior = nominal_data::prior(nominal, own, opts.library())?;
+            let prior = nominal_data::prior(nominal, own, data, opts.library())?;
             let cols = (cx.regressor_columns(model.params().len(), |y, i, c| y[(i, c)]))
                 .map_err(DiagnoseError::Effects)?;
-            law.with_bodies(cols, prior, &mut store)
+            law.with_bodies((cols, &model.params()), prior, &mut store)
         }
         None => law,
     };

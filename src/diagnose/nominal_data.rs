@@ -30,11 +30,14 @@ const PIECE: usize = 1024;
 pub fn prior(
     nominal: (&Model, &Friction, &[FittedEffect]),
     own: &Dataset,
+    diagnosed: &Dataset,
     library: &Library,
 ) -> Result<Prior, DiagnoseError> {
     let model = nominal.0;
-    super::check_data(model, own).map_err(|e| DiagnoseError::NominalData(Box::new(e)))?;
-    let r = residual_of(nominal, own, library)?;
+    let named = |e: DiagnoseError| DiagnoseError::NominalData(Box::new(e));
+    super::check::check_data(model, own).map_err(named)?;
+    overlap(own, diagnosed)?;
+    let r = residual_of(nominal, own, library).map_err(named)?;
     let (n, m) = (model.dof(), model.params().len());
     let piece = |start: usize| -> Result<(Mat<f64>, Vec<f64>, f64), DiagnoseError> {
         let mut g = Mat::<f64>::zeros(m, m);
@@ -42,9 +45,9 @@ pub fn prior(
         let mut data = Data::new(model);
         for k in start..(start + PIECE).min(own.len()) {
             // the load friction column's load (no body column reads it)
-            data.load.copy_from_slice(&own.tau[k]);
+            (data.load.iter_mut().zip(&own.tau[k])).for_each(|(l, t)| *l = *t);
             let y = regressor(model, &mut data, &own.q[k], &own.qd[k], &own.qdd[k])
-                .map_err(|source| DiagnoseError::Regressor { sample: k, source })?;
+                .map_err(|source| named(DiagnoseError::Regressor { sample: k, source }))?;
             for i in 0..n {
                 let ri = r[k * n + i];
                 rr += ri * ri;
@@ -62,19 +65,20 @@ pub fn prior(
         }
         Ok((g, xr, rr))
     };
-    let parts: Vec<_> = (0..own.len())
-        .step_by(PIECE)
-        .collect::<Vec<_>>()
-        .into_par_iter()
-        .map(piece)
-        .collect::<Result<_, _>>()?;
-    let mut g = Mat::<f64>::zeros(m, m);
-    let (mut xr, mut rr) = (vec![0.0; m], 0.0);
-    for (pg, px, pr) in parts {
+    let zero = || Ok((Mat::<f64>::zeros(m, m), vec![0.0; m], 0.0));
+    let add = |a: Result<(Mat<f64>, Vec<f64>, f64), DiagnoseError>, b| {
+        let ((mut g, mut xr, rr), (pg, px, pr)) = (a?, b?);
         g += &pg;
         xr.iter_mut().zip(&px).for_each(|(a, b)| *a += b);
-        rr += pr;
-    }
+        Ok((g, xr, rr + pr))
+    };
+    // summed as they are made (one sum per thread): memory does not grow
+    // with the pieces
+    let (mut g, xr, rr) = (0..own.len().div_ceil(PIECE))
+        .into_par_iter()
+        .map(|p| piece(p * PIECE))
+        .fold(zero, add)
+        .reduce(zero, add)?;
     for a in 0..m {
         for b in 0..a {
             g[(a, b)] = g[(b, a)];
@@ -93,4 +97,29 @@ pub fn prior(
         xr,
         rr,
     })
+}
+
+/// The diagnosed samples must not be the nominal's own: their rows would
+/// join every fit, the held-out folds' included. A sample is the same when
+/// its positions and torques are, bit for bit (two runs of one motion
+/// differ in their noise); 1 % of the samples or more is refused.
+fn overlap(own: &Dataset, diagnosed: &Dataset) -> Result<(), DiagnoseError> {
+    use std::collections::HashSet;
+    use std::hash::{DefaultHasher, Hash, Hasher};
+    let key = |d: &Dataset, k: usize| {
+        let mut h = DefaultHasher::new();
+        (d.q[k].iter().chain(&d.tau[k])).for_each(|x| x.to_bits().hash(&mut h));
+        h.finish()
+    };
+    let seen: HashSet<u64> = (0..own.len()).map(|k| key(own, k)).collect();
+    let rows = (0..diagnosed.len())
+        .filter(|&k| seen.contains(&key(diagnosed, k)))
+        .count();
+    match rows > 0 && rows * 100 >= diagnosed.len() {
+        true => Err(DiagnoseError::Overlap {
+            rows,
+            total: diagnosed.len(),
+        }),
+        false => Ok(()),
+    }
 }

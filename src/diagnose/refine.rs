@@ -57,7 +57,14 @@ impl Refine<'_> {
     ) -> Result<(ModelOut, Vec<f64>, Option<String>), DiagnoseError> {
         for pass in 0..PASSES {
             let out = self.model(&beta)?;
-            let (store, groups) = self.linearised(&out, &beta)?;
+            let Some((store, groups)) = self.linearised(&out, &beta)? else {
+                let why = "a term of the nominal law has no column on the refit model";
+                return Ok((
+                    out,
+                    beta,
+                    Some(format!("pass {} of {PASSES}: {why}", pass + 1)),
+                ));
+            };
             let refs: Vec<&Group> = groups.iter().collect();
             let on: Vec<bool> = (0..self.folds.len()).map(|k| k < self.folds.fit).collect();
             match fit(&store, &refs, &on, &vec![true; refs.len()]) {
@@ -86,7 +93,7 @@ impl Refine<'_> {
         &self,
         out: &ModelOut,
         beta: &[f64],
-    ) -> Result<(Store, Vec<Group>), DiagnoseError> {
+    ) -> Result<Option<(Store, Vec<Group>)>, DiagnoseError> {
         let (d, n) = (self.data, out.model.dof());
         let pred = predict_with(&out.model, &out.friction, &out.effects, d, self.library)
             .map_err(DiagnoseError::Effects)?;
@@ -97,7 +104,10 @@ impl Refine<'_> {
         let law =
             Law::new(&out.model, &out.friction, d, &mut store).map_err(DiagnoseError::Predict)?;
         let k = self.law.group.ids.len();
-        let mut groups = vec![self.law_group(&law, &out.friction, &beta[..k], &mut store)];
+        let Some(law_group) = self.law_group(&law, &out.friction, &beta[..k], &mut store) else {
+            return Ok(None);
+        };
+        let mut groups = vec![law_group];
         let zeros = vec![0.0; d.len() * n];
         let cx = Context::new(
             &out.model,
@@ -112,34 +122,46 @@ impl Refine<'_> {
             groups.push(self.group(a, &beta[at..at + len], &cx, &mut store)?);
             at += len;
         }
-        Ok((store, groups))
+        Ok(Some((store, groups)))
     }
 
     /// The law's columns for the nominal law's terms (`law` is built on the
     /// current model, whose law may have more terms), bounded at the
     /// current coefficients; with the bodies refit with the law, their
-    /// columns (which do not change) and the nominal's own rows at the
-    /// current change.
-    fn law_group(&self, law: &Law, friction: &Friction, delta: &[f64], store: &mut Store) -> Group {
-        let mut group = self.friction_group(law, friction, delta);
+    /// columns (which do not change), their constraints at the current
+    /// point and the nominal's own rows at the current change. `None` when
+    /// a term of the nominal law has no column on the current model.
+    fn law_group(
+        &self,
+        law: &Law,
+        friction: &Friction,
+        delta: &[f64],
+        store: &mut Store,
+    ) -> Option<Group> {
+        let mut group = self.friction_group(law, friction, delta)?;
         let body_ids = &self.law.group.ids[self.law.labels.len()..];
         if let (Some(prior), false) = (self.store.prior(), body_ids.is_empty()) {
             let ids: Vec<usize> = (body_ids.iter())
                 .map(|&id| store.add_in(self.store.col(id).values.clone(), None))
                 .collect();
-            store.set_prior(prior.at(ids.clone(), self.law.body_delta(delta)));
+            let change = self.law.body_delta(delta);
+            store.set_prior(prior.at(ids.clone(), change));
+            group.bodies_at = group.ids.len();
+            group.bodies = (self.law.group.bodies.iter().enumerate())
+                .map(|(b, p)| std::array::from_fn(|q| p[q] + change[10 * b + q]))
+                .collect();
             group.ids.extend(ids);
             if let Some(lower) = group.lower.as_mut() {
                 lower.extend(std::iter::repeat_n(f64::NEG_INFINITY, body_ids.len()));
             }
         }
         group.applied = Some(delta.to_vec());
-        group
+        Some(group)
     }
 
     /// The law's friction columns for the nominal law's terms, bounded at
-    /// the current coefficients.
-    fn friction_group(&self, law: &Law, friction: &Friction, delta: &[f64]) -> Group {
+    /// the current coefficients (`None`: a term has no column there).
+    fn friction_group(&self, law: &Law, friction: &Friction, delta: &[f64]) -> Option<Group> {
         let ids = (self.law.labels.iter())
             .map(|l| {
                 law.labels
@@ -147,20 +169,19 @@ impl Refine<'_> {
                     .position(|m| m == l)
                     .map(|p| law.group.ids[p])
             })
-            .collect::<Option<Vec<usize>>>()
-            .unwrap_or_default();
+            .collect::<Option<Vec<usize>>>()?;
         let lower = (self.law.labels.iter())
             .map(|(t, i)| match t.signed() {
                 true => f64::NEG_INFINITY,
                 false => -friction.coefficients(*t).get(*i).copied().unwrap_or(0.0),
             })
             .collect();
-        Group {
+        Some(Group {
             ids,
             lower: Some(lower),
             applied: Some(delta[..self.law.labels.len().min(delta.len())].to_vec()),
             ..Group::default()
-        }
+        })
     }
 
     /// An accepted effect's columns for a step from its coefficients `b`:
@@ -208,6 +229,7 @@ impl Refine<'_> {
             nonneg: false,
             lower: a.group.nonneg.then(|| b.iter().map(|x| -x).collect()),
             applied: Some(b.to_vec()),
+            ..Group::default()
         })
     }
 }

@@ -18,9 +18,12 @@ use faer::linalg::solvers::Solve;
 pub struct Group {
     /// Column ids in the [`Store`].
     pub ids: Vec<usize>,
-    /// The first `10·b` coefficients correct these bodies (paper's order):
-    /// `J(π_b + β_b) ⪰ 0` each.
+    /// The `10·b` coefficients from [`Group::bodies_at`] correct these
+    /// bodies (paper's order): `J(π_b + β_b) ⪰ 0` each.
     pub bodies: Vec<[f64; 10]>,
+    /// Where the bodies' coefficients start (0 but in the law's group,
+    /// whose friction columns come first).
+    pub bodies_at: usize,
     /// Every coefficient ≥ 0.
     pub nonneg: bool,
     /// A lower bound per coefficient (`-∞`: none).
@@ -71,6 +74,7 @@ impl Group {
         Self {
             ids: keep.iter().map(|&a| self.ids[a]).collect(),
             bodies: vec![],
+            bodies_at: 0,
             nonneg: self.nonneg,
             lower: (self.lower.as_ref()).map(|l| keep.iter().map(|&a| l[a]).collect()),
             applied: (self.applied.as_ref()).map(|l| keep.iter().map(|&a| l[a]).collect()),
@@ -256,8 +260,9 @@ fn units(groups: &[&Group]) -> (Vec<f64>, Vec<f64>) {
         let a = g.applied.clone().unwrap_or_else(|| vec![0.0; g.ids.len()]);
         let mut u = vec![1.0; g.ids.len()];
         for (b, nominal) in g.bodies.iter().enumerate() {
-            let m = (nominal[0] - a[10 * b]).abs().max(1.0);
-            for (q, x) in u[10 * b..10 * b + 10].iter_mut().enumerate() {
+            let at = g.bodies_at + 10 * b;
+            let m = (nominal[0] - a[at]).abs().max(1.0);
+            for (q, x) in u[at..at + 10].iter_mut().enumerate() {
                 *x = m * match q {
                     0 => 1.0,
                     1..=3 => 0.1,
@@ -274,7 +279,8 @@ fn units(groups: &[&Group]) -> (Vec<f64>, Vec<f64>) {
 /// Adds `grp`'s constraints on its coefficients `beta` to `p`.
 fn constrain(p: &mut Problem, grp: &Group, beta: &[AffExpr]) -> Result<(), FitError> {
     for (b, nominal) in grp.bodies.iter().enumerate() {
-        let pi = std::array::from_fn(|q| beta[10 * b + q].clone() + nominal[q]);
+        let at = grp.bodies_at + 10 * b;
+        let pi = std::array::from_fn(|q| beta[at + q].clone() + nominal[q]);
         p.add_psd(&BodyVars::from_exprs(pi).pseudo_inertia())?;
     }
     if grp.nonneg {

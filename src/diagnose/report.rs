@@ -189,7 +189,7 @@ pub struct Diagnosis {
     /// held-out part (the last file, or the last blocks of time) (N·m).
     pub heldout_rms_nominal: Vec<f64>,
     /// The same with the nominal friction law refit on the fitting part
-    /// (N·m).
+    /// (and, with the nominal's own data given, its bodies) (N·m).
     pub heldout_rms_refit: Vec<f64>,
     /// The same with the law and the accepted effects refit on the fitting
     /// part: the model `--model-out` writes (N·m).

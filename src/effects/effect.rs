@@ -120,6 +120,15 @@ pub trait Effect: Send + Sync {
         None
     }
 
+    /// Diagnosis: whether the effect is a change of the nominal model's own
+    /// bodies (`link_inertia`, `rotor_inertia`; not a body of its own, as a
+    /// payload is). Given the data the nominal was identified on, the
+    /// diagnosis refits those bodies with the law, so such an effect is not
+    /// proposed beside them (false by default).
+    fn changes_nominal_bodies(&self) -> bool {
+        false
+    }
+
     /// Diagnosis: the sizes an accepted effect reports, computed from the
     /// coefficients `beta` of `variant` (the diagnosis gives each an
     /// interval by evaluating them on the coefficients' replicates, so the

@@ -56,6 +56,10 @@ impl Effect for LinkInertia {
             .collect()
     }
 
+    fn changes_nominal_bodies(&self) -> bool {
+        true
+    }
+
     fn hypothesis(&self, cx: &Context) -> Result<Hypothesis, EffectError> {
         let links = cx.model.dof();
         let cols = cx.regressor_columns(10 * links, |y, i, c| y[(i, c)])?;

@@ -59,6 +59,10 @@ impl Effect for RotorInertia {
             .collect()
     }
 
+    fn changes_nominal_bodies(&self) -> bool {
+        true
+    }
+
     fn hypothesis(&self, cx: &Context) -> Result<Hypothesis, EffectError> {
         let (links, bodies) = (cx.model.dof(), cx.model.num_bodies());
         if bodies == links {
