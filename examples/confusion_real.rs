@@ -25,8 +25,9 @@ use momentlmi::diagnose::floor::{NoiseFloor, repeat_floor};
 use momentlmi::diagnose::{DiagnoseOptions, Diagnosis, diagnose, diagnose_with};
 use momentlmi::dynamics::predict::predict_torques;
 use momentlmi::dynamics::robots::load_robot;
-use momentlmi::dynamics::{Friction, FrictionTerm, Model, RobotDescription, sign};
+use momentlmi::dynamics::{Friction, FrictionTerm, Model, RobotDescription, Samples, sign};
 use momentlmi::effects::Library;
+use momentlmi::effects::fitted::add_effects;
 use momentlmi::identify::{Identification, Level, Regularizer};
 use momentlmi::moments::InertialParams;
 use nalgebra::Matrix3;
@@ -267,16 +268,13 @@ pub fn setup() -> Result<
     Box<dyn Error>,
 > {
     let (robot, train, val) = kuka()?;
-    let id = Identification::for_robot(&robot, Level::Ellipsoid, 1e-2)?
-        .regularizer(Regularizer::Entropic);
-    let (model, friction) = id.identify(&train, None)?.applied_to(&robot.model)?;
+    let (model, friction) = identified(&robot, &train)?;
     let segs: Vec<Dataset> = train
         .segment_ranges()
         .into_iter()
         .map(|r| train.slice(r))
         .collect();
     let floor = repeat_floor(&segs[0], &segs[1], ["run 1", "run 2"])?;
-    drop(id);
     Ok((robot, model, friction, floor, val, train))
 }
 
@@ -284,15 +282,28 @@ pub fn setup() -> Result<
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Nominal {
     /// The effects runs 1–2 show against their own model are part of it:
-    /// runs 1–2 are diagnosed first (their bodies held), and their
-    /// diagnosis' model (the law refit, the accepted effects, an accepted
-    /// inertial change in its bodies) is the nominal (`NOMINAL_OWN=1`).
+    /// runs 1–2 are diagnosed first (their bodies held), the effects that
+    /// diagnosis accepts (a body change aside) are held and runs 1–2 are
+    /// identified again with them taken off (as `identify --with-effects`
+    /// does): that model with those effects is the nominal
+    /// (`NOMINAL_OWN=1`).
     pub own_effects: bool,
     /// The data it was identified on (runs 1–2) are given
     /// (`DiagnoseOptions::with_nominal_data`, `--nominal-data`): its bodies
     /// are refit with the law on those data and the fitting part
     /// (`NOMINAL_DATA=1`).
     pub own_data: bool,
+}
+
+/// The KUKA's model identified on `data` at the recommended options
+/// (ellipsoid level, entropic prior weight 10⁻²).
+fn identified(
+    robot: &RobotDescription,
+    data: &Dataset,
+) -> Result<(Model, Friction), Box<dyn Error>> {
+    let id = Identification::for_robot(robot, Level::Ellipsoid, 1e-2)?
+        .regularizer(Regularizer::Entropic);
+    Ok(id.identify(data, None)?.applied_to(&robot.model)?)
 }
 
 /// The null row's diagnosis and the cases whose effect name contains
@@ -323,9 +334,17 @@ pub fn run(
             if std::env::var_os("VERBOSE").is_some() {
                 show("runs 1–2 against their own model", &own);
             }
+            // the effects it accepted held, runs 1–2 identified again (as
+            // `identify --with-effects` does): their torques taken off
             let mut m = model.clone();
             let f = own.model.apply(&mut m, "runs 1–2's diagnosis")?;
-            (m, f, own.model.effects.clone())
+            let effects = own.model.effects.clone();
+            let mut fx = Samples::zeros(train.len(), train.joints.len());
+            add_effects(&m, &f, &effects, &train, &Library::builtin(), &mut fx)?;
+            let mut held = train.clone();
+            (held.tau.as_flat_mut().iter_mut().zip(fx.as_flat())).for_each(|(t, x)| *t -= x);
+            let (m, f) = identified(&robot, &held)?;
+            (m, f, effects)
         }
         false => (model, friction, vec![]),
     };

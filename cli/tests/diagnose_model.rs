@@ -55,6 +55,39 @@ fn columns(p: &Path, prefix: &str) -> Vec<(String, Vec<f64>)> {
         .collect()
 }
 
+/// `predict` with the model file `m` on the held-out file `b` gives the
+/// held-out RMS the report gave per joint (`heldout_rms_final`, to 1e-6).
+fn predict_gives_the_reported(report: &serde_json::Value, m: &Path, b: &Path, p: &Path) {
+    let reported: Vec<f64> = (report["heldout_rms_final"].as_array().unwrap().iter())
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    let o = bin()
+        .args(["predict", "--robot", "cheetah3-leg", "--params"])
+        .arg(m)
+        .arg("--data")
+        .arg(b)
+        .arg("--out")
+        .arg(p)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (measured, predicted) = (columns(b, "tau_"), columns(p, "tau_"));
+    assert_eq!(measured.len(), reported.len());
+    for (i, ((name, tau), (pname, hat))) in measured.iter().zip(&predicted).enumerate() {
+        assert_eq!(name, pname);
+        let ms = (tau.iter().zip(hat))
+            .map(|(x, y)| (x - y).powi(2))
+            .sum::<f64>()
+            / tau.len() as f64;
+        assert!(
+            (ms.sqrt() - reported[i]).abs() <= 1e-6,
+            "{name}: predict {} against the reported {}",
+            ms.sqrt(),
+            reported[i]
+        );
+    }
+}
+
 #[test]
 fn predict_with_the_model_out_gives_the_reported_heldout_error() {
     let d = dir("claim");
@@ -73,37 +106,11 @@ fn predict_with_the_model_out_gives_the_reported_heldout_error() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let report: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(report["folds"], "3 files");
+    // the held-out part is the last file: predicted with the model file
+    predict_gives_the_reported(&report, &m, &b, &d.join("p.csv"));
     let reported: Vec<f64> = (report["heldout_rms_final"].as_array().unwrap().iter())
         .map(|x| x.as_f64().unwrap())
         .collect();
-    // the held-out part is the last file: predicted with the model file
-    let p = d.join("p.csv");
-    let o = bin()
-        .args(["predict", "--robot", "cheetah3-leg", "--params"])
-        .arg(&m)
-        .arg("--data")
-        .arg(&b)
-        .arg("--out")
-        .arg(&p)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let (measured, predicted) = (columns(&b, "tau_"), columns(&p, "tau_"));
-    assert_eq!(measured.len(), reported.len());
-    for ((name, tau), (pname, hat)) in measured.iter().zip(&predicted) {
-        assert_eq!(name, pname);
-        let ms = (tau.iter().zip(hat))
-            .map(|(x, y)| (x - y).powi(2))
-            .sum::<f64>()
-            / tau.len() as f64;
-        let i = measured.iter().position(|(n, _)| n == name).unwrap();
-        assert!(
-            (ms.sqrt() - reported[i]).abs() <= 1e-6,
-            "{name}: predict {} against the reported {}",
-            ms.sqrt(),
-            reported[i]
-        );
-    }
     // the model differs from the nominal one: the claim is not the nominal's
     let nominal: Vec<f64> = (report["heldout_rms_nominal"].as_array().unwrap().iter())
         .map(|x| x.as_f64().unwrap())
@@ -201,33 +208,7 @@ fn the_claim_holds_with_the_nominals_data_and_they_are_protected() {
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let report: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    let reported: Vec<f64> = (report["heldout_rms_final"].as_array().unwrap().iter())
-        .map(|x| x.as_f64().unwrap())
-        .collect();
-    let p = d.join("p.csv");
-    let o = bin()
-        .args(["predict", "--robot", "cheetah3-leg", "--params"])
-        .arg(&m)
-        .arg("--data")
-        .arg(&b)
-        .arg("--out")
-        .arg(&p)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let (measured, predicted) = (columns(&b, "tau_"), columns(&p, "tau_"));
-    for (i, ((_, tau), (_, hat))) in measured.iter().zip(&predicted).enumerate() {
-        let ms = (tau.iter().zip(hat))
-            .map(|(x, y)| (x - y).powi(2))
-            .sum::<f64>()
-            / tau.len() as f64;
-        assert!(
-            (ms.sqrt() - reported[i]).abs() <= 1e-6,
-            "joint {i}: {} vs {}",
-            ms.sqrt(),
-            reported[i]
-        );
-    }
+    predict_gives_the_reported(&report, &m, &b, &d.join("p.csv"));
 }
 
 /// `identify --with-effects FILE` holds a model file's fitted effects: with

@@ -88,7 +88,16 @@ impl FinalSetup<'_> {
         let (lg, lx, lrr) = self
             .store
             .with_prior(law_ids, sum_normals(&law_blocks, None));
-        let law_fit = fit_normal(&lg, &lx, lrr, &[&self.law.group], &[true])?;
+        // the law alone (with bodies refit: their LMIs), as the full fit:
+        // least squares without the constraints when the conic fit fails
+        let mut unconstrained = unconstrained;
+        let law_fit = match fit_normal(&lg, &lx, lrr, &[&self.law.group], &[true]) {
+            Ok(f) => f,
+            Err(e) => {
+                unconstrained.get_or_insert(format!("the law alone: {e}"));
+                fit_normal(&lg, &lx, lrr, &[&self.law.group], &[false])?
+            }
+        };
         let refit = self.store.residual_on(law_ids, &law_fit.beta, end..samples);
         Ok(Final {
             law: self.law_sizes(&full, &replicates),
