@@ -117,14 +117,10 @@ impl Law {
     ) -> Self {
         let ids: Vec<usize> = cols.into_iter().map(|c| store.add_in(c, None)).collect();
         self.bodies = ids.len();
-        self.group.bodies_at = self.group.ids.len();
-        self.group.bodies = (params.chunks_exact(10))
+        let bodies = (params.chunks_exact(10))
             .map(|p| std::array::from_fn(|q| p[q]))
             .collect();
-        self.group.ids.extend(&ids);
-        if let Some(lower) = self.group.lower.as_mut() {
-            lower.extend(std::iter::repeat_n(f64::NEG_INFINITY, ids.len()));
-        }
+        self.group.push_bodies(&ids, bodies);
         store.set_prior(Prior { ids, ..prior });
         self
     }

@@ -14,7 +14,7 @@ use super::folds::Folds;
 use super::forward::Accepted;
 use super::law::Law;
 use super::model_out::{ModelOut, model_out};
-use super::refit::{Group, fit};
+use super::refit::{Group, fit, moved_bodies};
 use super::store::Store;
 use crate::data::Dataset;
 use crate::dynamics::params_file::FittedEffect;
@@ -145,15 +145,8 @@ impl Refine<'_> {
                 .map(|&id| store.add_in(self.store.col(id).values.clone(), None))
                 .collect();
             let change = self.law.body_delta(delta);
-            store.set_prior(prior.at(ids.clone(), change));
-            group.bodies_at = group.ids.len();
-            group.bodies = (self.law.group.bodies.iter().enumerate())
-                .map(|(b, p)| std::array::from_fn(|q| p[q] + change[10 * b + q]))
-                .collect();
-            group.ids.extend(ids);
-            if let Some(lower) = group.lower.as_mut() {
-                lower.extend(std::iter::repeat_n(f64::NEG_INFINITY, body_ids.len()));
-            }
+            group.push_bodies(&ids, moved_bodies(&self.law.group.bodies, change));
+            store.set_prior(prior.at(ids, change));
         }
         group.applied = Some(delta.to_vec());
         Some(group)
@@ -220,12 +213,9 @@ impl Refine<'_> {
             .map(|(col, &p)| store.add_in(col, v.col_joints[p]))
             .collect();
         // the bodies' constraints at the current point: J(π + b + Δ) ⪰ 0
-        let bodies = (a.group.bodies.iter().enumerate())
-            .map(|(q, nominal)| std::array::from_fn(|m| nominal[m] + b[10 * q + m]))
-            .collect();
         Ok(Group {
             ids,
-            bodies,
+            bodies: moved_bodies(&a.group.bodies, b),
             nonneg: false,
             lower: a.group.nonneg.then(|| b.iter().map(|x| -x).collect()),
             applied: Some(b.to_vec()),

@@ -65,6 +65,17 @@ impl Group {
             || (self.lower.as_ref()).is_some_and(|l| l.iter().any(|x| x.is_finite()))
     }
 
+    /// Appends the unbounded columns `ids` of the bodies `bodies` (10
+    /// columns each, in the paper's order): `J(π_b + β_b) ⪰ 0` each.
+    pub fn push_bodies(&mut self, ids: &[usize], bodies: Vec<[f64; 10]>) {
+        self.bodies_at = self.ids.len();
+        self.bodies = bodies;
+        self.ids.extend(ids);
+        if let Some(lower) = self.lower.as_mut() {
+            lower.extend(std::iter::repeat_n(f64::NEG_INFINITY, ids.len()));
+        }
+    }
+
     /// The group with only the columns at `keep` (by position), keeping a
     /// lower bound per column; bodies and the sign stay only when all are kept.
     pub fn only(&self, keep: &[usize]) -> Self {
@@ -248,6 +259,14 @@ fn constrained(
         }),
         s => Err(FitError::Status(s)),
     }
+}
+
+/// The bodies `bodies` changed by `by` (10 coefficients each, in order):
+/// where a step's constraints `J(π + by + Δ) ⪰ 0` are taken.
+pub fn moved_bodies(bodies: &[[f64; 10]], by: &[f64]) -> Vec<[f64; 10]> {
+    (bodies.iter().enumerate())
+        .map(|(b, p)| std::array::from_fn(|q| p[q] + by[10 * b + q]))
+        .collect()
 }
 
 /// Each coefficient's unit for the ridge — 1, but a body's parameters
