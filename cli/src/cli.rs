@@ -227,11 +227,16 @@ enum Command {
         /// 1e-6]
         #[arg(long, allow_negative_numbers = true, value_name = "W|auto")]
         weight: Option<String>,
-        /// How the prior enters the objective: euclidean (w‖π − π̂‖²) or entropic
+        /// How the prior enters the objective: euclidean (w‖π − π̂‖²), entropic
         /// (w Σ d(J‖Ĵ), the log-det divergence of each body's pseudo-inertia: unit and
-        /// frame invariant; needs a strictly consistent prior and --weight > 0, typically 1e-3 to 1e-1).
-        #[arg(long, value_enum, default_value_t = Regularizer::Euclidean)]
-        regularizer: Regularizer,
+        /// frame invariant, no body collapses; needs a strictly consistent prior and
+        /// --weight > 0, typically 1e-3 to 1e-1) or pullback (the divergence's
+        /// second-order term at the prior: a quadratic, as fast as euclidean). [default:
+        /// entropic when the weight is chosen from the data (no --weight, the law chosen),
+        /// the level constrains (not none) and every prior body is strictly consistent,
+        /// else euclidean]
+        #[arg(long, value_enum)]
+        regularizer: Option<Regularizer>,
         /// Extra weight w_m Σ (m − m̂)² keeping the bodies' masses at the prior's
         /// [default: the sidecar's [identify] prior_mass_weight with the Euclidean prior on
         /// (--weight > 0), else 0; 0: off]. For masses known better than the rest (weighed

@@ -65,6 +65,47 @@ fn the_kuka_runs_identify_as_published_at_every_level() {
     }
 }
 
+/// The default on the KUKA's runs 1–2 (training only, no held-out run): the
+/// runs repeat one trajectory, so the law and the weight are chosen over
+/// blocks of time; the prior is the entropic one and no body collapses,
+/// where the Euclidean prior at the weight it chooses leaves them point
+/// masses, rods or plates (issue 56: no degenerate body by default).
+#[test]
+fn the_kukas_default_holds_every_body_off_the_boundary() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../robots/kuka-lwr4");
+    let s = |p: &str| root.join(p).to_str().unwrap().to_string();
+    let run = |extra: &[&str]| -> serde_json::Value {
+        let o = bin()
+            .args(["identify", "--robot", &s("kuka_lwr4.urdf")])
+            .args(["--data", &s("data/measurements_1.npz")])
+            .args(["--data", &s("data/measurements_2.npz"), "--json"])
+            .args(extra)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(0), "{err}");
+        serde_json::from_slice(&o.stdout).unwrap()
+    };
+    let v = run(&[]);
+    assert_eq!(
+        v["model_selection"]["folds"], "time",
+        "runs 1–2 are repeats"
+    );
+    assert_eq!(v["model_selection"]["k"], 5);
+    assert_eq!(v["regularizer"], "entropic");
+    assert_eq!(v["all_bodies_consistent"], true);
+    assert_eq!(v["degenerate_bodies"], serde_json::json!([]));
+    let w = v["weight"].as_f64().unwrap();
+    assert!((1e-6..=1.0).contains(&w), "the weight is the grid's: {w}");
+    let e = run(&["--regularizer", "euclidean"]);
+    assert_eq!(e["regularizer"], "euclidean");
+    assert!(
+        e["degenerate_bodies"].as_array().unwrap().len() >= 4,
+        "{}",
+        e["degenerate_bodies"]
+    );
+}
+
 /// `predict` on a log with a 1 s pause and no q̈: the pause is a segment
 /// boundary that no filter crosses, so the torques near it are those of the
 /// same log without the pause (before issue 33 a hip torque of 63.6 N·m

@@ -499,9 +499,11 @@ fn identify_with_a_known_mass_and_equal_bodies_from_the_command_line() {
         "{m:?}"
     );
     assert_eq!(bodies[1]["level"], "semi");
-    // the sidecar's masses' weight: taken with the prior on, overridden by
-    // the flag, not taken with --weight 0; a bad one named with its file
-    assert_eq!(v["prior_mass_weight"], serde_json::json!(0.5));
+    // the sidecar's masses' weight: taken with the Euclidean prior on, not
+    // with the default's entropic one, overridden by the flag, not taken
+    // with --weight 0; a bad one named with its file
+    assert_eq!(v["regularizer"], "entropic");
+    assert_eq!(v["prior_mass_weight"], serde_json::json!(0.0));
     let mass_weight = |extra: &[&str]| -> serde_json::Value {
         let o = bin()
             .args(["identify", "--robot", urdf.to_str().unwrap()])
@@ -513,6 +515,10 @@ fn identify_with_a_known_mass_and_equal_bodies_from_the_command_line() {
         let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
         v["prior_mass_weight"].clone()
     };
+    assert_eq!(
+        mass_weight(&["--regularizer", "euclidean"]),
+        serde_json::json!(0.5)
+    );
     assert_eq!(
         mass_weight(&["--prior-mass-weight", "0"]),
         serde_json::json!(0.0)

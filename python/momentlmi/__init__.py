@@ -346,7 +346,7 @@ class IdentifyResult(dict):
 
 
 def identify(robot: Robot, data, constraints: str = "ellipsoid", prior: str = "cad",
-             weight: Union[None, float, str] = None, regularizer: str = "euclidean", validate=None,
+             weight: Union[None, float, str] = None, regularizer: Optional[str] = None, validate=None,
              cutoff_hz: Optional[float] = None, velocity: str = "differentiate",
              friction: Optional[str] = None,
              bounds: Union[None, float, str] = None) -> IdentifyResult:
@@ -362,9 +362,11 @@ def identify(robot: Robot, data, constraints: str = "ellipsoid", prior: str = "c
     `constraints`: none, semi, consistent or ellipsoid; `prior`: cad, true or a
     parameter file; `weight`: a number or ``"auto"`` (cross-validation; None, the
     default: auto when the friction law is chosen, else 1e-6);
-    `regularizer`: euclidean or entropic; `friction`: the friction terms identified
+    `regularizer`: euclidean, entropic or pullback (None, the default: entropic when the
+    weight is chosen and every prior body is strictly consistent, else euclidean — as
+    ``--regularizer``); `friction`: the friction terms identified
     (``"viscous,coulomb,offset,load,stribeck"``); ``"auto"``: chosen by cross-validation
-    on the training data, with the weight when it is ``"auto"`` and the prior Euclidean,
+    on the training data, with the weight when it is ``"auto"``,
     the table in ``result["model_selection"]``; None, the default: auto, with viscous +
     Coulomb kept (a ``law_not_chosen`` warning) when the data are too short to choose —
     as ``momentlmi identify`` without ``--friction``); `bounds`: each

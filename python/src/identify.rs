@@ -92,7 +92,8 @@ fn raw_logs(what: &str, segs: &[Segment], n: usize) -> PyResult<Vec<RawLog>> {
 /// out on `validate`'s: `constraints` a level, toward `prior` (cad, true or
 /// a parameter file) with `weight` (a number, or auto: chosen by
 /// cross-validation; None: auto when the friction law is chosen, else
-/// 1e-6 — `--weight`), `regularizer` euclidean or entropic; `cutoff_hz` and
+/// 1e-6 — `--weight`), `regularizer` euclidean, entropic or pullback (None:
+/// `--regularizer`'s default); `cutoff_hz` and
 /// `velocity` (differentiate, file) prepare raw segments; `friction` the
 /// friction terms identified, or auto (None: auto, the model's own law
 /// kept when the data are too short to choose — `--friction`); `bounds` each
@@ -109,7 +110,7 @@ fn identify(
     constraints: &str,
     prior: &str,
     weight: Option<&str>,
-    regularizer: &str,
+    regularizer: Option<&str>,
     cutoff_hz: Option<f64>,
     velocity: &str,
     friction: Option<&str>,

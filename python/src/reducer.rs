@@ -124,7 +124,7 @@ impl Reducer {
     /// The identification on the sums, as `momentlmi identify --json`
     /// reports it (JSON): `constraints` a level (none, semi, consistent,
     /// ellipsoid), toward the robot's prior with `weight` and `regularizer`
-    /// (euclidean or entropic).
+    /// (euclidean, entropic or pullback).
     #[pyo3(signature = (constraints="ellipsoid", weight=1e-6, regularizer="euclidean"))]
     fn solve(
         &self,
@@ -136,7 +136,7 @@ impl Reducer {
         let Some(red) = &self.reduced else {
             return Err(IdentifyError::new_err("reduced data: no samples yet"));
         };
-        let setup = crate::setup::Setup::parse(constraints, regularizer, Some(weight))?;
+        let setup = crate::setup::Setup::parse(constraints, Some(regularizer), Some(weight))?;
         let robot = &*self.robot;
         let result = py.detach(|| {
             let id = setup.identification(robot, &ParamChoice::Cad, weight)?;

@@ -375,7 +375,8 @@ impl<'m> Identification<'m> {
     }
 
     /// How the prior enters the objective (default [`Regularizer::Euclidean`];
-    /// [`Regularizer::Entropic`] needs every prior body strictly consistent).
+    /// [`Regularizer::Entropic`] and [`Regularizer::Pullback`] need every
+    /// prior body strictly consistent).
     pub fn regularizer(mut self, r: Regularizer) -> Self {
         self.regularizer = r;
         self
@@ -398,6 +399,18 @@ impl<'m> Identification<'m> {
     pub fn prior_body(&self, b: usize) -> Option<InertialParams> {
         (self.weight > 0.0 && self.prior.len() >= 10 * (b + 1))
             .then(|| InertialParams(std::array::from_fn(|k| self.prior[10 * b + k])))
+    }
+
+    /// The pullback prior's factors ([`super::pullback::factors`]) when it
+    /// is in the objective; a prior body not strictly consistent is an
+    /// error naming it.
+    pub(super) fn pullback_factors(
+        &self,
+    ) -> Result<Option<Vec<nalgebra::SMatrix<f64, 10, 10>>>, IdentifyError> {
+        match self.weight > 0.0 && self.regularizer == Regularizer::Pullback {
+            true => super::pullback::factors(&self.prior, &self.layout.bodies).map(Some),
+            false => Ok(None),
+        }
     }
 
     /// Whether the entropic divergence is in the objective.

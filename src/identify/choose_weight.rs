@@ -2,10 +2,11 @@
 //!
 //! Each weight of a grid is scored by cross-validation on the training
 //! data: with several segments (files, or one file's pieces between gaps)
-//! each segment is held out in turn and the rest fitted; with one segment,
-//! [`TIME_FOLDS`] contiguous blocks of it are held out in turn (K-fold in
-//! time: a block and its neighbours share no samples, though they share
-//! the trajectory's style). A weight's score is the mean over joints of
+//! of different motions each segment is held out in turn, with its
+//! repeats ([`super::repeats`]), and the rest fitted; with one segment, or
+//! segments that all repeat one motion, [`TIME_FOLDS`] contiguous blocks of
+//! each are held out in turn (K-fold in time: a block and its neighbours
+//! share no samples, though they share the trajectory's style). A weight's score is the mean over joints of
 //! the held-out RMS pooled over the folds (each joint's squared errors
 //! summed over every held-out sample); the strongest prior whose score is
 //! within the noise of the lowest's wins (the friction law's parsimony
@@ -15,11 +16,10 @@
 //! set (levels, regulariser, friction terms, weighting), so the choice
 //! costs `grid × folds` fits.
 //!
-//! What cross-validation cannot see it cannot choose for: when the
-//! training files repeat one trajectory, every fold's held-out data look
-//! like its training data, and the curve favours the smallest weight even
-//! where a trajectory of other speeds would want more
-//! (docs/real-robot.md).
+//! What cross-validation cannot see it cannot choose for: a fold's
+//! held-out data share the trajectory's style with its training data, so
+//! a trajectory of other speeds may still want a stronger prior than the
+//! curve's (docs/real-robot.md).
 
 use super::builder::Identification;
 use super::error::IdentifyError;
@@ -41,9 +41,10 @@ pub const MIN_FOLD_SAMPLES: usize = 50;
 #[serde(rename_all = "snake_case")]
 pub enum Folds {
     /// Each segment (a file, or a file's piece between gaps) held out in
-    /// turn.
+    /// turn, with the segments that repeat its motion.
     Segments,
-    /// Contiguous blocks in time held out in turn.
+    /// Contiguous blocks in time held out in turn (one segment, or
+    /// segments that all repeat one motion).
     Time,
 }
 
@@ -125,14 +126,20 @@ pub fn folds(d: &Dataset, k: usize) -> (Folds, Vec<(Dataset, Dataset)>) {
 }
 
 /// Per fold of `d`'s cross-validation, the samples it holds out of each
-/// segment (an empty range: none of it): each segment in turn when there
-/// are several, else `k` contiguous blocks in time.
+/// segment (an empty range: none of it): each motion in turn (a segment
+/// with its repeats, [`super::repeats`]) when there are several, else `k`
+/// contiguous blocks in time, the same block of every segment held out
+/// together (so a repeat's twin of a held-out block is held out too).
 pub fn held_out(d: &Dataset, k: usize) -> (Folds, Vec<Vec<std::ops::Range<usize>>>) {
     let segments = d.segment_ranges();
-    if segments.len() >= 2 {
-        let held = (0..segments.len())
-            .map(|f| {
-                let one = |(i, s): (usize, &std::ops::Range<usize>)| match i == f {
+    let motion = super::repeats::motions(d);
+    let mut distinct = motion.clone();
+    distinct.sort_unstable();
+    distinct.dedup();
+    if distinct.len() >= 2 {
+        let held = (distinct.iter())
+            .map(|&m| {
+                let one = |(i, s): (usize, &std::ops::Range<usize>)| match motion[i] == m {
                     true => s.clone(),
                     false => s.start..s.start,
                 };

@@ -34,8 +34,7 @@ use super::law_scores::law_sse;
 use super::warning::IdentifyWarning;
 use crate::data::Dataset;
 use crate::dynamics::{FrictionTerm, Model, regressor_row_columns};
-use crate::moments::InertialParams;
-use nalgebra::{Matrix4, SMatrix};
+use nalgebra::SMatrix;
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -174,12 +173,14 @@ impl super::Identification<'_> {
     }
 
     /// The weights [`Self::choose_model`] should try: [`WEIGHTS`] when the
-    /// weight is to be chosen (`weight_auto`) and the prior is Euclidean
-    /// (the Gram solves are its objective exactly), else none (this
-    /// identification's own; an entropic prior's weight is chosen by the
-    /// fits, [`Self::choose_weight`]).
+    /// weight is to be chosen (`weight_auto`), else none (this
+    /// identification's own). The Gram solves are a quadratic prior's
+    /// objective exactly (Euclidean, pullback) and an entropic prior's
+    /// second-order term at the prior (its pullback): the parsimony rule
+    /// takes the strongest weight within the noise, where the fit stays
+    /// nearest the prior and the quadratic is closest to the divergence.
     pub fn model_weights(&self, weight_auto: bool) -> &'static [f64] {
-        match weight_auto && self.regularizer == super::Regularizer::Euclidean {
+        match weight_auto {
             true => &WEIGHTS,
             false => &[],
         }
@@ -206,8 +207,10 @@ impl super::Identification<'_> {
             false => weights,
         };
         let metric = match self.regularizer {
-            super::Regularizer::Entropic if !self.prior.is_empty() => {
-                entropic_metric(&self.prior, &self.layout.bodies)?
+            super::Regularizer::Entropic | super::Regularizer::Pullback
+                if !self.prior.is_empty() =>
+            {
+                super::pullback::metric(&self.prior, &self.layout.bodies)?
             }
             _ => vec![SMatrix::<f64, 10, 10>::identity(); self.prior.len() / 10],
         };
@@ -285,35 +288,6 @@ pub enum LawChoice {
     /// The model's own law kept at the identification's weight
     /// ([`IdentifyWarning::LawNotChosen`]).
     Kept(IdentifyWarning),
-}
-
-/// Per body, `M = ½ H` with `H_kl = tr(Ĵ⁻¹ J(e_k) Ĵ⁻¹ J(e_l))`: the
-/// log-det divergence `d(J ‖ Ĵ) = ½ tr(Ĵ⁻¹ΔJ Ĵ⁻¹ΔJ) + O(ΔJ³)` near the
-/// prior. Each prior body must be strictly consistent.
-fn entropic_metric(
-    prior: &[f64],
-    bodies: &[String],
-) -> Result<Vec<SMatrix<f64, 10, 10>>, IdentifyError> {
-    let basis: Vec<Matrix4<f64>> = (0..10)
-        .map(|k| {
-            let mut e = [0.0; 10];
-            e[k] = 1.0;
-            InertialParams(e).pseudo_inertia()
-        })
-        .collect();
-    (prior.chunks(10).enumerate())
-        .map(|(b, p)| {
-            let j = InertialParams(p.try_into().expect("chunks of 10")).pseudo_inertia();
-            let ji = (j.cholesky())
-                .ok_or_else(|| IdentifyError::PriorNotConsistent {
-                    body: bodies.get(b).cloned().unwrap_or_default(),
-                    min_eig: j.symmetric_eigenvalues().min(),
-                })?
-                .inverse();
-            let a: Vec<Matrix4<f64>> = basis.iter().map(|e| ji * e).collect();
-            Ok(SMatrix::from_fn(|k, l| 0.5 * (a[k] * a[l]).trace()))
-        })
-        .collect()
 }
 
 /// A law: which of [`bases`] it has.

@@ -5,9 +5,10 @@
 //! form.
 //!
 //! The law's unknowns are eliminated once per fold (a Schur complement),
-//! so a weight only changes the links' `pb × pb` system; with a Euclidean
-//! prior, where the weight shifts that system's diagonal, one tridiagonal
-//! reduction serves every weight.
+//! so a weight only changes the links' `pb × pb` system; whitened by the
+//! prior's metric (the identity for a Euclidean prior), where the weight
+//! shifts that system's diagonal, one tridiagonal reduction serves every
+//! weight.
 
 use super::choice_pass::Sums;
 use super::error::IdentifyError;
@@ -188,8 +189,7 @@ impl Eliminated {
     /// links' system (the weight only shifts its diagonal:
     /// [`Self::shifted`]), else a Cholesky factorisation per weight.
     fn solve_all(&self, prior: &PriorTerm, weights: &[f64]) -> Option<Vec<DVector<f64>>> {
-        let euclidean = (prior.metric.iter()).all(|m| *m == SMatrix::<f64, 10, 10>::identity());
-        if weights.len() > 1 && euclidean && prior.values.len() == self.s.nrows() {
+        if weights.len() > 1 && prior.values.len() == self.s.nrows() {
             return self.shifted(prior, weights);
         }
         (weights.iter())
@@ -200,20 +200,33 @@ impl Eliminated {
             .collect()
     }
 
-    /// `(S₀ + w I) θ_a = r₀ + w π̂` for each weight, `S₀, r₀` with the
-    /// masses' weight in: `S₀ = Q T Qᵀ` (T tridiagonal) once, then each
-    /// weight an LDLᵀ solve of `T + w I` and a product with Q.
+    /// `(S₀ + w M) θ_a = r₀ + w M π̂` for each weight (`M` the prior's
+    /// block-diagonal metric, `S₀, r₀` with the masses' weight in): with
+    /// `M = L Lᵀ` and `θ_a = L⁻ᵀ u` it is `(L⁻¹ S₀ L⁻ᵀ + w I) u = L⁻¹ r₀ + w
+    /// Lᵀ π̂`; that matrix is `Q T Qᵀ` (T tridiagonal) once, then each weight
+    /// an LDLᵀ solve of `T + w I` and products with Q and L⁻ᵀ.
     fn shifted(&self, prior: &PriorTerm, weights: &[f64]) -> Option<Vec<DVector<f64>>> {
         let (s0, r0) = with_prior((self.s.clone(), self.r.clone()), prior, 0.0);
-        let (q, d, e) = nalgebra::linalg::SymmetricTridiagonal::new(s0).unpack();
-        let (qr, qp) = (
-            q.tr_mul(&r0),
-            q.tr_mul(&DVector::from_column_slice(prior.values)),
-        );
+        let n = s0.nrows();
+        let mut l_inv = DMatrix::<f64>::zeros(n, n);
+        let mut lt_pi = DVector::<f64>::zeros(n);
+        for (b, m) in prior.metric.iter().enumerate() {
+            let l = m.cholesky()?.l();
+            let o = 10 * b;
+            l_inv
+                .view_mut((o, o), (10, 10))
+                .copy_from(&l.try_inverse()?);
+            let pi = nalgebra::SVector::<f64, 10>::from_column_slice(&prior.values[o..o + 10]);
+            lt_pi.rows_mut(o, 10).copy_from(&(l.transpose() * pi));
+        }
+        let whitened = &l_inv * s0 * l_inv.transpose();
+        let (q, d, e) = nalgebra::linalg::SymmetricTridiagonal::new(whitened).unpack();
+        let (qr, qp) = (q.tr_mul(&(&l_inv * r0)), q.tr_mul(&lt_pi));
+        let back = l_inv.transpose() * &q;
         (weights.iter())
             .map(|&w| {
                 let z = tridiagonal_solve(&d, &e, w, &(&qr + &qp * w))?;
-                Some(self.with_friction(&q * z))
+                Some(self.with_friction(&back * z))
             })
             .collect()
     }
@@ -286,8 +299,9 @@ mod tests {
     use nalgebra::{DMatrix, DVector, SMatrix};
 
     /// A Euclidean prior's weights from one tridiagonal reduction give the
-    /// Cholesky solve of the whole system at each weight; an entropic-like
-    /// metric (not the identity) takes the per-weight path, also checked.
+    /// Cholesky solve of the whole system at each weight, for the identity
+    /// metric (Euclidean) and for a pullback-like one (not the identity:
+    /// whitened by its Cholesky factor first).
     #[test]
     fn every_weight_from_one_reduction_equals_a_solve_per_weight() {
         let (pb, f) = (20, 6);

@@ -8,9 +8,10 @@
 //! ```
 //!
 //! with the friction law of [`crate::dynamics::friction`] (viscous B q̇ and
-//! Coulomb B_c sign(q̇)), `R(π, π̂)` the [`super::Regularizer`]: `‖π − π̂‖²` (Euclidean) or
+//! Coulomb B_c sign(q̇)), `R(π, π̂)` the [`super::Regularizer`]: `‖π − π̂‖²` (Euclidean),
 //! `Σ_bodies d(J(π) ‖ J(π̂))` (entropic, the log-det divergence of
-//! [`crate::moments::entropic_divergence`]), and the data entering only
+//! [`crate::moments::entropic_divergence`]) or its second-order term at the
+//! prior (pullback, [`super::pullback`]), and the data entering only
 //! through the reduced factor `R, d`
 //! ([`super::reduce`]). The unconstrained level is solved directly (SVD, no
 //! interior point), so noise-free data are fitted to round-off. For the
@@ -28,6 +29,7 @@ use crate::conic::{AffExpr, Problem, Status};
 use crate::dynamics::Model;
 use crate::moments::{MomentsError, add_entropic_divergence, lmi::BodyVars};
 use faer::Mat;
+use nalgebra::SMatrix;
 
 /// Solves (25) on reduced data with the options' set-up
 /// ([`Identification::from_options`]).
@@ -93,10 +95,12 @@ impl Identification<'_> {
         let nb = layout.num_bodies();
         let ns = samples as f64;
         let t0 = std::time::Instant::now();
+        let pullback = self.pullback_factors()?;
         let reg = Prior {
             weight: self.weight,
             mass_weight: self.mass_weight(),
             values: self.prior.as_slice(),
+            pullback: pullback.as_deref(),
         };
         let direct = self.hooks.is_empty() && !self.entropic();
         if direct && self.bodies.iter().all(|b| b.level == Level::None) {
@@ -122,7 +126,15 @@ impl Identification<'_> {
         for h in &self.hooks {
             h(&mut prob, &vars)?;
         }
-        let sol = prob.solve(&self.settings)?;
+        // the pullback's squares span the bodies' scales (Ĵ⁻¹ of a rotor is
+        // 1e5 of a link's): their Gram matrix leaves the solver inaccurate,
+        // their QR factor in one cone does not (tests/entropic.rs)
+        let settings = match pullback.is_some() {
+            true => (self.settings.clone())
+                .least_squares(crate::conic::LeastSquaresForm::SecondOrderCone),
+            false => self.settings.clone(),
+        };
+        let sol = prob.solve(&settings)?;
         match sol.status {
             s if s.is_solved() => Ok(Solved {
                 theta: sol.eval_all(&theta)?,
@@ -269,13 +281,15 @@ impl Identification<'_> {
     }
 }
 
-/// The prior's terms of the objective: `w ‖π − π̂‖²` (Euclidean) and the
-/// masses' `w_m Σ_b (m_b − m̂_b)²`.
+/// The prior's terms of the objective: `w ‖π − π̂‖²` (Euclidean) or
+/// `w Σ_b ‖Lᵀ_b (π_b − π̂_b)‖²` (pullback, `Lᵀ` per body from
+/// [`super::pullback::factors`]), and the masses' `w_m Σ_b (m_b − m̂_b)²`.
 #[derive(Clone, Copy)]
 struct Prior<'a> {
     weight: f64,
     mass_weight: f64,
     values: &'a [f64],
+    pullback: Option<&'a [SMatrix<f64, 10, 10>]>,
 }
 
 impl Prior<'_> {
@@ -289,7 +303,27 @@ impl Prior<'_> {
     /// regulariser is the Euclidean one.
     fn weight_of(&self, k: usize, euclidean: bool) -> f64 {
         let mass = if k % 10 == 0 { self.mass_weight } else { 0.0 };
+        let euclidean = euclidean && self.pullback.is_none();
         mass + if euclidean { self.weight } else { 0.0 }
+    }
+
+    /// The pullback prior's rows `(√w Lᵀ_b[r, ·], √w Lᵀ_b[r, ·] π̂_b)`: body
+    /// b's parameters' coefficients and the right-hand side, ten per body.
+    fn pullback_rows(&self) -> Vec<(usize, [f64; 10], f64)> {
+        let (Some(factors), true) = (self.pullback, self.weight > 0.0) else {
+            return vec![];
+        };
+        let sw = self.weight.sqrt();
+        (factors.iter().enumerate())
+            .flat_map(|(b, lt)| {
+                let pi = &self.values[10 * b..10 * b + 10];
+                (0..10).map(move |r| {
+                    let row: [f64; 10] = std::array::from_fn(|l| sw * lt[(r, l)]);
+                    let rhs = (0..10).map(|l| row[l] * pi[l]).sum();
+                    (b, row, rhs)
+                })
+            })
+            .collect()
     }
 }
 
@@ -305,7 +339,8 @@ fn solve_direct(
 ) -> Result<Vec<f64>, IdentifyError> {
     let (p, prior) = (r.ncols(), reg.values);
     let extra = if reg.on() { 10 * nb } else { 0 };
-    let rows = r.nrows() + extra;
+    let pullback = reg.pullback_rows();
+    let rows = r.nrows() + extra + pullback.len();
     let mut a = Mat::<f64>::zeros(rows.max(p), p);
     let mut b = Mat::<f64>::zeros(rows.max(p), 1);
     for i in 0..r.nrows() {
@@ -318,6 +353,11 @@ fn solve_direct(
         let w = reg.weight_of(k, true).sqrt();
         a[(r.nrows() + k, k)] = w;
         b[(r.nrows() + k, 0)] = w * prior[k];
+    }
+    for (i, (body, row, rhs)) in pullback.iter().enumerate() {
+        let at = r.nrows() + extra + i;
+        (0..10).for_each(|l| a[(at, 10 * body + l)] = row[l]);
+        b[(at, 0)] = *rhs;
     }
     let svd = a.svd().map_err(|_| IdentifyError::Factorisation {
         what: "SVD of the least-squares problem",
@@ -384,6 +424,11 @@ fn scaled_problem(
             if w > 0.0 {
                 prob.add_square(w, theta[k].clone() - prior[k]);
             }
+        }
+        for (body, row, rhs) in reg.pullback_rows() {
+            let mut e = AffExpr::constant(-rhs);
+            (0..10).for_each(|l| e.axpy(row[l], &theta[10 * body + l]));
+            prob.add_square(1.0, e);
         }
     } else {
         // Without regularisation, minimise the residual norm itself (same

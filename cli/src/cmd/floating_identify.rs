@@ -48,8 +48,8 @@ fn refused(a: &IdentifyArgs) -> Result<(), String> {
         ("--equal", !a.equal.is_empty()),
         ("--bounds", a.bounds.is_some()),
         (
-            "--regularizer entropic",
-            a.regularizer != Regularizer::Euclidean,
+            "--regularizer entropic/pullback",
+            a.regularizer.is_some_and(|r| r != Regularizer::Euclidean),
         ),
         ("--prior-mass-weight", a.prior_mass_weight.is_some()),
         (

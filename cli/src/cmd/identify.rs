@@ -30,7 +30,8 @@ pub struct IdentifyArgs<'a> {
     /// Weight w_π: a number or auto (None: [`IdentifyArgs::weight`]).
     pub weight: Option<&'a str>,
     /// How the prior enters the objective.
-    pub regularizer: Regularizer,
+    /// None: [`regularizer`]'s default.
+    pub regularizer: Option<Regularizer>,
     /// Extra weight on the masses' distance from the prior's (None: the
     /// robot's, `Identification::for_robot`).
     pub prior_mass_weight: Option<f64>,
@@ -298,6 +299,17 @@ fn warn_inconsistent_prior(bodies: &[String], prior: &[f64]) {
     }
 }
 
+/// `--regularizer`, or its default: with the weight chosen from the data,
+/// [`Regularizer::for_chosen_weight`] (entropic for a strictly consistent
+/// prior at a constrained `level`), else Euclidean.
+fn regularizer(a: &IdentifyArgs, prior: &[f64], level: Level) -> Result<Regularizer, String> {
+    Ok(match a.regularizer {
+        Some(r) => r,
+        None if a.weight()?.is_none() => Regularizer::for_chosen_weight(prior, level),
+        None => Regularizer::Euclidean,
+    })
+}
+
 fn parse_level(s: &str, what: &str) -> Result<Level, String> {
     Level::parse(s)
         .ok_or_else(|| format!("{what}: '{s}' is not one of none, semi, consistent, ellipsoid"))
@@ -317,7 +329,7 @@ fn identification<'r>(
         "a prior is the bodies' parameters",
     )?;
     warn_inconsistent_prior(&robot.model.body_names(), &prior.params());
-    let regularizer = a.regularizer;
+    let regularizer = regularizer(a, &prior.params(), level)?;
     // auto: the grid's first weight until the choice (which needs the data)
     let weight = a.weight()?.unwrap_or(WEIGHT_GRID[0]);
     if regularizer == Regularizer::Entropic && weight <= 0.0 {
@@ -738,19 +750,23 @@ fn explain(e: IdentifyError) -> String {
     }
 }
 
-/// The curve `--weight auto` chose from.
-fn print_weight_choice(c: &momentlmi::identify::WeightChoice) {
-    let folds = match c.folds {
+/// How a choice's cross-validation split the training data, in words.
+fn folds_text(folds: momentlmi::identify::choose_weight::Folds, k: usize) -> String {
+    match folds {
         momentlmi::identify::choose_weight::Folds::Segments => {
             format!(
-                "{} segments (files, or pieces between gaps) held out in turn",
-                c.k
+                "{k} motions held out in turn: files or pieces between gaps, each with its repeats"
             )
         }
         momentlmi::identify::choose_weight::Folds::Time => {
-            format!("{} blocks in time held out in turn", c.k)
+            format!("{k} blocks in time held out in turn, the same block of every file")
         }
-    };
+    }
+}
+
+/// The curve `--weight auto` chose from.
+fn print_weight_choice(c: &momentlmi::identify::WeightChoice) {
+    let folds = folds_text(c.folds, c.k);
     println!(
         "weight chosen by cross-validation ({folds}; the strongest prior within the noise of the lowest): mean held-out RMS per weight"
     );
@@ -772,14 +788,7 @@ fn print_weight_choice(c: &momentlmi::identify::WeightChoice) {
 }
 
 fn print_friction_choice(c: &momentlmi::identify::friction_choice::FrictionChoice) {
-    let folds = match c.folds {
-        momentlmi::identify::choose_weight::Folds::Segments => {
-            format!("{} files or segments held out in turn", c.k)
-        }
-        momentlmi::identify::choose_weight::Folds::Time => {
-            format!("{} blocks in time held out in turn", c.k)
-        }
-    };
+    let folds = folds_text(c.folds, c.k);
     let weighed = c.weight_chosen();
     println!(
         "friction law{} chosen by cross-validation ({folds}; links and law refit by least squares{}): mean held-out RMS",
