@@ -5,7 +5,7 @@
 use crate::args::{
     ExportOutArgs, FloatingArgs, ReadArgs, RobotArgs, effect_names, effect_param_help, own_sidecar,
 };
-use crate::cmd::{check, demo, diagnose, excite, export, identify, predict, sdpa, simulate};
+use crate::cmd::{check, demo, diagnose, excite, export, identify, predict, route, sdpa, simulate};
 use clap::{Parser, Subcommand};
 use momentlmi::identify::{JointWeighting, Regularizer};
 use momentlmi::moments::urdf_check::{RepairOptions, RepairTarget};
@@ -463,7 +463,7 @@ pub fn main() -> i32 {
             json,
             mujoco_view,
             floating,
-        } => predict::run(&predict::PredictArgs {
+        } => route::predict(&predict::PredictArgs {
             floating_base: floating.floating_base,
             mujoco_view,
             read: read.choice(),
@@ -495,7 +495,7 @@ pub fn main() -> i32 {
             floating,
             contacts,
             floating_effects,
-        } => simulate::run(&simulate::SimulateArgs {
+        } => route::simulate(&simulate::SimulateArgs {
             floating_effects: &floating_effects,
             floating_base: floating.floating_base,
             contacts,
@@ -580,7 +580,7 @@ pub fn main() -> i32 {
             export,
             floating,
             rows,
-        } => identify::run(&identify::IdentifyArgs {
+        } => route::identify(&identify::IdentifyArgs {
             floating_base: floating.floating_base,
             rows,
             export: export.outputs(),
@@ -626,7 +626,7 @@ pub fn main() -> i32 {
             folds,
             max_memory_gib,
             floating,
-        } => diagnose::run(&diagnose::DiagnoseArgs {
+        } => route::diagnose(&diagnose::DiagnoseArgs {
             nominal_data: &nominal_data,
             model_out: model_out.as_deref(),
             folds: folds as usize,

@@ -3,6 +3,10 @@
 
 use std::fmt;
 
+/// The largest finite joint limit (rad or m): a larger one is a typo or an
+/// "unlimited" that should be written as no limit.
+pub const MAX_ABS_LIMIT: f64 = 1e4;
+
 /// What is wrong with a model.
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
@@ -135,7 +139,7 @@ impl fmt::Display for ModelFault {
             } => write!(
                 f,
                 "joint '{joint}': limits [{lower:e}, {upper:e}] beyond ±{:e} (leave an unlimited joint without limits)",
-                super::model::MAX_ABS_LIMIT
+                MAX_ABS_LIMIT
             ),
             ParentOrder { joint, parent } => {
                 write!(

@@ -1,7 +1,7 @@
 //! The constant description of a fixed-base kinematic tree with geared rotors.
 
 use super::error::DynamicsError;
-use super::fault::ModelFault;
+use super::fault::{MAX_ABS_LIMIT, ModelFault};
 use super::spatial::Transform;
 use crate::moments::InertialParams;
 use nalgebra::{Matrix3, Vector3};
@@ -37,10 +37,6 @@ pub struct Joint {
     /// The moved body's inertial parameters in its own (joint) frame.
     pub inertia: InertialParams,
 }
-
-/// The largest finite joint limit (rad or m): a larger one is a typo or an
-/// "unlimited" that should be written as no limit.
-pub const MAX_ABS_LIMIT: f64 = 1e4;
 
 /// A joint limit pair: increasing, each end ±∞ or finite within
 /// ±[`MAX_ABS_LIMIT`].

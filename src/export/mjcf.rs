@@ -331,7 +331,7 @@ fn balanced(d: &mut [f64; 3]) -> Result<(), String> {
     let top = d.iter().fold(0.0f64, |a, &b| a.max(b));
     if d.iter().any(|&x| !(x > MIN_VALUE)) {
         return Err(format!(
-            "principal moments {d:?} kg·m²: MuJoCo needs each above 1e-15 (a point mass or rod: identify with --constraints ellipsoid or a prior)"
+            "principal moments {d:?} kg·m²: MuJoCo needs each above 1e-15 (a point mass or rod: identify at the ellipsoid level or with a prior)"
         ));
     }
     for k in 0..3 {

@@ -87,7 +87,7 @@ impl fmt::Display for IdentifyWarning {
                 weight,
             } => write!(
                 f,
-                "the friction law was not chosen from the data ({reason}): {} at weight {weight:e} fitted instead (give --friction and --weight to choose them)",
+                "the friction law was not chosen from the data ({reason}): {} at weight {weight:e} fitted instead (a law and a weight given are fitted as given)",
                 terms.join(" + ")
             ),
             IdentifyWarning::WeightsNotSettled { passes } => write!(

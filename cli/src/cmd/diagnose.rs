@@ -115,20 +115,9 @@ fn write_outputs(
 }
 
 /// Exit codes: 0 diagnosed, 2 bad input.
+/// A fixed base's diagnosis ([`super::route::diagnose`] sends a floating
+/// one to [`super::floating_diagnose`]).
 pub fn run(a: &DiagnoseArgs) -> i32 {
-    let robot = super::floating::Robot {
-        spec: a.robot,
-        sidecar: a.sidecar,
-        flag: a.floating_base,
-    };
-    match robot.is_floating() {
-        Ok(true) => return super::floating_diagnose::run(a, robot),
-        Ok(false) => {}
-        Err(e) => {
-            eprintln!("error: {e}");
-            return 2;
-        }
-    }
     let (json, out) = (a.json, a.out);
     if let Some(dir) = out
         && dir.exists()

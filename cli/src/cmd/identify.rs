@@ -127,24 +127,9 @@ impl IdentifyArgs<'_> {
 
 /// Exit codes: 0 identified (constraints satisfied), 1 identified but a
 /// constraint check failed, 2 bad input or solver failure.
+/// A fixed base's identification ([`super::route::identify`] sends a
+/// floating one to [`super::floating_identify`]).
 pub fn run(a: &IdentifyArgs) -> i32 {
-    let robot = super::floating::Robot {
-        spec: a.robot,
-        sidecar: a.sidecar,
-        flag: a.floating_base,
-    };
-    match robot.is_floating() {
-        Ok(true) => return super::floating_identify::run(a, robot),
-        Ok(false) if a.rows.is_some() => {
-            eprintln!("error: --rows is for a floating base (--floating-base)");
-            return 2;
-        }
-        Ok(false) => {}
-        Err(e) => {
-            eprintln!("error: {e}");
-            return 2;
-        }
-    }
     let t0 = std::time::Instant::now();
     let staged = match exports_claimed(a) {
         Ok(s) => s,

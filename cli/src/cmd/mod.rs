@@ -16,6 +16,7 @@ pub mod floating_predict;
 pub mod floating_simulate;
 pub mod identify;
 pub mod predict;
+pub mod route;
 pub mod sdpa;
 pub mod simulate;
 

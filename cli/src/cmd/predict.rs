@@ -32,18 +32,10 @@ pub struct PredictArgs<'a> {
 }
 
 /// Exit codes: 0 written, 2 bad input or failed write.
+/// A fixed base's prediction ([`super::route::predict`] sends a floating
+/// one to [`super::floating_predict`]).
 pub fn run(a: &PredictArgs) -> i32 {
-    let robot = super::floating::Robot {
-        spec: a.robot,
-        sidecar: a.sidecar,
-        flag: a.floating_base,
-    };
-    let done = match robot.is_floating() {
-        Ok(true) => super::floating_predict::run(a, robot),
-        Ok(false) => run_inner(a),
-        Err(e) => Err(e),
-    };
-    match done {
+    match run_inner(a) {
         Ok(()) => 0,
         Err(e) => {
             eprintln!("error: {e}");

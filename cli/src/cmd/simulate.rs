@@ -42,8 +42,10 @@ pub struct SimulateArgs<'a> {
 }
 
 /// Exit codes: 0 written, 2 bad input or failure (nothing written).
+/// A fixed base's simulation ([`super::route::simulate`] sends a floating
+/// one to [`super::floating_simulate`]).
 pub fn run(a: &SimulateArgs) -> i32 {
-    match route(a) {
+    match fixed(a) {
         Ok(()) => 0,
         Err(e) => {
             eprintln!("error: {e}");
@@ -52,16 +54,8 @@ pub fn run(a: &SimulateArgs) -> i32 {
     }
 }
 
-/// A floating-base robot's simulation, or the fixed-base one.
-fn route(a: &SimulateArgs) -> Result<(), String> {
-    let robot = super::floating::Robot {
-        spec: a.robot,
-        sidecar: a.sidecar,
-        flag: a.floating_base,
-    };
-    if robot.is_floating()? {
-        return super::floating_simulate::run(a, robot);
-    }
+/// The fixed-base simulation, the floating-base options refused.
+fn fixed(a: &SimulateArgs) -> Result<(), String> {
     if a.contacts.is_some() || !a.floating_effects.is_empty() {
         return Err(
             "--contacts and --floating-effects are for a floating base (--floating-base)".into(),
