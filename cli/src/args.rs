@@ -7,24 +7,33 @@ use momentlmi::effects::Library;
 use std::path::PathBuf;
 
 /// Which robot: a built-in name or a URDF with its sidecar.
-#[derive(Args, Debug)]
-pub(crate) struct RobotArgs {
+#[derive(Args, Debug, Clone)]
+pub struct RobotArgs {
     /// Built-in robot (cheetah3-leg) or a URDF file.
     #[arg(long)]
-    pub(crate) robot: String,
+    pub robot: String,
     /// TOML sidecar for a URDF: rotors, locked joints, prior, bounding
     /// ellipsoids, friction, tool point (docs/robots.md).
     /// [default: NAME.toml beside NAME.urdf, if there is one]
     #[arg(long, conflicts_with = "no_sidecar")]
-    pub(crate) sidecar: Option<PathBuf>,
+    pub sidecar: Option<PathBuf>,
     /// Use no sidecar, not even the one beside the URDF.
     #[arg(long)]
-    pub(crate) no_sidecar: bool,
+    pub no_sidecar: bool,
     /// A folder where a URDF's `package://NAME/…` meshes are found (repeatable; searched after
     /// the folders above the URDF, before ROS_PACKAGE_PATH); meshes outside the URDF's folder
     /// and these folders are not read.
     #[arg(long = "package-path", value_name = "DIR")]
-    pub(crate) package_path: Vec<PathBuf>,
+    pub package_path: Vec<PathBuf>,
+}
+
+impl RobotArgs {
+    /// `--sidecar` made the sidecar the command uses: the one given, else
+    /// (unless `--no-sidecar`) the one beside the URDF ([`own_sidecar`],
+    /// said once, here).
+    pub fn resolve(&mut self) {
+        self.sidecar = own_sidecar(&self.robot, self.sidecar.take(), self.no_sidecar);
+    }
 }
 
 /// The sidecar: the one given, else (unless `--no-sidecar`) `NAME.toml`
@@ -42,25 +51,25 @@ pub(crate) fn own_sidecar(robot: &str, given: Option<PathBuf>, none: bool) -> Op
 }
 
 /// How log files are read (docs/inputs.md).
-#[derive(Args, Debug)]
-pub(crate) struct ReadArgs {
+#[derive(Args, Debug, Clone)]
+pub struct ReadArgs {
     /// Column mapping (TOML): which array, column or field is q, q̇, q̈, τ of which joint, and
     /// units [default: the sidecar's [data] mapping, else each format's own names]
     /// (docs/inputs.md, "Column mappings").
     #[arg(long, value_name = "FILE")]
-    pub(crate) mapping: Option<PathBuf>,
+    pub mapping: Option<PathBuf>,
     /// Low-pass cut-off (Hz) applied to q and τ alike of raw logs (files without q̈)
     /// [default: chosen from the data's spectrum, and reported].
     #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
-    pub(crate) cutoff_hz: Option<f64>,
+    pub cutoff_hz: Option<f64>,
     /// Where a raw log's q̇ comes from: differentiate (the filtered q; a logged velocity is
     /// often filtered by the drive and lags) or file (the file's, through the same low-pass).
     #[arg(long, value_enum, default_value_t = Velocity::Differentiate)]
-    pub(crate) velocity: Velocity,
+    pub velocity: Velocity,
 }
 
 impl ReadArgs {
-    pub(crate) fn choice(&self) -> crate::cmd::ReadChoice<'_> {
+    pub fn choice(&self) -> crate::cmd::ReadChoice<'_> {
         crate::cmd::ReadChoice {
             mapping: self.mapping.as_deref(),
             cutoff_hz: self.cutoff_hz,
@@ -70,24 +79,24 @@ impl ReadArgs {
 }
 
 /// Where a model is exported (docs/export.md).
-#[derive(Args, Debug)]
-pub(crate) struct ExportOutArgs {
+#[derive(Args, Debug, Clone)]
+pub struct ExportOutArgs {
     /// A URDF to write: the robot's own with each body's <inertial> and each joint's
     /// <dynamics> replaced (a built-in robot: one written from its model).
     #[arg(long, value_name = "OUT.urdf")]
-    pub(crate) urdf_out: Option<PathBuf>,
+    pub urdf_out: Option<PathBuf>,
     /// The sidecar written with --urdf-out (rotors, friction, the prior)
     /// [default: beside it, OUT.toml].
     #[arg(long, value_name = "OUT.toml", requires = "urdf_out")]
-    pub(crate) sidecar_out: Option<PathBuf>,
+    pub sidecar_out: Option<PathBuf>,
     /// A MuJoCo model (MJCF) to write: rotors as joint armature, viscous friction as
     /// damping, Coulomb as frictionloss.
     #[arg(long, value_name = "OUT.xml")]
-    pub(crate) mjcf_out: Option<PathBuf>,
+    pub mjcf_out: Option<PathBuf>,
 }
 
 impl ExportOutArgs {
-    pub(crate) fn outputs(&self) -> export::Outputs<'_> {
+    pub fn outputs(&self) -> export::Outputs<'_> {
         export::Outputs {
             urdf: self.urdf_out.as_deref(),
             sidecar: self.sidecar_out.as_deref(),
@@ -115,11 +124,11 @@ pub(crate) fn effect_names() -> clap::builder::PossibleValuesParser {
 }
 
 /// Whether the robot's root link is free (docs/floating-base.md).
-#[derive(Args, Debug)]
-pub(crate) struct FloatingArgs {
+#[derive(Args, Debug, Clone)]
+pub struct FloatingArgs {
     /// Load the URDF's root link as a floating base (a legged robot, a drone): its six base
     /// rows balanced by the contact wrenches; the data are floating-base logs
     /// (docs/floating-base.md) [default: on when the sidecar has a [floating_base] table].
     #[arg(long)]
-    pub(crate) floating_base: bool,
+    pub floating_base: bool,
 }

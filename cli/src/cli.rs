@@ -5,9 +5,8 @@
 use crate::args::{
     ExportOutArgs, FloatingArgs, ReadArgs, RobotArgs, effect_names, effect_param_help, own_sidecar,
 };
-use crate::cmd::{check, demo, diagnose, excite, export, identify, predict, route, sdpa, simulate};
+use crate::cmd::{check, demo, diagnose, excite, export, predict, route, sdpa, simulate};
 use clap::{Parser, Subcommand};
-use momentlmi::identify::{JointWeighting, Regularizer};
 use momentlmi::moments::urdf_check::{RepairOptions, RepairTarget};
 use std::path::PathBuf;
 
@@ -201,120 +200,7 @@ enum Command {
         json: bool,
     },
     /// Identify link and rotor inertias and friction from data (the paper's SDP (25)).
-    Identify {
-        #[command(flatten)]
-        robot: RobotArgs,
-        /// Training data: a CSV, NumPy .npz/.npy or ROS 2 .mcap log (repeatable: each file is a
-        /// segment that no filter crosses).
-        #[arg(long, required = true)]
-        data: Vec<PathBuf>,
-        #[command(flatten)]
-        read: ReadArgs,
-        /// Constraint level per body: none, semi, consistent, ellipsoid.
-        #[arg(long, default_value = "consistent")]
-        constraints: String,
-        /// Prior π̂: cad (the description's prior: the sidecar's, else the URDF's
-        /// own inertias; the default), true, or a parameter file.
-        #[arg(long)]
-        prior: Option<String>,
-        /// Regularisation weight w_π toward the prior (0 turns it off), or auto: chosen by
-        /// cross-validation on the training data (each --data file, or piece between gaps,
-        /// held out in turn; one piece: 5 blocks in time) — with the friction law in the same
-        /// pass when the law is chosen too (a Euclidean prior: 1e-6 … 1 in half-decades), else
-        /// by the fits of 1e-6, 1e-5, …, 1 (weight_choice in the report and JSON); the
-        /// strongest prior within the noise of the lowest held-out RMS. [default: auto when
-        /// the friction law is chosen from the data (no --friction, or --friction auto), else
-        /// 1e-6]
-        #[arg(long, allow_negative_numbers = true, value_name = "W|auto")]
-        weight: Option<String>,
-        /// How the prior enters the objective: euclidean (w‖π − π̂‖²), entropic
-        /// (w Σ d(J‖Ĵ), the log-det divergence of each body's pseudo-inertia: unit and
-        /// frame invariant, no body collapses; needs a strictly consistent prior and
-        /// --weight > 0, typically 1e-3 to 1e-1) or pullback (the divergence's
-        /// second-order term at the prior: a quadratic, as fast as euclidean). [default:
-        /// entropic when the weight is chosen from the data (no --weight, the law chosen),
-        /// the level constrains (not none) and every prior body is strictly consistent,
-        /// else euclidean]
-        #[arg(long, value_enum)]
-        regularizer: Option<Regularizer>,
-        /// Extra weight w_m Σ (m − m̂)² keeping the bodies' masses at the prior's
-        /// [default: the sidecar's [identify] prior_mass_weight with the Euclidean prior on
-        /// (--weight > 0), else 0; 0: off]. For masses known better than the rest (weighed
-        /// links): a fixed-base arm's torques see no link mass alone, so the data's
-        /// corrections go to the first moments and inertias instead (e.g. 1e-2 with --weight
-        /// 1e-6; a weight under 100 × --weight holds nothing and is warned about).
-        #[arg(long, allow_negative_numbers = true)]
-        prior_mass_weight: Option<f64>,
-        /// Friction terms identified per joint, comma-separated: viscous, coulomb, offset (a
-        /// torque sensor's bias, either sign), asymmetric (Coulomb stronger one way), load
-        /// (Coulomb ∝ |τ| of the rigid model: a harmonic drive's), stribeck (breakaway
-        /// friction near rest, exp(−(q̇/v_s)²) sign(q̇)), or none (links and rotors only); or
-        /// auto (the default): viscous + Coulomb with or without offset, load and Stribeck
-        /// (v_s 0.02–0.2 rad/s), the law chosen by cross-validation on the training data
-        /// (the fewest terms within the noise of the best), the table in the report and JSON
-        /// (model_selection). With neither --friction nor --weight given, too few training
-        /// samples to score the laws, or training files over 64 MiB (the choice reads them
-        /// whole), leave viscous + Coulomb at 1e-6, with a warning. A list at a set weight
-        /// streams prepared CSV logs as before the choice existed. A floating base
-        /// (--floating-base) fits its model's own law at 1e-6 (auto is refused there).
-        /// (docs/identification.md, "Friction terms")
-        #[arg(long, value_name = "LIST|auto")]
-        friction: Option<String>,
-        /// How each joint's rows weigh in the fit: equal (least squares) or noise (weighted
-        /// least squares: fitted once equally, then each joint by 1/σ̂², σ̂ its residual RMS;
-        /// for arms whose joints' torque noise differs).
-        #[arg(long, value_enum, default_value_t = JointWeighting::Equal)]
-        joint_weighting: JointWeighting,
-        /// The Stribeck velocity v_s of the stribeck term (rad/s).
-        #[arg(long, value_name = "RAD_PER_S", allow_negative_numbers = true,
-              default_value_t = momentlmi::dynamics::DEFAULT_STRIBECK_VELOCITY)]
-        stribeck_velocity: f64,
-        /// Held-out validation data (repeatable, like --data).
-        #[arg(long)]
-        validate: Vec<PathBuf>,
-        /// A diagnosis' model file (`diagnose --model-out`) whose fitted effects (a gain, a
-        /// delay, a ripple, …) are held at their values: their torques are taken off the
-        /// training and validation torques before the fit, and the identified model file
-        /// carries them, so that predict and diagnose apply them.
-        #[arg(long, value_name = "FILE")]
-        with_effects: Option<PathBuf>,
-        /// Print one JSON object (a model file for predict/diagnose/--prior).
-        #[arg(long)]
-        json: bool,
-        /// One body's level instead of --constraints, BODY=LEVEL (repeatable).
-        #[arg(long = "level", value_name = "BODY=LEVEL")]
-        levels: Vec<String>,
-        /// The known total mass of every body, links and rotors (kg).
-        #[arg(long)]
-        total_mass: Option<f64>,
-        /// Two bodies with the same parameters, A,B (repeatable).
-        #[arg(long = "equal", value_name = "A,B")]
-        equal: Vec<String>,
-        /// The memory identification may plan for (GiB); a larger problem is refused before it starts.
-        #[arg(long, default_value_t = 8.0)]
-        max_memory_gib: f64,
-        /// Each parameter's range (minimum and maximum) over every model that satisfies the
-        /// constraints and fits the data with a residual norm at most (1 + DELTA) × the
-        /// estimate's: pinned by the data, by the physics, or unknown. DELTA: a number, or auto
-        /// (the default): each parameter's own 95 % interval, (1 + δ)² = 1 + χ²₁(0.95) / (rows −
-        /// rank). Two conic problems per parameter, solved in parallel.
-        #[arg(long, value_name = "DELTA", num_args = 0..=1, default_missing_value = "auto",
-              allow_negative_numbers = true)]
-        bounds: Option<String>,
-        /// The directions the data do not excite, one per line (else one summary line).
-        #[arg(long)]
-        verbose: bool,
-        /// The identified model exported too (as `momentlmi export` would).
-        #[command(flatten)]
-        export: ExportOutArgs,
-        #[command(flatten)]
-        floating: FloatingArgs,
-        /// A floating base's rows fitted: base (the contact wrenches balance the whole robot;
-        /// no joint torque needed), joints, or all [default: all when every log has joint
-        /// torques, else base].
-        #[arg(long, value_enum)]
-        rows: Option<momentlmi::identify::Rows>,
-    },
+    Identify(crate::cmd::identify::IdentifyArgs),
     /// Diagnose the gap between a nominal model and measured data: where it lies, which unmodelled
     /// effect explains it, how far it shrinks (docs/diagnosis.md).
     Diagnose {
@@ -550,63 +436,10 @@ pub fn main() -> i32 {
             rate_hz: rate,
             json,
         }),
-        Command::Identify {
-            robot:
-                RobotArgs {
-                    robot,
-                    sidecar,
-                    package_path,
-                    no_sidecar,
-                },
-            data,
-            read,
-            constraints,
-            prior,
-            weight,
-            regularizer,
-            prior_mass_weight,
-            friction,
-            joint_weighting,
-            stribeck_velocity,
-            validate,
-            with_effects,
-            json,
-            levels,
-            total_mass,
-            equal,
-            max_memory_gib,
-            bounds,
-            verbose,
-            export,
-            floating,
-            rows,
-        } => route::identify(&identify::IdentifyArgs {
-            floating_base: floating.floating_base,
-            rows,
-            export: export.outputs(),
-            read: read.choice(),
-            robot: &robot,
-            sidecar: own_sidecar(&robot, sidecar, no_sidecar).as_deref(),
-            package_paths: &package_path,
-            data: &data,
-            constraints: &constraints,
-            prior: prior.as_deref(),
-            weight: weight.as_deref(),
-            regularizer,
-            prior_mass_weight,
-            friction: friction.as_deref(),
-            joint_weighting,
-            stribeck_velocity,
-            validate: &validate,
-            with_effects: with_effects.as_deref(),
-            json,
-            levels: &levels,
-            total_mass,
-            equal: &equal,
-            max_memory_gib,
-            bounds: bounds.as_deref(),
-            verbose,
-        }),
+        Command::Identify(mut a) => {
+            a.robot.resolve();
+            route::identify(&a)
+        }
         Command::Diagnose {
             robot:
                 RobotArgs {

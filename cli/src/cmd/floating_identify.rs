@@ -41,12 +41,12 @@ pub fn run(a: &IdentifyArgs, robot: Robot) -> i32 {
 }
 
 fn refused(a: &IdentifyArgs) -> Result<(), String> {
-    refuse(&super::floating::reading_options(&a.read))?;
+    refuse(&super::floating::reading_options(&a.read.choice()))?;
     refuse(&[
         ("--level", !a.levels.is_empty()),
         ("--total-mass", a.total_mass.is_some()),
         ("--equal", !a.equal.is_empty()),
-        ("--bounds", a.bounds.is_some()),
+        ("--bounds", a.bounds.as_deref().is_some()),
         (
             "--regularizer entropic/pullback",
             a.regularizer.is_some_and(|r| r != Regularizer::Euclidean),
@@ -56,14 +56,14 @@ fn refused(a: &IdentifyArgs) -> Result<(), String> {
             "--joint-weighting noise",
             a.joint_weighting != JointWeighting::Equal,
         ),
-        ("--urdf-out/--mjcf-out", a.export.any()),
+        ("--urdf-out/--mjcf-out", a.export.outputs().any()),
         (
             "--weight auto",
-            a.weight.is_some_and(|w| w.trim() == "auto"),
+            a.weight.as_deref().is_some_and(|w| w.trim() == "auto"),
         ),
         (
             "--friction auto",
-            a.friction.is_some_and(|f| f.trim() == "auto"),
+            a.friction.as_deref().is_some_and(|f| f.trim() == "auto"),
         ),
         (
             "--stribeck-velocity",
@@ -76,30 +76,30 @@ fn refused(a: &IdentifyArgs) -> Result<(), String> {
 fn fit(a: &IdentifyArgs, robot: Robot) -> Result<FloatingFit, String> {
     refused(a)?;
     let (mut ff, _) = robot.load()?;
-    if let Some(list) = a.friction {
+    if let Some(list) = a.friction.as_deref() {
         let terms = FrictionTerm::parse_list(list).map_err(|e| format!("--friction: {e}"))?;
         ff.tree = ff.tree.clone().with_friction_terms(&terms);
     }
     let budget = a.max_memory_gib;
-    let train = read_logs(&ff, a.data, ("--data", budget))?;
-    let validate = read_logs(&ff, a.validate, ("--validate", budget))?;
+    let train = read_logs(&ff, &a.data, ("--data", budget))?;
+    let validate = read_logs(&ff, &a.validate, ("--validate", budget))?;
     let rows = rows(a.rows, &train)?;
-    let level = Level::parse(a.constraints).ok_or_else(|| {
+    let level = Level::parse(a.constraints.as_str()).ok_or_else(|| {
         format!(
             "--constraints: '{}' is not one of none, semi, consistent",
-            a.constraints
+            a.constraints.as_str()
         )
     })?;
     if level == Level::Ellipsoid {
         return Err("--constraints ellipsoid is not available with --floating-base yet (no bounding volumes are computed for a free-flyer)".into());
     }
-    let given = a.weight.unwrap_or("1e-6");
+    let given = a.weight.as_deref().unwrap_or("1e-6");
     let weight: f64 = (given.trim().parse().ok())
         .filter(|w: &f64| w.is_finite() && *w >= 0.0)
         .ok_or_else(|| format!("--weight: '{given}' is not a number ≥ 0"))?;
     let mut id = Identification::for_free_flyer(&ff, rows).level_all(level);
     if weight > 0.0 {
-        let prior = prior(&ff, a.prior)?;
+        let prior = prior(&ff, a.prior.as_deref())?;
         id = id
             .prior(weight, prior)
             .map_err(|e| format!("--prior: {e}"))?;

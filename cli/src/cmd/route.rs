@@ -25,7 +25,8 @@ fn failed(e: String) -> i32 {
 
 /// `momentlmi identify`; `--rows` only for a floating base.
 pub fn identify(a: &identify::IdentifyArgs) -> i32 {
-    let robot = robot(a.robot, a.sidecar, a.floating_base);
+    let r = &a.robot;
+    let robot = robot(&r.robot, r.sidecar.as_deref(), a.floating.floating_base);
     match robot.is_floating() {
         Ok(true) => floating_identify::run(a, robot),
         Ok(false) if a.rows.is_some() => {
