@@ -5,7 +5,8 @@ use momentlmi::data::{Staged, same_file};
 use momentlmi::dynamics::sidecar::Sidecar;
 use momentlmi::moments::geometry::{Meshes, geometry_points};
 use momentlmi::moments::urdf_check::{
-    LEFT_AS_IS, RepairOptions, UrdfReport, check_urdf_file_with, check_urdf_str, repair_urdf,
+    LEFT_AS_IS, RepairOptions, RepairTarget, UrdfReport, check_urdf_file_with, check_urdf_str,
+    repair_urdf,
 };
 use momentlmi::urdf::Robot;
 use momentlmi::urdf::mesh::MeshPaths;
@@ -90,8 +91,8 @@ fn print_table(file: &Path, r: &UrdfReport) {
 /// target that is the input itself, an unusable `--sidecar` or `--out`, or a
 /// failed repair or write (nothing is written then). Warnings (unusable
 /// geometry) go to stderr and leave the code alone. See docs/inputs.md.
-pub fn run(file: &Path, opts: &CheckArgs) -> i32 {
-    match checked(file, opts) {
+pub fn run(opts: &CheckArgs) -> i32 {
+    match checked(&opts.urdf, opts) {
         Ok(code) => code,
         Err(e) => {
             eprintln!("error: {e}");
@@ -106,7 +107,7 @@ const MAX_REPAIR_MARGIN: f64 = 0.1;
 
 /// [`run`] with every failure an error message (exit 2).
 fn checked(file: &Path, opts: &CheckArgs) -> Result<i32, String> {
-    if let Some((_, how)) = &opts.repair
+    if let Some((_, how)) = &opts.repair()
         && !(how.margin.is_finite() && (0.0..MAX_REPAIR_MARGIN).contains(&how.margin))
     {
         return Err(format!(
@@ -114,7 +115,7 @@ fn checked(file: &Path, opts: &CheckArgs) -> Result<i32, String> {
             how.margin
         ));
     }
-    if let Some((out, _)) = &opts.repair
+    if let Some((out, _)) = &opts.repair()
         && momentlmi::data::Target::of(out).map_err(|e| e.to_string())?
             == momentlmi::data::Target::Stdout
     {
@@ -123,9 +124,11 @@ fn checked(file: &Path, opts: &CheckArgs) -> Result<i32, String> {
             out.display()
         ));
     }
-    let named: Vec<&Path> = std::iter::once(file).chain(opts.sidecar).collect();
+    let named: Vec<&Path> = std::iter::once(file)
+        .chain(opts.sidecar.as_deref())
+        .collect();
     let inputs = super::input_files(&named, &[]);
-    for out in opts.repair.iter().map(|r| &r.0).chain(&opts.out) {
+    for out in opts.repair.iter().chain(&opts.out) {
         if let Some(i) = inputs.iter().find(|i| same_file(i, out)) {
             return Err(format!(
                 "{}: that is the input file {}; write to another path",
@@ -141,9 +144,7 @@ fn checked(file: &Path, opts: &CheckArgs) -> Result<i32, String> {
         .given_links()
         .find(|n| !robot.links.iter().any(|l| l.name == *n))
     {
-        let sc = opts
-            .sidecar
-            .map_or(String::new(), |p| p.display().to_string());
+        let sc = (opts.sidecar.as_deref()).map_or(String::new(), |p| p.display().to_string());
         return Err(format!(
             "{sc}: [[body]] '{name}': {} has no link of that name",
             file.display()
@@ -165,10 +166,10 @@ fn checked(file: &Path, opts: &CheckArgs) -> Result<i32, String> {
     } else {
         print_table(file, &report);
     }
-    if let Some((out, how)) = &opts.repair {
+    if let Some((out, how)) = &opts.repair() {
         write_repair(file, &text, &report, (out, how), opts.json)?;
     }
-    if let Some(dir) = opts.out {
+    if let Some(dir) = &opts.out {
         write_plots(&robot, &report, &mut meshes, dir, &inputs)?;
     }
     let strict_finding = opts.strict && report.links.iter().any(|l| l.degenerate.is_some());
@@ -182,11 +183,11 @@ fn checked(file: &Path, opts: &CheckArgs) -> Result<i32, String> {
 /// Where meshes are found, and the sidecar's bounding ellipsoids by link
 /// (each must name a link of the file).
 fn geometry_source(file: &Path, opts: &CheckArgs) -> Result<Meshes, String> {
-    let mut meshes = Meshes::new(MeshPaths::for_urdf(file, opts.package_paths));
+    let mut meshes = Meshes::new(MeshPaths::for_urdf(file, &opts.package_path));
     if let Some(cache) = super::solve_cache() {
         meshes = meshes.with_cache(cache);
     }
-    let Some(path) = opts.sidecar else {
+    let Some(path) = opts.sidecar.as_deref() else {
         return Ok(meshes);
     };
     let sc = Sidecar::read(path).map_err(|e| e.to_string())?;
@@ -233,20 +234,56 @@ fn write_plots(
     Ok(())
 }
 
-/// The options of `check`.
-pub struct CheckArgs<'a> {
-    /// One JSON object instead of the table.
+/// `momentlmi check`'s options, declared once: clap parses them and the
+/// command reads them.
+#[derive(clap::Args, Debug, Clone)]
+pub struct CheckArgs {
+    /// The URDF file.
+    pub urdf: PathBuf,
+    /// Print one JSON object with a `links` array.
+    #[arg(long)]
     pub json: bool,
-    /// Where to write the repaired copy, and how to repair.
-    pub repair: Option<(&'a Path, RepairOptions)>,
-    /// Bounding ellipsoids for links by name (a sidecar).
-    pub sidecar: Option<&'a Path>,
-    /// Folder for the links' figures.
-    pub out: Option<&'a Path>,
-    /// Folders of `package://` meshes.
-    pub package_paths: &'a [PathBuf],
-    /// Degenerate links (singular J) are findings (exit 1).
+    /// Write a copy with every inconsistent inertial replaced by the nearest consistent one
+    /// (never the input itself; nothing is written unless the copy checks clean).
+    #[arg(long, value_name = "OUT.urdf")]
+    pub repair: Option<PathBuf>,
+    /// What --repair projects onto: `consistent` (the inconsistent inertials, inside their
+    /// geometry where possible) or `geometry` (also every consistent inertial that is not
+    /// density realizable in its link's bounding volume).
+    #[arg(long, value_enum, default_value = "consistent", requires = "repair")]
+    pub repair_to: RepairTarget,
+    /// The repair's relative margin ε: 1e-6 lands next to the boundary (often a rod or a thin
+    /// plate); 1e-3 keeps the thinnest direction at about 3 % of the link's length scale.
+    #[arg(long, default_value_t = 1e-6, requires = "repair", value_name = "EPS")]
+    pub repair_margin: f64,
+    /// Bounding ellipsoids for links by name, from a sidecar's `[[body]] name, bounding`
+    /// (link frame); they replace the ones of the link's shapes.
+    #[arg(long, value_name = "SIDECAR.toml")]
+    pub sidecar: Option<PathBuf>,
+    /// Folder for one SVG per link: its shapes' points, bounding and covariance ellipsoids,
+    /// CoM and four point masses, in three views.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// A folder where `package://NAME/…` meshes are found: a package itself or a folder of
+    /// packages (repeatable; searched after the folders above the URDF, before ROS_PACKAGE_PATH);
+    /// meshes outside the URDF's folder and these folders are not read.
+    #[arg(long = "package-path", value_name = "DIR")]
+    pub package_path: Vec<PathBuf>,
+    /// Degenerate links (consistent, but J singular: a point mass, rod or thin plate) make
+    /// the exit code 1 too.
+    #[arg(long)]
     pub strict: bool,
+}
+
+impl CheckArgs {
+    /// Where to write the repaired copy, and how to repair.
+    fn repair(&self) -> Option<(&Path, RepairOptions)> {
+        let how = RepairOptions {
+            target: self.repair_to,
+            margin: self.repair_margin,
+        };
+        self.repair.as_deref().map(|p| (p, how))
+    }
 }
 
 /// Repairs the inconsistent inertials and writes the result to `out` (a

@@ -1,65 +1,105 @@
 //! `momentlmi diagnose --robot MODEL --data FILE.csv [--nominal cad|true|FILE] [--json] [--out DIR]`.
 
+use crate::args::{FloatingArgs, ReadArgs, RobotArgs};
 use momentlmi::data::Staged;
 use momentlmi::diagnose::floor::repeat_floor;
 use momentlmi::diagnose::{DiagnoseOptions, Diagnosis, FloorSource, diagnose_with};
 use momentlmi::dynamics::ParamChoice;
 use std::path::Path;
+use std::path::PathBuf;
 
-/// Arguments of `diagnose`.
-pub struct DiagnoseArgs<'a> {
-    /// Built-in name or URDF path.
-    pub robot: &'a str,
-    /// Optional sidecar for a URDF.
-    pub sidecar: Option<&'a Path>,
-    /// Folders of `package://` meshes.
-    pub package_paths: &'a [std::path::PathBuf],
-    /// Measured data.
-    pub data: &'a [std::path::PathBuf],
-    /// How it is read.
-    pub read: super::ReadChoice<'a>,
-    /// `cad`, `true` or a parameter file.
-    pub nominal: Option<&'a str>,
-    /// The data the nominal was identified on (none: its bodies held).
-    pub nominal_data: &'a [std::path::PathBuf],
-    /// Two runs of one trajectory for the noise floor (none: first
-    /// differences).
-    pub repeats: &'a [std::path::PathBuf],
+/// `momentlmi diagnose`'s options, declared once: clap parses them and the
+/// command reads them (the robot's sidecar resolved first,
+/// [`RobotArgs::resolve`]).
+#[derive(clap::Args, Debug, Clone)]
+pub struct DiagnoseArgs {
+    #[command(flatten)]
+    pub robot: RobotArgs,
+    /// Measured data (a CSV, NumPy .npz/.npy or ROS 2 .mcap log); repeatable: each
+    /// file is a segment that no filter, difference or spectrum crosses.
+    #[arg(long, required = true)]
+    pub data: Vec<PathBuf>,
+    #[command(flatten)]
+    pub read: ReadArgs,
+    /// Nominal model: cad | true or a parameter file (e.g. from identify --json);
+    /// default: the model's own parameters, no friction.
+    #[arg(long)]
+    pub nominal: Option<String>,
+    /// The data the nominal model was identified on (read like --data; repeatable): its
+    /// bodies are then refit with the friction law, on these data and the fitting part
+    /// together, so that what these data could not determine is not named an effect
+    /// (link_inertia and rotor_inertia are then not proposed) [default: the bodies are
+    /// held as given].
+    #[arg(long, value_name = "FILE")]
+    pub nominal_data: Vec<PathBuf>,
+    /// Two runs of one trajectory (read like --data) whose torque difference, once
+    /// aligned by positions, is the noise floor: RMS(τ₁ − τ₂)/√2 per joint [default:
+    /// the residual's first differences, a lower bound on low-pass filtered data].
+    #[arg(long, num_args = 2, value_names = ["RUN1", "RUN2"])]
+    pub repeats: Vec<PathBuf>,
     /// Print the JSON report.
+    #[arg(long)]
     pub json: bool,
-    /// Folder for diagnosis.json and the plots.
-    pub out: Option<&'a Path>,
-    /// File for the diagnosis' model (a parameter file).
-    pub model_out: Option<&'a Path>,
-    /// Folds of time of one file.
-    pub folds: usize,
-    /// `--floating-base` given.
-    pub floating_base: bool,
-    /// The memory limit (GiB).
+    /// Also write diagnosis.json into this folder (a floating base: floating_diagnosis.json).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Write the diagnosis' model — the nominal with its friction law refit and the
+    /// accepted effects, fitted on the fitting part — as a parameter file that predict,
+    /// identify --prior and export take (predict with it gives the held-out error reported).
+    #[arg(long, value_name = "FILE")]
+    pub model_out: Option<PathBuf>,
+    /// Blocks of time the data are cut in for cross-validation when they are one or two
+    /// files (3 to 10 files: one fold each).
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u64).range(3..=50))]
+    pub folds: u64,
+    /// The memory the diagnosis may plan for (GiB): beyond it the compliance searches are skipped, or the diagnosis refused.
+    #[arg(long, default_value_t = 8.0)]
     pub max_memory_gib: f64,
+    #[command(flatten)]
+    pub floating: FloatingArgs,
 }
 
 fn diagnosis(a: &DiagnoseArgs) -> Result<Diagnosis, String> {
     let mut opts = DiagnoseOptions::default()
         .with_max_memory(super::gib(a.max_memory_gib)?)
-        .with_folds(a.folds)
+        .with_folds(a.folds as usize)
         .map_err(|e| e.to_string())?;
-    let robot = super::load_robot(a.robot, a.sidecar, a.package_paths)?;
-    if a.nominal == Some("true") {
+    let robot = super::load_robot(
+        a.robot.robot.as_str(),
+        a.robot.sidecar.as_deref(),
+        &a.robot.package_path,
+    )?;
+    if a.nominal.as_deref() == Some("true") {
         super::warn_robot(&robot);
     }
-    let (model, friction, effects) =
-        super::parameters_with_effects_for(&robot, "--nominal", a.nominal, ParamChoice::Own)?;
+    let (model, friction, effects) = super::parameters_with_effects_for(
+        &robot,
+        "--nominal",
+        a.nominal.as_deref(),
+        ParamChoice::Own,
+    )?;
     let names = model.joint_names();
-    let mut read = a.read.options(&robot, true)?;
-    super::cutoff_of_model(&mut read, a.nominal, "--nominal");
+    let mut read = a.read.choice().options(&robot, true)?;
+    super::cutoff_of_model(&mut read, a.nominal.as_deref(), "--nominal");
     let paths: Vec<&Path> = a.data.iter().map(|p| p.as_path()).collect();
-    let reading = super::read_data(&paths, &names, &read, a.robot, a.sidecar)?;
+    let reading = super::read_data(
+        &paths,
+        &names,
+        &read,
+        a.robot.robot.as_str(),
+        a.robot.sidecar.as_deref(),
+    )?;
     super::report_reading("--data", &reading);
     let d = reading.data;
-    if let [r1, r2] = a.repeats {
+    if let [r1, r2] = a.repeats.as_slice() {
         let run = |p: &Path| {
-            let r = super::read_data(&[p], &names, &read, a.robot, a.sidecar)?;
+            let r = super::read_data(
+                &[p],
+                &names,
+                &read,
+                a.robot.robot.as_str(),
+                a.robot.sidecar.as_deref(),
+            )?;
             super::report_reading("--repeats", &r);
             Ok::<_, String>(r.data)
         };
@@ -71,7 +111,13 @@ fn diagnosis(a: &DiagnoseArgs) -> Result<Diagnosis, String> {
     }
     if !a.nominal_data.is_empty() {
         let paths: Vec<&Path> = a.nominal_data.iter().map(|p| p.as_path()).collect();
-        let r = super::read_data(&paths, &names, &read, a.robot, a.sidecar)?;
+        let r = super::read_data(
+            &paths,
+            &names,
+            &read,
+            a.robot.robot.as_str(),
+            a.robot.sidecar.as_deref(),
+        )?;
         super::report_reading("--nominal-data", &r);
         opts = opts.with_nominal_data(r.data);
     }
@@ -118,7 +164,7 @@ fn write_outputs(
 /// A fixed base's diagnosis ([`super::route::diagnose`] sends a floating
 /// one to [`super::floating_diagnose`]).
 pub fn run(a: &DiagnoseArgs) -> i32 {
-    let (json, out) = (a.json, a.out);
+    let (json, out) = (a.json, a.out.as_deref());
     if let Some(dir) = out
         && dir.exists()
         && !dir.is_dir()
@@ -147,8 +193,8 @@ pub fn run(a: &DiagnoseArgs) -> i32 {
             return 2;
         }
     };
-    if (out.is_some() || a.model_out.is_some())
-        && let Err(e) = write_outputs(&dg, &text, (out, a.model_out), &inputs(a))
+    if (out.is_some() || a.model_out.as_deref().is_some())
+        && let Err(e) = write_outputs(&dg, &text, (out, a.model_out.as_deref()), &inputs(a))
     {
         match out {
             Some(dir) => eprintln!("error: {}: {e}", dir.display()),
@@ -166,18 +212,21 @@ pub fn run(a: &DiagnoseArgs) -> i32 {
 
 /// The files the command reads, which no output may be.
 fn inputs<'a>(a: &'a DiagnoseArgs) -> Vec<&'a Path> {
-    let files: Vec<&Path> = (a.data.iter().chain(a.repeats).chain(a.nominal_data))
+    let files: Vec<&Path> = (a.data.iter().chain(&a.repeats).chain(&a.nominal_data))
         .map(|p| p.as_path())
-        .chain(a.sidecar)
+        .chain(a.robot.sidecar.as_deref())
         .collect();
-    super::input_files(&files, &[a.robot, a.nominal.unwrap_or("")])
+    super::input_files(
+        &files,
+        &[a.robot.robot.as_str(), a.nominal.as_deref().unwrap_or("")],
+    )
 }
 
 /// `--model-out` is refused before the diagnosis runs when it is one of
 /// the command's inputs (a data file's record beside it included), a
 /// folder, in a folder that does not exist, or inside `--out`.
 fn check_outputs(a: &DiagnoseArgs) -> Result<(), String> {
-    let Some(path) = a.model_out else {
+    let Some(path) = a.model_out.as_deref() else {
         return Ok(());
     };
     let bad = |why: &str| Err(format!("--model-out {}: {why}", path.display()));
@@ -185,13 +234,16 @@ fn check_outputs(a: &DiagnoseArgs) -> Result<(), String> {
         return bad("is a folder (a file name is needed)");
     }
     let parent = path.parent().filter(|p| !p.as_os_str().is_empty());
-    if a.out.is_some_and(|o| parent == Some(o) || path == o) {
+    if a.out
+        .as_deref()
+        .is_some_and(|o| parent == Some(o) || path == o)
+    {
         return bad("is inside --out's folder, which the diagnosis writes whole");
     }
     if parent.is_some_and(|p| !p.is_dir()) {
         return bad("its folder does not exist");
     }
-    let records: Vec<std::path::PathBuf> = (a.data.iter().chain(a.repeats).chain(a.nominal_data))
+    let records: Vec<std::path::PathBuf> = (a.data.iter().chain(&a.repeats).chain(&a.nominal_data))
         .map(|p| momentlmi::data::record_path(p))
         .filter(|r| r.is_file())
         .collect();

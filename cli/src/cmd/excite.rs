@@ -2,31 +2,70 @@
 //! [--pool N] [--separate A,B] [--out traj.csv] [--json]`: a designed
 //! excitation, or a motion that tells two effects apart.
 
+use crate::args::RobotArgs;
 use momentlmi::data::{Staged, record_path, stage_with_record};
 use momentlmi::effects::Library;
 use momentlmi::excite::{Criterion, Designed, ExciteOptions, design, samples, separate};
 use std::path::{Path, PathBuf};
 
-/// Arguments of `excite`.
-pub struct ExciteArgs<'a> {
-    /// Robot.
-    pub robot: &'a str,
-    /// Sidecar for a URDF.
-    pub sidecar: Option<&'a Path>,
-    /// Folders of `package://` meshes.
-    pub package_paths: &'a [PathBuf],
-    /// The settings.
-    pub options: ExciteOptions,
-    /// The criterion's name.
-    pub criterion: &'a str,
-    /// Two effects to tell apart (`A,B`), instead of the criterion.
-    pub separate: Option<&'a str>,
-    /// Output CSV (t, q, q̇, q̈ per joint) and its JSON report beside it.
-    pub out: Option<&'a Path>,
-    /// Its sample rate (Hz).
-    pub rate_hz: f64,
-    /// JSON to standard output.
+/// `momentlmi excite`'s options, declared once: clap parses them and the
+/// command reads them (the robot's sidecar resolved first,
+/// [`RobotArgs::resolve`]).
+#[derive(clap::Args, Debug, Clone)]
+pub struct ExciteArgs {
+    #[command(flatten)]
+    pub robot: RobotArgs,
+    /// Length (s): a whole number of periods.
+    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
+    pub seconds: f64,
+    /// What is maximised: d (log det of the information), e (its smallest eigenvalue) or
+    /// cond (minus the log of its condition number).
+    #[arg(long, default_value = "d")]
+    pub criterion: String,
+    /// Harmonics per joint.
+    #[arg(long, default_value_t = 5)]
+    pub harmonics: usize,
+    /// The wished base frequency (Hz), rounded so that --seconds holds whole periods.
+    #[arg(long, default_value_t = 0.2)]
+    pub base_hz: f64,
+    /// Random seeds the search starts from.
+    #[arg(long, default_value_t = 8)]
+    pub seeds: usize,
+    /// The first seed.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Random candidate motions of the convex D- or E-optimal pool design (0: none).
+    #[arg(long, default_value_t = 0, allow_negative_numbers = true)]
+    pub pool: usize,
+    /// Two effects A,B the diagnosis reported as tied: design the motion that tells them
+    /// apart (the smaller share of one's predicted torques the other cannot fit, maximised)
+    /// instead of an information criterion.
+    #[arg(long, value_name = "A,B")]
+    pub separate: Option<String>,
+    /// Output CSV (t, q, qd, qdd per joint) and a JSON report beside it.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Sample rate of --out (Hz).
+    #[arg(long, default_value_t = 1000.0)]
+    pub rate: f64,
+    /// Print the report as JSON.
+    #[arg(long)]
     pub json: bool,
+}
+
+impl ExciteArgs {
+    /// The search's settings (the library's [`ExciteOptions`]).
+    fn options(&self) -> ExciteOptions {
+        ExciteOptions {
+            seconds: self.seconds,
+            harmonics: self.harmonics,
+            base_hz: self.base_hz,
+            seeds: self.seeds,
+            seed: self.seed,
+            pool: self.pool,
+            ..Default::default()
+        }
+    }
 }
 
 /// Exit codes: 0 designed (and written), 2 bad input or failure.
@@ -41,35 +80,47 @@ pub fn run(a: &ExciteArgs) -> i32 {
 }
 
 fn run_inner(a: &ExciteArgs) -> Result<(), String> {
-    let criterion = Criterion::parse(a.criterion)
-        .ok_or_else(|| format!("--criterion: '{}' is not one of d, e, cond", a.criterion))?;
+    let criterion = Criterion::parse(a.criterion.as_str()).ok_or_else(|| {
+        format!(
+            "--criterion: '{}' is not one of d, e, cond",
+            a.criterion.as_str()
+        )
+    })?;
     let library = Library::builtin();
-    let pair = a.separate.map(|s| pair_of(s, &library)).transpose()?;
-    if pair.is_some() && a.options.pool > 0 {
+    let pair = a
+        .separate
+        .as_deref()
+        .map(|s| pair_of(s, &library))
+        .transpose()?;
+    if pair.is_some() && a.pool > 0 {
         return Err("--separate designs a motion by the separation of two effects; --pool bounds an information criterion: give one of them".into());
     }
     let mut staged = Staged::protecting(super::input_files(
-        &a.sidecar.into_iter().collect::<Vec<_>>(),
-        &[a.robot],
+        &a.robot.sidecar.as_deref().into_iter().collect::<Vec<_>>(),
+        &[a.robot.robot.as_str()],
     ));
-    if let Some(out) = a.out {
+    if let Some(out) = a.out.as_deref() {
         for p in [out, &record_path(out)] {
             staged.claim(p).map_err(|e| e.to_string())?;
         }
     }
-    let robot = super::load_robot(a.robot, a.sidecar, a.package_paths)?;
+    let robot = super::load_robot(
+        a.robot.robot.as_str(),
+        a.robot.sidecar.as_deref(),
+        &a.robot.package_path,
+    )?;
     super::warn_robot(&robot);
     let opts = ExciteOptions {
         criterion,
-        ..a.options.clone()
+        ..a.options()
     };
     let d = match &pair {
         Some([x, y]) => separate(&robot, &library, [x, y], &opts),
         None => design(&robot, &opts),
     }
     .map_err(|e| e.to_string())?;
-    if let Some(out) = a.out {
-        let data = samples(&d, a.rate_hz).map_err(|e| e.to_string())?;
+    if let Some(out) = a.out.as_deref() {
+        let data = samples(&d, a.rate).map_err(|e| e.to_string())?;
         stage_with_record(&mut staged, &data, out, &d).map_err(|e| e.to_string())?;
         staged.commit().map_err(|e| e.to_string())?;
     }
@@ -79,7 +130,7 @@ fn run_inner(a: &ExciteArgs) -> Result<(), String> {
             serde_json::to_string_pretty(&d).map_err(|e| e.to_string())?
         );
     } else {
-        print_report(&d, a.out);
+        print_report(&d, a.out.as_deref());
     }
     warn_torques(&d);
     if let Some(s) = d.separation.as_ref().filter(|s| !s.separable) {

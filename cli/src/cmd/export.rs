@@ -2,6 +2,7 @@
 //! [--sidecar-out F.toml]] [--mjcf-out F.xml]`: a model into the formats
 //! simulators read (docs/export.md).
 
+use crate::args::{ExportOutArgs, RobotArgs};
 use momentlmi::data::Staged;
 use momentlmi::dynamics::{Friction, Model, ParamChoice, RobotDescription};
 use momentlmi::export::mjcf::{Shapes, mjcf};
@@ -53,18 +54,20 @@ impl Outputs<'_> {
     }
 }
 
-/// Arguments of `export`.
-pub struct ExportArgs<'a> {
-    /// Built-in name or URDF path.
-    pub robot: &'a str,
-    /// Its sidecar.
-    pub sidecar: Option<&'a Path>,
-    /// Folders of `package://` meshes.
-    pub package_paths: &'a [PathBuf],
-    /// `true`, `cad` or a parameter file.
-    pub params: Option<&'a str>,
-    /// The outputs.
-    pub out: Outputs<'a>,
+/// `momentlmi export`'s options, declared once: clap parses them and the
+/// command reads them (the robot's sidecar resolved first,
+/// [`RobotArgs::resolve`]).
+#[derive(clap::Args, Debug, Clone)]
+pub struct ExportArgs {
+    #[command(flatten)]
+    pub robot: RobotArgs,
+    /// `true` (own parameters + nominal friction), `cad` (the description's prior), or a
+    /// parameter file (the JSON `identify --json` prints); default: the model's own, no
+    /// friction.
+    #[arg(long)]
+    pub params: Option<String>,
+    #[command(flatten)]
+    pub out: ExportOutArgs,
 }
 
 /// Exit codes: 0 written, 2 bad input or a model a format cannot hold.
@@ -79,28 +82,38 @@ pub fn run(a: &ExportArgs) -> i32 {
 }
 
 fn run_inner(a: &ExportArgs) -> Result<(), String> {
-    if !a.out.any() {
+    if !a.out.outputs().any() {
         return Err("nothing to write: give --urdf-out and/or --mjcf-out".into());
     }
-    let inputs: Vec<&Path> = a.sidecar.into_iter().collect();
+    let inputs: Vec<&Path> = a.robot.sidecar.as_deref().into_iter().collect();
     let staged = Staged::protecting(super::input_files(
         &inputs,
-        &[a.robot, a.params.unwrap_or("")],
+        &[a.robot.robot.as_str(), a.params.as_deref().unwrap_or("")],
     ));
-    a.out.claim(&staged)?;
-    let robot = super::load_robot(a.robot, a.sidecar, a.package_paths)?;
-    if a.params.is_some_and(|p| p == "true") {
+    a.out.outputs().claim(&staged)?;
+    let robot = super::load_robot(
+        a.robot.robot.as_str(),
+        a.robot.sidecar.as_deref(),
+        &a.robot.package_path,
+    )?;
+    if a.params.as_deref().is_some_and(|p| p == "true") {
         // placeholder friction would otherwise be written as if it were known
         super::warn_robot(&robot);
     }
     let (model, friction) = super::parameters_without_effects_for(
         &robot,
         "--params",
-        a.params,
+        a.params.as_deref(),
         ParamChoice::Own,
         "a URDF, MJCF or sidecar has no place for them",
     )?;
-    write(staged, &robot, (&model, &friction), a.out, a.package_paths)
+    write(
+        staged,
+        &robot,
+        (&model, &friction),
+        a.out.outputs(),
+        &a.robot.package_path,
+    )
 }
 
 /// Writes the exports of `model` (of `robot`) through `staged` (outputs

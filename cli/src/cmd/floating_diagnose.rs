@@ -27,23 +27,26 @@ fn diagnosis(a: &DiagnoseArgs, robot: Robot) -> Result<(), String> {
         ("--repeats", !a.repeats.is_empty()),
         ("--nominal-data", !a.nominal_data.is_empty()),
     ])?;
-    refuse(&reading_options(&a.read))?;
+    refuse(&reading_options(&a.read.choice()))?;
     let files: Vec<&Path> = (a.data.iter().map(|p| p.as_path()))
-        .chain(a.sidecar)
+        .chain(a.robot.sidecar.as_deref())
         .collect();
-    let inputs = super::input_files(&files, &[a.robot, a.nominal.unwrap_or("")]);
-    if let Some(dir) = a.out.filter(|d| d.exists() && !d.is_dir()) {
+    let inputs = super::input_files(
+        &files,
+        &[a.robot.robot.as_str(), a.nominal.as_deref().unwrap_or("")],
+    );
+    if let Some(dir) = a.out.as_deref().filter(|d| d.exists() && !d.is_dir()) {
         return Err(format!(
             "--out {}: exists and is not a folder",
             dir.display()
         ));
     }
     let (mut ff, _) = robot.load()?;
-    let friction = super::floating::apply_params(&mut ff, a.nominal, "--nominal")?;
-    let logs = read_logs(&ff, a.data, ("--data", a.max_memory_gib))?;
+    let friction = super::floating::apply_params(&mut ff, a.nominal.as_deref(), "--nominal")?;
+    let logs = read_logs(&ff, &a.data, ("--data", a.max_memory_gib))?;
     let d = diagnose_floating(&ff, &theta_of(&ff, &friction), &logs).map_err(|e| e.to_string())?;
     let json = serde_json::to_string_pretty(&d).map_err(|e| e.to_string())?;
-    if let Some(dir) = a.out {
+    if let Some(dir) = a.out.as_deref() {
         let folder = super::OutDir::create(dir)?;
         let mut staged = Staged::protecting(inputs);
         let e = |e: momentlmi::data::DataError| e.to_string();

@@ -17,24 +17,27 @@ const DEFAULT_MAX_MEMORY_GIB: f64 = 8.0;
 /// Predicts and writes `--out` whole (or nothing).
 pub fn run(a: &PredictArgs, robot: Robot) -> Result<(), String> {
     refuse(&[("--mujoco-view", a.mujoco_view)])?;
-    refuse(&reading_options(&a.read))?;
+    refuse(&reading_options(&a.read.choice()))?;
     let files: Vec<&Path> = (a.data.iter().map(|p| p.as_path()))
-        .chain(a.sidecar)
+        .chain(a.robot.sidecar.as_deref())
         .collect();
-    let inputs = super::input_files(&files, &[a.robot, a.params.unwrap_or("")]);
+    let inputs = super::input_files(
+        &files,
+        &[a.robot.robot.as_str(), a.params.as_deref().unwrap_or("")],
+    );
     let mut staged = Staged::protecting(inputs);
-    staged.claim(a.out).map_err(|e| e.to_string())?;
+    staged.claim(a.out.as_path()).map_err(|e| e.to_string())?;
     let (mut ff, _) = robot.load()?;
-    let friction = super::floating::apply_params(&mut ff, a.params, "--params")?;
+    let friction = super::floating::apply_params(&mut ff, a.params.as_deref(), "--params")?;
     let theta = theta_of(&ff, &friction);
-    let logs = read_logs(&ff, a.data, ("--data", DEFAULT_MAX_MEMORY_GIB))?;
+    let logs = read_logs(&ff, &a.data, ("--data", DEFAULT_MAX_MEMORY_GIB))?;
     let mut text = header(&ff);
     for log in &logs {
         text += &rows(&ff, &theta, log)?;
     }
     let rms = floating_rms_of(&ff, &theta, &logs).map_err(|e| e.to_string())?;
     staged
-        .add(a.out, text.as_bytes())
+        .add(a.out.as_path(), text.as_bytes())
         .map_err(|e| e.to_string())?;
     staged.commit().map_err(|e| e.to_string())?;
     let summary = serde_json::json!({

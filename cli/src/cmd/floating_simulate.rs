@@ -12,22 +12,27 @@ use momentlmi::sim::standing::{StandingConfig, simulate_standing};
 /// Simulates, writes the CSV and its record whole (or nothing).
 pub fn run(a: &SimulateArgs, robot: Robot) -> Result<(), String> {
     refuse(&[
-        ("--trajectory", a.trajectory.is_some()),
+        ("--trajectory", a.trajectory.as_deref().is_some()),
         ("--effects", !a.effects.is_empty()),
-        ("--effect-param", !a.effect_params.is_empty()),
+        ("--effect-param", !a.effect_param.is_empty()),
         ("--cutoff", a.cutoff.is_some()),
         ("--link-encoder-bits", a.link_encoder_bits.is_some()),
     ])?;
-    let mut staged =
-        Staged::protecting(a.sidecar.into_iter().chain([std::path::Path::new(a.robot)]));
-    let rec = record_path(a.out);
-    for p in [a.out, &rec] {
+    let mut staged = Staged::protecting(
+        a.robot
+            .sidecar
+            .as_deref()
+            .into_iter()
+            .chain([std::path::Path::new(a.robot.robot.as_str())]),
+    );
+    let rec = record_path(a.out.as_path());
+    for p in [a.out.as_path(), &rec] {
         staged.claim(p).map_err(|e| e.to_string())?;
     }
     let (ff, facts) = robot.load()?;
     check_size(&ff, a.seconds, facts.feet.len().max(1))?;
     let noise = noise(a.noise)?;
-    let effects = super::floating::SimEffect::effects(a.floating_effects);
+    let effects = super::floating::SimEffect::effects(&a.floating_effects);
     let contacts = a.contacts.unwrap_or(Contacts::Suspended);
     let log = match contacts {
         Contacts::Suspended => simulate_suspended(&ff, &SuspendedConfig {
@@ -56,7 +61,7 @@ pub fn run(a: &SimulateArgs, robot: Robot) -> Result<(), String> {
     let text = serde_json::to_string_pretty(&record).map_err(|e| e.to_string())?;
     staged
         .add(
-            a.out,
+            a.out.as_path(),
             log.to_csv(&ff).map_err(|e| e.to_string())?.as_bytes(),
         )
         .map_err(|e| e.to_string())?;

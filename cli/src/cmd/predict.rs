@@ -1,34 +1,45 @@
 //! `momentlmi predict --robot MODEL [--params true|cad|FILE] --data FILE.csv --out PRED.csv [--json]`.
 
+use crate::args::{FloatingArgs, ReadArgs, RobotArgs};
 use momentlmi::data::Staged;
 use momentlmi::dynamics::ParamChoice;
 use momentlmi::effects::fitted::predict_with;
 use serde_json::json;
 use std::path::Path;
+use std::path::PathBuf;
 
-/// Arguments of `predict`.
-pub struct PredictArgs<'a> {
-    /// Built-in name or URDF path.
-    pub robot: &'a str,
-    /// Optional sidecar for a URDF.
-    pub sidecar: Option<&'a Path>,
-    /// Folders of `package://` meshes.
-    pub package_paths: &'a [std::path::PathBuf],
-    /// `true`, `cad` or a parameter file.
-    pub params: Option<&'a str>,
-    /// Input data (each file a segment).
-    pub data: &'a [std::path::PathBuf],
-    /// How it is read.
-    pub read: super::ReadChoice<'a>,
-    /// Output CSV.
-    pub out: &'a Path,
+/// `momentlmi predict`'s options, declared once: clap parses them and the
+/// command reads them (the robot's sidecar resolved first,
+/// [`RobotArgs::resolve`]).
+#[derive(clap::Args, Debug, Clone)]
+pub struct PredictArgs {
+    #[command(flatten)]
+    pub robot: RobotArgs,
+    /// `true` (own parameters + nominal friction), `cad` (the description's
+    /// prior), or a parameter file (the JSON `identify --json` prints);
+    /// default: the model's own, no friction.
+    #[arg(long)]
+    pub params: Option<String>,
+    /// Data file (CSV: t, q_<joint>[, qd_<joint>][, qdd_<joint>]; extra columns are
+    /// ignored; or NumPy .npz/.npy, or a ROS 2 .mcap bag, docs/inputs.md); repeatable:
+    /// each file is a segment, predicted in order into one output.
+    #[arg(long, required = true)]
+    pub data: Vec<PathBuf>,
+    #[command(flatten)]
+    pub read: ReadArgs,
+    /// Output CSV: t, tau_<joint>…
+    #[arg(long)]
+    pub out: PathBuf,
     /// Print a JSON summary.
+    #[arg(long)]
     pub json: bool,
-    /// Predict the model as its MuJoCo export holds it: rotors as joint
-    /// armature, no friction (`momentlmi::export::MujocoView`).
+    /// The torques of the model as its MuJoCo export holds it (`export --mjcf-out`): rotors
+    /// as joint armature, no friction: what MuJoCo's inverse dynamics gives without
+    /// passive and constraint forces.
+    #[arg(long)]
     pub mujoco_view: bool,
-    /// `--floating-base` given.
-    pub floating_base: bool,
+    #[command(flatten)]
+    pub floating: FloatingArgs,
 }
 
 /// Exit codes: 0 written, 2 bad input or failed write.
@@ -47,29 +58,43 @@ pub fn run(a: &PredictArgs) -> i32 {
 /// The output, refused early if it is one of the inputs.
 fn staged_output(a: &PredictArgs) -> Result<Staged, String> {
     let files: Vec<&Path> = (a.data.iter().map(|p| p.as_path()))
-        .chain(a.sidecar)
+        .chain(a.robot.sidecar.as_deref())
         .collect();
     let staged = Staged::protecting(super::input_files(
         &files,
-        &[a.robot, a.params.unwrap_or("")],
+        &[a.robot.robot.as_str(), a.params.as_deref().unwrap_or("")],
     ));
-    staged.claim(a.out).map_err(|e| e.to_string())?;
+    staged.claim(a.out.as_path()).map_err(|e| e.to_string())?;
     Ok(staged)
 }
 
 fn run_inner(a: &PredictArgs) -> Result<(), String> {
     let mut staged = staged_output(a)?;
-    let robot = super::load_robot(a.robot, a.sidecar, a.package_paths)?;
-    if a.params.is_some_and(|p| p == "true") {
+    let robot = super::load_robot(
+        a.robot.robot.as_str(),
+        a.robot.sidecar.as_deref(),
+        &a.robot.package_path,
+    )?;
+    if a.params.as_deref().is_some_and(|p| p == "true") {
         super::warn_robot(&robot);
     }
-    let (model, friction, effects) =
-        super::parameters_with_effects_for(&robot, "--params", a.params, ParamChoice::Own)?;
+    let (model, friction, effects) = super::parameters_with_effects_for(
+        &robot,
+        "--params",
+        a.params.as_deref(),
+        ParamChoice::Own,
+    )?;
     let names = model.joint_names();
-    let mut opts = a.read.options(&robot, false)?;
-    super::cutoff_of_model(&mut opts, a.params, "--params");
+    let mut opts = a.read.choice().options(&robot, false)?;
+    super::cutoff_of_model(&mut opts, a.params.as_deref(), "--params");
     let paths: Vec<&Path> = a.data.iter().map(|p| p.as_path()).collect();
-    let reading = super::read_data(&paths, &names, &opts, a.robot, a.sidecar)?;
+    let reading = super::read_data(
+        &paths,
+        &names,
+        &opts,
+        a.robot.robot.as_str(),
+        a.robot.sidecar.as_deref(),
+    )?;
     super::report_reading("--data", &reading);
     let d = reading.data;
     let tau = if a.mujoco_view {
@@ -96,7 +121,9 @@ fn run_inner(a: &PredictArgs) -> Result<(), String> {
         }
         s.push('\n');
     }
-    staged.add_text(a.out, &s).map_err(|e| e.to_string())?;
+    staged
+        .add_text(a.out.as_path(), &s)
+        .map_err(|e| e.to_string())?;
     // with the predictions on standard output, the summary goes to standard error
     let to_stdout = staged.writes_stdout();
     staged.commit().map_err(|e| e.to_string())?;

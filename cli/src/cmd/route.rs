@@ -39,7 +39,8 @@ pub fn identify(a: &identify::IdentifyArgs) -> i32 {
 
 /// `momentlmi diagnose`.
 pub fn diagnose(a: &diagnose::DiagnoseArgs) -> i32 {
-    let robot = robot(a.robot, a.sidecar, a.floating_base);
+    let r = &a.robot;
+    let robot = robot(&r.robot, r.sidecar.as_deref(), a.floating.floating_base);
     match robot.is_floating() {
         Ok(true) => floating_diagnose::run(a, robot),
         Ok(false) => diagnose::run(a),
@@ -49,7 +50,8 @@ pub fn diagnose(a: &diagnose::DiagnoseArgs) -> i32 {
 
 /// `momentlmi predict`.
 pub fn predict(a: &predict::PredictArgs) -> i32 {
-    let robot = robot(a.robot, a.sidecar, a.floating_base);
+    let r = &a.robot;
+    let robot = robot(&r.robot, r.sidecar.as_deref(), a.floating.floating_base);
     match robot.is_floating() {
         Ok(true) => match floating_predict::run(a, robot) {
             Ok(()) => 0,
@@ -62,7 +64,8 @@ pub fn predict(a: &predict::PredictArgs) -> i32 {
 
 /// `momentlmi simulate`.
 pub fn simulate(a: &simulate::SimulateArgs) -> i32 {
-    let robot = robot(a.robot, a.sidecar, a.floating_base);
+    let r = &a.robot;
+    let robot = robot(&r.robot, r.sidecar.as_deref(), a.floating.floating_base);
     match robot.is_floating() {
         Ok(true) => match floating_simulate::run(a, robot) {
             Ok(()) => 0,

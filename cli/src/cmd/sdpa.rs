@@ -3,21 +3,37 @@
 use momentlmi::conic::{ConicError, Decomposition, KktSolver, Settings, Solution};
 use momentlmi::sdpa::{MemoryEstimate, SdpaError, SdpaOptions, SdpaProblem};
 use serde_json::json;
-use std::path::Path;
+use std::path::PathBuf;
 
-/// The command's arguments.
-pub struct SdpaArgs<'a> {
+/// `momentlmi sdpa`'s options, declared once: clap parses them and the
+/// command reads them.
+#[derive(clap::Args, Debug, Clone)]
+pub struct SdpaArgs {
     /// The .dat-s file.
-    pub file: &'a Path,
-    /// Print one JSON object.
+    pub file: PathBuf,
+    /// Print one JSON object instead of text.
+    #[arg(long)]
     pub json: bool,
-    /// Clarabel's chordal decomposition.
+    /// Clarabel's chordal decomposition of sparse PSD blocks: `verified`
+    /// checks the decomposed result against the original problem and
+    /// solves again without it when the check fails (Clarabel 0.11 can end
+    /// "solved" at a wrong optimum, e.g. SDPLIB control1), unless that
+    /// undecomposed solve would exceed --max-memory-gib (then an error);
+    /// `unchecked` returns the decomposed result as it is; `off` never
+    /// decomposes.
+    #[arg(long, value_enum, default_value_t = DecompositionArg::Verified)]
     pub decomposition: DecompositionArg,
-    /// QDLDL instead of faer.
+    /// Use QDLDL instead of faer's supernodal LDLᵀ for the KKT systems.
+    #[arg(long)]
     pub qdldl: bool,
-    /// The solver's iteration log.
+    /// Print the solver's iteration log.
+    #[arg(long)]
     pub verbose: bool,
-    /// Memory limit in GiB.
+    /// Refuse files whose reading or solve would need more than this
+    /// many GiB by the reader's estimate (docs/inputs.md); a dense PSD
+    /// block of side n needs about 14·n⁴ bytes, a sparse one decomposed
+    /// that of its cliques.
+    #[arg(long, value_name = "GIB", default_value_t = momentlmi::sdpa::DEFAULT_MAX_MEMORY_GIB)]
     pub max_memory_gib: f64,
 }
 
@@ -61,7 +77,7 @@ pub fn run(a: &SdpaArgs) -> i32 {
     let opts = SdpaOptions::default()
         .max_memory_gib(a.max_memory_gib)
         .decomposition(a.decomposition.into());
-    let prob = match SdpaProblem::read_with(a.file, &opts) {
+    let prob = match SdpaProblem::read_with(a.file.as_path(), &opts) {
         Ok(p) => p,
         Err(e) => return fail(&e),
     };

@@ -1,44 +1,73 @@
 //! `momentlmi simulate --robot MODEL --seconds S --effects a,b --out FILE.csv
 //! [--trajectory FILE.csv] [--seed N] [--noise SIGMA] [--effect-param NAME=VALUE …]`.
 
+use crate::args::{FloatingArgs, RobotArgs, effect_names, effect_param_help};
 use momentlmi::data::{Staged, record_path, stage_with_record};
 use momentlmi::effects::Library;
 use momentlmi::sim::trajectory::Trajectory;
 use momentlmi::sim::{Effects, SampledTrajectory, SimConfig, SimError, simulate_with};
 use std::path::Path;
+use std::path::PathBuf;
 
-/// Arguments of `simulate`.
-pub struct SimulateArgs<'a> {
-    /// Robot.
-    pub robot: &'a str,
-    /// Sidecar for a URDF.
-    pub sidecar: Option<&'a Path>,
-    /// Folders of `package://` meshes.
-    pub package_paths: &'a [std::path::PathBuf],
-    /// Duration (s).
+/// `momentlmi simulate`'s options, declared once: clap parses them and the
+/// command reads them (the robot's sidecar resolved first,
+/// [`RobotArgs::resolve`]).
+#[derive(clap::Args, Debug, Clone)]
+pub struct SimulateArgs {
+    #[command(flatten)]
+    pub robot: RobotArgs,
+    /// Duration in seconds (1 kHz sampling; 200 Hz for a floating base).
+    #[arg(long, default_value_t = 20.0)]
     pub seconds: f64,
-    /// A trajectory file to drive the robot along (default: its excitation).
-    pub trajectory: Option<&'a Path>,
-    /// Effects, by name.
-    pub effects: &'a [String],
-    /// NAME=VALUE overrides.
-    pub effect_params: &'a [String],
-    /// Output CSV (a JSON record is written beside it).
-    pub out: &'a Path,
-    /// Seed.
+    /// Drive the robot along the trajectory in FILE instead of its default excitation:
+    /// a CSV with columns t, q_<joint>…, qd_<joint>…, qdd_<joint>… for every joint of the
+    /// robot (s, rad, rad/s, rad/s²; m for prismatic joints), uniformly sampled,
+    /// interpolated by quintic Hermite polynomials. If its last sample continues into its
+    /// first one step later it is periodic and repeats (write one period, t = 0 … T − dt);
+    /// otherwise it must span --seconds plus the 0.5 s edges simulated before and after
+    /// the data (none with --noise 0), and the data start that far after its first sample
+    /// (a delay or compliance effect needs a little more). The cut-off default becomes
+    /// 30 Hz. Columns, units and tolerances: docs/inputs.md, "Trajectory files".
+    #[arg(long, value_name = "FILE")]
+    pub trajectory: Option<PathBuf>,
+    /// Comma-separated effects the true robot has (`momentlmi::effects`).
+    #[arg(long, value_parser = effect_names(), value_delimiter = ',')]
+    pub effects: Vec<String>,
+    /// Output CSV (a JSON record of how it was made is written beside it).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Random seed.
+    #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Torque noise σ (N·m).
+    /// Torque noise σ in N·m (default 0.3; a floating base's joint torques 0.02); 0 writes
+    /// exact, unprocessed states (a floating base: every sensor exact).
+    #[arg(long)]
     pub noise: Option<f64>,
-    /// Filter cut-off (Hz).
+    /// Cut-off (Hz) of the offline filter of q, q̇, q̈ (default: 30 Hz, or 10× the top
+    /// frequency of a multi-sine excitation when lower, at least 5 Hz; 30 Hz with
+    /// --trajectory).
+    #[arg(long, value_name = "HZ")]
     pub cutoff: Option<f64>,
-    /// Link-side encoder bits.
+    /// Bits per turn of the link-side encoders of revolute joints without a rotor
+    /// (default 19; joints with a rotor have 2^14 counts per motor turn).
+    #[arg(long, value_name = "BITS")]
     pub link_encoder_bits: Option<f64>,
-    /// `--floating-base` given.
-    pub floating_base: bool,
-    /// A floating base's contacts.
-    pub contacts: Option<super::floating::Contacts>,
-    /// A floating base's true robot's effects.
-    pub floating_effects: &'a [super::floating::SimEffect],
+    /// Effect parameter override NAME=VALUE (repeatable), e.g. `stiffness=300`;
+    /// the defaults come from the robot's description.
+    #[arg(long = "effect-param", value_name = "NAME=VALUE", long_help = effect_param_help())]
+    pub effect_param: Vec<String>,
+    #[command(flatten)]
+    pub floating: FloatingArgs,
+    /// A floating base's contacts: suspended (a load cell at the base, the default) or
+    /// standing (the sidecar's [floating_base] feet on force plates, in its stance).
+    #[arg(long, value_enum)]
+    pub contacts: Option<crate::cmd::floating::Contacts>,
+    /// Effects a floating base's true robot has (comma-separated): joint_friction (0.01
+    /// N·m·s/rad viscous, 0.05 N·m Coulomb per joint), wrench_offset (every contact's
+    /// sensor off by [1, −0.5, 2] N, [0.05, 0.02, −0.03] N·m), payload (0.3 kg on the base
+    /// at [0.05, 0, 0.03] m).
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub floating_effects: Vec<crate::cmd::floating::SimEffect>,
 }
 
 /// Exit codes: 0 written, 2 bad input or failure (nothing written).
@@ -66,9 +95,15 @@ fn fixed(a: &SimulateArgs) -> Result<(), String> {
 
 /// The outputs (the CSV and its record), refused early if either is an input.
 fn staged_outputs(a: &SimulateArgs) -> Result<Staged, String> {
-    let files: Vec<&Path> = a.sidecar.into_iter().chain(a.trajectory).collect();
-    let staged = Staged::protecting(super::input_files(&files, &[a.robot]));
-    for p in [a.out, &record_path(a.out)] {
+    let files: Vec<&Path> = a
+        .robot
+        .sidecar
+        .as_deref()
+        .into_iter()
+        .chain(a.trajectory.as_deref())
+        .collect();
+    let staged = Staged::protecting(super::input_files(&files, &[a.robot.robot.as_str()]));
+    for p in [a.out.as_path(), &record_path(a.out.as_path())] {
         staged.claim(p).map_err(|e| e.to_string())?;
     }
     Ok(staged)
@@ -90,12 +125,12 @@ fn sim_config(
     effects: Effects,
 ) -> Result<(SimConfig, usize), String> {
     let mut cfg = SimConfig::for_robot(robot, a.seconds, effects, a.seed);
-    if let Some(path) = a.trajectory {
+    if let Some(path) = a.trajectory.as_deref() {
         let sampled =
             SampledTrajectory::read(path, &robot.model.joint_names()).map_err(sim_error)?;
         cfg = cfg.with_trajectory(Trajectory::Sampled(sampled));
     }
-    cfg.sidecar = a.sidecar.map(|p| p.display().to_string());
+    cfg.sidecar = a.robot.sidecar.as_deref().map(|p| p.display().to_string());
     if let Some(s) = a.noise {
         cfg.noise_sigma = s;
         if s == 0.0 {
@@ -131,10 +166,14 @@ fn sim_config(
 
 fn run_inner(a: &SimulateArgs) -> Result<(), String> {
     let mut staged = staged_outputs(a)?;
-    let robot = super::load_robot(a.robot, a.sidecar, a.package_paths)?;
+    let robot = super::load_robot(
+        a.robot.robot.as_str(),
+        a.robot.sidecar.as_deref(),
+        &a.robot.package_path,
+    )?;
     let library = Library::builtin();
     let effects =
-        Effects::parse(&a.effects.join(","), a.effect_params).map_err(|e| e.to_string())?;
+        Effects::parse(&a.effects.join(","), &a.effect_param).map_err(|e| e.to_string())?;
     library.check(&effects).map_err(|e| e.to_string())?;
     let (cfg, samples) = sim_config(a, &robot, effects)?;
     super::warn_robot(&robot);
@@ -176,7 +215,8 @@ fn run_inner(a: &SimulateArgs) -> Result<(), String> {
         })),
         "warnings": super::warnings_json(&robot.warnings),
     });
-    let rec = stage_with_record(&mut staged, &d, a.out, &record).map_err(|e| e.to_string())?;
+    let rec =
+        stage_with_record(&mut staged, &d, a.out.as_path(), &record).map_err(|e| e.to_string())?;
     staged.commit().map_err(|e| e.to_string())?;
     println!(
         "wrote {} ({} samples, effects: {}) and {}",
