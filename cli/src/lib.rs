@@ -5,7 +5,6 @@
 //! `momentlmi demo` ([`experiment`]) and the SVG figures ([`plots`]). The
 //! library itself does not depend on clap, indicatif or plotters.
 
-mod args;
 mod cli;
 pub mod cmd;
 pub mod experiment;

@@ -8,7 +8,11 @@ use crate::errors::{IdentifyError, OrPy};
 use crate::robot::Robot;
 use momentlmi::data::{RawLog, ReadOptions, Reading, Samples, Velocity, prepare_logs};
 use momentlmi::dynamics::{FrictionTerm, ParamChoice, RobotDescription};
-use momentlmi::identify::{DataPreparation, WEIGHT_GRID};
+use momentlmi::identify::cutoff::{CutoffCurve, choose_cutoff, mark_chosen};
+use momentlmi::identify::planned::{
+    Failed, LawPlan, Plan, Planned, Setup, Step, Training, identify_planned,
+};
+use momentlmi::identify::{DataPreparation, Identification, Margin, WEIGHT_GRID};
 use numpy::PyReadonlyArrayDyn;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -116,18 +120,8 @@ fn identify(
     friction: Option<&str>,
     bounds: Option<&str>,
 ) -> PyResult<String> {
-    // as the command line reads --friction and --weight
-    let auto = friction.is_none_or(|f| f.trim() == "auto");
-    let by_default = friction.is_none() && weight.is_none();
-    let weight = match weight.map(str::trim) {
-        Some("auto") => None,
-        Some(w) => Some(w.parse::<f64>().map_err(|_| {
-            PyValueError::new_err(format!("weight: '{w}' is not a number or 'auto'"))
-        })?),
-        None if auto => None,
-        None => Some(WEIGHT_GRID[0]),
-    };
-    let setup = crate::setup::Setup::parse(constraints, regularizer, weight)?;
+    let plan = plan(friction, weight, bounds)?;
+    let setup = crate::setup::Setup::parse(constraints, regularizer, plan.weight)?;
     let velocity = match velocity {
         "differentiate" => Velocity::Differentiate,
         "file" => Velocity::File,
@@ -140,117 +134,25 @@ fn identify(
     if data.is_empty() {
         return Err(PyValueError::new_err("data: no segments"));
     }
+    let auto = plan.law != LawPlan::Own;
     let desc = &*with_friction(robot, friction.filter(|_| !auto))?;
-    let mut opts = ReadOptions {
-        cutoff_hz,
-        velocity,
-        ..ReadOptions::default()
-    };
-    // no cut-off given: chosen on the training segments by held-out torque
-    // error when one is raw (as the command line does)
-    let cutoff_choice = match cutoff_hz {
-        Some(_) => None,
-        None => {
-            let raws = raw_logs("data", &data, desc.model.dof())?;
-            momentlmi::identify::cutoff::choose_cutoff(&raws, &desc.model, velocity).map_err(
-                |e| {
-                    PyValueError::new_err(format!(
-                        "choosing the low-pass cut-off (give cutoff_hz): {e}"
-                    ))
-                },
-            )?
-        }
-    };
-    opts.cutoff_hz = cutoff_choice.as_ref().map(|c| c.chosen_hz).or(cutoff_hz);
-    let mut train = prepared(desc, "data", &data, &opts)?;
-    let mut val = (!validate.is_empty())
-        .then(|| prepared(desc, "validate", &validate, &opts))
-        .transpose()?;
-    if let Some(c) = &cutoff_choice {
-        use momentlmi::identify::cutoff::mark_chosen;
-        mark_chosen(&mut train.files, &c.words());
-        if let Some(v) = &mut val {
-            mark_chosen(
-                &mut v.files,
-                &format!("the training data's choice, {}", c.words()),
-            );
-        }
-    }
+    let (train, val, cutoff_choice) = prepared_both(desc, (&data, &validate), cutoff_hz, velocity)?;
     let choice: ParamChoice = prior.parse().unwrap_or(ParamChoice::Cad);
+    let setup = PySetup {
+        setup: &setup,
+        prior: &choice,
+    };
     let result = py.detach(|| {
-        // friction "auto": the law (and a Euclidean prior's weight, when it
-        // is auto) chosen on the training data, as --friction auto does
-        let (mut selection, kept) = match auto {
-            false => (None, None),
-            true => {
-                use momentlmi::identify::friction_choice::LawChoice::{Chosen, Kept};
-                let id = setup.identification(desc, &choice, weight.unwrap_or(WEIGHT_GRID[0]))?;
-                let weights = id.model_weights(weight.is_none());
-                let what = match friction.is_none() {
-                    true => "choosing the friction law (the default; friction=LIST fits one)",
-                    false => "friction auto",
-                };
-                let failed = |e| format!("{what}: {e}");
-                match by_default {
-                    false => (
-                        Some(id.choose_model(&train.data, weights).map_err(failed)?),
-                        None,
-                    ),
-                    true => match id
-                        .choose_model_or_keep(&train.data, weights)
-                        .map_err(failed)?
-                    {
-                        Chosen(c) => (Some(c), None),
-                        Kept(w) => (None, Some(w)),
-                    },
-                }
-            }
-        };
-        let chosen_desc;
-        let desc = match &selection {
-            Some(c) => {
-                let mut d = desc.clone();
-                d.model = c
-                    .apply(d.model)
-                    .map_err(|e| format!("friction auto: {e}"))?;
-                chosen_desc = d;
-                &chosen_desc
-            }
-            None => desc,
-        };
-        let mut id = setup.identification(desc, &choice, weight.unwrap_or(WEIGHT_GRID[0]))?;
-        if let Some(c) = selection.as_ref().filter(|c| c.weight_chosen()) {
-            id = id.with_weight(c.weight()).map_err(|e| e.to_string())?;
-        }
-        let choice = match weight {
-            Some(_) => None,
-            None if selection.as_ref().is_some_and(|c| c.weight_chosen()) => None,
-            None if kept.is_some() => None,
-            None => Some(
-                id.choose_weight(&train.data, &WEIGHT_GRID)
-                    .map_err(|e| e.to_string())?,
-            ),
-        };
-        let red = (id.reduce_chosen(&train.data, selection.as_mut())).map_err(|e| e.to_string())?;
-        let mut r = id
-            .fit_reduced(&train.data, &red)
-            .map_err(|e| e.to_string())?;
+        let (fitted, _) =
+            identify_planned(&setup, desc, Training::Samples(&train.data), &plan, || ());
+        let Planned {
+            result: mut r,
+            robot,
+        } = fitted.map_err(|e| e.words(friction))?;
         if let Some(v) = &val {
-            r.validate(&desc.model, &v.data)
+            r.validate(&robot.model, &v.data)
                 .map_err(|e| e.to_string())?;
         }
-        if let Some(b) = bounds {
-            let rows = red.samples * desc.model.dof();
-            let delta = momentlmi::identify::Margin::parse(b)
-                .ok_or_else(|| format!("bounds: '{b}' is not a number ≥ 0 or auto"))?
-                .delta(r.identifiability.rank, rows)
-                .map_err(|e| e.to_string())?;
-            let pb = id.parameter_bounds(&red, &r.theta, &r.identifiability, delta);
-            r.bounds = Some(pb.map_err(|e| e.to_string())?);
-        }
-        r.weight_choice = choice;
-        r.model_selection = selection;
-        r.warnings.extend(kept);
         r.data_preparation = DataPreparation {
             training: train.files.clone(),
             validation: val.as_ref().map(|v| v.files.clone()).unwrap_or_default(),
@@ -260,4 +162,131 @@ fn identify(
     });
     let r = result.map_err(IdentifyError::new_err)?;
     serde_json::to_string_pretty(&r).map_err(|e| IdentifyError::new_err(e.to_string()))
+}
+
+/// What the data choose, as the command line reads `--friction`,
+/// `--weight` and `--bounds`: the law when `friction` is auto or not given
+/// (kept for want of data only when neither it nor `weight` is given), the
+/// weight when it is `auto` or not given with the law chosen.
+fn plan(friction: Option<&str>, weight: Option<&str>, bounds: Option<&str>) -> PyResult<Plan> {
+    let auto = friction.is_none_or(|f| f.trim() == "auto");
+    let law = match (auto, friction.is_none() && weight.is_none()) {
+        (false, _) => LawPlan::Own,
+        (true, false) => LawPlan::Choose,
+        (true, true) => LawPlan::ChooseOrKeep,
+    };
+    let weight = match weight.map(str::trim) {
+        Some("auto") => None,
+        Some(w) => Some(w.parse::<f64>().map_err(|_| {
+            PyValueError::new_err(format!("weight: '{w}' is not a number or 'auto'"))
+        })?),
+        None if auto => None,
+        None => Some(WEIGHT_GRID[0]),
+    };
+    let bounds = (bounds.map(|b| {
+        Margin::parse(b).ok_or_else(|| {
+            PyValueError::new_err(format!("bounds: '{b}' is not a number ≥ 0 or auto"))
+        })
+    }))
+    .transpose()?;
+    Ok(Plan {
+        law,
+        weight,
+        bounds,
+    })
+}
+
+/// The training and validation segments prepared as files are, with the
+/// cut-off given, or (none given) chosen on the training segments by
+/// held-out torque error when one is raw, as the command line does.
+fn prepared_both(
+    desc: &RobotDescription,
+    (data, validate): (&[Segment], &[Segment]),
+    cutoff_hz: Option<f64>,
+    velocity: Velocity,
+) -> PyResult<(Reading, Option<Reading>, Option<CutoffCurve>)> {
+    let cutoff_choice = match cutoff_hz {
+        Some(_) => None,
+        None => {
+            let raws = raw_logs("data", data, desc.model.dof())?;
+            choose_cutoff(&raws, &desc.model, velocity).map_err(|e| {
+                PyValueError::new_err(format!(
+                    "choosing the low-pass cut-off (give cutoff_hz): {e}"
+                ))
+            })?
+        }
+    };
+    let opts = ReadOptions {
+        cutoff_hz: cutoff_choice.as_ref().map(|c| c.chosen_hz).or(cutoff_hz),
+        velocity,
+        ..ReadOptions::default()
+    };
+    let mut train = prepared(desc, "data", data, &opts)?;
+    let mut val = (!validate.is_empty())
+        .then(|| prepared(desc, "validate", validate, &opts))
+        .transpose()?;
+    if let Some(c) = &cutoff_choice {
+        mark_chosen(&mut train.files, &c.words());
+        if let Some(v) = &mut val {
+            let how = format!("the training data's choice, {}", c.words());
+            mark_chosen(&mut v.files, &how);
+        }
+    }
+    Ok((train, val, cutoff_choice))
+}
+
+/// The binding's set-up as the library's [`Setup`].
+struct PySetup<'a> {
+    setup: &'a crate::setup::Setup,
+    prior: &'a ParamChoice,
+}
+
+/// An error of the binding (worded) or a failed step of the library's
+/// sequence (worded by [`PyFailure::words`]).
+enum PyFailure {
+    Words(String),
+    Failed(Failed),
+}
+
+impl From<String> for PyFailure {
+    fn from(e: String) -> Self {
+        Self::Words(e)
+    }
+}
+
+impl From<Failed> for PyFailure {
+    fn from(f: Failed) -> Self {
+        Self::Failed(f)
+    }
+}
+
+impl PyFailure {
+    /// The error with the argument it concerns (`friction` as given).
+    fn words(self, friction: Option<&str>) -> String {
+        let f = match self {
+            Self::Words(w) => return w,
+            Self::Failed(f) => f,
+        };
+        match (f.step, friction) {
+            (Step::Law, None) => format!(
+                "choosing the friction law (the default; friction=LIST fits one): {}",
+                f.source
+            ),
+            (Step::Law, Some(_)) => format!("friction auto: {}", f.source),
+            (Step::Bounds, _) => format!("bounds: {}", f.source),
+            _ => f.source.to_string(),
+        }
+    }
+}
+
+impl Setup for PySetup<'_> {
+    type Error = PyFailure;
+
+    fn identification<'r>(
+        &self,
+        robot: &'r RobotDescription,
+        weight: f64,
+    ) -> Result<Identification<'r>, PyFailure> {
+        Ok(self.setup.identification(robot, self.prior, weight)?)
+    }
 }

@@ -226,6 +226,12 @@ pub enum IdentifyError {
         "the load friction term is refitted on the rigid torques of every training sample, which a reduction made while reading does not keep: read the data whole"
     )]
     LoadNeedsSamples,
+    /// A choice from the data (the friction law, the prior's weight) asked
+    /// of a reduction without its samples.
+    #[error(
+        "choosing the friction law or the prior's weight needs the training samples, which a reduction made while reading does not keep: read the data whole"
+    )]
+    ChoiceNeedsSamples,
     /// Row weights of a floating-base reduction that are not one finite
     /// number ≥ 0 per row.
     #[error("row weights: {found} given for {rows} rows, each finite and ≥ 0")]

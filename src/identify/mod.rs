@@ -36,6 +36,7 @@ mod law_scores;
 mod load_passes;
 mod load_rows;
 mod options;
+pub mod planned;
 mod pullback;
 pub mod reduce;
 pub mod repeats;

@@ -63,64 +63,11 @@ pub fn run(
     let train = read(&robot, &opts, &[&run(1), &run(2)])?;
     let val = read(&robot, &opts, &[&run(3)])?;
     print_reading(&train, &val);
-    let mut rows = vec![];
-    let mut best: Option<(&str, IdentifyResult)> = None;
     let mut recommended = robot.clone();
     recommended.model = (recommended.model.clone()).with_friction_terms(&RECOMMENDED_FRICTION);
-    for (label, robot, level, reg, w) in [
-        (
-            "consistent",
-            &robot,
-            Level::Consistent,
-            Regularizer::Euclidean,
-            1e-6,
-        ),
-        (
-            "ellipsoid",
-            &robot,
-            Level::Ellipsoid,
-            Regularizer::Euclidean,
-            1e-6,
-        ),
-        (
-            "ellipsoid + entropic 1e-3",
-            &robot,
-            Level::Ellipsoid,
-            Regularizer::Entropic,
-            1e-3,
-        ),
-        (
-            "recommended: ellipsoid + entropic 1e-2, offset, load, Stribeck",
-            &recommended,
-            Level::Ellipsoid,
-            Regularizer::Entropic,
-            1e-2,
-        ),
-    ] {
-        tick(&format!("real robot: identifying ({label})"));
-        let r = Identification::for_robot(robot, level, w)
-            .map(|id| id.regularizer(reg))
-            .and_then(|id| id.identify(&train.data, Some(&val.data)))
-            .map_err(|e| format!("{label}: {e}"))?;
-        rows.push(ours(label, &r));
-        if best.as_ref().is_none_or(|(_, b)| mean(&r) < mean(b)) {
-            best = Some((label, r));
-        }
-    }
+    let (mut rows, best) = our_rows((&robot, &recommended), (&train, &val), tick)?;
     tick("real robot: the published models");
-    for (file, who) in [
-        ("kuka_lwr4_identified.urdf", "FloBaRoID's identified model"),
-        ("kuka_lwr4_gaz.urdf", "Gaz, Flacco & De Luca 2014"),
-    ] {
-        let anchor = load_kuka(&dir.join("anchors").join(file), None)?;
-        let r =
-            friction_refit(&anchor, &train.data, &val.data).map_err(|e| format!("{file}: {e}"))?;
-        rows.push(Row {
-            name: who.into(),
-            rms: r.validation_rms.clone().unwrap_or_default(),
-            note: "its inertias; viscous + Coulomb refit on runs 1–2".into(),
-        });
-    }
+    rows.extend(published_rows(&dir, &train, &val)?);
     print_rows(&rows);
     let (label, best) = best.ok_or("no identification")?;
     let svg = validation_figure(&best, label, &val.data)?;
@@ -292,4 +239,77 @@ fn validation_figure(r: &IdentifyResult, label: &str, val: &Dataset) -> Result<S
         &panels,
         false,
     )
+}
+
+/// Our identifications of runs 1–2 at each level (the last at the
+/// recommended options, `recommended`'s law), held out on run 3; the rows
+/// and the best of them.
+fn our_rows(
+    (robot, recommended): (&RobotDescription, &RobotDescription),
+    (train, val): (&Reading, &Reading),
+    tick: &mut dyn FnMut(&str),
+) -> Result<(Vec<Row>, Option<(&'static str, IdentifyResult)>), String> {
+    let mut rows = vec![];
+    let mut best: Option<(&str, IdentifyResult)> = None;
+    for (label, robot, level, reg, w) in [
+        (
+            "consistent",
+            robot,
+            Level::Consistent,
+            Regularizer::Euclidean,
+            1e-6,
+        ),
+        (
+            "ellipsoid",
+            robot,
+            Level::Ellipsoid,
+            Regularizer::Euclidean,
+            1e-6,
+        ),
+        (
+            "ellipsoid + entropic 1e-3",
+            robot,
+            Level::Ellipsoid,
+            Regularizer::Entropic,
+            1e-3,
+        ),
+        (
+            "recommended: ellipsoid + entropic 1e-2, offset, load, Stribeck",
+            recommended,
+            Level::Ellipsoid,
+            Regularizer::Entropic,
+            1e-2,
+        ),
+    ] {
+        tick(&format!("real robot: identifying ({label})"));
+        let r = Identification::for_robot(robot, level, w)
+            .map(|id| id.regularizer(reg))
+            .and_then(|id| id.identify(&train.data, Some(&val.data)))
+            .map_err(|e| format!("{label}: {e}"))?;
+        rows.push(ours(label, &r));
+        if best.as_ref().is_none_or(|(_, b)| mean(&r) < mean(b)) {
+            best = Some((label, r));
+        }
+    }
+    Ok((rows, best))
+}
+
+/// The published models' inertias, their viscous and Coulomb friction
+/// refit on runs 1–2, held out on run 3.
+fn published_rows(dir: &Path, train: &Reading, val: &Reading) -> Result<Vec<Row>, String> {
+    let mut rows = vec![];
+    for (file, who) in [
+        ("kuka_lwr4_identified.urdf", "FloBaRoID's identified model"),
+        ("kuka_lwr4_gaz.urdf", "Gaz, Flacco & De Luca 2014"),
+    ] {
+        let anchor = load_kuka(&dir.join("anchors").join(file), None)?;
+        let r =
+            friction_refit(&anchor, &train.data, &val.data).map_err(|e| format!("{file}: {e}"))?;
+        rows.push(Row {
+            name: who.into(),
+            rms: r.validation_rms.clone().unwrap_or_default(),
+            note: "its inertias; viscous + Coulomb refit on runs 1–2".into(),
+        });
+    }
+    Ok(rows)
 }

@@ -1,6 +1,6 @@
 //! `momentlmi diagnose --robot MODEL --data FILE.csv [--nominal cad|true|FILE] [--json] [--out DIR]`.
 
-use crate::args::{FloatingArgs, ReadArgs, RobotArgs};
+use super::args::{FloatingArgs, ReadArgs, RobotArgs};
 use momentlmi::data::Staged;
 use momentlmi::diagnose::floor::repeat_floor;
 use momentlmi::diagnose::{DiagnoseOptions, Diagnosis, FloorSource, diagnose_with};
@@ -291,49 +291,7 @@ fn print_report(dg: &Diagnosis) {
         "  {:<20} {:>6} {:>5}  held-out RMS (N·m): as given → refit without → with",
         "effect", "params", "z"
     );
-    let mut round = 0;
-    for e in dg
-        .ranked_effects
-        .iter()
-        .filter(|e| e.accepted || !e.rule.starts_with("not"))
-    {
-        if e.round != round {
-            round = e.round;
-            println!("  — round {round}");
-        }
-        println!(
-            "  {:<20} {:>6} {:>5.1}  {} → {} → {}{}{}",
-            e.label(),
-            e.params,
-            e.z,
-            super::per_joint(&e.heldout_rms_nominal, 3),
-            super::per_joint(&e.heldout_rms_before, 3),
-            super::per_joint(&e.heldout_rms_after, 3),
-            if e.accepted { "  ACCEPTED" } else { "" },
-            e.ties()
-        );
-        if e.accepted {
-            println!("  {:<20} on {}: {}", "", e.joints.join(", "), e.rule);
-            for size in &e.sizes {
-                println!("  {:<20} {}", "", size.words());
-            }
-            for t in &e.ties {
-                println!(
-                    "  {:<20} {} (`excite --separate {},{}` designs one that does)",
-                    "",
-                    t.words(&e.effect),
-                    e.effect,
-                    t.effect
-                );
-            }
-        }
-        if let Some(why) = &e.removed {
-            println!("  {:<20} accepted, then {why}", "");
-        }
-        if !e.detail.is_empty() {
-            println!("  {:<20} {}", "", e.detail);
-        }
-    }
+    print_ranked(dg);
     if !dg.reestimated.is_empty() {
         println!(
             "\nThe nominal friction law's coefficients these data move (refit on the fitting part):"
@@ -363,5 +321,58 @@ fn print_report(dg: &Diagnosis) {
         }
     } else {
         println!("\nNothing left above the noise floor.");
+    }
+}
+
+/// The candidates of every round (those not refused outright), each with
+/// its held-out errors and, when accepted, its joints, rule, sizes and ties.
+fn print_ranked(dg: &Diagnosis) {
+    let mut round = 0;
+    for e in dg
+        .ranked_effects
+        .iter()
+        .filter(|e| e.accepted || !e.rule.starts_with("not"))
+    {
+        if e.round != round {
+            round = e.round;
+            println!("  — round {round}");
+        }
+        print_effect(e);
+    }
+}
+
+/// One ranked candidate's lines.
+fn print_effect(e: &momentlmi::diagnose::EffectReport) {
+    println!(
+        "  {:<20} {:>6} {:>5.1}  {} → {} → {}{}{}",
+        e.label(),
+        e.params,
+        e.z,
+        super::per_joint(&e.heldout_rms_nominal, 3),
+        super::per_joint(&e.heldout_rms_before, 3),
+        super::per_joint(&e.heldout_rms_after, 3),
+        if e.accepted { "  ACCEPTED" } else { "" },
+        e.ties()
+    );
+    if e.accepted {
+        println!("  {:<20} on {}: {}", "", e.joints.join(", "), e.rule);
+        for size in &e.sizes {
+            println!("  {:<20} {}", "", size.words());
+        }
+        for t in &e.ties {
+            println!(
+                "  {:<20} {} (`excite --separate {},{}` designs one that does)",
+                "",
+                t.words(&e.effect),
+                e.effect,
+                t.effect
+            );
+        }
+    }
+    if let Some(why) = &e.removed {
+        println!("  {:<20} accepted, then {why}", "");
+    }
+    if !e.detail.is_empty() {
+        println!("  {:<20} {}", "", e.detail);
     }
 }

@@ -2,7 +2,7 @@
 //! [--pool N] [--separate A,B] [--out traj.csv] [--json]`: a designed
 //! excitation, or a motion that tells two effects apart.
 
-use crate::args::RobotArgs;
+use super::args::RobotArgs;
 use momentlmi::data::{Staged, record_path, stage_with_record};
 use momentlmi::effects::Library;
 use momentlmi::excite::{Criterion, Designed, ExciteOptions, design, samples, separate};

@@ -2,7 +2,7 @@
 //! [--sidecar-out F.toml]] [--mjcf-out F.xml]`: a model into the formats
 //! simulators read (docs/export.md).
 
-use crate::args::{ExportOutArgs, RobotArgs};
+use super::args::RobotArgs;
 use momentlmi::data::Staged;
 use momentlmi::dynamics::{Friction, Model, ParamChoice, RobotDescription};
 use momentlmi::export::mjcf::{Shapes, mjcf};
@@ -224,4 +224,31 @@ fn report_view(
         );
     }
     Ok(())
+}
+
+/// Where a model is exported (docs/export.md).
+#[derive(clap::Args, Debug, Clone)]
+pub struct ExportOutArgs {
+    /// A URDF to write: the robot's own with each body's <inertial> and each joint's
+    /// <dynamics> replaced (a built-in robot: one written from its model).
+    #[arg(long, value_name = "OUT.urdf")]
+    pub urdf_out: Option<PathBuf>,
+    /// The sidecar written with --urdf-out (rotors, friction, the prior)
+    /// [default: beside it, OUT.toml].
+    #[arg(long, value_name = "OUT.toml", requires = "urdf_out")]
+    pub sidecar_out: Option<PathBuf>,
+    /// A MuJoCo model (MJCF) to write: rotors as joint armature, viscous friction as
+    /// damping, Coulomb as frictionloss.
+    #[arg(long, value_name = "OUT.xml")]
+    pub mjcf_out: Option<PathBuf>,
+}
+
+impl ExportOutArgs {
+    pub fn outputs(&self) -> Outputs<'_> {
+        Outputs {
+            urdf: self.urdf_out.as_deref(),
+            sidecar: self.sidecar_out.as_deref(),
+            mjcf: self.mjcf_out.as_deref(),
+        }
+    }
 }

@@ -1,6 +1,7 @@
 //! One module per command; each `run` returns the process exit code (0
 //! success, 1 a negative finding or an unsolved problem, 2 bad input).
 
+pub mod args;
 pub mod check;
 pub mod demo;
 pub mod demo_arm;

@@ -1,6 +1,6 @@
 //! `momentlmi predict --robot MODEL [--params true|cad|FILE] --data FILE.csv --out PRED.csv [--json]`.
 
-use crate::args::{FloatingArgs, ReadArgs, RobotArgs};
+use super::args::{FloatingArgs, ReadArgs, RobotArgs};
 use momentlmi::data::Staged;
 use momentlmi::dynamics::ParamChoice;
 use momentlmi::effects::fitted::predict_with;
@@ -109,66 +109,13 @@ fn run_inner(a: &PredictArgs) -> Result<(), String> {
         let lib = momentlmi::effects::Library::builtin();
         predict_with(&model, &friction, &effects, &d, &lib).map_err(|e| format!("--params: {e}"))?
     };
-    let mut s = String::from("t");
-    for j in &names {
-        s += &format!(",tau_{j}");
-    }
-    s.push('\n');
-    for (k, row) in tau.iter().enumerate() {
-        s += &d.t[k].to_string();
-        for v in row {
-            s += &format!(",{v:e}");
-        }
-        s.push('\n');
-    }
     staged
-        .add_text(a.out.as_path(), &s)
+        .add_text(a.out.as_path(), &torques_csv(&d.t, &names, &tau))
         .map_err(|e| e.to_string())?;
     // with the predictions on standard output, the summary goes to standard error
     let to_stdout = staged.writes_stdout();
     staged.commit().map_err(|e| e.to_string())?;
-    // RMS against measured torques when the file has them
-    let rms: Option<Vec<f64>> = (!d.tau.is_empty()).then(|| {
-        (0..names.len())
-            .map(|j| {
-                (tau.iter()
-                    .zip(&d.tau)
-                    .map(|(p, m)| (p[j] - m[j]).powi(2))
-                    .sum::<f64>()
-                    / tau.len() as f64)
-                    .sqrt()
-            })
-            .collect()
-    });
-    use std::fmt::Write as _;
-    let mut summary = String::new();
-    if a.json {
-        writeln!(
-            summary,
-            "{}",
-            json!({ "robot": model.name, "joints": names, "samples": d.len(), "out": a.out.display().to_string(), "rms_vs_measured": rms })
-        )
-        .expect("a String");
-    } else {
-        writeln!(
-            summary,
-            "{}: {} samples of {} → {}",
-            model.name,
-            d.len(),
-            paths
-                .iter()
-                .map(|p| p.display().to_string())
-                .collect::<Vec<_>>()
-                .join(", "),
-            a.out.display()
-        )
-        .expect("a String");
-        if let Some(r) = rms {
-            for (j, v) in names.iter().zip(r) {
-                writeln!(summary, "  RMS(predicted − measured) {j:<12} {v:.4}").expect("a String");
-            }
-        }
-    }
+    let summary = summary(a, &model.name, &names, &d, &paths, &tau);
     if to_stdout {
         eprint!("{summary}");
     } else {
@@ -190,4 +137,58 @@ fn view_torques(
         .collect::<Result<_, _>>()
         .map_err(|e| e.to_string())?;
     Ok(momentlmi::dynamics::Samples::from_rows(&rows))
+}
+
+/// The predictions as CSV: `t,tau_<joint>,…`, a row per sample.
+fn torques_csv(t: &[f64], names: &[&str], tau: &momentlmi::dynamics::Samples) -> String {
+    let mut s = String::from("t");
+    for j in names {
+        s += &format!(",tau_{j}");
+    }
+    s.push('\n');
+    for (k, row) in tau.iter().enumerate() {
+        s += &t[k].to_string();
+        for v in row {
+            s += &format!(",{v:e}");
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// The summary: JSON, or a line and the RMS against the measured torques
+/// per joint when the file has them.
+fn summary(
+    a: &PredictArgs,
+    robot: &str,
+    names: &[&str],
+    d: &momentlmi::data::Dataset,
+    paths: &[&Path],
+    tau: &momentlmi::dynamics::Samples,
+) -> String {
+    use std::fmt::Write as _;
+    let rms: Option<Vec<f64>> = (!d.tau.is_empty()).then(|| {
+        (0..names.len())
+            .map(|j| {
+                let sq: f64 = (tau.iter().zip(&d.tau))
+                    .map(|(p, m)| (p[j] - m[j]).powi(2))
+                    .sum();
+                (sq / tau.len() as f64).sqrt()
+            })
+            .collect()
+    });
+    let out = a.out.display().to_string();
+    let mut summary = String::new();
+    if a.json {
+        let j = json!({ "robot": robot, "joints": names, "samples": d.len(), "out": out, "rms_vs_measured": rms });
+        writeln!(summary, "{j}").expect("a String");
+        return summary;
+    }
+    let files: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
+    let (n, files) = (d.len(), files.join(", "));
+    writeln!(summary, "{robot}: {n} samples of {files} → {out}").expect("a String");
+    for (j, v) in names.iter().zip(rms.into_iter().flatten()) {
+        writeln!(summary, "  RMS(predicted − measured) {j:<12} {v:.4}").expect("a String");
+    }
+    summary
 }

@@ -1,7 +1,7 @@
 //! `momentlmi simulate --robot MODEL --seconds S --effects a,b --out FILE.csv
 //! [--trajectory FILE.csv] [--seed N] [--noise SIGMA] [--effect-param NAME=VALUE …]`.
 
-use crate::args::{FloatingArgs, RobotArgs, effect_names, effect_param_help};
+use super::args::{FloatingArgs, RobotArgs, effect_names, effect_param_help};
 use momentlmi::data::{Staged, record_path, stage_with_record};
 use momentlmi::effects::Library;
 use momentlmi::sim::trajectory::Trajectory;

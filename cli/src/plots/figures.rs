@@ -74,6 +74,18 @@ fn bounds(panels: &[Vec<Series>]) -> Vec<(f64, f64, f64, f64)> {
         .collect()
 }
 
+/// The y range of log-scaled panels: from under the smallest positive
+/// value to a headroom above the largest for the legend in the upper
+/// right (a third of the data's decades).
+fn log_y_range(series: &[Series]) -> (f64, f64) {
+    let ys = (series.iter())
+        .flat_map(|s| s.points.iter().map(|p| p.1))
+        .filter(|y| *y > 0.0);
+    let (lo, hi) = ys.fold((f64::INFINITY, 0.0f64), |(a, b), y| (a.min(y), b.max(y)));
+    let top = hi * 10f64.powf(0.35 * (hi / lo).log10().max(0.1));
+    (0.8 * lo, top)
+}
+
 /// Stacked panels sharing the x axis, as SVG text; `log_x` for
 /// sample-count axes.
 pub fn line_panels(
@@ -137,15 +149,7 @@ pub fn line_panels(
             }
             if log_x {
                 // sample-count studies span decades on both axes
-                let ys = series
-                    .iter()
-                    .flat_map(|s| s.points.iter().map(|p| p.1))
-                    .filter(|y| *y > 0.0);
-                let (lo, hi) = ys.fold((f64::INFINITY, 0.0f64), |(a, b), y| (a.min(y), b.max(y)));
-                // headroom above the data for the legend in the upper right:
-                // a third of the data's decades
-                let top = hi * 10f64.powf(0.35 * (hi / lo).log10().max(0.1));
-                let (x, y) = ((b.0, b.1), (0.8 * lo, top));
+                let (x, y) = ((b.0, b.1), log_y_range(series));
                 draw!(cb.build_cartesian_2d(
                     (x.0..x.1).log_scale().with_key_points(log_ticks(x.0, x.1)),
                     (y.0..y.1).log_scale().with_key_points(log_ticks(y.0, y.1))

@@ -2,13 +2,14 @@
 //! command), their defaults and parsing, and the errors' wording with the
 //! option each concerns.
 
-use crate::args::{ExportOutArgs, FloatingArgs, ReadArgs, RobotArgs};
+use super::super::args::{FloatingArgs, ReadArgs, RobotArgs};
+use super::super::export::ExportOutArgs;
 use momentlmi::identify::{IdentifyError, IdentifyWarning, JointWeighting, Level, Regularizer};
 use std::path::PathBuf;
 
 /// `momentlmi identify`'s options, declared once: clap parses them and the
 /// command reads them (the robot's sidecar resolved first,
-/// [`RobotArgs::resolve`](crate::args::RobotArgs::resolve)).
+/// [`RobotArgs::resolve`](super::super::args::RobotArgs::resolve)).
 #[derive(clap::Args, Debug, Clone)]
 pub struct IdentifyArgs {
     #[command(flatten)]

@@ -4,9 +4,7 @@
 
 use momentlmi::dynamics::RobotDescription;
 use momentlmi::dynamics::{FrictionTerm, ParamChoice};
-use momentlmi::identify::{
-    Identification, IdentifyResult, IdentifyWarning, Level, Regularizer, WEIGHT_GRID,
-};
+use momentlmi::identify::{Identification, IdentifyError, IdentifyResult, Level, Regularizer};
 use std::path::Path;
 
 mod args;
@@ -17,6 +15,7 @@ mod training;
 pub use args::IdentifyArgs;
 use args::{explain, parse_delta, parse_level, streamed_default};
 use held::Held;
+use momentlmi::identify::planned;
 pub use report::print_report;
 use training::{Training, training};
 
@@ -190,10 +189,12 @@ fn regularizer(a: &IdentifyArgs, prior: &[f64], level: Level) -> Result<Regulari
     })
 }
 
-/// The identification with the robot's set-up and the flags' constraints.
+/// The identification with the robot's set-up and the flags' constraints,
+/// at `weight` (the grid's first when it is chosen: the choice sets it).
 fn identification<'r>(
-    a: &'r IdentifyArgs,
+    a: &IdentifyArgs,
     robot: &'r RobotDescription,
+    weight: f64,
 ) -> Result<Identification<'r>, String> {
     let level = parse_level(a.constraints.as_str(), "--constraints")?;
     let (prior, _) = super::parameters_without_effects_for(
@@ -205,8 +206,6 @@ fn identification<'r>(
     )?;
     warn_inconsistent_prior(&robot.model.body_names(), &prior.params());
     let regularizer = regularizer(a, &prior.params(), level)?;
-    // auto: the grid's first weight until the choice (which needs the data)
-    let weight = a.weight()?.unwrap_or(WEIGHT_GRID[0]);
     if regularizer == Regularizer::Entropic && weight <= 0.0 {
         return Err(format!(
             "--regularizer entropic needs --weight > 0 (typically 1e-3 to 1e-1, or auto), got {weight}"
@@ -273,11 +272,67 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
         // the form is checked before the fit (auto needs the fit's rank)
         parse_delta(b, 1, 2)?;
     }
-    let mut robot = super::load_robot(
-        a.robot.robot.as_str(),
-        a.robot.sidecar.as_deref(),
-        &a.robot.package_path,
-    )?;
+    let robot = robot_with_terms(a)?;
+    let held = (a.with_effects.as_deref())
+        .map(|p| Held::read(&robot, p))
+        .transpose()?;
+    let mut opts = a.read.choice().options(&robot, true)?;
+    let (mut train, cutoff) = read_training(a, &robot, &opts)?;
+    // the validation files are prepared as the training ones were
+    opts.cutoff_hz = cutoff.as_ref().map(|c| c.chosen_hz).or(opts.cutoff_hz);
+    super::report_files("--data", train.files());
+    if let (Some(h), Training::Whole(t)) = (&held, &mut train) {
+        h.take_off(&mut t.data, "--data")?;
+    }
+    super::warn_cost(momentlmi::identify::cost(&robot.model, train.samples()).flops);
+    // the held-out files are read while the SDP is solved (on the core the
+    // solver leaves idle); a held-out file that cannot be read is the error
+    // shown first (it is the one a user can fix without waiting for a fit)
+    let read_val = || {
+        let names = robot.model.joint_names();
+        let p: Vec<&Path> = a.validate.iter().map(|p| p.as_path()).collect();
+        let (spec, sidecar) = (a.robot.robot.as_str(), a.robot.sidecar.as_deref());
+        (!p.is_empty())
+            .then(|| super::read_data(&p, &names, &opts, spec, sidecar))
+            .transpose()
+    };
+    let data = match &train {
+        Training::Streamed(t) => planned::Training::Reduced(&t.reduced),
+        Training::Whole(t) => planned::Training::Samples(&t.data),
+    };
+    let plan = plan(a, a.friction_auto() && matches!(train, Training::Whole(_)))?;
+    let (fitted, val) = planned::identify_planned(&CliSetup(a), &robot, data, &plan, read_val);
+    let mut val = val.transpose()?.flatten();
+    if let (Some(c), Some(v)) = (&cutoff, &mut val) {
+        let how = format!("the training logs' choice, {}", c.words());
+        momentlmi::identify::cutoff::mark_chosen(&mut v.files, &how);
+    }
+    if let (Some(h), Some(v)) = (&held, &mut val) {
+        h.take_off(&mut v.data, "--validate")?;
+    }
+    let planned::Planned {
+        result: mut r,
+        robot,
+    } = fitted.map_err(|e| e.words(a))?;
+    if let Some(v) = &val {
+        super::report_reading("--validate", v);
+        r.validate(&robot.model, &v.data).map_err(explain)?;
+    }
+    r.effects = held.map(|h| h.effects).unwrap_or_default();
+    (r.timings.read_s, r.timings.filter_s, r.timings.streamed) = train.times();
+    r.data_preparation = momentlmi::identify::DataPreparation {
+        training: train.into_files(),
+        validation: val.map(|v| v.files).unwrap_or_default(),
+        cutoff_choice: cutoff,
+    };
+    Ok((r, robot))
+}
+
+/// The robot with `--friction`'s terms (a list; auto: the model's own
+/// until the choice) and `--stribeck-velocity`.
+fn robot_with_terms(a: &IdentifyArgs) -> Result<RobotDescription, String> {
+    let r = &a.robot;
+    let mut robot = super::load_robot(&r.robot, r.sidecar.as_deref(), &r.package_path)?;
     let auto = a.friction_auto();
     if a.friction
         .as_deref()
@@ -295,176 +350,114 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
     robot.model = (robot.model.clone())
         .with_stribeck_velocity(a.stribeck_velocity)
         .map_err(|e| format!("--stribeck-velocity: {e}"))?;
-    let held = a
-        .with_effects
-        .as_deref()
-        .map(|p| Held::read(&robot, p))
-        .transpose()?;
+    Ok(robot)
+}
+
+/// `--data` read ([`training`]) while the bounding volumes are computed
+/// (meshes read, ellipsoids fitted) when a level needs them, their
+/// warnings printed.
+fn read_training(
+    a: &IdentifyArgs,
+    robot: &RobotDescription,
+    opts: &momentlmi::data::ReadOptions,
+) -> Result<(Training, Option<momentlmi::identify::cutoff::CutoffCurve>), String> {
     let ellipsoid = a.constraints.as_str() == "ellipsoid"
         || a.levels.iter().any(|l| l.trim_end().ends_with("ellipsoid"));
-    let names = robot.model.joint_names();
-    let mut opts = a.read.choice().options(&robot, true)?;
-    let read_with = |paths: &[std::path::PathBuf], o: &momentlmi::data::ReadOptions| {
-        let p: Vec<&Path> = paths.iter().map(|p| p.as_path()).collect();
-        super::read_data(
-            &p,
-            &names,
-            o,
-            a.robot.robot.as_str(),
-            a.robot.sidecar.as_deref(),
-        )
-    };
-    let r = std::thread::scope(|s| {
-        // the bounding volumes (meshes read, ellipsoids fitted) are computed
-        // while the logs are read
+    std::thread::scope(|s| {
         let bounds = ellipsoid.then(|| s.spawn(|| robot.bounding_warnings().len()));
-        let train = training(a, &robot, &opts);
+        let train = training(a, robot, opts);
         if let Some(b) = bounds {
             b.join()
                 .map_err(|_| "computing the bounding volumes failed")?;
             // the bounding volumes come from the geometry these warnings are about
-            super::warn_robot(&robot);
+            super::warn_robot(robot);
             for w in robot.bounding_warnings() {
                 eprintln!("warning: {}: {w}", robot.source);
             }
         }
-        let (mut train, cutoff) = train?;
-        // the validation files are prepared as the training ones were
-        opts.cutoff_hz = cutoff.as_ref().map(|c| c.chosen_hz).or(opts.cutoff_hz);
-        super::report_files("--data", train.files());
-        if let (Some(h), Training::Whole(t)) = (&held, &mut train) {
-            h.take_off(&mut t.data, "--data")?;
-        }
-        let (mut selection, not_chosen) = match (&train, auto) {
-            (Training::Whole(t), true) => choose_law(a, &robot, &t.data)?,
-            _ => (None, None),
-        };
-        let chosen_robot;
-        let robot = match &selection {
-            Some(c) => {
-                chosen_robot = with_law(&robot, c)?;
-                &chosen_robot
-            }
-            None => &robot,
-        };
-        let mut id = identification(a, robot)?.max_memory(super::gib(a.max_memory_gib)?);
-        if let Some(c) = selection.as_ref().filter(|c| c.weight_chosen()) {
-            id = id
-                .with_weight(c.weight())
-                .map_err(|e| format!("--weight auto: {e}"))?;
-        }
-        super::warn_cost(momentlmi::identify::cost(&robot.model, train.samples()).flops);
-        let (choice, red) = match &train {
-            Training::Streamed(t) => (None, t.reduced.clone()),
-            Training::Whole(t) => {
-                let choice = match a.weight()? {
-                    Some(_) => None,
-                    None if selection.as_ref().is_some_and(|c| c.weight_chosen()) => None,
-                    None if not_chosen.is_some() => None,
-                    None => Some(id.choose_weight(&t.data, &WEIGHT_GRID).map_err(explain)?),
-                };
-                let red = id.reduce_chosen(&t.data, selection.as_mut());
-                (choice, red.map_err(explain)?)
-            }
-        };
-        // the held-out files are read while the SDP is solved (on the core
-        // the solver leaves idle); that thread is always joined, and a
-        // held-out file that cannot be read is the error shown first (it is
-        // the one a user can fix without waiting for a fit)
-        let (opts, read_with) = (&opts, &read_with);
-        let val = s.spawn(move || {
-            (!a.validate.is_empty())
-                .then(|| read_with(&a.validate, opts))
-                .transpose()
-        });
-        let fitted = match &train {
-            Training::Streamed(_) => id.fit_streamed(&red),
-            Training::Whole(t) => id.fit_reduced(&t.data, &red),
-        }
-        .map_err(explain);
-        let mut val = val
-            .join()
-            .unwrap_or_else(|_| Err("reading the validation data failed".to_string()))?;
-        if let (Some(c), Some(v)) = (&cutoff, &mut val) {
-            momentlmi::identify::cutoff::mark_chosen(
-                &mut v.files,
-                &format!("the training logs' choice, {}", c.words()),
-            );
-        }
-        if let (Some(h), Some(v)) = (&held, &mut val) {
-            h.take_off(&mut v.data, "--validate")?;
-        }
-        let mut r = fitted?;
-        if let Some(delta) = a.bounds.as_deref() {
-            let rows = red.samples * robot.model.dof();
-            let delta = parse_delta(delta, r.identifiability.rank, rows)?;
-            let b = id.parameter_bounds(&red, &r.theta, &r.identifiability, delta);
-            r.bounds = Some(b.map_err(|e| format!("--bounds: {}", explain(e)))?);
-        }
-        if let Some(v) = &val {
-            super::report_reading("--validate", v);
-            r.validate(&robot.model, &v.data).map_err(explain)?;
-        }
-        r.weight_choice = choice;
-        r.model_selection = selection;
-        r.warnings.extend(not_chosen);
-        r.effects = held.map(|h| h.effects).unwrap_or_default();
-        (r.timings.read_s, r.timings.filter_s, r.timings.streamed) = train.times();
-        r.data_preparation = momentlmi::identify::DataPreparation {
-            training: train.into_files(),
-            validation: val.map(|v| v.files).unwrap_or_default(),
-            cutoff_choice: cutoff,
-        };
-        Ok::<_, String>(r)
-    })?;
-    if let Some(c) = &r.model_selection {
-        robot = with_law(&robot, c)?;
-    }
-    Ok((r, robot))
+        train
+    })
 }
 
-/// The friction law (and the weight, when it is chosen too) chosen on the
-/// training data `data`. With neither `--friction` nor `--weight` given,
-/// data too few to score the laws keep the model's own law at the grid's
-/// first weight, with the warning returned; else that is an error.
-fn choose_law(
-    a: &IdentifyArgs,
-    robot: &RobotDescription,
-    data: &momentlmi::data::Dataset,
-) -> Result<LawChoice, String> {
-    use momentlmi::identify::friction_choice::LawChoice::{Chosen, Kept};
-    let id = identification(a, robot)?;
-    let weights = id.model_weights(a.weight()?.is_none());
-    let what = match a.friction.as_deref() {
-        Some(_) => "--friction auto",
-        None => "choosing the friction law (the default; --friction LIST fits one)",
+/// The command's options as the library's [`planned::Setup`].
+struct CliSetup<'a>(&'a IdentifyArgs);
+
+/// An error of the command (worded) or a failed step of the library's
+/// sequence (worded by [`CliError::words`]).
+enum CliError {
+    Words(String),
+    Failed(planned::Failed),
+}
+
+impl From<String> for CliError {
+    fn from(e: String) -> Self {
+        Self::Words(e)
+    }
+}
+
+impl From<planned::Failed> for CliError {
+    fn from(f: planned::Failed) -> Self {
+        Self::Failed(f)
+    }
+}
+
+impl CliError {
+    /// The error with the option it concerns.
+    fn words(self, a: &IdentifyArgs) -> String {
+        use planned::Step;
+        let f = match self {
+            Self::Words(w) => return w,
+            Self::Failed(f) => f,
+        };
+        match f.step {
+            Step::Law => match a.friction {
+                Some(_) => format!("--friction auto: {}", explain(f.source)),
+                None => format!(
+                    "choosing the friction law (the default; --friction LIST fits one): {}",
+                    explain(f.source)
+                ),
+            },
+            Step::Weight => match f.source {
+                e @ IdentifyError::Fold { .. } => explain(e),
+                e => format!("--weight auto: {}", explain(e)),
+            },
+            Step::Reduce | Step::Fit => explain(f.source),
+            Step::Bounds => format!("--bounds: {}", explain(f.source)),
+        }
+    }
+}
+
+impl planned::Setup for CliSetup<'_> {
+    type Error = CliError;
+
+    fn identification<'r>(
+        &self,
+        robot: &'r RobotDescription,
+        weight: f64,
+    ) -> Result<Identification<'r>, CliError> {
+        let id = identification(self.0, robot, weight)?;
+        Ok(id.max_memory(super::gib(self.0.max_memory_gib)?))
+    }
+}
+
+/// What the data choose (`choose`: the law, when it is auto and the data
+/// are read whole), and the parameters' ranges.
+fn plan(a: &IdentifyArgs, choose: bool) -> Result<planned::Plan, String> {
+    use planned::LawPlan::{Choose, ChooseOrKeep, Own};
+    let law = match (choose, a.friction.is_some() || a.weight.is_some()) {
+        (false, _) => Own,
+        (true, true) => Choose,
+        (true, false) => ChooseOrKeep,
     };
-    let failed = |e| format!("{what}: {}", explain(e));
-    if a.friction.as_deref().is_some() || a.weight.as_deref().is_some() {
-        return Ok((Some(id.choose_model(data, weights).map_err(failed)?), None));
-    }
-    Ok(
-        match id.choose_model_or_keep(data, weights).map_err(failed)? {
-            Chosen(c) => (Some(c), None),
-            Kept(w) => (None, Some(w)),
-        },
-    )
-}
-
-/// The law chosen, or the warning that it could not be.
-type LawChoice = (
-    Option<momentlmi::identify::friction_choice::FrictionChoice>,
-    Option<IdentifyWarning>,
-);
-
-/// `robot` with the friction law `c` chose.
-fn with_law(
-    robot: &RobotDescription,
-    c: &momentlmi::identify::friction_choice::FrictionChoice,
-) -> Result<RobotDescription, String> {
-    let mut r = robot.clone();
-    r.model = c
-        .apply(r.model)
-        .map_err(|e| format!("--friction auto: {e}"))?;
-    Ok(r)
+    let bounds = (a.bounds.as_deref())
+        .map(|b| {
+            momentlmi::identify::Margin::parse(b)
+                .ok_or_else(|| format!("--bounds: '{b}' is neither a number ≥ 0 nor auto"))
+        })
+        .transpose()?;
+    Ok(planned::Plan {
+        law,
+        weight: a.weight()?,
+        bounds,
+    })
 }

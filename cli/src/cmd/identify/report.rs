@@ -117,48 +117,14 @@ pub fn print_report(r: &IdentifyResult) {
     if let Some(c) = &r.weight_choice {
         print_weight_choice(c);
     }
-    println!(
-        "{:<12} {:>9} {:>28} {:>34} {:>11} {:>11}",
-        "body", "mass", "CoM [m]", "principal moments [kg·m²]", "consistent", "d(J‖Ĵ)"
-    );
-    for b in &r.bodies {
-        let com = b.com.map_or_else(
-            || format!("{:>28}", "- (no positive mass)"),
-            |c| format!("({:>8.4}, {:>8.4}, {:>8.4})", c[0], c[1], c[2]),
-        );
-        let div = b
-            .divergence_from_prior
-            .map_or_else(|| "-".to_string(), |d| format!("{d:.3e}"));
-        println!(
-            "{:<12} {:>9.4} {com} ({:>10.3e}, {:>10.3e}, {:>10.3e}) {:>11} {div:>11}",
-            b.name,
-            b.mass,
-            b.principal_moments[0],
-            b.principal_moments[1],
-            b.principal_moments[2],
-            if b.consistent { "yes" } else { "NO" }
-        );
-    }
+    print_bodies(r);
+    print_friction(r);
     let list = |v: &[f64]| {
         v.iter()
             .map(|x| format!("{x:.4}"))
             .collect::<Vec<_>>()
             .join(", ")
     };
-    let joints = r.joints.join(", ");
-    println!("joints         {joints}");
-    println!("viscous        {} N·m·s/rad", list(&r.friction.viscous));
-    println!("Coulomb        {} N·m", list(&r.friction.coulomb));
-    // the terms beyond the default, when identified (non-zero)
-    for t in &FrictionTerm::ALL[2..] {
-        let c = r.friction.coefficients(*t);
-        if c.iter().any(|&c| c != 0.0) {
-            let vs = (*t == FrictionTerm::Stribeck)
-                .then(|| format!(" (v_s {} rad/s)", r.friction.stribeck_velocity()))
-                .unwrap_or_default();
-            println!("{:<15}{} {}{vs}", t.name(), list(c), t.unit());
-        }
-    }
     if let Some(s) = &r.joint_noise {
         println!("joint noise σ̂  {} N·m (weights ∝ 1/σ̂²)", list(s));
     }
@@ -250,5 +216,57 @@ pub(super) fn print_bounds(b: &momentlmi::identify::ParameterBounds) {
                 .as_ref()
                 .map_or_else(String::new, |n| format!(" ({n})"))
         );
+    }
+}
+
+/// The bodies' table: mass, CoM, principal moments, consistency, distance
+/// from the prior.
+fn print_bodies(r: &IdentifyResult) {
+    println!(
+        "{:<12} {:>9} {:>28} {:>34} {:>11} {:>11}",
+        "body", "mass", "CoM [m]", "principal moments [kg·m²]", "consistent", "d(J‖Ĵ)"
+    );
+    for b in &r.bodies {
+        let com = b.com.map_or_else(
+            || format!("{:>28}", "- (no positive mass)"),
+            |c| format!("({:>8.4}, {:>8.4}, {:>8.4})", c[0], c[1], c[2]),
+        );
+        let div = b
+            .divergence_from_prior
+            .map_or_else(|| "-".to_string(), |d| format!("{d:.3e}"));
+        println!(
+            "{:<12} {:>9.4} {com} ({:>10.3e}, {:>10.3e}, {:>10.3e}) {:>11} {div:>11}",
+            b.name,
+            b.mass,
+            b.principal_moments[0],
+            b.principal_moments[1],
+            b.principal_moments[2],
+            if b.consistent { "yes" } else { "NO" }
+        );
+    }
+}
+
+/// The joints and each friction term identified (viscous and Coulomb
+/// always, the others when non-zero).
+fn print_friction(r: &IdentifyResult) {
+    let list = |v: &[f64]| {
+        v.iter()
+            .map(|x| format!("{x:.4}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let joints = r.joints.join(", ");
+    println!("joints         {joints}");
+    println!("viscous        {} N·m·s/rad", list(&r.friction.viscous));
+    println!("Coulomb        {} N·m", list(&r.friction.coulomb));
+    // the terms beyond the default, when identified (non-zero)
+    for t in &FrictionTerm::ALL[2..] {
+        let c = r.friction.coefficients(*t);
+        if c.iter().any(|&c| c != 0.0) {
+            let vs = (*t == FrictionTerm::Stribeck)
+                .then(|| format!(" (v_s {} rad/s)", r.friction.stribeck_velocity()))
+                .unwrap_or_default();
+            println!("{:<15}{} {}{vs}", t.name(), list(c), t.unit());
+        }
     }
 }

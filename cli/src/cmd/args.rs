@@ -1,6 +1,5 @@
 //! Argument groups the commands share (flattened into them by clap).
 
-use crate::cmd::export;
 use clap::Args;
 use momentlmi::data::Velocity;
 use momentlmi::effects::Library;
@@ -42,7 +41,7 @@ pub(crate) fn own_sidecar(robot: &str, given: Option<PathBuf>, none: bool) -> Op
     if none || given.is_some() {
         return given;
     }
-    let beside = crate::cmd::sidecar_beside(robot)?;
+    let beside = super::sidecar_beside(robot)?;
     eprintln!(
         "note: using the sidecar beside the URDF, {} (--sidecar FILE for another, --no-sidecar for none)",
         beside.display()
@@ -69,38 +68,11 @@ pub struct ReadArgs {
 }
 
 impl ReadArgs {
-    pub fn choice(&self) -> crate::cmd::ReadChoice<'_> {
-        crate::cmd::ReadChoice {
+    pub fn choice(&self) -> super::ReadChoice<'_> {
+        super::ReadChoice {
             mapping: self.mapping.as_deref(),
             cutoff_hz: self.cutoff_hz,
             velocity: self.velocity,
-        }
-    }
-}
-
-/// Where a model is exported (docs/export.md).
-#[derive(Args, Debug, Clone)]
-pub struct ExportOutArgs {
-    /// A URDF to write: the robot's own with each body's <inertial> and each joint's
-    /// <dynamics> replaced (a built-in robot: one written from its model).
-    #[arg(long, value_name = "OUT.urdf")]
-    pub urdf_out: Option<PathBuf>,
-    /// The sidecar written with --urdf-out (rotors, friction, the prior)
-    /// [default: beside it, OUT.toml].
-    #[arg(long, value_name = "OUT.toml", requires = "urdf_out")]
-    pub sidecar_out: Option<PathBuf>,
-    /// A MuJoCo model (MJCF) to write: rotors as joint armature, viscous friction as
-    /// damping, Coulomb as frictionloss.
-    #[arg(long, value_name = "OUT.xml")]
-    pub mjcf_out: Option<PathBuf>,
-}
-
-impl ExportOutArgs {
-    pub fn outputs(&self) -> export::Outputs<'_> {
-        export::Outputs {
-            urdf: self.urdf_out.as_deref(),
-            sidecar: self.sidecar_out.as_deref(),
-            mjcf: self.mjcf_out.as_deref(),
         }
     }
 }
