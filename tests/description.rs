@@ -413,3 +413,40 @@ fn an_unlocked_mimic_joint_is_a_warning() {
             .any(|w| w.to_string().contains("<mimic>"))
     );
 }
+
+/// A sidecar's friction law beyond viscous and Coulomb (as `export`
+/// writes it): the terms given on any joint are the model's terms, zero on
+/// the joints that leave them out, at the sidecar's Stribeck velocity; a
+/// value out of its range names the joint and the term.
+#[test]
+fn a_sidecar_carries_the_whole_friction_law() {
+    use momentlmi::dynamics::FrictionTerm;
+    let (u, _) = files("law");
+    let s = u.parent().unwrap().join("law.toml");
+    std::fs::write(
+        &s,
+        "stribeck_velocity = 0.1\n[[joint]]\nname = \"elbow\"\nviscous = 0.5\ncoulomb = 0.2\noffset = -0.3\nstribeck = 0.4\n",
+    )
+    .unwrap();
+    let r = load_robot(u.to_str().unwrap(), Some(&s)).unwrap();
+    use FrictionTerm::*;
+    assert_eq!(
+        r.model.friction_terms(),
+        [Viscous, Coulomb, Offset, Stribeck]
+    );
+    assert_eq!(r.friction.offset, [0.0, -0.3, 0.0]);
+    assert_eq!(r.friction.stribeck, [0.0, 0.4, 0.0]);
+    assert_eq!(r.friction.stribeck_velocity(), 0.1);
+    assert_eq!(r.model.stribeck_velocity(), 0.1);
+    // the torque includes them: the elbow at q̇ = 0.1 rad/s, no load
+    let want = 0.5 * 0.1 + 0.2 - 0.3 + 0.4 * (-1.0f64).exp();
+    assert!((r.friction.torque(1, 0.1, 0.0) - want).abs() < 1e-12);
+    std::fs::write(&s, "[[joint]]\nname = \"wrist\"\nload = -0.1\n").unwrap();
+    let e = load_robot(u.to_str().unwrap(), Some(&s))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("'wrist'") && e.contains("load") && e.contains("≥ 0"),
+        "{e}"
+    );
+}

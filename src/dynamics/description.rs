@@ -5,10 +5,10 @@
 
 use super::bounding::Bounding;
 use super::error::DynamicsError;
-use super::friction::Friction;
+use super::friction::{Friction, FrictionTerm};
 use super::model::Model;
 use super::params_file::{FittedEffect, ParamsFile};
-use super::sidecar::{Excitation, PriorSpec, Sidecar, SidecarBody};
+use super::sidecar::{Excitation, PriorSpec, Sidecar, SidecarBody, SidecarJoint};
 use super::warning::DescriptionWarning;
 use crate::moments::{Ellipsoid, InertialParams, Level};
 use crate::urdf::mesh::MeshPaths;
@@ -136,6 +136,7 @@ impl RobotDescription {
             None => model,
         };
         let (friction, mut warnings) = nominal_friction(&model, sidecar, urdf);
+        let model = with_sidecar_law(model, sidecar, &err)?;
         let geometry = urdf.map(crate::urdf::geometry_warnings).unwrap_or_default();
         warnings.extend(geometry.into_iter().map(DescriptionWarning::Geometry));
         warnings.extend(urdf.map(|r| mimic_warnings(&model, r)).unwrap_or_default());
@@ -313,13 +314,16 @@ fn with_limits(
                 model.joint_names().join(", ")
             ))
         })?;
-        for (what, v) in [("coulomb", j.coulomb), ("viscous", j.viscous)] {
+        for (term, v) in sidecar_friction(j) {
+            let lowest = if term.signed() { -1e6 } else { 0.0 };
             if let Some(x) = v
-                && !(x.is_finite() && (0.0..=1e6).contains(&x))
+                && !(x.is_finite() && (lowest..=1e6).contains(&x))
             {
+                let sign = if term.signed() { "≥ -1e6" } else { "≥ 0" };
                 return Err(err(format!(
-                    "[[joint]] '{}': {what} = {x} must be finite, ≥ 0 and ≤ 1e6",
-                    j.name
+                    "[[joint]] '{}': {} = {x:e} must be finite, {sign} and ≤ 1e6",
+                    j.name,
+                    term.name()
                 )));
             }
         }
@@ -394,6 +398,22 @@ fn nominal_friction(
             placeholders.push(joint.name.as_str());
         }
     }
+    // the terms beyond viscous and Coulomb that the sidecar gives (zero on
+    // the joints it leaves out), at its Stribeck velocity
+    for (k, term) in FrictionTerm::ALL.iter().enumerate().skip(2) {
+        let given = |j: &SidecarJoint| sidecar_friction(j)[k].1;
+        if sidecar.joints.iter().any(|j| given(j).is_some()) {
+            *f.coefficients_mut(*term) = (model.joints.iter())
+                .map(|m| {
+                    side_by_name
+                        .get(m.name.as_str())
+                        .and_then(|j| given(j))
+                        .unwrap_or(0.0)
+                })
+                .collect();
+        }
+    }
+    f.stribeck_velocity = sidecar.stribeck_velocity;
     let warnings = if placeholders.is_empty() {
         vec![]
     } else {
@@ -556,4 +576,47 @@ fn check_excitation(
         }
     }
     Ok(())
+}
+
+/// A sidecar joint's friction coefficients in [`FrictionTerm::ALL`]'s
+/// order (`None`: not given).
+fn sidecar_friction(j: &SidecarJoint) -> [(FrictionTerm, Option<f64>); 6] {
+    let [v, c, o, a, l, s] = FrictionTerm::ALL;
+    [
+        (v, j.viscous),
+        (c, j.coulomb),
+        (o, j.offset),
+        (a, j.asymmetric),
+        (l, j.load),
+        (s, j.stribeck),
+    ]
+}
+
+/// `model` with the friction terms the sidecar gives beyond viscous and
+/// Coulomb (on any joint) identified too, at the sidecar's Stribeck
+/// velocity: the law a written sidecar carries is the law loaded.
+fn with_sidecar_law(
+    model: Model,
+    sidecar: &Sidecar,
+    err: &impl Fn(String) -> DynamicsError,
+) -> Result<Model, DynamicsError> {
+    let given: Vec<FrictionTerm> = (2..FrictionTerm::ALL.len())
+        .filter(|&k| {
+            sidecar
+                .joints
+                .iter()
+                .any(|j| sidecar_friction(j)[k].1.is_some())
+        })
+        .map(|k| FrictionTerm::ALL[k])
+        .collect();
+    let model = match given.is_empty() {
+        true => model,
+        false => model.with_friction_terms(&[&FrictionTerm::DEFAULT[..], &given].concat()),
+    };
+    match sidecar.stribeck_velocity {
+        Some(v) => model
+            .with_stribeck_velocity(v)
+            .map_err(|e| err(format!("stribeck_velocity: {e}"))),
+        None => Ok(model),
+    }
 }

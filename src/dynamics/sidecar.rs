@@ -30,6 +30,9 @@ pub struct Sidecar {
     /// Movable joints to lock at 0 and merge like fixed joints.
     #[serde(default)]
     pub lock: Vec<String>,
+    /// The Stribeck velocity v_s (rad/s) of the joints' `stribeck` friction
+    /// (default [`crate::dynamics::DEFAULT_STRIBECK_VELOCITY`]).
+    pub stribeck_velocity: Option<f64>,
     /// Rotors.
     #[serde(default, rename = "rotor")]
     pub rotors: Vec<SidecarRotor>,
@@ -152,6 +155,15 @@ pub struct SidecarJoint {
     pub coulomb: Option<f64>,
     /// Nominal viscous friction B (N·m·s/rad or N·s/m).
     pub viscous: Option<f64>,
+    /// Nominal torque offset c (N·m or N; either sign).
+    pub offset: Option<f64>,
+    /// Nominal Coulomb asymmetry a (N·m or N; either sign).
+    pub asymmetric: Option<f64>,
+    /// Nominal load-friction coefficient μ (per N·m of the rigid torque).
+    pub load: Option<f64>,
+    /// Nominal Stribeck peak F_s (N·m or N; either sign), at the sidecar's
+    /// `stribeck_velocity`.
+    pub stribeck: Option<f64>,
     /// Position limits `[lower, upper]` (rad or m), replacing the URDF's; they
     /// bound the default excitation.
     #[serde(default, deserialize_with = "exact::opt")]

@@ -4,7 +4,7 @@
 
 use super::checks::has_friction;
 use super::error::ExportError;
-use crate::dynamics::{Friction, Model};
+use crate::dynamics::{Friction, FrictionTerm, Model};
 use crate::moments::InertialParams;
 use toml_edit::{Array, ArrayOfTables, DocumentMut, Item, Table, value};
 
@@ -12,8 +12,10 @@ use toml_edit::{Array, ArrayOfTables, DocumentMut, Item, Table, value};
 /// `given` (the sidecar's text and path, if the robot had one) with
 /// - each `[[rotor]]`'s inertia replaced by the identified `params` (its
 ///   `mass`, `com`, `inertia` keys removed);
-/// - each moving joint's `[[joint]]` `viscous` and `coulomb` set to the
-///   identified friction (when friction was identified);
+/// - each moving joint's `[[joint]]` friction set to the identified law
+///   (when friction was identified): `viscous`, `coulomb`, and each other
+///   term with a non-zero coefficient (`offset`, `asymmetric`, `load`,
+///   `stribeck`, with the root's `stribeck_velocity`), the others removed;
 /// - each body's `[[body]]` `prior` set to `prior` (the prior of the
 ///   identification: the written URDF's inertials are the identified ones,
 ///   so a body without a stated prior would otherwise take those as its
@@ -53,11 +55,7 @@ pub fn sidecar_with_params(
         t["params"] = value(numbers(&r.inertia.0));
     }
     if has_friction(friction) {
-        for (j, joint) in model.joints.iter().enumerate() {
-            let t = entry(&mut doc, "joint", "name", &joint.name).map_err(bad)?;
-            t["viscous"] = value(friction.viscous[j]);
-            t["coulomb"] = value(friction.coulomb[j]);
-        }
+        write_friction(&mut doc, model, friction).map_err(bad)?;
     }
     for (name, p) in model.body_names().iter().zip(prior) {
         let t = entry(&mut doc, "body", "name", name).map_err(bad)?;
@@ -68,8 +66,29 @@ pub fn sidecar_with_params(
         }
     }
     absolute_mapping(&mut doc, path);
-    let head = "# Written by momentlmi beside the URDF it identified: the rotors' params and the\n# joints' viscous and Coulomb friction are the identified ones; each body's prior\n# is the one it was identified against (the URDF now holds the identified inertials).\n";
+    let head = "# Written by momentlmi beside the URDF it identified: the rotors' params and the\n# joints' friction (every term of the law) are the identified ones; each body's prior\n# is the one it was identified against (the URDF now holds the identified inertials).\n";
     Ok(format!("{head}{doc}"))
+}
+
+/// Every moving joint's friction coefficients of `friction`: viscous and
+/// Coulomb always, each other term when any joint's is non-zero (else its
+/// key removed), and the Stribeck velocity with a Stribeck term.
+fn write_friction(doc: &mut DocumentMut, model: &Model, friction: &Friction) -> Result<(), String> {
+    let on = |t: FrictionTerm| friction.coefficients(t).iter().any(|&c| c != 0.0);
+    for (j, joint) in model.joints.iter().enumerate() {
+        let t = entry(doc, "joint", "name", &joint.name)?;
+        for term in FrictionTerm::ALL {
+            match FrictionTerm::DEFAULT.contains(&term) || on(term) {
+                true => t[term.name()] = value(friction.coefficients(term)[j]),
+                false => drop(t.remove(term.name())),
+            }
+        }
+    }
+    match on(FrictionTerm::Stribeck) {
+        true => doc["stribeck_velocity"] = value(friction.stribeck_velocity()),
+        false => drop(doc.remove("stribeck_velocity")),
+    }
+    Ok(())
 }
 
 /// `[data] mapping` (a path relative to the sidecar read from `path`)
