@@ -30,6 +30,20 @@ fn npy(shape: &[u64], values: &[f64]) -> Vec<u8> {
     out
 }
 
+/// A float64 `.npy` header (version 1.0) declaring `shape` (Python's
+/// tuple syntax), padded as NumPy pads it; no values.
+fn npy_header(shape: &str) -> Vec<u8> {
+    let mut dict = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': {shape}, }}");
+    while (10 + dict.len() + 1) % 64 != 0 {
+        dict.push(' ');
+    }
+    dict.push('\n');
+    let mut out = b"\x93NUMPY\x01\x00".to_vec();
+    out.extend((dict.len() as u16).to_le_bytes());
+    out.extend(dict.bytes());
+    out
+}
+
 /// A `.npz` archive of `arrays` (name, shape, values).
 fn write_npz(path: &Path, arrays: &[(&str, Vec<u64>, Vec<f64>)]) {
     let mut z = zip::ZipWriter::new(std::fs::File::create(path).unwrap());
@@ -319,6 +333,36 @@ fn malformed_archives_name_the_file_and_the_array() {
         ],
     );
     assert!(e.contains("shape.npz: positions: shape [100, 3]"), "{e}");
+    // a header that declares more than the log can hold is refused on the
+    // header, before a value is decompressed (the data behind it are a
+    // few bytes: a size check first would call them truncated)
+    let claims = |name: &str, shape: &str| -> String {
+        let p = d.join(format!("{name}.npz"));
+        let mut z = zip::ZipWriter::new(std::fs::File::create(&p).unwrap());
+        let opts = zip::write::SimpleFileOptions::default();
+        let member = if name == "long" { "times" } else { "positions" };
+        z.start_file(format!("{member}.npy"), opts).unwrap();
+        z.write_all(&npy_header(shape)).unwrap();
+        z.write_all(&[0u8; 64]).unwrap();
+        if name != "long" {
+            z.start_file("times.npy", opts).unwrap();
+            z.write_all(&npy(&[n], &t)).unwrap();
+        }
+        z.start_file("torques.npy", opts).unwrap();
+        z.write_all(&npy(&[n, 2], &q)).unwrap();
+        z.finish().unwrap();
+        read_logs(&[&p], &J, &no_qd).unwrap_err().to_string()
+    };
+    let e = claims("wide", "(120000000, 2)");
+    assert!(
+        e.contains("wide.npz: positions: shape [120000000, 2]: expected [100, 2]"),
+        "{e}"
+    );
+    let e = claims("long", "(20000000,)");
+    assert!(
+        e.contains("long.npz: times: shape [20000000]") && e.contains("at most 10000000"),
+        "{e}"
+    );
     // a NaN
     let mut nan = q.clone();
     nan[41] = f64::NAN;

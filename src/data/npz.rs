@@ -19,9 +19,58 @@ struct Array {
     values: Vec<f64>,
 }
 
+/// The shape an archive member must have, checked on its header before a
+/// value is decompressed.
+#[derive(Clone, Copy)]
+enum Want {
+    /// One value per sample: `[n]` or `[n, 1]`, n at most `rows` (or
+    /// exactly `rows` when `exact`).
+    Vector { rows: usize, exact: bool },
+    /// `[rows, cols]`.
+    Matrix { rows: usize, cols: usize },
+    /// `[n, c]`, n at most [`MAX_ROWS`] and c at most `cols`.
+    Table { cols: usize },
+}
+
+impl Want {
+    /// Why `shape` is not the one wanted, if it is not.
+    fn refuses(self, shape: &[u64]) -> Option<String> {
+        match (self, shape) {
+            (Want::Vector { rows, exact }, [n] | [n, 1]) => {
+                let n = usize::try_from(*n).unwrap_or(usize::MAX);
+                match (exact, n == rows, n <= rows) {
+                    (true, false, _) => Some(format!("{n} values for {rows} time stamps")),
+                    (false, _, false) => Some(format!(
+                        "shape {shape:?}: expected one value per sample, at most {MAX_ROWS}"
+                    )),
+                    _ => None,
+                }
+            }
+            (Want::Vector { .. }, s) => Some(format!(
+                "shape {s:?}: expected one value per sample, at most {MAX_ROWS}"
+            )),
+            (Want::Matrix { rows, cols }, [r, c]) if *r == rows as u64 && *c == cols as u64 => None,
+            (Want::Table { cols }, [n, c]) if *n <= MAX_ROWS as u64 && *c <= cols as u64 => None,
+            (Want::Table { cols }, s) => Some(format!(
+                "shape {s:?}: expected [n, c] with n at most {MAX_ROWS} samples and c at most {cols} columns"
+            )),
+            (Want::Matrix { rows, cols }, s) => Some(format!(
+                "shape {s:?}: expected [{rows}, {cols}] (one row per time stamp, one column per joint of the mapping's order)"
+            )),
+        }
+    }
+}
+
 impl Array {
-    /// Reads a `.npy` stream of `bytes` bytes; `name` names it in errors.
-    fn read(r: impl Read, bytes: u64, path: &str, name: &str) -> Result<Self, DataError> {
+    /// Reads a `.npy` stream of `bytes` bytes whose header must declare the
+    /// shape `want` (checked before a value is read); `name` names it in
+    /// errors.
+    fn read(
+        r: impl Read,
+        bytes: u64,
+        (path, name): (&str, &str),
+        want: Want,
+    ) -> Result<Self, DataError> {
         let bad = |message: String| DataError::Array {
             path: path.into(),
             array: name.into(),
@@ -29,6 +78,9 @@ impl Array {
         };
         let npy = npyz::NpyFile::new(r).map_err(|e| bad(format!("not a NumPy array: {e}")))?;
         let shape = npy.shape().to_vec();
+        if let Some(why) = want.refuses(&shape) {
+            return Err(bad(why));
+        }
         let n = npy.len();
         if n > MAX_ARRAY_VALUES {
             return Err(bad(format!("{n} values; at most {MAX_ARRAY_VALUES}")));
@@ -142,7 +194,7 @@ pub fn read_npz(
         _ => &default,
     };
     let by_default = std::ptr::eq(mapping, &default);
-    let mut get = |name: &str| -> Result<Array, DataError> {
+    let mut get = |name: &str, want: Want| -> Result<Array, DataError> {
         let mut f = zip
             .by_name(&format!("{name}.npy"))
             .map_err(|_| DataError::Array {
@@ -154,9 +206,13 @@ pub fn read_npz(
         // large reads: the archive's checksum and inflate run on whole blocks,
         // not on each number npyz asks for
         let r = std::io::BufReader::with_capacity((size as usize).clamp(8 << 10, 1 << 20), &mut f);
-        Array::read(r, size, &p, name)
+        Array::read(r, size, (&p, name), want)
     };
-    let t = get(mapping.time_name())?;
+    let rows_at_most = Want::Vector {
+        rows: MAX_ROWS,
+        exact: false,
+    };
+    let t = get(mapping.time_name(), rows_at_most)?;
     let scale = mapping.time_scale().unwrap_or(1.0);
     let rows = vector(&t, &p, mapping.time_name())?;
     let t: Vec<f64> = rows
@@ -184,7 +240,11 @@ pub fn read_npz(
             Some(names) => per_joint_arrays(&mut get, &names, log.len(), &p)?,
             None => {
                 let name = qm.source.clone().unwrap_or_default();
-                let a = get(&name)?;
+                let want = Want::Matrix {
+                    rows: log.len(),
+                    cols: order.len(),
+                };
+                let a = get(&name, want)?;
                 matrix(a, log.len(), order.len(), &p, &name)?
             }
         };
@@ -279,7 +339,7 @@ fn matrix(a: Array, n: usize, cols: usize, path: &str, name: &str) -> Result<Vec
 
 /// One 1-D array per joint, interleaved into an `n × joints` matrix.
 fn per_joint_arrays(
-    get: &mut impl FnMut(&str) -> Result<Array, DataError>,
+    get: &mut impl FnMut(&str, Want) -> Result<Array, DataError>,
     names: &[String],
     n: usize,
     path: &str,
@@ -287,7 +347,17 @@ fn per_joint_arrays(
     let cols = names.len();
     let mut m = vec![0.0; n * cols];
     for (j, name) in names.iter().enumerate() {
-        let v = vector(&get(name)?, path, name)?;
+        let v = vector(
+            &get(
+                name,
+                Want::Vector {
+                    rows: n,
+                    exact: true,
+                },
+            )?,
+            path,
+            name,
+        )?;
         if v.len() != n {
             return Err(DataError::Array {
                 path: path.into(),
@@ -327,8 +397,9 @@ pub fn read_npy(path: &Path, joints: &[&str]) -> Result<RawLog, DataError> {
         source,
     })?;
     let size = file.metadata().map(|m| m.len()).unwrap_or(0);
-    let a = Array::read(std::io::BufReader::new(file), size, &p, "(array)")?;
     let j = joints.len();
+    let want = Want::Table { cols: 1 + 4 * j };
+    let a = Array::read(std::io::BufReader::new(file), size, (&p, "(array)"), want)?;
     let blocks = match a.shape.as_slice() {
         [_, c] if (*c as usize) > 0 && (*c as usize - 1) % j.max(1) == 0 => {
             (*c as usize - 1) / j.max(1)
