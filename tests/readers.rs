@@ -709,3 +709,35 @@ fn default_archive_names_and_formats_not_read() {
         "{e}"
     );
 }
+
+/// A cut-off whose period (trimmed at each segment end) leaves no segment
+/// is refused with the lowest one that does, as is one at or above
+/// Nyquist; the lowest itself is accepted. (1e-300 Hz once wrapped the
+/// trim to 2⁶⁴ − 1 samples and wrote an empty log.)
+#[test]
+fn a_cut_off_outside_what_the_log_can_filter_is_refused() {
+    let d = dir("cutoff");
+    let p = d.join("run.npz");
+    motion_npz(&p, &irregular(2000, 0.0));
+    for c in [1e-300, 0.0, -1.0, 150.0, f64::NAN] {
+        let e = read_logs(&[&p], &J, &opts(Some(c))).unwrap_err();
+        let DataError::Cutoff {
+            lowest_hz, longest, ..
+        } = e
+        else {
+            panic!("{c:e}: {e}");
+        };
+        assert!((1990..=2010).contains(&longest), "{c:e}: {longest}");
+        assert!(lowest_hz > 0.1 && lowest_hz < 0.3, "{lowest_hz}");
+        assert!(
+            e.to_string().contains("run.npz") && e.to_string().contains("at least"),
+            "{e}"
+        );
+    }
+    let lowest = match read_logs(&[&p], &J, &opts(Some(1e-3))).unwrap_err() {
+        DataError::Cutoff { lowest_hz, .. } => lowest_hz,
+        e => panic!("{e}"),
+    };
+    let r = read_logs(&[&p], &J, &opts(Some(lowest * 1.001))).unwrap();
+    assert!(r.data.len() >= 3, "{}", r.data.len());
+}

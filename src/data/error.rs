@@ -61,9 +61,10 @@ pub enum DataError {
         /// What is wrong.
         message: String,
     },
-    /// The low-pass cut-off is not below the file's Nyquist frequency.
+    /// The low-pass cut-off is not below the file's Nyquist frequency, or
+    /// so low that one period of it, trimmed at each end, leaves no segment.
     #[error(
-        "{path}: the low-pass cut-off {cutoff_hz} Hz must be positive and below half the sampling rate ({nyquist_hz} Hz)"
+        "{path}: the low-pass cut-off {cutoff_hz:.3e} Hz must be below half the sampling rate ({nyquist_hz} Hz) and at least {lowest_hz:.3e} Hz (one period of it is trimmed at each end of a segment: the longest one here is {longest} samples)"
     )]
     Cutoff {
         /// The file.
@@ -72,6 +73,10 @@ pub enum DataError {
         cutoff_hz: f64,
         /// Half the file's mean sampling rate (Hz).
         nyquist_hz: f64,
+        /// The lowest cut-off that leaves the longest segment (Hz).
+        lowest_hz: f64,
+        /// The longest segment (samples).
+        longest: usize,
     },
     /// Two outputs that would be the same file (e.g. a data file named
     /// `x.json` whose record is `x.json`).

@@ -146,11 +146,16 @@ pub fn prepare(
         Some(c) => (c, "given".to_string()),
         None => super::spectrum::choose_cutoff(&uniform, fs),
     };
-    if !(cutoff > 0.0 && cutoff < fs / 2.0) {
+    // a segment keeps `2 trim + 3` samples at least, trim = fs / cutoff
+    let longest = uniform.iter().map(RawLog::len).max().unwrap_or(0);
+    let lowest = 2.0 * fs / (longest.max(MIN_SEGMENT) as f64 - 3.0);
+    if !(cutoff >= lowest && cutoff < fs / 2.0) {
         return Err(DataError::Cutoff {
             path: raw.path.clone(),
             cutoff_hz: cutoff,
             nyquist_hz: fs / 2.0,
+            lowest_hz: lowest,
+            longest,
         });
     }
     (report.cutoff_hz, report.cutoff_from) = (cutoff, from);
@@ -348,7 +353,7 @@ fn resample(raw: &RawLog, r: std::ops::Range<usize>, fs: f64) -> RawLog {
 /// `None` when too short once trimmed.
 fn filtered(u: &RawLog, fs: f64, cutoff: f64, velocity: Velocity, trim: usize) -> Option<Dataset> {
     let n = u.len();
-    if n < MIN_SEGMENT.max(2 * trim + 3) {
+    if n < MIN_SEGMENT.max(trim.saturating_mul(2).saturating_add(3)) {
         return None;
     }
     let lp = |v: &Samples| filtfilt_columns(v, cutoff, fs);
