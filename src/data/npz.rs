@@ -33,6 +33,17 @@ enum Want {
 }
 
 impl Want {
+    /// One value per sample, at most [`MAX_ROWS`] (time stamps).
+    const AT_MOST_ROWS: Want = Want::Vector {
+        rows: MAX_ROWS,
+        exact: false,
+    };
+
+    /// `[rows, cols]`.
+    fn matrix(rows: usize, cols: usize) -> Want {
+        Want::Matrix { rows, cols }
+    }
+
     /// Why `shape` is not the one wanted, if it is not.
     fn refuses(self, shape: &[u64]) -> Option<String> {
         match (self, shape) {
@@ -208,11 +219,7 @@ pub fn read_npz(
         let r = std::io::BufReader::with_capacity((size as usize).clamp(8 << 10, 1 << 20), &mut f);
         Array::read(r, size, (&p, name), want)
     };
-    let rows_at_most = Want::Vector {
-        rows: MAX_ROWS,
-        exact: false,
-    };
-    let t = get(mapping.time_name(), rows_at_most)?;
+    let t = get(mapping.time_name(), Want::AT_MOST_ROWS)?;
     let scale = mapping.time_scale().unwrap_or(1.0);
     let rows = vector(&t, &p, mapping.time_name())?;
     let t: Vec<f64> = rows
@@ -240,11 +247,7 @@ pub fn read_npz(
             Some(names) => per_joint_arrays(&mut get, &names, log.len(), &p)?,
             None => {
                 let name = qm.source.clone().unwrap_or_default();
-                let want = Want::Matrix {
-                    rows: log.len(),
-                    cols: order.len(),
-                };
-                let a = get(&name, want)?;
+                let a = get(&name, Want::matrix(log.len(), order.len()))?;
                 matrix(a, log.len(), order.len(), &p, &name)?
             }
         };

@@ -146,18 +146,7 @@ pub fn prepare(
         Some(c) => (c, "given".to_string()),
         None => super::spectrum::choose_cutoff(&uniform, fs),
     };
-    // a segment keeps `2 trim + 3` samples at least, trim = fs / cutoff
-    let longest = uniform.iter().map(RawLog::len).max().unwrap_or(0);
-    let lowest = 2.0 * fs / (longest.max(MIN_SEGMENT) as f64 - 3.0);
-    if !(cutoff >= lowest && cutoff < fs / 2.0) {
-        return Err(DataError::Cutoff {
-            path: raw.path.clone(),
-            cutoff_hz: cutoff,
-            nyquist_hz: fs / 2.0,
-            lowest_hz: lowest,
-            longest,
-        });
-    }
+    check_cutoff(&raw.path, &uniform, fs, cutoff)?;
     (report.cutoff_hz, report.cutoff_from) = (cutoff, from);
     report.trimmed_per_end = (fs / cutoff).ceil() as usize;
     let out: Vec<Dataset> = uniform
@@ -176,6 +165,25 @@ pub fn prepare(
         });
     }
     Ok((out, report))
+}
+
+/// The cut-off `cutoff` (Hz) below the Nyquist frequency of `fs` and high
+/// enough that one period of it, trimmed at each end, leaves the longest of
+/// the `uniform` segments (of the file `path`) the `2 trim + 3` samples a
+/// segment keeps at least.
+fn check_cutoff(path: &str, uniform: &[RawLog], fs: f64, cutoff: f64) -> Result<(), DataError> {
+    let longest = uniform.iter().map(RawLog::len).max().unwrap_or(0);
+    let lowest = 2.0 * fs / (longest.max(MIN_SEGMENT) as f64 - 3.0);
+    match cutoff >= lowest && cutoff < fs / 2.0 {
+        true => Ok(()),
+        false => Err(DataError::Cutoff {
+            path: path.into(),
+            cutoff_hz: cutoff,
+            nyquist_hz: fs / 2.0,
+            lowest_hz: lowest,
+            longest,
+        }),
+    }
 }
 
 /// Steps 1–3 of the module doc on a raw log without q̈: repeated rows

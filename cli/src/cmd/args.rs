@@ -33,6 +33,12 @@ impl RobotArgs {
     pub fn resolve(&mut self) {
         self.sidecar = own_sidecar(&self.robot, self.sidecar.take(), self.no_sidecar);
     }
+
+    /// The robot (its sidecar's `[effects]` names checked:
+    /// [`super::load_robot`]).
+    pub fn load(&self) -> Result<momentlmi::dynamics::RobotDescription, String> {
+        super::load_robot(&self.robot, self.sidecar.as_deref(), &self.package_path)
+    }
 }
 
 /// The sidecar: the one given, else (unless `--no-sidecar`) `NAME.toml`

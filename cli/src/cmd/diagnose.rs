@@ -64,11 +64,7 @@ fn diagnosis(a: &DiagnoseArgs) -> Result<Diagnosis, String> {
         .with_max_memory(super::gib(a.max_memory_gib)?)
         .with_folds(a.folds as usize)
         .map_err(|e| e.to_string())?;
-    let robot = super::load_robot(
-        a.robot.robot.as_str(),
-        a.robot.sidecar.as_deref(),
-        &a.robot.package_path,
-    )?;
+    let robot = a.robot.load()?;
     if a.nominal.as_deref() == Some("true") {
         super::warn_robot(&robot);
     }

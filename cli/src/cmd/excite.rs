@@ -104,11 +104,7 @@ fn run_inner(a: &ExciteArgs) -> Result<(), String> {
             staged.claim(p).map_err(|e| e.to_string())?;
         }
     }
-    let robot = super::load_robot(
-        a.robot.robot.as_str(),
-        a.robot.sidecar.as_deref(),
-        &a.robot.package_path,
-    )?;
+    let robot = a.robot.load()?;
     super::warn_robot(&robot);
     let opts = ExciteOptions {
         criterion,

@@ -91,11 +91,7 @@ fn run_inner(a: &ExportArgs) -> Result<(), String> {
         &[a.robot.robot.as_str(), a.params.as_deref().unwrap_or("")],
     ));
     a.out.outputs().claim(&staged)?;
-    let robot = super::load_robot(
-        a.robot.robot.as_str(),
-        a.robot.sidecar.as_deref(),
-        &a.robot.package_path,
-    )?;
+    let robot = a.robot.load()?;
     if a.params.as_deref().is_some_and(|p| p == "true") {
         // placeholder friction would otherwise be written as if it were known
         super::warn_robot(&robot);

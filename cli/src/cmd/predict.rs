@@ -70,11 +70,7 @@ fn staged_output(a: &PredictArgs) -> Result<Staged, String> {
 
 fn run_inner(a: &PredictArgs) -> Result<(), String> {
     let mut staged = staged_output(a)?;
-    let robot = super::load_robot(
-        a.robot.robot.as_str(),
-        a.robot.sidecar.as_deref(),
-        &a.robot.package_path,
-    )?;
+    let robot = a.robot.load()?;
     if a.params.as_deref().is_some_and(|p| p == "true") {
         super::warn_robot(&robot);
     }

@@ -166,11 +166,7 @@ fn sim_config(
 
 fn run_inner(a: &SimulateArgs) -> Result<(), String> {
     let mut staged = staged_outputs(a)?;
-    let robot = super::load_robot(
-        a.robot.robot.as_str(),
-        a.robot.sidecar.as_deref(),
-        &a.robot.package_path,
-    )?;
+    let robot = a.robot.load()?;
     let library = Library::builtin();
     let effects =
         Effects::parse(&a.effects.join(","), &a.effect_param).map_err(|e| e.to_string())?;

@@ -331,8 +331,7 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
 /// The robot with `--friction`'s terms (a list; auto: the model's own
 /// until the choice) and `--stribeck-velocity`.
 fn robot_with_terms(a: &IdentifyArgs) -> Result<RobotDescription, String> {
-    let r = &a.robot;
-    let mut robot = super::load_robot(&r.robot, r.sidecar.as_deref(), &r.package_path)?;
+    let mut robot = a.robot.load()?;
     let auto = a.friction_auto();
     if a.friction
         .as_deref()
