@@ -64,7 +64,10 @@ pub enum DataError {
     /// The low-pass cut-off is not below the file's Nyquist frequency, or
     /// so low that one period of it, trimmed at each end, leaves no segment.
     #[error(
-        "{path}: the low-pass cut-off {cutoff_hz:.3e} Hz must be below half the sampling rate ({nyquist_hz} Hz) and at least {lowest_hz:.3e} Hz (one period of it is trimmed at each end of a segment: the longest one here is {longest} samples)"
+        "{path}: the low-pass cut-off {} Hz must be below half the sampling rate ({} Hz) and at least {} Hz (one period of it is trimmed at each end of a segment: the longest one here is {longest} samples)",
+        crate::numfmt::short(*cutoff_hz),
+        crate::numfmt::sig4(*nyquist_hz),
+        crate::numfmt::sig4(*lowest_hz)
     )]
     Cutoff {
         /// The file.

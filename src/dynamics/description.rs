@@ -321,9 +321,10 @@ fn with_limits(
             {
                 let sign = if term.signed() { "≥ -1e6" } else { "≥ 0" };
                 return Err(err(format!(
-                    "[[joint]] '{}': {} = {x:e} must be finite, {sign} and ≤ 1e6",
+                    "[[joint]] '{}': {} = {} must be finite, {sign} and ≤ 1e6",
                     j.name,
-                    term.name()
+                    term.name(),
+                    crate::numfmt::short(x)
                 )));
             }
         }
