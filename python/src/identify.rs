@@ -170,11 +170,7 @@ fn identify(
 /// weight when it is `auto` or not given with the law chosen.
 fn plan(friction: Option<&str>, weight: Option<&str>, bounds: Option<&str>) -> PyResult<Plan> {
     let auto = friction.is_none_or(|f| f.trim() == "auto");
-    let law = match (auto, friction.is_none() && weight.is_none()) {
-        (false, _) => LawPlan::Own,
-        (true, false) => LawPlan::Choose,
-        (true, true) => LawPlan::ChooseOrKeep,
-    };
+    let law = LawPlan::for_options(auto, friction.is_some() || weight.is_some());
     let weight = match weight.map(str::trim) {
         Some("auto") => None,
         Some(w) => Some(w.parse::<f64>().map_err(|_| {

@@ -34,6 +34,20 @@ pub enum LawPlan {
     ChooseOrKeep,
 }
 
+impl LawPlan {
+    /// The plan the options ask for: `auto` a law chosen from the data
+    /// (else the model's own); `asked` the law or the weight named by the
+    /// caller (then data too short to choose are an error, else the
+    /// model's law is kept with a warning).
+    pub fn for_options(auto: bool, asked: bool) -> Self {
+        match (auto, asked) {
+            (false, _) => LawPlan::Own,
+            (true, true) => LawPlan::Choose,
+            (true, false) => LawPlan::ChooseOrKeep,
+        }
+    }
+}
+
 /// What [`identify_planned`] chooses and computes.
 #[derive(Clone, Copy, Debug)]
 pub struct Plan {
@@ -128,7 +142,7 @@ pub fn identify_planned<S: Setup, T: Send>(
         Ok(id) => id,
         Err(e) => return (Err(e), None),
     };
-    let (fitted, side) = fit(&mut id, train, plan, selection, beside);
+    let (fitted, side) = fit(&mut id, train, plan, (selection, kept.is_some()), beside);
     drop(id);
     let result = fitted.map(|mut r| {
         r.warnings.extend(kept);
@@ -206,13 +220,12 @@ fn fit<T: Send>(
     id: &mut Identification,
     train: Training,
     plan: &Plan,
-    mut selection: Option<FrictionChoice>,
+    (mut selection, kept): (Option<FrictionChoice>, bool),
     beside: impl FnOnce() -> T + Send,
 ) -> (Result<IdentifyResult, Failed>, Option<T>) {
     let at = |step| move |source| Failed { step, source };
     let open = plan.weight.is_none() && selection.as_ref().is_none_or(|c| !c.weight_chosen());
-    // the law kept for want of data keeps the weight it was given
-    let kept = plan.weight.is_none() && selection.is_none() && plan.law == LawPlan::ChooseOrKeep;
+    // (a law kept for want of data keeps the weight it was given)
     let choice = match (open && !kept, train) {
         (false, _) => None,
         (true, Training::Reduced(_)) => {

@@ -39,6 +39,18 @@ impl RobotArgs {
     pub fn load(&self) -> Result<momentlmi::dynamics::RobotDescription, String> {
         super::load_robot(&self.robot, self.sidecar.as_deref(), &self.package_path)
     }
+
+    /// The logs `paths` read for the joints `names` ([`super::read_data`]:
+    /// a data error hints at this robot's sidecar when it may explain it).
+    pub fn read(
+        &self,
+        paths: &[PathBuf],
+        names: &[&str],
+        opts: &momentlmi::data::ReadOptions,
+    ) -> Result<momentlmi::data::Reading, String> {
+        let p: Vec<&std::path::Path> = paths.iter().map(|p| p.as_path()).collect();
+        super::read_data(&p, names, opts, &self.robot, self.sidecar.as_deref())
+    }
 }
 
 /// The sidecar: the one given, else (unless `--no-sidecar`) `NAME.toml`

@@ -77,25 +77,12 @@ fn diagnosis(a: &DiagnoseArgs) -> Result<Diagnosis, String> {
     let names = model.joint_names();
     let mut read = a.read.choice().options(&robot, true)?;
     super::cutoff_of_model(&mut read, a.nominal.as_deref(), "--nominal");
-    let paths: Vec<&Path> = a.data.iter().map(|p| p.as_path()).collect();
-    let reading = super::read_data(
-        &paths,
-        &names,
-        &read,
-        a.robot.robot.as_str(),
-        a.robot.sidecar.as_deref(),
-    )?;
+    let reading = a.robot.read(&a.data, &names, &read)?;
     super::report_reading("--data", &reading);
     let d = reading.data;
     if let [r1, r2] = a.repeats.as_slice() {
         let run = |p: &Path| {
-            let r = super::read_data(
-                &[p],
-                &names,
-                &read,
-                a.robot.robot.as_str(),
-                a.robot.sidecar.as_deref(),
-            )?;
+            let r = a.robot.read(&[p.to_path_buf()], &names, &read)?;
             super::report_reading("--repeats", &r);
             Ok::<_, String>(r.data)
         };
@@ -106,14 +93,7 @@ fn diagnosis(a: &DiagnoseArgs) -> Result<Diagnosis, String> {
         opts = opts.with_noise_floor(floor);
     }
     if !a.nominal_data.is_empty() {
-        let paths: Vec<&Path> = a.nominal_data.iter().map(|p| p.as_path()).collect();
-        let r = super::read_data(
-            &paths,
-            &names,
-            &read,
-            a.robot.robot.as_str(),
-            a.robot.sidecar.as_deref(),
-        )?;
+        let r = a.robot.read(&a.nominal_data, &names, &read)?;
         super::report_reading("--nominal-data", &r);
         opts = opts.with_nominal_data(r.data);
     }

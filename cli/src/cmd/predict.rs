@@ -84,13 +84,7 @@ fn run_inner(a: &PredictArgs) -> Result<(), String> {
     let mut opts = a.read.choice().options(&robot, false)?;
     super::cutoff_of_model(&mut opts, a.params.as_deref(), "--params");
     let paths: Vec<&Path> = a.data.iter().map(|p| p.as_path()).collect();
-    let reading = super::read_data(
-        &paths,
-        &names,
-        &opts,
-        a.robot.robot.as_str(),
-        a.robot.sidecar.as_deref(),
-    )?;
+    let reading = a.robot.read(&a.data, &names, &opts)?;
     super::report_reading("--data", &reading);
     let d = reading.data;
     let tau = if a.mujoco_view {

@@ -290,10 +290,8 @@ fn run_inner(a: &IdentifyArgs) -> Result<(IdentifyResult, RobotDescription), Str
     // shown first (it is the one a user can fix without waiting for a fit)
     let read_val = || {
         let names = robot.model.joint_names();
-        let p: Vec<&Path> = a.validate.iter().map(|p| p.as_path()).collect();
-        let (spec, sidecar) = (a.robot.robot.as_str(), a.robot.sidecar.as_deref());
-        (!p.is_empty())
-            .then(|| super::read_data(&p, &names, &opts, spec, sidecar))
+        (!a.validate.is_empty())
+            .then(|| a.robot.read(&a.validate, &names, &opts))
             .transpose()
     };
     let data = match &train {
@@ -442,12 +440,7 @@ impl planned::Setup for CliSetup<'_> {
 /// What the data choose (`choose`: the law, when it is auto and the data
 /// are read whole), and the parameters' ranges.
 fn plan(a: &IdentifyArgs, choose: bool) -> Result<planned::Plan, String> {
-    use planned::LawPlan::{Choose, ChooseOrKeep, Own};
-    let law = match (choose, a.friction.is_some() || a.weight.is_some()) {
-        (false, _) => Own,
-        (true, true) => Choose,
-        (true, false) => ChooseOrKeep,
-    };
+    let law = planned::LawPlan::for_options(choose, a.friction.is_some() || a.weight.is_some());
     let bounds = (a.bounds.as_deref())
         .map(|b| {
             momentlmi::identify::Margin::parse(b)
