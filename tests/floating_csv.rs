@@ -110,3 +110,74 @@ fn bad_files_are_named() {
     let e = log.check(&ff).unwrap_err().to_string();
     assert!(e.contains("sample 1") && e.contains("norm"), "{e}");
 }
+
+/// The log's text with data row `row`'s `column` set to `value`.
+fn with_cell(text: &str, row: usize, column: &str, value: &str) -> String {
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    let c = lines[0].split(',').position(|h| h == column).unwrap();
+    let mut fields: Vec<String> = lines[row].split(',').map(str::to_string).collect();
+    fields[c] = value.into();
+    lines[row] = fields.join(",");
+    lines.join("\n") + "\n"
+}
+
+#[test]
+fn values_beyond_the_readers_limits_and_time_going_back_are_named() {
+    let ff = solo();
+    let text = short_log(&ff).to_csv(&ff).unwrap();
+    let err = |t: &str| floating_from_csv(&ff, t, "log.csv").unwrap_err().to_string();
+    // the limits every fixed-base reader applies (±1e8; time ±1e12)
+    for (column, value) in [
+        ("base_wx", "1e200"),
+        ("force_base_link_z", "1e300"),
+        ("base_vy", "-2e8"),
+        ("t", "1e13"),
+        ("base_wz", "inf"),
+    ] {
+        let e = err(&with_cell(&text, 5, column, value));
+        assert!(
+            e.contains("log.csv") && e.contains("row 5") && e.contains(&format!("'{column}'")),
+            "{column}: {e}"
+        );
+        assert!(e.len() < 200, "a number written in full: {e}");
+    }
+    // a time that does not increase, named by row
+    let t2 = text.lines().nth(2).unwrap().split(',').next().unwrap().to_string();
+    let e = err(&with_cell(&text, 3, "t", &t2));
+    assert!(e.contains("row 3") && e.contains("'t'") && e.contains("not after"), "{e}");
+}
+
+#[test]
+fn check_applies_the_same_limits_to_a_log_built_in_memory() {
+    let ff = solo();
+    let log = short_log(&ff);
+    let mut wild = log.clone();
+    let nv = ff.nv();
+    wild.v[4 * nv + 3] = 1e200;
+    let e = wild.check(&ff).unwrap_err().to_string();
+    assert!(e.contains("v: sample 4, entry 3") && e.contains("1e200"), "{e}");
+    let mut back = log.clone();
+    back.t[3] = back.t[1];
+    let e = back.check(&ff).unwrap_err().to_string();
+    assert!(e.contains("t: sample 3") && e.contains("not after"), "{e}");
+    log.check(&ff).unwrap();
+}
+
+#[test]
+fn logs_are_laid_end_to_end_as_fixed_base_files_are() {
+    let ff = solo();
+    let one = short_log(&ff);
+    let mut logs = vec![one.clone(), one.clone(), one];
+    momentlmi::data::floating::lay_end_to_end(&mut logs);
+    let t: Vec<f64> = logs.iter().flat_map(|l| l.t.iter().copied()).collect();
+    assert!(t.windows(2).all(|w| w[1] > w[0]), "times increase across files");
+    let step = logs[0].t[1] - logs[0].t[0];
+    let last = *logs[0].t.last().unwrap();
+    assert!((logs[1].t[0] - (last + step)).abs() < 1e-12);
+    // a log that already follows is left as it is
+    let mut later = logs[0].clone();
+    later.t.iter_mut().for_each(|x| *x += 100.0);
+    let mut pair = vec![logs[0].clone(), later.clone()];
+    momentlmi::data::floating::lay_end_to_end(&mut pair);
+    assert_eq!(pair[1].t, later.t);
+}

@@ -2,7 +2,7 @@
 //! library. Every command returns an exit code; errors are printed, never
 //! panicked.
 
-use crate::cmd::{check, demo, excite, export, route, sdpa};
+use crate::cmd::{check, demo, route, sdpa};
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 
@@ -72,7 +72,7 @@ pub fn main() -> i32 {
         }
         Command::Excite(mut a) => {
             a.robot.resolve();
-            excite::run(&a)
+            route::excite(&a)
         }
         Command::Identify(mut a) => {
             a.robot.resolve();
@@ -84,7 +84,7 @@ pub fn main() -> i32 {
         }
         Command::Export(mut a) => {
             a.robot.resolve();
-            export::run(&a)
+            route::export(&a)
         }
         Command::Sdpa(a) => sdpa::run(&a),
     }

@@ -327,3 +327,55 @@ fn diagnose_finds_a_payload_the_urdf_lacks() {
         serde_json::from_str(&std::fs::read_to_string(dir.0.join("pay.json")).unwrap()).unwrap();
     assert_eq!(record["effects"][0], "payload");
 }
+
+#[test]
+fn floating_logs_take_the_readers_limits_and_follow_each_other() {
+    let dir = TempDir::new("floating-limits");
+    let (log, text, header) = short_log(&dir);
+    let robot = solo();
+    let out = dir.0.join("pred.csv");
+    let out_s = out.to_str().unwrap();
+    // a base angular velocity of 1e200 in one row: refused where it is read
+    let wx = header.iter().position(|c| c == "base_wx").unwrap();
+    let mut lines: Vec<String> = text.lines().map(String::from).collect();
+    let mut cells: Vec<String> = lines[7].split(',').map(String::from).collect();
+    cells[wx] = "1e200".into();
+    lines[7] = cells.join(",");
+    let wild = dir.write("wild.csv", &(lines.join("\n") + "\n"));
+    let wild = wild.to_str().unwrap();
+    for cmd in ["predict", "diagnose", "identify"] {
+        let mut args = vec![cmd, "--robot", &robot, "--data", wild];
+        if cmd == "predict" {
+            args.extend(["--out", out_s]);
+        }
+        refused(&args, &["wild.csv", "row 7", "'base_wx'", "1e200 is beyond"]);
+    }
+    assert!(!out.exists());
+    // two files: the second laid after the first, as fixed-base files are
+    let log = log.to_str().unwrap();
+    ok(&["predict", "--robot", &robot, "--data", log, "--data", log, "--out", out_s]);
+    let t: Vec<f64> = std::fs::read_to_string(&out)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').next().unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(t.len(), 2 * (text.lines().count() - 1));
+    assert!(t.windows(2).all(|w| w[1] > w[0]), "t restarts");
+}
+
+#[test]
+fn export_and_excite_refuse_a_floating_base_by_name() {
+    let dir = TempDir::new("floating-export-excite");
+    let robot = solo();
+    let (xml, csv) = (dir.0.join("s.xml"), dir.0.join("s.csv"));
+    let export = ["export", "--robot", &robot, "--mjcf-out", xml.to_str().unwrap()];
+    refused(&export, &["export is not built for a floating base", "[floating_base]"]);
+    let excite = ["excite", "--robot", &robot, "--seconds", "1", "--out", csv.to_str().unwrap()];
+    refused(&excite, &["excite is not built for a floating base"]);
+    assert!(!xml.exists() && !csv.exists());
+    // with no sidecar the URDF is a fixed-base robot, as the user said
+    let fixed = [&export[..], &["--no-sidecar"]].concat();
+    ok(&fixed);
+    assert!(xml.exists());
+}

@@ -301,10 +301,10 @@ impl Columns {
                 MAX_ABS_VALUE
             };
             let v = v * scale;
-            if v.abs() > limit {
-                return Err(bad(format!("{raw} is beyond ±{limit:e}")));
+            match super::raw::refusal(v, limit) {
+                Some(why) => Err(bad(why)),
+                None => Ok(v),
             }
-            Ok(v)
         };
         let many =
             |(ix, s): &(Vec<usize>, f64), dst: &mut Samples| dst.try_push_with(|j| get(ix[j], *s));

@@ -42,11 +42,8 @@ impl Dataset {
     /// follow ours, they are shifted to start one of its steps after our
     /// last (times stay increasing).
     pub fn append_segment(&mut self, mut s: Dataset) {
-        if let (Some(&last), Some(&first)) = (self.t.last(), s.t.first())
-            && first <= last
-        {
-            let step = s.t.get(1).map_or(1e-3, |t1| t1 - first);
-            s.t.iter_mut().for_each(|t| *t += last + step - first);
+        if let Some(&last) = self.t.last() {
+            follow(last, &mut s.t);
         }
         if !self.is_empty() {
             if self.segments.is_empty() {
@@ -124,5 +121,17 @@ fn segments_within(segments: &[usize], range: &std::ops::Range<usize>) -> Vec<us
         vec![]
     } else {
         [vec![0], inner].concat()
+    }
+}
+
+/// Shifts the times `t` of a file that does not start after `last` (the
+/// previous file's last time) to start one of its own steps after it
+/// (1 ms for a single sample): files laid end to end, times increasing.
+pub(crate) fn follow(last: f64, t: &mut [f64]) {
+    if let Some(&first) = t.first()
+        && first <= last
+    {
+        let step = t.get(1).map_or(1e-3, |t1| t1 - first);
+        t.iter_mut().for_each(|x| *x += last + step - first);
     }
 }

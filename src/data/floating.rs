@@ -6,6 +6,8 @@
 //! in base coordinates).
 
 use super::error::DataError;
+use super::raw::{MAX_ABS_TIME, MAX_ABS_VALUE, refusal};
+use crate::numfmt::short;
 use crate::dynamics::{ContactWrench, DynamicsError, FreeFlyer, WrenchFrame};
 
 /// The wrenches measured at one frame over a log.
@@ -45,7 +47,7 @@ impl FloatingLog {
     }
 
     /// Checks the log against the robot: every array's length, every value
-    /// finite (times too), every quaternion of unit norm, every contact frame one of
+    /// finite and within the readers' limits (times too, and increasing), every quaternion of unit norm, every contact frame one of
     /// the robot's; the error names the array, sample or frame.
     pub fn check(&self, ff: &FreeFlyer) -> Result<(), DataError> {
         let s = self.samples();
@@ -57,6 +59,16 @@ impl FloatingLog {
             ("tau", self.tau.as_ref(), n),
         ];
         check_array("t", &self.t, s, 1)?;
+        if let Some(k) = self.t.windows(2).position(|w| w[1] <= w[0]) {
+            return Err(DataError::Log {
+                message: format!(
+                    "t: sample {}: time {} is not after the previous sample's {}",
+                    k + 1,
+                    short(self.t[k + 1]),
+                    short(self.t[k])
+                ),
+            });
+        }
         for (name, x, width) in arrays {
             if let Some(x) = x {
                 check_array(name, x, s, width)?;
@@ -124,6 +136,19 @@ impl FloatingLog {
     }
 }
 
+/// Lays logs end to end as fixed-base files are
+/// ([`Dataset::append_segment`](super::Dataset::append_segment)): a log
+/// whose times do not start after the previous one's last is shifted to
+/// start one of its own steps after it.
+pub fn lay_end_to_end(logs: &mut [FloatingLog]) {
+    for i in 1..logs.len() {
+        let (before, rest) = logs.split_at_mut(i);
+        if let Some(&last) = before[i - 1].t.last() {
+            super::dataset::follow(last, &mut rest[0].t);
+        }
+    }
+}
+
 fn bad(sample: usize, source: DynamicsError) -> DataError {
     DataError::Sample { sample, source }
 }
@@ -137,15 +162,13 @@ fn check_array(name: &str, x: &[f64], samples: usize, width: usize) -> Result<()
             ),
         });
     }
-    if let Some(i) = x.iter().position(|v| !v.is_finite()) {
-        return Err(DataError::Log {
-            message: format!(
-                "{name}: sample {}, entry {}: {} is not finite",
-                i / width,
-                i % width,
-                x[i]
-            ),
-        });
+    let limit = if name == "t" { MAX_ABS_TIME } else { MAX_ABS_VALUE };
+    for (i, &v) in x.iter().enumerate() {
+        if let Some(why) = refusal(v, limit) {
+            return Err(DataError::Log {
+                message: format!("{name}: sample {}, entry {}: {why}", i / width, i % width),
+            });
+        }
     }
     Ok(())
 }

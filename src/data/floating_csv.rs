@@ -14,7 +14,8 @@
 
 use super::error::DataError;
 use super::floating::{ContactChannel, FloatingLog};
-use super::raw::MAX_ROWS;
+use super::raw::{MAX_ABS_TIME, MAX_ABS_VALUE, MAX_ROWS, refusal};
+use crate::numfmt::short;
 use crate::dynamics::{FreeFlyer, WrenchFrame};
 use std::collections::HashMap;
 
@@ -331,16 +332,26 @@ fn push_row(
         .iter_mut()
         .for_each(|c| c.wrench.resize(c.wrench.len() + 6, 0.0));
     for ((field, slot), name) in rec.iter().zip(slots).zip(header) {
-        let x: f64 = field
-            .parse()
-            .ok()
-            .filter(|x: &f64| x.is_finite())
-            .ok_or_else(|| DataError::Value {
-                path: path.into(),
-                row,
-                column: name.clone(),
-                message: format!("'{field}' is not a finite number"),
-            })?;
+        let bad = |message| DataError::Value {
+            path: path.into(),
+            row,
+            column: name.clone(),
+            message,
+        };
+        let x: f64 = (field.parse().ok()).ok_or_else(|| bad(format!("'{field}' is not a number")))?;
+        let limit = if *slot == Slot::T { MAX_ABS_TIME } else { MAX_ABS_VALUE };
+        if let Some(why) = refusal(x, limit) {
+            return Err(bad(why));
+        }
+        if let (Slot::T, Some(&last)) = (slot, log.t.last())
+            && x <= last
+        {
+            return Err(bad(format!(
+                "time {} is not after the previous row's {}",
+                short(x),
+                short(last)
+            )));
+        }
         match *slot {
             Slot::T => log.t.push(x),
             Slot::Q(i) => log.q[q0 + i] = x,

@@ -28,6 +28,7 @@ use super::filter::{differentiate_columns, filtfilt_columns};
 use super::raw::RawLog;
 use super::warning::ReadWarning;
 use crate::dynamics::Samples;
+use crate::numfmt::short;
 use serde::Serialize;
 
 /// A step this many times the median step (or longer) is a gap.
@@ -221,8 +222,8 @@ fn as_prepared(raw: RawLog) -> Result<Dataset, DataError> {
             column: "t".into(),
             message: format!(
                 "time {} is not after the previous row's {}",
-                raw.t[r + 1],
-                raw.t[r]
+                short(raw.t[r + 1]),
+                short(raw.t[r])
             ),
         });
     }
@@ -256,7 +257,7 @@ fn drop_repeats(raw: RawLog, report: &mut FileReport) -> Result<RawLog, DataErro
                 path: raw.path.clone(),
                 row: k + 1,
                 column: "t".into(),
-                message: format!("time {} goes back from {}", raw.t[k], raw.t[last]),
+                message: format!("time {} goes back from {}", short(raw.t[k]), short(raw.t[last])),
             });
         }
         let repeat = raw.t[k] == raw.t[last]

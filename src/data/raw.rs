@@ -84,13 +84,27 @@ pub(crate) fn check_value(
         array: array.into(),
         message: format!("row {row}: {message}"),
     };
+    match refusal(v, limit) {
+        Some(why) => Err(bad(why)),
+        None => Ok(v),
+    }
+}
+
+/// Why a value read from a log is refused, if it is: not finite, or
+/// beyond `limit` in magnitude ([`MAX_ABS_VALUE`], [`MAX_ABS_TIME`]). One
+/// rule for every reader; the number is written short (`1e300`).
+pub(crate) fn refusal(v: f64, limit: f64) -> Option<String> {
     if !v.is_finite() {
-        return Err(bad(format!("non-finite value {v}")));
+        Some(format!("non-finite value {v}"))
+    } else if v.abs() > limit {
+        Some(format!(
+            "{} is beyond ±{}",
+            crate::numfmt::short(v),
+            crate::numfmt::short(limit)
+        ))
+    } else {
+        None
     }
-    if v.abs() > limit {
-        return Err(bad(format!("{v} is beyond ±{limit:e}")));
-    }
-    Ok(v)
 }
 
 /// Where each robot joint is among the `order` of a file's columns

@@ -4,6 +4,7 @@
 //! that have no floating-base meaning yet are refused by name.
 
 use momentlmi::data::floating::FloatingLog;
+use momentlmi::data::floating::lay_end_to_end;
 use momentlmi::data::floating_csv::read_floating_csv;
 use momentlmi::dynamics::FreeFlyer;
 use momentlmi::dynamics::sidecar::{Sidecar, SidecarFloating};
@@ -121,7 +122,7 @@ pub fn reading_options(read: &super::ReadChoice) -> [(&'static str, bool); 3] {
 /// checked against `ff`, with samples and a contact wrench; `what` names
 /// the option in errors. Refused before reading when the files could need
 /// more than `max_gib` in memory (a sample's numbers take at most 4× its
-/// text).
+/// text). Laid end to end as fixed-base files are (times increasing).
 pub fn read_logs(
     ff: &FreeFlyer,
     paths: &[PathBuf],
@@ -161,7 +162,11 @@ pub fn read_logs(
             }
             Ok(log)
         })
-        .collect()
+        .collect::<Result<Vec<_>, String>>()
+        .map(|mut logs| {
+            lay_end_to_end(&mut logs);
+            logs
+        })
 }
 
 /// The regressor's parameter vector: every body's, then each friction

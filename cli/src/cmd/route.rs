@@ -6,7 +6,7 @@
 
 use super::floating::Robot;
 use super::{diagnose, floating_diagnose, floating_identify, floating_predict, floating_simulate};
-use super::{identify, predict, simulate};
+use super::{excite, export, identify, predict, simulate};
 
 /// The robot a command names, as its floating-base test sees it.
 fn robot<'a>(spec: &'a str, sidecar: Option<&'a std::path::Path>, flag: bool) -> Robot<'a> {
@@ -72,6 +72,35 @@ pub fn simulate(a: &simulate::SimulateArgs) -> i32 {
             Err(e) => failed(e),
         },
         Ok(false) => simulate::run(a),
+        Err(e) => failed(e),
+    }
+}
+
+/// A command that has no floating-base form yet: a floating base (the
+/// sidecar's `[floating_base]` table) is refused by name before anything
+/// runs, rather than treated as fixed to the world.
+fn fixed_only(command: &str, r: &super::args::RobotArgs) -> Result<(), String> {
+    match robot(&r.robot, r.sidecar.as_deref(), false).is_floating()? {
+        true => Err(format!(
+            "{command} is not built for a floating base yet ('{}' has a [floating_base] table in its sidecar; docs/floating-base.md, \"Not yet built\"); it would weld the base to the world",
+            r.robot
+        )),
+        false => Ok(()),
+    }
+}
+
+/// `momentlmi export`: a fixed base only.
+pub fn export(a: &export::ExportArgs) -> i32 {
+    match fixed_only("export", &a.robot) {
+        Ok(()) => export::run(a),
+        Err(e) => failed(e),
+    }
+}
+
+/// `momentlmi excite`: a fixed base only.
+pub fn excite(a: &excite::ExciteArgs) -> i32 {
+    match fixed_only("excite", &a.robot) {
+        Ok(()) => excite::run(a),
         Err(e) => failed(e),
     }
 }
