@@ -125,7 +125,11 @@ fn with_cell(text: &str, row: usize, column: &str, value: &str) -> String {
 fn values_beyond_the_readers_limits_and_time_going_back_are_named() {
     let ff = solo();
     let text = short_log(&ff).to_csv(&ff).unwrap();
-    let err = |t: &str| floating_from_csv(&ff, t, "log.csv").unwrap_err().to_string();
+    let err = |t: &str| {
+        floating_from_csv(&ff, t, "log.csv")
+            .unwrap_err()
+            .to_string()
+    };
     // the limits every fixed-base reader applies (±1e8; time ±1e12)
     for (column, value) in [
         ("base_wx", "1e200"),
@@ -142,9 +146,19 @@ fn values_beyond_the_readers_limits_and_time_going_back_are_named() {
         assert!(e.len() < 200, "a number written in full: {e}");
     }
     // a time that does not increase, named by row
-    let t2 = text.lines().nth(2).unwrap().split(',').next().unwrap().to_string();
+    let t2 = text
+        .lines()
+        .nth(2)
+        .unwrap()
+        .split(',')
+        .next()
+        .unwrap()
+        .to_string();
     let e = err(&with_cell(&text, 3, "t", &t2));
-    assert!(e.contains("row 3") && e.contains("'t'") && e.contains("not after"), "{e}");
+    assert!(
+        e.contains("row 3") && e.contains("'t'") && e.contains("not after"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -155,7 +169,10 @@ fn check_applies_the_same_limits_to_a_log_built_in_memory() {
     let nv = ff.nv();
     wild.v[4 * nv + 3] = 1e200;
     let e = wild.check(&ff).unwrap_err().to_string();
-    assert!(e.contains("v: sample 4, entry 3") && e.contains("1e200"), "{e}");
+    assert!(
+        e.contains("v: sample 4, entry 3") && e.contains("1e200"),
+        "{e}"
+    );
     let mut back = log.clone();
     back.t[3] = back.t[1];
     let e = back.check(&ff).unwrap_err().to_string();
@@ -170,7 +187,10 @@ fn logs_are_laid_end_to_end_as_fixed_base_files_are() {
     let mut logs = vec![one.clone(), one.clone(), one];
     momentlmi::data::floating::lay_end_to_end(&mut logs);
     let t: Vec<f64> = logs.iter().flat_map(|l| l.t.iter().copied()).collect();
-    assert!(t.windows(2).all(|w| w[1] > w[0]), "times increase across files");
+    assert!(
+        t.windows(2).all(|w| w[1] > w[0]),
+        "times increase across files"
+    );
     let step = logs[0].t[1] - logs[0].t[0];
     let last = *logs[0].t.last().unwrap();
     assert!((logs[1].t[0] - (last + step)).abs() < 1e-12);

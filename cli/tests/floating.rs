@@ -348,12 +348,17 @@ fn floating_logs_take_the_readers_limits_and_follow_each_other() {
         if cmd == "predict" {
             args.extend(["--out", out_s]);
         }
-        refused(&args, &["wild.csv", "row 7", "'base_wx'", "1e200 is beyond"]);
+        refused(
+            &args,
+            &["wild.csv", "row 7", "'base_wx'", "1e200 is beyond"],
+        );
     }
     assert!(!out.exists());
     // two files: the second laid after the first, as fixed-base files are
     let log = log.to_str().unwrap();
-    ok(&["predict", "--robot", &robot, "--data", log, "--data", log, "--out", out_s]);
+    ok(&[
+        "predict", "--robot", &robot, "--data", log, "--data", log, "--out", out_s,
+    ]);
     let t: Vec<f64> = std::fs::read_to_string(&out)
         .unwrap()
         .lines()
@@ -369,9 +374,26 @@ fn export_and_excite_refuse_a_floating_base_by_name() {
     let dir = TempDir::new("floating-export-excite");
     let robot = solo();
     let (xml, csv) = (dir.0.join("s.xml"), dir.0.join("s.csv"));
-    let export = ["export", "--robot", &robot, "--mjcf-out", xml.to_str().unwrap()];
-    refused(&export, &["export is not built for a floating base", "[floating_base]"]);
-    let excite = ["excite", "--robot", &robot, "--seconds", "1", "--out", csv.to_str().unwrap()];
+    let export = [
+        "export",
+        "--robot",
+        &robot,
+        "--mjcf-out",
+        xml.to_str().unwrap(),
+    ];
+    refused(
+        &export,
+        &["export is not built for a floating base", "[floating_base]"],
+    );
+    let excite = [
+        "excite",
+        "--robot",
+        &robot,
+        "--seconds",
+        "1",
+        "--out",
+        csv.to_str().unwrap(),
+    ];
     refused(&excite, &["excite is not built for a floating base"]);
     assert!(!xml.exists() && !csv.exists());
     // with no sidecar the URDF is a fixed-base robot, as the user said

@@ -7,8 +7,8 @@
 
 use super::error::DataError;
 use super::raw::{MAX_ABS_TIME, MAX_ABS_VALUE, refusal};
-use crate::numfmt::short;
 use crate::dynamics::{ContactWrench, DynamicsError, FreeFlyer, WrenchFrame};
+use crate::numfmt::short;
 
 /// The wrenches measured at one frame over a log.
 #[derive(Clone, Debug, PartialEq)]
@@ -162,7 +162,11 @@ fn check_array(name: &str, x: &[f64], samples: usize, width: usize) -> Result<()
             ),
         });
     }
-    let limit = if name == "t" { MAX_ABS_TIME } else { MAX_ABS_VALUE };
+    let limit = if name == "t" {
+        MAX_ABS_TIME
+    } else {
+        MAX_ABS_VALUE
+    };
     for (i, &v) in x.iter().enumerate() {
         if let Some(why) = refusal(v, limit) {
             return Err(DataError::Log {

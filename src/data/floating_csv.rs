@@ -15,8 +15,8 @@
 use super::error::DataError;
 use super::floating::{ContactChannel, FloatingLog};
 use super::raw::{MAX_ABS_TIME, MAX_ABS_VALUE, MAX_ROWS, refusal};
-use crate::numfmt::short;
 use crate::dynamics::{FreeFlyer, WrenchFrame};
+use crate::numfmt::short;
 use std::collections::HashMap;
 
 const BASE_Q: [&str; 7] = ["x", "y", "z", "qx", "qy", "qz", "qw"];
@@ -338,8 +338,13 @@ fn push_row(
             column: name.clone(),
             message,
         };
-        let x: f64 = (field.parse().ok()).ok_or_else(|| bad(format!("'{field}' is not a number")))?;
-        let limit = if *slot == Slot::T { MAX_ABS_TIME } else { MAX_ABS_VALUE };
+        let x: f64 =
+            (field.parse().ok()).ok_or_else(|| bad(format!("'{field}' is not a number")))?;
+        let limit = if *slot == Slot::T {
+            MAX_ABS_TIME
+        } else {
+            MAX_ABS_VALUE
+        };
         if let Some(why) = refusal(x, limit) {
             return Err(bad(why));
         }

@@ -257,7 +257,11 @@ fn drop_repeats(raw: RawLog, report: &mut FileReport) -> Result<RawLog, DataErro
                 path: raw.path.clone(),
                 row: k + 1,
                 column: "t".into(),
-                message: format!("time {} goes back from {}", short(raw.t[k]), short(raw.t[last])),
+                message: format!(
+                    "time {} goes back from {}",
+                    short(raw.t[k]),
+                    short(raw.t[last])
+                ),
             });
         }
         let repeat = raw.t[k] == raw.t[last]

@@ -34,7 +34,7 @@ enum Entry {
 /// links, which stay) is staged beside its target and renamed onto it: a
 /// reader sees the old files or the whole new set. Standard output (`-`,
 /// `/dev/stdout`), a character device or a FIFO is written in place, whole,
-/// after the renames; a folder, a block device or a socket is refused by
+/// before the renames; a folder, a block device or a socket is refused by
 /// name ([`Target`]). A command that fails before committing leaves
 /// nothing (the temporary files are removed when the `Staged` is dropped,
 /// and by [`crate::tempfiles::remove_all`] on a signal). Commits into the
@@ -55,10 +55,12 @@ impl Staged {
 
     /// Nothing staged yet, and none of `inputs` (the files the command
     /// reads) may be staged as an output.
-    pub fn protecting<'a>(inputs: impl IntoIterator<Item = &'a Path>) -> Self {
+    pub fn protecting(inputs: impl IntoIterator<Item = impl AsRef<Path>>) -> Self {
         Self {
             files: vec![],
-            inputs: inputs.into_iter().map(Path::to_path_buf).collect(),
+            inputs: (inputs.into_iter())
+                .map(|p| p.as_ref().to_path_buf())
+                .collect(),
         }
     }
 
@@ -111,8 +113,10 @@ impl Staged {
         Ok(())
     }
 
-    /// Puts every staged output in place: the regular files renamed
-    /// together (their folders locked meanwhile), then the streams written;
+    /// Puts every staged output in place: the streams written first (a
+    /// stream that cannot take them, `/dev/full` or a closed pipe, fails the
+    /// commit before any file is renamed: the files stay as they were), then
+    /// the regular files renamed together (their folders locked meanwhile);
     /// returns their paths as given.
     pub fn commit(self) -> Result<Vec<PathBuf>, DataError> {
         let mut renames = vec![];
@@ -125,11 +129,11 @@ impl Staged {
             }
             done.push(named);
         }
-        let _locks = lock_folders(renames.iter().map(|(_, to)| to.as_path()))?;
-        crate::tempfiles::persist_all(renames).map_err(|(to, e)| io(&to)(e))?;
         for (temp, to, named) in streams {
             write_stream(temp, to.as_deref()).map_err(io(&named))?;
         }
+        let _locks = lock_folders(renames.iter().map(|(_, to)| to.as_path()))?;
+        crate::tempfiles::persist_all(renames).map_err(|(to, e)| io(&to)(e))?;
         Ok(done)
     }
 }
@@ -225,9 +229,19 @@ fn same_target(input: &Path, target: &Target) -> bool {
     }
 }
 
-/// Whether two paths name the same file (by canonical path when both exist,
-/// else textually after canonicalising the directory).
+/// Whether two paths name the same file: by identity when both are regular
+/// files (the same device and inode on Unix, so a hard link or another spelling is
+/// caught), else by canonical path, else textually after canonicalising the
+/// directory.
 pub fn same_file(a: &Path, b: &Path) -> bool {
+    #[cfg(unix)]
+    if let (Ok(x), Ok(y)) = (std::fs::metadata(a), std::fs::metadata(b))
+        && x.is_file()
+        && y.is_file()
+    {
+        use std::os::unix::fs::MetadataExt;
+        return (x.dev(), x.ino()) == (y.dev(), y.ino());
+    }
     let canon = |p: &Path| -> PathBuf {
         if let Ok(c) = p.canonicalize() {
             return c;

@@ -343,6 +343,16 @@ impl Sidecar {
     pub fn read(path: &Path) -> Result<Self, DynamicsError> {
         Self::parse(&read_text(path)?, &path.display().to_string())
     }
+
+    /// The `[data] mapping` file, resolved against the folder of the
+    /// sidecar at `path` (where it was read from, if anywhere).
+    pub fn mapping_path(&self, path: Option<&Path>) -> Option<std::path::PathBuf> {
+        let m = self.data.as_ref()?.mapping.as_ref()?;
+        Some(
+            path.and_then(Path::parent)
+                .map_or_else(|| m.into(), |dir| dir.join(m)),
+        )
+    }
 }
 
 /// Fixed-length arrays read exactly: TOML `[1, 2, 3]` for a pair is an

@@ -30,6 +30,22 @@ pub struct MeshPaths {
     pub ros_package_path: bool,
 }
 
+/// Every mesh file `robot` names (collision and visual shapes) that
+/// `paths` resolves, each once: the files a command reading the URDF may
+/// open, which none of its outputs may be.
+pub fn mesh_files(robot: &super::Robot, paths: &MeshPaths) -> Vec<PathBuf> {
+    let shapes = (robot.links.iter()).flat_map(|l| l.collisions.iter().chain(&l.visuals));
+    let mut out: Vec<PathBuf> = shapes
+        .filter_map(|s| match &s.geometry {
+            super::Geometry::Mesh { filename, .. } => paths.resolve(filename).ok(),
+            _ => None,
+        })
+        .collect();
+    out.sort();
+    out.dedup();
+    out
+}
+
 impl MeshPaths {
     /// Meshes of the URDF at `urdf`, with extra package folders, and
     /// `ROS_PACKAGE_PATH`.

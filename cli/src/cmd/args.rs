@@ -40,6 +40,31 @@ impl RobotArgs {
         super::load_robot(&self.robot, self.sidecar.as_deref(), &self.package_path)
     }
 
+    /// The files loading this robot reads, which none of the command's
+    /// outputs may be: the URDF, the meshes it names, the sidecar and the
+    /// sidecar's `[data] mapping`. A file that cannot be read now is left
+    /// out (loading it names the problem).
+    pub fn input_files(&self) -> Vec<PathBuf> {
+        use momentlmi::urdf::mesh::{MeshPaths, mesh_files};
+        let mut out = vec![];
+        let urdf = std::path::Path::new(&self.robot);
+        if urdf.is_file() {
+            out.push(urdf.to_path_buf());
+            if let Ok((_, robot)) = momentlmi::urdf::read_file(urdf) {
+                out.extend(mesh_files(
+                    &robot,
+                    &MeshPaths::for_urdf(urdf, &self.package_path),
+                ));
+            }
+        }
+        if let Some(s) = &self.sidecar {
+            out.push(s.clone());
+            let sidecar = momentlmi::dynamics::sidecar::Sidecar::read(s).ok();
+            out.extend(sidecar.and_then(|sc| sc.mapping_path(Some(s))));
+        }
+        out
+    }
+
     /// The logs `paths` read for the joints `names` ([`super::read_data`]:
     /// a data error hints at this robot's sidecar when it may explain it).
     pub fn read(

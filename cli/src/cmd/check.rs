@@ -124,10 +124,13 @@ fn checked(file: &Path, opts: &CheckArgs) -> Result<i32, String> {
             out.display()
         ));
     }
-    let named: Vec<&Path> = std::iter::once(file)
-        .chain(opts.sidecar.as_deref())
-        .collect();
-    let inputs = super::input_files(&named, &[]);
+    let robot_args = super::args::RobotArgs {
+        robot: file.display().to_string(),
+        sidecar: opts.sidecar.clone(),
+        no_sidecar: opts.sidecar.is_none(),
+        package_path: opts.package_path.clone(),
+    };
+    let inputs = super::input_files(&robot_args, &[], &[]);
     for out in opts.repair.iter().chain(&opts.out) {
         if let Some(i) = inputs.iter().find(|i| same_file(i, out)) {
             return Err(format!(
@@ -206,11 +209,11 @@ fn write_plots(
     report: &UrdfReport,
     meshes: &mut Meshes,
     dir: &Path,
-    inputs: &[&Path],
+    inputs: &[std::path::PathBuf],
 ) -> Result<(), String> {
     use crate::plots::geometry::{LinkFigure, file_name, link_svg};
     let folder = super::OutDir::create(dir)?;
-    let mut staged = Staged::protecting(inputs.iter().copied());
+    let mut staged = Staged::protecting(inputs);
     let mut taken = std::collections::HashSet::new();
     for r in &report.links {
         let Some(link) = robot.links.iter().find(|l| l.name == r.name) else {

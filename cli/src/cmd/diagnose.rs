@@ -112,10 +112,10 @@ fn write_outputs(
     dg: &Diagnosis,
     text: &str,
     (dir, model_out): (Option<&Path>, Option<&Path>),
-    inputs: &[&Path],
+    inputs: &[std::path::PathBuf],
 ) -> Result<(), String> {
     let folder = dir.map(super::OutDir::create).transpose()?;
-    let mut staged = Staged::protecting(inputs.iter().copied());
+    let mut staged = Staged::protecting(inputs);
     let e = |e: momentlmi::data::DataError| e.to_string();
     if let Some(path) = model_out {
         let model = serde_json::to_string_pretty(&dg.model).map_err(|e| e.to_string())?;
@@ -187,15 +187,12 @@ pub fn run(a: &DiagnoseArgs) -> i32 {
 }
 
 /// The files the command reads, which no output may be.
-fn inputs<'a>(a: &'a DiagnoseArgs) -> Vec<&'a Path> {
+fn inputs(a: &DiagnoseArgs) -> Vec<std::path::PathBuf> {
     let files: Vec<&Path> = (a.data.iter().chain(&a.repeats).chain(&a.nominal_data))
         .map(|p| p.as_path())
-        .chain(a.robot.sidecar.as_deref())
+        .chain(a.read.mapping.as_deref())
         .collect();
-    super::input_files(
-        &files,
-        &[a.robot.robot.as_str(), a.nominal.as_deref().unwrap_or("")],
-    )
+    super::input_files(&a.robot, &files, &[a.nominal.as_deref().unwrap_or("")])
 }
 
 /// `--model-out` is refused before the diagnosis runs when it is one of
@@ -224,7 +221,7 @@ fn check_outputs(a: &DiagnoseArgs) -> Result<(), String> {
         .filter(|r| r.is_file())
         .collect();
     let mut protected = inputs(a);
-    protected.extend(records.iter().map(|p| p.as_path()));
+    protected.extend(records);
     Staged::protecting(protected)
         .claim(path)
         .map_err(|e| format!("--model-out: {e}"))?;

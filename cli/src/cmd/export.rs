@@ -85,10 +85,10 @@ fn run_inner(a: &ExportArgs) -> Result<(), String> {
     if !a.out.outputs().any() {
         return Err("nothing to write: give --urdf-out and/or --mjcf-out".into());
     }
-    let inputs: Vec<&Path> = a.robot.sidecar.as_deref().into_iter().collect();
     let staged = Staged::protecting(super::input_files(
-        &inputs,
-        &[a.robot.robot.as_str(), a.params.as_deref().unwrap_or("")],
+        &a.robot,
+        &[],
+        &[a.params.as_deref().unwrap_or("")],
     ));
     a.out.outputs().claim(&staged)?;
     let robot = a.robot.load()?;

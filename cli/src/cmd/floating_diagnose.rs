@@ -28,13 +28,8 @@ fn diagnosis(a: &DiagnoseArgs, robot: Robot) -> Result<(), String> {
         ("--nominal-data", !a.nominal_data.is_empty()),
     ])?;
     refuse(&reading_options(&a.read.choice()))?;
-    let files: Vec<&Path> = (a.data.iter().map(|p| p.as_path()))
-        .chain(a.robot.sidecar.as_deref())
-        .collect();
-    let inputs = super::input_files(
-        &files,
-        &[a.robot.robot.as_str(), a.nominal.as_deref().unwrap_or("")],
-    );
+    let files: Vec<&Path> = a.data.iter().map(|p| p.as_path()).collect();
+    let inputs = super::input_files(&a.robot, &files, &[a.nominal.as_deref().unwrap_or("")]);
     if let Some(dir) = a.out.as_deref().filter(|d| d.exists() && !d.is_dir()) {
         return Err(format!(
             "--out {}: exists and is not a folder",

@@ -58,11 +58,12 @@ pub fn run(a: &PredictArgs) -> i32 {
 /// The output, refused early if it is one of the inputs.
 fn staged_output(a: &PredictArgs) -> Result<Staged, String> {
     let files: Vec<&Path> = (a.data.iter().map(|p| p.as_path()))
-        .chain(a.robot.sidecar.as_deref())
+        .chain(a.read.mapping.as_deref())
         .collect();
     let staged = Staged::protecting(super::input_files(
+        &a.robot,
         &files,
-        &[a.robot.robot.as_str(), a.params.as_deref().unwrap_or("")],
+        &[a.params.as_deref().unwrap_or("")],
     ));
     staged.claim(a.out.as_path()).map_err(|e| e.to_string())?;
     Ok(staged)

@@ -95,14 +95,8 @@ fn fixed(a: &SimulateArgs) -> Result<(), String> {
 
 /// The outputs (the CSV and its record), refused early if either is an input.
 fn staged_outputs(a: &SimulateArgs) -> Result<Staged, String> {
-    let files: Vec<&Path> = a
-        .robot
-        .sidecar
-        .as_deref()
-        .into_iter()
-        .chain(a.trajectory.as_deref())
-        .collect();
-    let staged = Staged::protecting(super::input_files(&files, &[a.robot.robot.as_str()]));
+    let files: Vec<&Path> = a.trajectory.as_deref().into_iter().collect();
+    let staged = Staged::protecting(super::input_files(&a.robot, &files, &[]));
     for p in [a.out.as_path(), &record_path(a.out.as_path())] {
         staged.claim(p).map_err(|e| e.to_string())?;
     }

@@ -13,7 +13,7 @@ use super::error::DynamicsError;
 use super::sidecar::Sidecar;
 use super::urdf::model_from_robot;
 use crate::urdf::mesh::MeshPaths;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// The registry of built-in robots: one line per robot.
 const BUILT_IN: &[BuiltIn] = &[cheetah3::ENTRY];
@@ -73,11 +73,7 @@ pub fn load_robot_with(
         .map_err(|e| name_the_sidecar(e, spec, sidecar))?
         .with_urdf_geometry(&robot, MeshPaths::for_urdf(p, package_paths));
     described.sidecar = sidecar.map(|s| s.display().to_string());
-    described.data_mapping = sc.data.as_ref().and_then(|d| d.mapping.as_ref()).map(|m| {
-        sidecar
-            .and_then(Path::parent)
-            .map_or_else(|| PathBuf::from(m), |dir| dir.join(m))
-    });
+    described.data_mapping = sc.mapping_path(sidecar);
     Ok(described)
 }
 

@@ -78,10 +78,11 @@ fn exports_claimed(a: &IdentifyArgs) -> Result<Option<momentlmi::data::Staged>, 
         return Ok(None);
     }
     let files: Vec<&Path> = (a.data.iter().chain(&a.validate).map(|p| p.as_path()))
-        .chain(a.robot.sidecar.as_deref())
+        .chain(a.read.mapping.as_deref())
+        .chain(a.with_effects.as_deref())
         .collect();
-    let specs = [a.robot.robot.as_str(), a.prior.as_deref().unwrap_or("")];
-    let staged = momentlmi::data::Staged::protecting(super::input_files(&files, &specs));
+    let specs = [a.prior.as_deref().unwrap_or("")];
+    let staged = momentlmi::data::Staged::protecting(super::input_files(&a.robot, &files, &specs));
     a.export.outputs().claim(&staged)?;
     Ok(Some(staged))
 }
