@@ -741,3 +741,67 @@ fn a_cut_off_outside_what_the_log_can_filter_is_refused() {
     let r = read_logs(&[&p], &J, &opts(Some(lowest * 1.001))).unwrap();
     assert!(r.data.len() >= 3, "{}", r.data.len());
 }
+
+#[test]
+fn a_mapping_naming_a_joint_or_a_column_twice_is_refused() {
+    let e = Mapping::parse(
+        "joints = [\"a\", \"\", \"a\"]\n[q]\nsource = \"p\"\n",
+        "m.toml",
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("m.toml") && e.contains("'a' is named twice"),
+        "{e}"
+    );
+    // "" skips a column, as often as needed
+    Mapping::parse(
+        "joints = [\"a\", \"\", \"\", \"b\"]\n[q]\nsource = \"p\"\n",
+        "m.toml",
+    )
+    .unwrap();
+    let e = Mapping::parse(
+        "joints = [\"a\", \"b\"]\n[q]\nsource = \"p\"\n[tau]\ncolumns = [\"x\", \"x\"]\n",
+        "m.toml",
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("[tau]") && e.contains("'x' is given for two joints"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_value_beyond_the_limits_is_written_short() {
+    let d = dir("huge");
+    let n = 50u64;
+    let t: Vec<f64> = (0..n).map(|k| k as f64 * 5e-3).collect();
+    let mut q = vec![0.1; 2 * n as usize];
+    q[7] = -1.125e300;
+    let p = d.join("huge.npz");
+    write_npz(
+        &p,
+        &[
+            ("times", vec![n], t),
+            ("positions", vec![n, 2], q.clone()),
+            ("torques", vec![n, 2], q),
+        ],
+    );
+    let no_qd = ReadOptions {
+        mapping: Some(
+            Mapping::parse(
+                "joints = [\"a\", \"b\"]\ntime = \"times\"\n[q]\nsource = \"positions\"\n[tau]\nsource = \"torques\"\n",
+                "m.toml",
+            )
+            .unwrap(),
+        ),
+        ..ReadOptions::default()
+    };
+    let e = read_logs(&[&p], &J, &no_qd).unwrap_err().to_string();
+    assert!(
+        e.contains("huge.npz") && e.contains("row 4") && e.contains("-1.125e300 is beyond ±1e8"),
+        "{e}"
+    );
+    assert!(e.len() < 200, "{e}");
+}

@@ -436,6 +436,35 @@ fn options_out_of_range_name_the_flag() {
         String::from_utf8_lossy(&o.stderr)
     );
     assert!(out.exists());
+    // a robot's total mass beyond any robot's: named, before the solver
+    let (data, _) = leg_data(&d);
+    for m in ["1e300", "0", "-5", "2e6"] {
+        let o = run(&[
+            "identify",
+            "--robot",
+            "cheetah3-leg",
+            "--data",
+            data.to_str().unwrap(),
+            "--total-mass",
+            m,
+        ]);
+        refused(&o, "--total-mass", m);
+        refused(&o, "at most 1e6 kg", m);
+        assert_eq!(o.status.code(), Some(2), "{m}");
+    }
+    // a cut-off that is no frequency, even on prepared data that need none
+    for c in ["-5", "0", "nan"] {
+        let args = [
+            "identify",
+            "--robot",
+            "cheetah3-leg",
+            "--data",
+            data.to_str().unwrap(),
+        ];
+        let o = run(&[&args[..], &["--cutoff-hz", c]].concat());
+        refused(&o, "--cutoff-hz", c);
+        refused(&o, "must be a positive frequency", c);
+    }
     let sdpa = d.join("small.dat-s");
     std::fs::write(
         &sdpa,

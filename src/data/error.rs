@@ -109,6 +109,17 @@ pub enum DataError {
         /// What is wrong.
         message: String,
     },
+    /// A reading option that means nothing whatever the file (a cut-off
+    /// that is not a positive frequency).
+    #[error("reading option {option} = {value}: {message}")]
+    Option {
+        /// The option (`cutoff_hz`).
+        option: &'static str,
+        /// Its value, written short.
+        value: String,
+        /// What it must be.
+        message: String,
+    },
     /// The record could not be serialised.
     #[error("{path}: {source}")]
     Json {

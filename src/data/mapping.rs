@@ -148,6 +148,11 @@ impl Mapping {
             message,
         };
         self.time_scale().map_err(bad)?;
+        if let Some(j) = twice(self.joints.iter().flatten().filter(|j| !j.is_empty())) {
+            return Err(bad(format!(
+                "joints: '{j}' is named twice (each joint is one column; \"\" skips a column)"
+            )));
+        }
         for k in Kind::ALL {
             let Some(q) = self.quantity(k) else { continue };
             if q.source.is_some() == q.columns.is_some() {
@@ -164,6 +169,12 @@ impl Mapping {
                     k.prefix(),
                     c.len(),
                     j.len()
+                )));
+            }
+            if let Some(c) = twice(q.columns.iter().flatten()) {
+                return Err(bad(format!(
+                    "[{}]: column '{c}' is given for two joints",
+                    k.prefix()
                 )));
             }
             if k == Kind::Tau && q.unit.is_some() {
@@ -236,4 +247,10 @@ impl Quantity {
         s.contains("{joint}")
             .then(|| joints.iter().map(|j| s.replace("{joint}", j)).collect())
     }
+}
+
+/// The first name that comes twice among `names`.
+fn twice<'a>(names: impl Iterator<Item = &'a String>) -> Option<&'a String> {
+    let mut seen = std::collections::HashSet::new();
+    names.into_iter().find(|n| !seen.insert(*n))
 }

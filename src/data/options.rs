@@ -21,6 +21,24 @@ pub struct ReadOptions {
     pub mapping_is_default: bool,
 }
 
+impl ReadOptions {
+    /// The options that mean nothing whatever the file, refused before a
+    /// file is read (a cut-off that is not a positive frequency; one given
+    /// with prepared files that need none is still checked). Each file's own
+    /// range (above a sample's worth, below Nyquist) is checked where the
+    /// file is prepared.
+    pub fn check(&self) -> Result<(), super::DataError> {
+        match self.cutoff_hz {
+            Some(c) if !(c > 0.0 && c.is_finite()) => Err(super::DataError::Option {
+                option: "cutoff_hz",
+                value: crate::numfmt::short(c),
+                message: "must be a positive frequency (Hz)".into(),
+            }),
+            _ => Ok(()),
+        }
+    }
+}
+
 impl Default for ReadOptions {
     fn default() -> Self {
         Self {

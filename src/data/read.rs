@@ -34,6 +34,7 @@ pub fn read_logs(
     opts: &ReadOptions,
 ) -> Result<Reading, DataError> {
     use rayon::prelude::*;
+    opts.check()?;
     // each file read and prepared on its own (in parallel), then joined in order
     let each = paths
         .par_iter()
@@ -62,6 +63,7 @@ pub fn read_raw_logs(
     opts: &ReadOptions,
 ) -> Result<Vec<RawLog>, DataError> {
     use rayon::prelude::*;
+    opts.check()?;
     (paths.par_iter())
         .map(|p| read_raw(p, joints, opts))
         .collect::<Vec<_>>()
@@ -168,6 +170,7 @@ pub fn prepare_logs(
     joints: &[&str],
     opts: &ReadOptions,
 ) -> Result<Reading, DataError> {
+    opts.check()?;
     let each = (raws.into_iter())
         .map(|raw| prepare(raw, &prep_of(opts), opts.require_tau))
         .collect::<Result<Vec<_>, _>>()?;

@@ -498,6 +498,21 @@ fn bounding_of(
     })
 }
 
+/// Why a robot's total mass (kg) cannot be one, if it cannot: it must be
+/// positive and at most [`MAX_ABS_PARAM`](crate::moments::MAX_ABS_PARAM)
+/// (10⁶ kg, the bound of every inertial parameter; beyond it the SDP's
+/// scaling fails). Written `= 1e300: …` for the caller to prefix its name.
+pub fn total_mass_refusal(m: f64) -> Option<String> {
+    let max = crate::moments::MAX_ABS_PARAM;
+    (!(m > 0.0 && m <= max)).then(|| {
+        format!(
+            "= {}: must be positive and at most {} kg (the bound of every inertial parameter)",
+            crate::numfmt::short(m),
+            crate::numfmt::short(max)
+        )
+    })
+}
+
 /// The sidecar's `[identify]` and per-body levels, with the bodies checked.
 fn identification_facts(
     model: &Model,
@@ -507,12 +522,8 @@ fn identification_facts(
 ) -> Result<IdentificationFacts, DynamicsError> {
     let names = model.body_names();
     let spec = sidecar.identify.clone().unwrap_or_default();
-    if let Some(m) = spec.total_mass
-        && !(m > 0.0 && m.is_finite())
-    {
-        return Err(err(format!(
-            "[identify] total_mass = {m}: must be positive"
-        )));
+    if let Some(why) = spec.total_mass.and_then(total_mass_refusal) {
+        return Err(err(format!("[identify] total_mass {why}")));
     }
     if let Some(w) = spec.prior_mass_weight
         && !(w >= 0.0 && w.is_finite())

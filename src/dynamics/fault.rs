@@ -115,7 +115,8 @@ impl fmt::Display for ModelFault {
             StribeckVelocity(v) => {
                 write!(
                     f,
-                    "the Stribeck velocity {v:e} rad/s must be positive and ≤ 1e6"
+                    "the Stribeck velocity {} rad/s must be positive and ≤ 1e6",
+                    crate::numfmt::short(*v)
                 )
             }
             UnnamedJoint => f.write_str("a movable joint without a name"),

@@ -48,7 +48,7 @@ mod warning;
 pub use bounding::Bounding;
 pub use crba::{crba, energy, forward_dynamics, transform_matrix};
 pub use data::{BodyRegressor, Data};
-pub use description::{IdentificationFacts, ParamChoice, RobotDescription};
+pub use description::{IdentificationFacts, ParamChoice, RobotDescription, total_mass_refusal};
 pub use error::DynamicsError;
 pub use fault::ModelFault;
 pub use free_flyer::{BaseState, FreeFlyer, FreeFlyerData, QUATERNION_TOLERANCE};

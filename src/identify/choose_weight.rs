@@ -183,7 +183,7 @@ impl Identification<'_> {
         weights.sort_by(f64::total_cmp);
         if let Some(&w) = weights.iter().find(|w| !(w.is_finite() && **w > 0.0)) {
             return Err(IdentifyError::WeightGrid {
-                what: format!("{w:e} is not positive and finite"),
+                what: format!("{} is not positive and finite", crate::numfmt::short(w)),
             });
         }
         if weights.is_empty() {

@@ -198,7 +198,7 @@ impl super::Identification<'_> {
         self.fixed_base("Identification::choose_model")?;
         if let Some(&w) = weights.iter().find(|w| !(w.is_finite() && **w >= 0.0)) {
             return Err(IdentifyError::WeightGrid {
-                what: format!("{w:e} is not positive and finite"),
+                what: format!("{} is not positive and finite", crate::numfmt::short(w)),
             });
         }
         let own = [self.weight];

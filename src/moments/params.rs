@@ -323,7 +323,7 @@ pub enum ParamFault {
         value: f64,
     },
     /// A number beyond ±[`MAX_ABS_PARAM`].
-    #[error("{name} = {value:e} is beyond ±{:e}", MAX_ABS_PARAM)]
+    #[error("{name} = {} is beyond ±{}", crate::numfmt::short(*value), crate::numfmt::short(MAX_ABS_PARAM))]
     TooLarge {
         /// Which parameter.
         name: &'static str,

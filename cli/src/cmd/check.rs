@@ -257,7 +257,13 @@ pub struct CheckArgs {
     pub repair_to: RepairTarget,
     /// The repair's relative margin ε: 1e-6 lands next to the boundary (often a rod or a thin
     /// plate); 1e-3 keeps the thinnest direction at about 3 % of the link's length scale.
-    #[arg(long, default_value_t = 1e-6, requires = "repair", value_name = "EPS")]
+    #[arg(
+        long,
+        default_value_t = 1e-6,
+        requires = "repair",
+        value_name = "EPS",
+        allow_negative_numbers = true
+    )]
     pub repair_margin: f64,
     /// Bounding ellipsoids for links by name, from a sidecar's `[[body]] name, bounding`
     /// (link frame); they replace the ones of the link's shapes.

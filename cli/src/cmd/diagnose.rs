@@ -53,7 +53,7 @@ pub struct DiagnoseArgs {
     #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u64).range(3..=50))]
     pub folds: u64,
     /// The memory the diagnosis may plan for (GiB): beyond it the compliance searches are skipped, or the diagnosis refused.
-    #[arg(long, default_value_t = 8.0)]
+    #[arg(long, default_value_t = 8.0, allow_negative_numbers = true)]
     pub max_memory_gib: f64,
     #[command(flatten)]
     pub floating: FloatingArgs,

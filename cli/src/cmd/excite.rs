@@ -26,7 +26,7 @@ pub struct ExciteArgs {
     #[arg(long, default_value_t = 5)]
     pub harmonics: usize,
     /// The wished base frequency (Hz), rounded so that --seconds holds whole periods.
-    #[arg(long, default_value_t = 0.2)]
+    #[arg(long, default_value_t = 0.2, allow_negative_numbers = true)]
     pub base_hz: f64,
     /// Random seeds the search starts from.
     #[arg(long, default_value_t = 8)]
@@ -46,7 +46,7 @@ pub struct ExciteArgs {
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Sample rate of --out (Hz).
-    #[arg(long, default_value_t = 1000.0)]
+    #[arg(long, default_value_t = 1000.0, allow_negative_numbers = true)]
     pub rate: f64,
     /// Print the report as JSON.
     #[arg(long)]

@@ -125,13 +125,15 @@ impl ReadChoice<'_> {
                 };
                 format!("{from}: {e}")
             })?;
-        Ok(momentlmi::data::ReadOptions {
+        let opts = momentlmi::data::ReadOptions {
             cutoff_hz: self.cutoff_hz,
             velocity: self.velocity,
             require_tau,
             mapping,
             mapping_is_default: self.mapping.is_none(),
-        })
+        };
+        opts.check().map_err(|e| format!("--cutoff-hz: {e}"))?;
+        Ok(opts)
     }
 }
 

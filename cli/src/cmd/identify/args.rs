@@ -95,13 +95,13 @@ pub struct IdentifyArgs {
     #[arg(long = "level", value_name = "BODY=LEVEL")]
     pub levels: Vec<String>,
     /// The known total mass of every body, links and rotors (kg).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub total_mass: Option<f64>,
     /// Two bodies with the same parameters, A,B (repeatable).
     #[arg(long = "equal", value_name = "A,B")]
     pub equal: Vec<String>,
     /// The memory identification may plan for (GiB); a larger problem is refused before it starts.
-    #[arg(long, default_value_t = 8.0)]
+    #[arg(long, default_value_t = 8.0, allow_negative_numbers = true)]
     pub max_memory_gib: f64,
     /// Each parameter's range (minimum and maximum) over every model that satisfies the
     /// constraints and fits the data with a residual norm at most (1 + DELTA) × the

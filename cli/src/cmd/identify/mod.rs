@@ -235,8 +235,8 @@ fn identification<'r>(
             .map_err(|e| format!("--level {l}: {e}"))?;
     }
     if let Some(m) = a.total_mass {
-        if !(m > 0.0 && m.is_finite()) {
-            return Err(format!("--total-mass must be positive and finite, got {m}"));
+        if let Some(why) = momentlmi::dynamics::total_mass_refusal(m) {
+            return Err(format!("--total-mass {why}"));
         }
         id = id.constrain(move |p, v| {
             p.add_eq(v.total_mass(), m)?;
