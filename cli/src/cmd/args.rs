@@ -65,6 +65,20 @@ impl RobotArgs {
         out
     }
 
+    /// The files a command reads, to protect from its outputs: this
+    /// robot's ([`Self::input_files`]), `files` (logs, `--mapping`,
+    /// trajectories, repeats, …), and each of `specs` (a parameter choice:
+    /// `cad`, `true` or a path) that names an existing file.
+    pub fn inputs_with(&self, files: &[&std::path::Path], specs: &[&str]) -> Vec<PathBuf> {
+        let named = (specs.iter().map(std::path::Path::new)).filter(|p| p.is_file());
+        let given = files
+            .iter()
+            .copied()
+            .chain(named)
+            .map(std::path::Path::to_path_buf);
+        self.input_files().into_iter().chain(given).collect()
+    }
+
     /// The logs `paths` read for the joints `names` ([`super::read_data`]:
     /// a data error hints at this robot's sidecar when it may explain it).
     pub fn read(

@@ -130,7 +130,7 @@ fn checked(file: &Path, opts: &CheckArgs) -> Result<i32, String> {
         no_sidecar: opts.sidecar.is_none(),
         package_path: opts.package_path.clone(),
     };
-    let inputs = super::input_files(&robot_args, &[], &[]);
+    let inputs = robot_args.inputs_with(&[], &[]);
     for out in opts.repair.iter().chain(&opts.out) {
         if let Some(i) = inputs.iter().find(|i| same_file(i, out)) {
             return Err(format!(

@@ -192,7 +192,8 @@ fn inputs(a: &DiagnoseArgs) -> Vec<std::path::PathBuf> {
         .map(|p| p.as_path())
         .chain(a.read.mapping.as_deref())
         .collect();
-    super::input_files(&a.robot, &files, &[a.nominal.as_deref().unwrap_or("")])
+    a.robot
+        .inputs_with(&files, &[a.nominal.as_deref().unwrap_or("")])
 }
 
 /// `--model-out` is refused before the diagnosis runs when it is one of

@@ -95,7 +95,7 @@ fn run_inner(a: &ExciteArgs) -> Result<(), String> {
     if pair.is_some() && a.pool > 0 {
         return Err("--separate designs a motion by the separation of two effects; --pool bounds an information criterion: give one of them".into());
     }
-    let mut staged = Staged::protecting(super::input_files(&a.robot, &[], &[]));
+    let mut staged = Staged::protecting(a.robot.inputs_with(&[], &[]));
     if let Some(out) = a.out.as_deref() {
         for p in [out, &record_path(out)] {
             staged.claim(p).map_err(|e| e.to_string())?;

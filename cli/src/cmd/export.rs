@@ -85,11 +85,10 @@ fn run_inner(a: &ExportArgs) -> Result<(), String> {
     if !a.out.outputs().any() {
         return Err("nothing to write: give --urdf-out and/or --mjcf-out".into());
     }
-    let staged = Staged::protecting(super::input_files(
-        &a.robot,
-        &[],
-        &[a.params.as_deref().unwrap_or("")],
-    ));
+    let staged = Staged::protecting(
+        a.robot
+            .inputs_with(&[], &[a.params.as_deref().unwrap_or("")]),
+    );
     a.out.outputs().claim(&staged)?;
     let robot = a.robot.load()?;
     if a.params.as_deref().is_some_and(|p| p == "true") {

@@ -29,7 +29,9 @@ fn diagnosis(a: &DiagnoseArgs, robot: Robot) -> Result<(), String> {
     ])?;
     refuse(&reading_options(&a.read.choice()))?;
     let files: Vec<&Path> = a.data.iter().map(|p| p.as_path()).collect();
-    let inputs = super::input_files(&a.robot, &files, &[a.nominal.as_deref().unwrap_or("")]);
+    let inputs = a
+        .robot
+        .inputs_with(&files, &[a.nominal.as_deref().unwrap_or("")]);
     if let Some(dir) = a.out.as_deref().filter(|d| d.exists() && !d.is_dir()) {
         return Err(format!(
             "--out {}: exists and is not a folder",

@@ -19,7 +19,9 @@ pub fn run(a: &PredictArgs, robot: Robot) -> Result<(), String> {
     refuse(&[("--mujoco-view", a.mujoco_view)])?;
     refuse(&reading_options(&a.read.choice()))?;
     let files: Vec<&Path> = a.data.iter().map(|p| p.as_path()).collect();
-    let inputs = super::input_files(&a.robot, &files, &[a.params.as_deref().unwrap_or("")]);
+    let inputs = a
+        .robot
+        .inputs_with(&files, &[a.params.as_deref().unwrap_or("")]);
     let mut staged = Staged::protecting(inputs);
     staged.claim(a.out.as_path()).map_err(|e| e.to_string())?;
     let (mut ff, _) = robot.load()?;

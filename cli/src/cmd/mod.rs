@@ -308,21 +308,6 @@ pub(crate) fn parameters_without_effects_for(
     Ok((model, friction))
 }
 
-/// The files a command reads, to protect from its outputs: the robot's
-/// ([`args::RobotArgs::input_files`]: URDF, meshes, sidecar, its mapping),
-/// `files` (logs, `--mapping`, trajectories, repeats, …), and each of
-/// `specs` (a parameter choice: `cad`, `true` or a path) that names an
-/// existing file.
-pub(crate) fn input_files(
-    robot: &args::RobotArgs,
-    files: &[&Path],
-    specs: &[&str],
-) -> Vec<std::path::PathBuf> {
-    let named = specs.iter().map(|s| Path::new(*s)).filter(|p| p.is_file());
-    let given = files.iter().copied().chain(named).map(Path::to_path_buf);
-    robot.input_files().into_iter().chain(given).collect()
-}
-
 /// An output folder: created if missing, and removed again (when still
 /// empty) unless the command [`OutDir::keep`]s it, so a failed command
 /// leaves no empty folder behind.

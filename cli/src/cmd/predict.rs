@@ -60,11 +60,10 @@ fn staged_output(a: &PredictArgs) -> Result<Staged, String> {
     let files: Vec<&Path> = (a.data.iter().map(|p| p.as_path()))
         .chain(a.read.mapping.as_deref())
         .collect();
-    let staged = Staged::protecting(super::input_files(
-        &a.robot,
-        &files,
-        &[a.params.as_deref().unwrap_or("")],
-    ));
+    let staged = Staged::protecting(
+        a.robot
+            .inputs_with(&files, &[a.params.as_deref().unwrap_or("")]),
+    );
     staged.claim(a.out.as_path()).map_err(|e| e.to_string())?;
     Ok(staged)
 }

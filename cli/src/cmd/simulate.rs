@@ -96,7 +96,7 @@ fn fixed(a: &SimulateArgs) -> Result<(), String> {
 /// The outputs (the CSV and its record), refused early if either is an input.
 fn staged_outputs(a: &SimulateArgs) -> Result<Staged, String> {
     let files: Vec<&Path> = a.trajectory.as_deref().into_iter().collect();
-    let staged = Staged::protecting(super::input_files(&a.robot, &files, &[]));
+    let staged = Staged::protecting(a.robot.inputs_with(&files, &[]));
     for p in [a.out.as_path(), &record_path(a.out.as_path())] {
         staged.claim(p).map_err(|e| e.to_string())?;
     }

@@ -82,7 +82,7 @@ fn exports_claimed(a: &IdentifyArgs) -> Result<Option<momentlmi::data::Staged>, 
         .chain(a.with_effects.as_deref())
         .collect();
     let specs = [a.prior.as_deref().unwrap_or("")];
-    let staged = momentlmi::data::Staged::protecting(super::input_files(&a.robot, &files, &specs));
+    let staged = momentlmi::data::Staged::protecting(a.robot.inputs_with(&files, &specs));
     a.export.outputs().claim(&staged)?;
     Ok(Some(staged))
 }
