@@ -31,7 +31,7 @@ pub mod identify;
 mod io;
 mod linalg;
 pub mod moments;
-mod numfmt;
+pub mod numfmt;
 pub mod sdpa;
 pub mod sim;
 pub mod tempfiles;

@@ -201,3 +201,34 @@ fn logs_are_laid_end_to_end_as_fixed_base_files_are() {
     momentlmi::data::floating::lay_end_to_end(&mut pair);
     assert_eq!(pair[1].t, later.t);
 }
+
+#[test]
+fn a_line_without_end_and_a_huge_column_name_make_short_errors() {
+    let ff = solo();
+    // no line break in 17 MiB: refused at the fixed-base reader's line limit
+    let one_line = "a".repeat((1 << 24) + 10);
+    let e = floating_from_csv(&ff, &one_line, "zero.csv")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("zero.csv") && e.contains("a line longer than"),
+        "{e}"
+    );
+    assert!(e.len() < 300, "{} bytes", e.len());
+    // a 1 MB column name is quoted by its start and length
+    let text = short_log(&ff).to_csv(&ff).unwrap();
+    let name = "x".repeat(1 << 20);
+    let e = err_of(&ff, &text.replacen("base_qw", &name, 1));
+    assert!(
+        e.contains("bytes)") && e.len() < 600,
+        "{} bytes: {}",
+        e.len(),
+        &e[..300]
+    );
+}
+
+fn err_of(ff: &FreeFlyer, text: &str) -> String {
+    floating_from_csv(ff, text, "log.csv")
+        .unwrap_err()
+        .to_string()
+}

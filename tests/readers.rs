@@ -719,7 +719,21 @@ fn a_cut_off_outside_what_the_log_can_filter_is_refused() {
     let d = dir("cutoff");
     let p = d.join("run.npz");
     motion_npz(&p, &irregular(2000, 0.0));
-    for c in [1e-300, 0.0, -1.0, 150.0, f64::NAN] {
+    // no frequency at all: refused before a file is read
+    for c in [0.0, -1.0, f64::NAN] {
+        let e = read_logs(&[&p], &J, &opts(Some(c))).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                DataError::Option {
+                    option: "cutoff_hz",
+                    ..
+                }
+            ),
+            "{c:e}: {e}"
+        );
+    }
+    for c in [1e-300, 150.0] {
         let e = read_logs(&[&p], &J, &opts(Some(c))).unwrap_err();
         let DataError::Cutoff {
             lowest_hz, longest, ..
@@ -804,4 +818,18 @@ fn a_value_beyond_the_limits_is_written_short() {
         "{e}"
     );
     assert!(e.len() < 200, "{e}");
+}
+
+/// A mapping that never ends (`/dev/zero`) is refused at its size limit,
+/// not read until memory runs out.
+#[cfg(unix)]
+#[test]
+fn a_mapping_without_end_is_refused_at_its_size_limit() {
+    let e = Mapping::read(Path::new("/dev/zero"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("/dev/zero") && e.contains("a mapping is at most"),
+        "{e}"
+    );
 }

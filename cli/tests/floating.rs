@@ -401,3 +401,37 @@ fn export_and_excite_refuse_a_floating_base_by_name() {
     ok(&fixed);
     assert!(xml.exists());
 }
+
+#[test]
+fn a_fit_that_loses_the_robot_and_a_memory_limit_of_nan_are_refused() {
+    let dir = TempDir::new("floating-collapse");
+    let (_, text, header) = short_log(&dir);
+    let robot = solo();
+    // one row at the readers' limit in every velocity: the fit collapses
+    let mut lines: Vec<String> = text.lines().map(String::from).collect();
+    let mut cells: Vec<String> = lines[21].split(',').map(String::from).collect();
+    for (c, name) in header.iter().enumerate() {
+        if name.starts_with("qd_")
+            || ["base_vx", "base_wx", "base_wy", "base_wz"].contains(&name.as_str())
+        {
+            cells[c] = "1e8".into();
+        }
+    }
+    lines[21] = cells.join(",");
+    let wild = dir.write("edge.csv", &(lines.join("\n") + "\n"));
+    let wild = wild.to_str().unwrap();
+    refused(
+        &["identify", "--robot", &robot, "--data", wild],
+        &["whole robot a mass of", "do not determine it"],
+    );
+    let log = dir.0.join("log.csv");
+    let log = log.to_str().unwrap();
+    for g in ["NaN", "inf", "-1", "1e300"] {
+        for cmd in ["identify", "diagnose"] {
+            refused(
+                &[cmd, "--robot", &robot, "--data", log, "--max-memory-gib", g],
+                &["--max-memory-gib", "must be a positive number of GiB"],
+            );
+        }
+    }
+}

@@ -465,6 +465,45 @@ fn options_out_of_range_name_the_flag() {
         refused(&o, "--cutoff-hz", c);
         refused(&o, "must be a positive frequency", c);
     }
+    // values with an exponent and a sign reach the flag's own check
+    let leg = [
+        "identify",
+        "--robot",
+        "cheetah3-leg",
+        "--data",
+        data.to_str().unwrap(),
+    ];
+    for (flag, v, words) in [
+        ("--total-mass", "-1e-300", "-1e-300: must be positive"),
+        ("--cutoff-hz", "-1e-3", "must be a positive frequency"),
+        ("--weight", "-1e-3", "'weight' = -0.001"),
+        ("--max-memory-gib", "2e9", "at most 1e9"),
+        ("--max-memory-gib", "1e300", "--max-memory-gib 1e300"),
+    ] {
+        let o = run(&[&leg[..], &[flag, v]].concat());
+        refused(&o, flag, v);
+        refused(&o, words, v);
+    }
+    let o = run(&[
+        "diagnose",
+        "--robot",
+        "cheetah3-leg",
+        "--data",
+        data.to_str().unwrap(),
+        "--folds",
+        "-3",
+    ]);
+    refused(&o, "'--folds <FOLDS>'", "--folds -3");
+    let o = run(&[
+        "simulate",
+        "--robot",
+        "cheetah3-leg",
+        "--seconds",
+        "1e300",
+        "--out",
+        d.join("s.csv").to_str().unwrap(),
+    ]);
+    refused(&o, "'seconds' = 1e300: 1e303 samples", "--seconds 1e300");
     let sdpa = d.join("small.dat-s");
     std::fs::write(
         &sdpa,

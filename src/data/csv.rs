@@ -25,9 +25,16 @@ pub const MAX_LINE_BYTES: usize = 1 << 24;
 
 /// A reader that fails on a line longer than [`MAX_LINE_BYTES`], so that one
 /// record can never take more memory than that.
-struct LineLimit<R> {
+pub(crate) struct LineLimit<R> {
     inner: R,
     line: usize,
+}
+
+impl<R> LineLimit<R> {
+    /// `inner`, failing on a line longer than [`MAX_LINE_BYTES`].
+    pub(crate) fn new(inner: R) -> Self {
+        Self { inner, line: 0 }
+    }
 }
 
 impl<R: std::io::Read> std::io::Read for LineLimit<R> {

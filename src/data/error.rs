@@ -1,5 +1,7 @@
 //! Errors of data files.
 
+use crate::numfmt::clip;
+
 /// Errors of data files, each naming the file and, where it applies, the
 /// row (1-based data row, the header is row 0) and column.
 #[derive(Debug, thiserror::Error)]
@@ -15,7 +17,11 @@ pub enum DataError {
         source: std::io::Error,
     },
     /// A required column is missing.
-    #[error("{path}: missing column '{column}' (header has: {header})")]
+    #[error(
+        "{path}: missing column '{}' (header has: {})",
+        clip(column),
+        clip(header)
+    )]
     MissingColumn {
         /// The file.
         path: String,
@@ -40,7 +46,7 @@ pub enum DataError {
         source: crate::dynamics::DynamicsError,
     },
     /// A bad value.
-    #[error("{path}: row {row}, column '{column}': {message}")]
+    #[error("{path}: row {row}, column '{}': {}", clip(column), clip(message))]
     Value {
         /// The file.
         path: String,
@@ -52,7 +58,7 @@ pub enum DataError {
         message: String,
     },
     /// A malformed row.
-    #[error("{path}: row {row}: {message}")]
+    #[error("{path}: row {row}: {}", clip(message))]
     Row {
         /// The file.
         path: String,

@@ -12,6 +12,7 @@
 //!
 //! Any column order; every other column is an error naming it.
 
+use super::csv::MAX_COLUMNS;
 use super::error::DataError;
 use super::floating::{ContactChannel, FloatingLog};
 use super::raw::{MAX_ABS_TIME, MAX_ABS_VALUE, MAX_ROWS, refusal};
@@ -239,7 +240,7 @@ fn floating_from_reader(
 ) -> Result<FloatingLog, DataError> {
     let mut rdr = ::csv::ReaderBuilder::new()
         .trim(::csv::Trim::All)
-        .from_reader(reader);
+        .from_reader(super::csv::LineLimit::new(reader));
     let row_err = |row, message: String| DataError::Row {
         path: path.into(),
         row,
@@ -249,6 +250,12 @@ fn floating_from_reader(
         .iter()
         .map(str::to_string)
         .collect();
+    if header.len() > MAX_COLUMNS {
+        return Err(row_err(
+            0,
+            format!("{} columns; at most {MAX_COLUMNS}", header.len()),
+        ));
+    }
     let (slots, contacts, has_tau) = slots(ff, &header, path)?;
     check_forces(&slots, &contacts, path)?;
     let mut log = empty_log(&contacts, has_tau);

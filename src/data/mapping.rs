@@ -121,14 +121,17 @@ impl Mapping {
             path: p.clone(),
             source,
         };
-        let len = std::fs::metadata(path).map_err(io)?.len();
-        if len > MAX_MAPPING_BYTES {
-            return Err(DataError::Mapping {
-                path: p,
-                message: format!("{len} bytes; a mapping is at most {MAX_MAPPING_BYTES}"),
-            });
-        }
-        let text = std::fs::read_to_string(path).map_err(io)?;
+        let bytes = crate::io::read_capped(path, MAX_MAPPING_BYTES).map_err(|e| match e {
+            crate::io::Capped::Io(source) => io(source),
+            crate::io::Capped::TooLarge(len) => DataError::Mapping {
+                path: p.clone(),
+                message: format!("{len} bytes or more; a mapping is at most {MAX_MAPPING_BYTES}"),
+            },
+        })?;
+        let text = String::from_utf8(bytes).map_err(|_| DataError::Mapping {
+            path: p.clone(),
+            message: "not UTF-8 text".into(),
+        })?;
         Self::parse(&text, &p)
     }
 

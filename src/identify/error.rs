@@ -188,6 +188,16 @@ pub enum IdentifyError {
         /// What is not finite.
         what: &'static str,
     },
+    /// A floating-base fit that leaves the whole robot without a mass (at
+    /// most a millionth of its URDF's): the logs did not determine it.
+    #[error(
+        "the fit gives the whole robot a mass of {} kg: the logs do not determine it (a few samples far larger than the rest — velocities or accelerations out of scale — can dominate the fit)",
+        crate::numfmt::sig4(*mass)
+    )]
+    NoWholeMass {
+        /// The fitted whole-robot mass (kg).
+        mass: f64,
+    },
     /// A sum or product that left the floating-point range.
     #[error("{what} overflowed")]
     Overflow {

@@ -135,7 +135,15 @@ pub fn fit_floating(
             p.pseudo_inertia().symmetric_eigenvalues().min()
         })
         .collect();
-    let whole_body = whole_body(&model, &train[0].q[..ff.nq()])?;
+    let q0 = &train[0].q[..ff.nq()];
+    let whole_body = whole_body(&model, q0)?;
+    // a millionth of the URDF's mass is no robot: the fit collapsed
+    let described = self::whole_body(ff, q0)?.mass;
+    if !(whole_body.mass > 1e-6 * described && whole_body.com.iter().all(|c| c.is_finite())) {
+        return Err(IdentifyError::NoWholeMass {
+            mass: whole_body.mass,
+        });
+    }
     let train_rms = floating_rms_of(ff, &solved.theta, train)?;
     let validation = if validate.is_empty() {
         None

@@ -331,7 +331,7 @@ pub enum ParamFault {
         value: f64,
     },
     /// A negative mass (kg).
-    #[error("mass = {0} kg is negative")]
+    #[error("mass = {} kg is negative", crate::numfmt::sig4(*.0))]
     NegativeMass(f64),
 }
 

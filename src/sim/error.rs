@@ -39,8 +39,9 @@ pub enum SimError {
     },
     /// A duration that gives too few or too many samples at the rate.
     #[error(
-        "simulation setting 'seconds' = {}: {samples} samples at this rate; a data set needs at least 2 and at most {most}",
-        crate::numfmt::short(*seconds)
+        "simulation setting 'seconds' = {}: {} samples at this rate; a data set needs at least 2 and at most {most}",
+        crate::numfmt::short(*seconds),
+        crate::numfmt::sig4(*samples)
     )]
     Samples {
         /// The duration (s).

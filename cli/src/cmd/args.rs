@@ -116,7 +116,7 @@ pub struct ReadArgs {
     pub mapping: Option<PathBuf>,
     /// Low-pass cut-off (Hz) applied to q and τ alike of raw logs (files without q̈)
     /// [default: chosen from the data's spectrum, and reported].
-    #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
+    #[arg(long, value_name = "HZ", allow_hyphen_values = true)]
     pub cutoff_hz: Option<f64>,
     /// Where a raw log's q̇ comes from: differentiate (the filtered q; a logged velocity is
     /// often filtered by the drive and lags) or file (the file's, through the same low-pass).

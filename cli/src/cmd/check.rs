@@ -262,7 +262,7 @@ pub struct CheckArgs {
         default_value_t = 1e-6,
         requires = "repair",
         value_name = "EPS",
-        allow_negative_numbers = true
+        allow_hyphen_values = true
     )]
     pub repair_margin: f64,
     /// Bounding ellipsoids for links by name, from a sidecar's `[[body]] name, bounding`

@@ -50,10 +50,10 @@ pub struct DiagnoseArgs {
     pub model_out: Option<PathBuf>,
     /// Blocks of time the data are cut in for cross-validation when they are one or two
     /// files (3 to 10 files: one fold each).
-    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u64).range(3..=50))]
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u64).range(3..=50), allow_hyphen_values = true)]
     pub folds: u64,
     /// The memory the diagnosis may plan for (GiB): beyond it the compliance searches are skipped, or the diagnosis refused.
-    #[arg(long, default_value_t = 8.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 8.0, allow_hyphen_values = true)]
     pub max_memory_gib: f64,
     #[command(flatten)]
     pub floating: FloatingArgs,

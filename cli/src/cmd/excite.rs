@@ -16,26 +16,26 @@ pub struct ExciteArgs {
     #[command(flatten)]
     pub robot: RobotArgs,
     /// Length (s): a whole number of periods.
-    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 10.0, allow_hyphen_values = true)]
     pub seconds: f64,
     /// What is maximised: d (log det of the information), e (its smallest eigenvalue) or
     /// cond (minus the log of its condition number).
     #[arg(long, default_value = "d")]
     pub criterion: String,
     /// Harmonics per joint.
-    #[arg(long, default_value_t = 5)]
+    #[arg(long, default_value_t = 5, allow_hyphen_values = true)]
     pub harmonics: usize,
     /// The wished base frequency (Hz), rounded so that --seconds holds whole periods.
-    #[arg(long, default_value_t = 0.2, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.2, allow_hyphen_values = true)]
     pub base_hz: f64,
     /// Random seeds the search starts from.
-    #[arg(long, default_value_t = 8)]
+    #[arg(long, default_value_t = 8, allow_hyphen_values = true)]
     pub seeds: usize,
     /// The first seed.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_hyphen_values = true)]
     pub seed: u64,
     /// Random candidate motions of the convex D- or E-optimal pool design (0: none).
-    #[arg(long, default_value_t = 0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0, allow_hyphen_values = true)]
     pub pool: usize,
     /// Two effects A,B the diagnosis reported as tied: design the motion that tells them
     /// apart (the smaller share of one's predicted torques the other cannot fit, maximised)
@@ -46,7 +46,7 @@ pub struct ExciteArgs {
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Sample rate of --out (Hz).
-    #[arg(long, default_value_t = 1000.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1000.0, allow_hyphen_values = true)]
     pub rate: f64,
     /// Print the report as JSON.
     #[arg(long)]

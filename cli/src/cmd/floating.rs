@@ -128,6 +128,7 @@ pub fn read_logs(
     paths: &[PathBuf],
     (what, max_gib): (&str, f64),
 ) -> Result<Vec<FloatingLog>, String> {
+    super::gib(max_gib)?;
     let bytes: u64 = (paths.iter())
         .filter_map(|p| std::fs::metadata(p).ok())
         .map(|m| m.len())
@@ -135,8 +136,9 @@ pub fn read_logs(
     let need = 4.0 * bytes as f64 / (1u64 << 30) as f64;
     if need > max_gib {
         return Err(format!(
-            "{what}: {:.1} GB of logs could need {need:.1} GiB in memory, over the limit of {max_gib} GiB (--max-memory-gib)",
-            bytes as f64 / 1e9
+            "{what}: {:.1} GB of logs could need {need:.1} GiB in memory, over the limit of {} GiB (--max-memory-gib)",
+            bytes as f64 / 1e9,
+            momentlmi::numfmt::short(max_gib)
         ));
     }
     (paths.iter())

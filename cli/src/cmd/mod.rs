@@ -345,13 +345,19 @@ impl Drop for OutDir {
     }
 }
 
-/// `--max-memory-gib` in bytes (positive and finite).
+/// The largest `--max-memory-gib` (an exbibyte: far beyond any machine,
+/// and its bytes still fit a u64).
+const MAX_GIB: f64 = 1e9;
+
+/// `--max-memory-gib` in bytes (positive, at most [`MAX_GIB`]).
 pub(crate) fn gib(g: f64) -> Result<u64, String> {
-    if g > 0.0 && g.is_finite() && g < 1e9 {
+    if g > 0.0 && g <= MAX_GIB {
         Ok((g * (1u64 << 30) as f64) as u64)
     } else {
         Err(format!(
-            "--max-memory-gib {g}: must be a positive number of GiB"
+            "--max-memory-gib {}: must be a positive number of GiB, at most {}",
+            momentlmi::numfmt::short(g),
+            momentlmi::numfmt::short(MAX_GIB)
         ))
     }
 }

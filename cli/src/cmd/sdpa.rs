@@ -33,7 +33,7 @@ pub struct SdpaArgs {
     /// many GiB by the reader's estimate (docs/inputs.md); a dense PSD
     /// block of side n needs about 14·n⁴ bytes, a sparse one decomposed
     /// that of its cliques.
-    #[arg(long, value_name = "GIB", default_value_t = momentlmi::sdpa::DEFAULT_MAX_MEMORY_GIB, allow_negative_numbers = true)]
+    #[arg(long, value_name = "GIB", default_value_t = momentlmi::sdpa::DEFAULT_MAX_MEMORY_GIB, allow_hyphen_values = true)]
     pub max_memory_gib: f64,
 }
 

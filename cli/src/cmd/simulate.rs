@@ -17,7 +17,7 @@ pub struct SimulateArgs {
     #[command(flatten)]
     pub robot: RobotArgs,
     /// Duration in seconds (1 kHz sampling; 200 Hz for a floating base).
-    #[arg(long, default_value_t = 20.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 20.0, allow_hyphen_values = true)]
     pub seconds: f64,
     /// Drive the robot along the trajectory in FILE instead of its default excitation:
     /// a CSV with columns t, q_<joint>…, qd_<joint>…, qdd_<joint>… for every joint of the
@@ -37,20 +37,20 @@ pub struct SimulateArgs {
     #[arg(long)]
     pub out: PathBuf,
     /// Random seed.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_hyphen_values = true)]
     pub seed: u64,
     /// Torque noise σ in N·m (default 0.3; a floating base's joint torques 0.02); 0 writes
     /// exact, unprocessed states (a floating base: every sensor exact).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     pub noise: Option<f64>,
     /// Cut-off (Hz) of the offline filter of q, q̇, q̈ (default: 30 Hz, or 10× the top
     /// frequency of a multi-sine excitation when lower, at least 5 Hz; 30 Hz with
     /// --trajectory).
-    #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
+    #[arg(long, value_name = "HZ", allow_hyphen_values = true)]
     pub cutoff: Option<f64>,
     /// Bits per turn of the link-side encoders of revolute joints without a rotor
     /// (default 19; joints with a rotor have 2^14 counts per motor turn).
-    #[arg(long, value_name = "BITS", allow_negative_numbers = true)]
+    #[arg(long, value_name = "BITS", allow_hyphen_values = true)]
     pub link_encoder_bits: Option<f64>,
     /// Effect parameter override NAME=VALUE (repeatable), e.g. `stiffness=300`;
     /// the defaults come from the robot's description.

@@ -35,7 +35,7 @@ pub struct IdentifyArgs {
     /// strongest prior within the noise of the lowest held-out RMS. [default: auto when
     /// the friction law is chosen from the data (no --friction, or --friction auto), else
     /// 1e-6]
-    #[arg(long, allow_negative_numbers = true, value_name = "W|auto")]
+    #[arg(long, allow_hyphen_values = true, value_name = "W|auto")]
     pub weight: Option<String>,
     /// How the prior enters the objective: euclidean (w‖π − π̂‖²), entropic
     /// (w Σ d(J‖Ĵ), the log-det divergence of each body's pseudo-inertia: unit and
@@ -53,7 +53,7 @@ pub struct IdentifyArgs {
     /// links): a fixed-base arm's torques see no link mass alone, so the data's
     /// corrections go to the first moments and inertias instead (e.g. 1e-2 with --weight
     /// 1e-6; a weight under 100 × --weight holds nothing and is warned about).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     pub prior_mass_weight: Option<f64>,
     /// Friction terms identified per joint, comma-separated: viscous, coulomb, offset (a
     /// torque sensor's bias, either sign), asymmetric (Coulomb stronger one way), load
@@ -76,7 +76,7 @@ pub struct IdentifyArgs {
     #[arg(long, value_enum, default_value_t = JointWeighting::Equal)]
     pub joint_weighting: JointWeighting,
     /// The Stribeck velocity v_s of the stribeck term (rad/s).
-    #[arg(long, value_name = "RAD_PER_S", allow_negative_numbers = true,
+    #[arg(long, value_name = "RAD_PER_S", allow_hyphen_values = true,
           default_value_t = momentlmi::dynamics::DEFAULT_STRIBECK_VELOCITY)]
     pub stribeck_velocity: f64,
     /// Held-out validation data (repeatable, like --data).
@@ -95,13 +95,13 @@ pub struct IdentifyArgs {
     #[arg(long = "level", value_name = "BODY=LEVEL")]
     pub levels: Vec<String>,
     /// The known total mass of every body, links and rotors (kg).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     pub total_mass: Option<f64>,
     /// Two bodies with the same parameters, A,B (repeatable).
     #[arg(long = "equal", value_name = "A,B")]
     pub equal: Vec<String>,
     /// The memory identification may plan for (GiB); a larger problem is refused before it starts.
-    #[arg(long, default_value_t = 8.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 8.0, allow_hyphen_values = true)]
     pub max_memory_gib: f64,
     /// Each parameter's range (minimum and maximum) over every model that satisfies the
     /// constraints and fits the data with a residual norm at most (1 + DELTA) × the
@@ -109,7 +109,7 @@ pub struct IdentifyArgs {
     /// (the default): each parameter's own 95 % interval, (1 + δ)² = 1 + χ²₁(0.95) / (rows −
     /// rank). Two conic problems per parameter, solved in parallel.
     #[arg(long, value_name = "DELTA", num_args = 0..=1, default_missing_value = "auto",
-          allow_negative_numbers = true)]
+          allow_hyphen_values = true)]
     pub bounds: Option<String>,
     /// The directions the data do not excite, one per line (else one summary line).
     #[arg(long)]
