@@ -169,18 +169,7 @@ impl Identifiability {
         let smin = (s.iter().cloned())
             .filter(|&v| v > tol)
             .fold(f64::INFINITY, f64::min);
-        let v = svd.V();
-        // the null space: each dead column alone, then the live columns' own
-        let null_space: Vec<Vec<f64>> = ((0..p).filter(|j| !live.contains(j)))
-            .map(|j| (0..p).map(|k| if k == j { 1.0 } else { 0.0 }).collect())
-            .chain((rank..live.len()).map(|k| {
-                let mut x = vec![0.0; p];
-                for (c, &j) in live.iter().enumerate() {
-                    x[j] = v[(c, k)];
-                }
-                x
-            }))
-            .collect();
+        let null_space = null_space(svd.V(), &live, p, rank);
         let base = base_columns(&rs, &norms_live, rank)?;
         let (base_columns, combinations) = (base.columns, base.combinations);
         // the unseen directions: each dead column alone, then the base's own
@@ -266,6 +255,23 @@ impl Identifiability {
         }
         s
     }
+}
+
+/// An orthonormal basis of the null space of the column-scaled regressor
+/// (`p` columns, those in `live` not zero, of rank `rank`; `v` the right
+/// singular vectors of the live columns): each dead column alone, then the
+/// live columns' own.
+fn null_space(v: faer::MatRef<'_, f64>, live: &[usize], p: usize, rank: usize) -> Vec<Vec<f64>> {
+    ((0..p).filter(|j| !live.contains(j)))
+        .map(|j| (0..p).map(|k| if k == j { 1.0 } else { 0.0 }).collect())
+        .chain((rank..live.len()).map(|k| {
+            let mut x = vec![0.0; p];
+            for (c, &j) in live.iter().enumerate() {
+                x[j] = v[(c, k)];
+            }
+            x
+        }))
+        .collect()
 }
 
 /// The rank of `model`'s regressor on 400 random states
