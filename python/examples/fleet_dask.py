@@ -2,10 +2,12 @@
 of a cluster, their sums merged, one SDP solved.
 
     python python/examples/fleet_dask.py [--files 8] [--seconds 10] [--workers 2]
-        [--data DIR] [--momentlmi target/release/momentlmi]
+        [--data DIR]
 
-Without --data, the logs are simulated first by the `momentlmi` command (one robot,
-a run per seed). Each Dask task reads one CSV log (NumPy), reduces it with
+It needs what `pip install ./python` installs and Dask (`pip install
+"dask[distributed]"`, the package's `fleet` extra); not the command line. Without
+--data, the logs are simulated first by `momentlmi.simulate` (one robot, a run per
+seed) and written as the command line's prepared CSV. Each Dask task reads one CSV log (NumPy), reduces it with
 `momentlmi.Reducer` and returns its sums as bytes (`to_bytes`: 73 kB for the
 leg, whatever the log's length); the client merges them (`from_bytes`, `merge`) and
 solves once. The example checks that the merged sums equal one reducer's over every
@@ -16,9 +18,7 @@ same code runs on many machines, each reading the files it can reach.
 """
 
 import argparse
-import json
 import os
-import subprocess
 import sys
 import tempfile
 import time
@@ -46,12 +46,17 @@ def reduce_file(path):
     return r.to_bytes(), r.samples
 
 
-def simulate(folder, files, seconds, binary):
+def simulate(folder, files, seconds):
+    """`files` runs of the robot (seeds 1, 2, …) written as prepared CSV logs (t, then
+    q_, qd_, qdd_, tau_<joint>), as `momentlmi simulate --out` writes them."""
+    robot = momentlmi.Robot.builtin(ROBOT)
+    header = ["t"] + [f"{p}_{j}" for p in ("q", "qd", "qdd", "tau") for j in robot.joint_names]
     paths = []
     for k in range(files):
+        d = momentlmi.simulate(robot, seconds, seed=k + 1)
         out = os.path.join(folder, f"run_{k:03d}.csv")
-        cmd = [binary, "simulate", "--robot", ROBOT, "--seconds", str(seconds), "--seed", str(k + 1), "--out", out]
-        subprocess.run(cmd, check=True, capture_output=True)
+        rows = np.column_stack([d["t"], d["q"], d["qd"], d["qdd"], d["tau"]])
+        np.savetxt(out, rows, delimiter=",", header=",".join(header), comments="", fmt="%.17g")
         paths.append(out)
     return paths
 
@@ -77,13 +82,12 @@ def main():
     ap.add_argument("--seconds", type=float, default=10.0)
     ap.add_argument("--workers", type=int, nargs="+", default=[2])
     ap.add_argument("--data", help="a folder of prepared CSV logs (default: simulated)")
-    ap.add_argument("--momentlmi", default=os.environ.get("MOMENTLMI_BIN", "target/release/momentlmi"))
     a = ap.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
         if a.data:
             paths = sorted(os.path.join(a.data, f) for f in os.listdir(a.data) if f.endswith(".csv"))
         else:
-            paths = simulate(tmp, a.files, a.seconds, a.momentlmi)
+            paths = simulate(tmp, a.files, a.seconds)
         robot = momentlmi.Robot.builtin(ROBOT)
         t0 = time.perf_counter()
         one = momentlmi.Reducer(robot)

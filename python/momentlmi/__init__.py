@@ -18,13 +18,18 @@ also tr(J Q) ≥ 0.
   solves one SDP on them.
 
 Arrays are NumPy arrays of samples, shape (N, n) in the robot's joint order
-(:attr:`Robot.joint_names`). A wrong shape or a value that is not finite raises
-``ValueError`` naming the argument; the library's errors raise
-:class:`MomentlmiError` (subclasses per kind) with the command line's messages.
+(:attr:`Robot.joint_names`), or pandas DataFrames whose columns are found by name
+(``<joint>`` or ``q_<joint>`` …), never by position. A bad argument raises a
+``ValueError`` (a wrong value) or ``TypeError`` (a wrong kind) whose message starts
+with its name; the library's errors raise :class:`MomentlmiError` (subclasses per
+kind) with the command line's messages; each warning of a report is issued as a
+:class:`MomentlmiWarning`. :class:`Robot`, :class:`Reducer` and
+:class:`IdentifyResult` pickle (multiprocessing, Dask). The rules: docs/python.md.
 """
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import tempfile
@@ -33,7 +38,7 @@ from typing import Iterable, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
-from . import _native
+from . import _args, _native
 from ._native import (
     CHECK_TOL,
     REDUCED_FORMAT_VERSION,
@@ -45,7 +50,10 @@ from ._native import (
     UrdfError,
 )
 
+__version__: str = _native.__version__
+
 __all__ = [
+    "__version__",
     "CHECK_TOL",
     "REDUCED_FORMAT_VERSION",
     "DataError",
@@ -54,6 +62,7 @@ __all__ = [
     "InertiaError",
     "ModelError",
     "MomentlmiError",
+    "MomentlmiWarning",
     "UrdfError",
     "Reducer",
     "Robot",
@@ -78,16 +87,31 @@ __all__ = [
 PathLike = Union[str, "os.PathLike[str]"]
 
 
-def _floats(x, name: str) -> np.ndarray:
-    """`x` as a C-contiguous float64 array; a ValueError naming `name` if it is not numbers."""
-    try:
-        return np.ascontiguousarray(np.asarray(x, dtype=np.float64))
-    except (TypeError, ValueError) as e:
-        raise ValueError(f"{name}: not an array of numbers ({e})") from None
+_floats = _args.floats
 
 
-def _paths(paths: Optional[Iterable[PathLike]]) -> list:
-    return [os.fspath(p) for p in (paths or [])]
+class MomentlmiWarning(UserWarning):
+    """A warning of a report (``identify``, ``Reducer.solve``, ``diagnose``,
+    ``check_urdf``), in the command line's words; ``.kind`` names it (the report's
+    ``kind``, or ``status``, ``inconsistent_bodies``, ``degenerate_body``,
+    ``identifiability``)."""
+
+    kind: str = "warning"
+
+
+def _warn(notes, stacklevel: int = 3) -> None:
+    """Each `(kind, message)` issued as a :class:`MomentlmiWarning`."""
+    for kind, message in notes:
+        w = MomentlmiWarning(message)
+        w.kind = kind
+        warnings.warn(w, stacklevel=stacklevel)
+
+
+def _text(x, name: str) -> str:
+    """A string argument (an option's name): a TypeError if it is none."""
+    if not isinstance(x, str):
+        raise TypeError(f"{name}: {x!r} is not a string")
+    return x
 
 
 # -- one body ---------------------------------------------------------------
@@ -100,7 +124,7 @@ def pseudo_inertia(pi) -> np.ndarray:
 
 def check_consistency(pi, tol: float = CHECK_TOL) -> dict:
     """The consistency report: ``verdict``, margins, ``consistent`` (J(π) ⪰ 0 within `tol`)."""
-    return json.loads(_native.consistency(_floats(pi, "pi"), float(tol)))
+    return json.loads(_native.consistency(_floats(pi, "pi"), _args.number(tol, "tol", finite=False)))
 
 
 def is_consistent(pi, tol: float = CHECK_TOL) -> bool:
@@ -113,7 +137,7 @@ def realizability(pi, center, semi_axes, rotation=None, tol: float = CHECK_TOL) 
     and `rotation` (3×3, its axes as columns; default: the body frame's)."""
     rot = np.eye(3) if rotation is None else rotation
     args = [_floats(a, n) for a, n in ((pi, "pi"), (center, "center"), (semi_axes, "semi_axes"), (rot, "rotation"))]
-    return json.loads(_native.realizability(*args, float(tol)))
+    return json.loads(_native.realizability(*args, _args.number(tol, "tol", finite=False)))
 
 
 def realizable_in(pi, center, semi_axes, rotation=None, tol: float = CHECK_TOL) -> bool:
@@ -129,7 +153,7 @@ def four_point_masses(pi) -> Tuple[np.ndarray, np.ndarray]:
 
 def nearest_consistent(pi, eps: float = 1e-6, keep_mass: bool = True) -> Tuple[np.ndarray, float]:
     """The nearest consistent π′ (J(π′) ⪰ ε·scale) and its distance (docs/math.md's metric)."""
-    return _native.nearest(_floats(pi, "pi"), float(eps), bool(keep_mass))
+    return _native.nearest(_floats(pi, "pi"), _args.number(eps, "eps"), bool(keep_mass))
 
 
 def from_pinocchio(p) -> np.ndarray:
@@ -151,10 +175,9 @@ def check_urdf_report(path: PathLike, sidecar: Optional[PathLike] = None,
     """``momentlmi check --json``'s whole report of the URDF at `path`: ``robot``,
     ``links`` (one dict per link with an inertial), ``consistent``, ``warnings`` …
     The report's warnings are also issued as Python warnings."""
-    sc = None if sidecar is None else os.fspath(sidecar)
-    text, notes = _native.check_urdf(os.fspath(path), sc, _paths(package_paths))
-    for n in notes:
-        warnings.warn(n, stacklevel=2)
+    sc = _args.optional_path(sidecar, "sidecar")
+    text, notes = _native.check_urdf(_args.path(path, "path"), sc, _args.paths(package_paths, "package_paths"))
+    _warn([("check", n) for n in notes])
     return json.loads(text)
 
 
@@ -173,10 +196,12 @@ def repair_urdf(path: PathLike, out: Optional[PathLike] = None, target: str = "c
     those not realizable in their geometry), as ``momentlmi check --repair`` writes it,
     and the names of the links repaired. With `out`, also written there, whole or not
     at all."""
-    sc = None if sidecar is None else os.fspath(sidecar)
-    text, repaired = _native.repair_urdf_text(os.fspath(path), target, float(margin), sc, _paths(package_paths))
+    sc = _args.optional_path(sidecar, "sidecar")
+    text, repaired = _native.repair_urdf_text(_args.path(path, "path"), _text(target, "target"),
+                                              _args.number(margin, "margin"), sc,
+                                              _args.paths(package_paths, "package_paths"))
     if out is not None:
-        _write_whole(os.fspath(out), text)
+        _write_whole(_args.path(out, "out"), text)
     return text, repaired
 
 
@@ -198,23 +223,36 @@ def _write_whole(path: str, text: str) -> None:
 
 class Robot:
     """A robot: its model (links, geared rotors, friction terms), prior and bounding
-    volumes. ``Robot.builtin("cheetah3-leg")`` or ``Robot.from_urdf(path, sidecar=...)``."""
+    volumes. ``Robot.builtin("cheetah3-leg")`` or ``Robot.from_urdf(path, sidecar=...)``;
+    wherever a robot is expected, a built-in robot's name or a URDF's path will do.
+
+    A Robot pickles as what it was loaded from (the built-in's name, or the URDF's,
+    the sidecar's and the package paths' absolute paths) and is loaded again when
+    unpickled: the files must be readable there and unchanged (an error if its joints,
+    bodies, friction terms or parameters differ)."""
 
     def __init__(self, native: "_native.Robot"):
         self._r = native
 
     @staticmethod
     def builtin(name: str) -> "Robot":
-        """A built-in robot by name (``cheetah3-leg``)."""
-        return Robot(_native.Robot.builtin(name))
+        """A built-in robot by name (``cheetah3-leg``); another name is a ValueError."""
+        return Robot(_native.Robot.builtin(_text(name, "name")))
 
     @staticmethod
     def from_urdf(path: PathLike, sidecar: Optional[PathLike] = None,
                   package_paths: Optional[Sequence[PathLike]] = None) -> "Robot":
         """A URDF robot; `sidecar` is its TOML (rotors, friction, bounding volumes, data
         mapping), `package_paths` the folders where ``package://`` meshes are found."""
-        sc = None if sidecar is None else os.fspath(sidecar)
-        return Robot(_native.Robot.from_urdf(os.fspath(path), sc, _paths(package_paths)))
+        sc = _args.optional_path(sidecar, "sidecar")
+        absolute = lambda p: None if p is None else os.path.abspath(p)
+        pkgs = [absolute(p) for p in _args.paths(package_paths, "package_paths")]
+        return Robot(_native.Robot.from_urdf(absolute(_args.path(path, "path")), absolute(sc), pkgs))
+
+    def __reduce__(self):
+        spec, sidecar, pkgs = self._r.load_args
+        return (_robot_again, (spec, sidecar and os.fspath(sidecar), [os.fspath(p) for p in pkgs],
+                               self._r.signature, self.params()))
 
     @property
     def joint_names(self) -> list:
@@ -240,78 +278,142 @@ class Robot:
         """The model's inertial parameters, (bodies, 10), the paper's order."""
         return self._r.params()
 
+    def _states(self, q, v, a) -> tuple:
+        """q, v, a as (N, n) arrays; DataFrames by column name (q_, qd_, qdd_ or none)."""
+        j = self.joint_names
+        return (_args.samples(q, "q", j, "q"), _args.samples(v, "v", j, "qd"),
+                _args.samples(a, "a", j, "qdd"))
+
     def rnea(self, q, v, a) -> np.ndarray:
         """Joint torques (N·m) of the rigid bodies and rotors, no friction, (N, n), at
         positions q (rad), velocities v (rad/s), accelerations a (rad/s²), each (N, n)."""
-        return self._r.rnea(_floats(q, "q"), _floats(v, "v"), _floats(a, "a"))
+        return self._r.rnea(*self._states(q, v, a))
 
     def regressor(self, q, v, a) -> np.ndarray:
         """The regressor Y, (N, n, p), with τ = Y θ (θ: 10 per body, then friction;
         :attr:`parameter_names`)."""
-        return self._r.regressor(_floats(q, "q"), _floats(v, "v"), _floats(a, "a"))
+        return self._r.regressor(*self._states(q, v, a))
 
     def predict(self, params, q, v, a) -> np.ndarray:
         """Joint torques (N·m), (N, n), of the model with identified parameters: `params`
-        an :func:`identify` report (a dict) or a parameter file's path; links, rotors and
-        every friction term, as ``momentlmi predict --params FILE`` predicts them."""
-        if isinstance(params, IdentifyResult):
-            text = params.to_json()
-        elif isinstance(params, dict):
-            text = json.dumps(params)
-        else:
-            with open(os.fspath(params), encoding="utf-8") as f:
-                text = f.read()
-        return self._r.predict(text, _floats(q, "q"), _floats(v, "v"), _floats(a, "a"))
+        an :func:`identify` result, a dict, the JSON text of one (``to_json()``) or a
+        parameter file's path; links, rotors and every friction term, as ``momentlmi
+        predict --params FILE`` predicts them."""
+        text = _args.params_text(params, "params")
+        states = self._states(q, v, a)
+        if text is None:
+            return self._r.predict(os.fspath(params), *states, from_file=True)
+        return self._r.predict(text, *states)
 
     def __repr__(self) -> str:
         return repr(self._r)
 
 
-def simulate(robot: Robot, seconds: float, effects: Sequence[str] = (), params: Sequence[str] = (),
-             seed: int = 1, noise: Optional[float] = None) -> dict:
+def _robot_again(spec: str, sidecar, package_paths: list, signature: str, params) -> Robot:
+    """A pickled :class:`Robot` loaded again, and checked to be the one pickled."""
+    r = Robot(_native.Robot.from_urdf(spec, sidecar, package_paths))
+    if r._r.signature != signature or not np.array_equal(r.params(), params):
+        raise MomentlmiError(f"unpickling a Robot: '{spec}' is not the robot that was pickled "
+                             f"(its files changed: {r._r.signature}; pickled: {signature})")
+    return r
+
+
+def _robot(x, name: str = "robot") -> Robot:
+    """A :class:`Robot`, or one loaded from a built-in robot's name or a URDF's path."""
+    if isinstance(x, Robot):
+        return x
+    if isinstance(x, str):
+        try:
+            return Robot.builtin(x)
+        except ValueError as e:
+            if not os.path.isfile(x):
+                why = str(e).split(": ", 1)[-1]
+                raise ValueError(f"{name}: {why}, and no file '{x}' (a Robot, a built-in's name or a URDF's path)") from None
+    if isinstance(x, (str, os.PathLike)):
+        return Robot.from_urdf(x)
+    raise TypeError(f"{name}: a Robot, a built-in robot's name or a URDF's path, not {type(x).__name__}")
+
+
+@contextlib.contextmanager
+def _params_file(x, name: str):
+    """A parameter choice as the library takes it: None, ``cad``, ``true`` or a file's
+    path; a result, a dict or JSON text written to a temporary ``<name>.json``."""
+    if x is None or (isinstance(x, str) and x in ("cad", "true")):
+        yield x
+        return
+    text = _args.params_text(x, name)
+    if text is None:
+        yield os.fspath(x)
+        return
+    with tempfile.TemporaryDirectory(prefix="momentlmi-") as folder:
+        path = os.path.join(folder, f"{name}.json")
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(text)
+        yield path
+
+
+def simulate(robot: Robot, seconds: float, effects: Union[str, Sequence[str]] = (),
+             params: Union[str, Sequence[str], dict] = (), seed: int = 1,
+             noise: Optional[float] = None) -> dict:
     """`seconds` of the robot's excitation, as ``momentlmi simulate`` writes it for the
     same arguments: a dict of arrays ``t`` (N,), ``q``, ``qd``, ``qdd``, ``tau`` (N, n,
-    SI units) and ``joints``. `effects` are unmodelled effects by name (``backlash``,
-    ``ripple`` …), `params` their ``NAME=VALUE`` overrides, `noise` the torque noise σ
-    (N·m; 0: exact samples)."""
-    return _native.simulate(robot._r, float(seconds), list(effects), list(params), int(seed),
-                            None if noise is None else float(noise))
+    SI units) and ``joints``. `effects` are unmodelled effects by name (a list or a
+    comma-separated string: ``"backlash,ripple"``), `params` their ``NAME=VALUE``
+    overrides (a list, a comma-separated string or a dict), `noise` the torque noise σ
+    (N·m; 0: exact samples), `seed` an integer ≥ 0."""
+    r = _robot(robot)
+    if isinstance(params, dict):
+        params = [f"{k}={v}" for k, v in params.items()]
+    return _native.simulate(r._r, _args.number(seconds, "seconds"), _args.names(effects, "effects"),
+                            _args.names(params, "params"), _args.count(seed, "seed"),
+                            None if noise is None else _args.number(noise, "noise"))
+
+
+_KEYS = {"q": "q", "qd": "qd", "qdd": "qdd", "tau": "tau"}
 
 
 def _segment(d, joints: list, name: str) -> tuple:
     """One segment (a dict of arrays, or a DataFrame with the CSV's column names) as
-    (t, q, qd, qdd, tau) arrays, those not given None."""
-    if hasattr(d, "columns"):  # a pandas DataFrame: t, q_<joint>, qd_<joint> …
-        cols = set(map(str, d.columns))
-
-        def get(p):
-            names = [f"{p}_{j}" for j in joints]
-            have = [n for n in names if n in cols]
-            if have and len(have) < len(names):
-                missing = [n for n in names if n not in cols]
-                raise ValueError(f"{name}: columns {', '.join(missing)} missing (it has {', '.join(have)})")
-            return _floats(d[names].to_numpy(), f"{name}: {p}") if have else None
-
+    (t, q, qd, qdd, tau) arrays, those not given None; labelled columns by name."""
+    if _args.is_frame(d):  # a pandas DataFrame: t, q_<joint>, qd_<joint> …
+        cols = [str(c) for c in d.columns]
         if "t" not in cols:
             raise ValueError(f"{name}: no column 't'")
-        arrays = {"t": _floats(d["t"].to_numpy(), f"{name}: t"), **{p: get(p) for p in ("q", "qd", "qdd", "tau")}}
+        arrays = {"t": _args.times(d["t"], f"{name}: t")}
+        for p in _KEYS:
+            have = [f"{p}_{j}" for j in joints if f"{p}_{j}" in cols]
+            arrays[p] = _args.samples(d, f"{name}: {p}", joints, p) if have else None
     elif isinstance(d, dict):
         unknown = set(d) - {"t", "q", "qd", "qdd", "tau", "joints"}
         if unknown:
             raise ValueError(f"{name}: unknown keys {sorted(unknown)} (t, q, qd, qdd, tau)")
-        arrays = {k: None if d.get(k) is None else _floats(d[k], f"{name}: {k}") for k in ("t", "q", "qd", "qdd", "tau")}
-        if d.get("joints") is not None and list(d["joints"]) != list(joints):
-            given = list(d["joints"])
-            if sorted(given) != sorted(joints):
-                raise ValueError(f"{name}: joints {given} are not the robot's {list(joints)}")
-            order = [given.index(j) for j in joints]  # the columns into the robot's order
-            arrays = {k: (v if k == "t" or v is None else v[..., order]) for k, v in arrays.items()}
+        order = _joint_order(d.get("joints"), joints, name)
+        arrays = {"t": None if d.get("t") is None else _args.times(d["t"], f"{name}: t")}
+        for p in _KEYS:
+            x = d.get(p)
+            if x is None:
+                arrays[p] = None
+            elif _args.is_frame(x) or _args.is_series(x):  # by its names, not `joints`
+                arrays[p] = _args.samples(x, f"{name}: {p}", joints, p)
+            else:
+                a = _floats(x, f"{name}: {p}")
+                arrays[p] = a if order is None or a.ndim == 0 or a.shape[-1] != len(order) else a[..., order]
     else:
-        raise ValueError(f"{name}: a dict of arrays or a DataFrame, not {type(d).__name__}")
+        raise TypeError(f"{name}: a dict of arrays or a DataFrame, not {type(d).__name__}")
     for k in ("t", "q"):
         if arrays[k] is None:
             raise ValueError(f"{name}: no {k}")
     return tuple(arrays[k] for k in ("t", "q", "qd", "qdd", "tau"))
+
+
+def _joint_order(given, joints: list, name: str):
+    """The columns' order into the robot's, from a segment's ``joints`` (None: as they are)."""
+    if given is None or list(given) == list(joints):
+        return None
+    given = list(given)
+    if sorted(given) != sorted(joints):
+        raise ValueError(f"{name}: joints {given} are not the robot's {list(joints)}")
+    return [given.index(j) for j in joints]
 
 
 def _segments(data, joints: list, name: str) -> list:
@@ -324,11 +426,15 @@ def _segments(data, joints: list, name: str) -> list:
 class IdentifyResult(dict):
     """An identification's report, as ``momentlmi identify --json`` writes it: a dict
     (``bodies``, ``friction``, ``training_rms``, ``validation_rms``, ``status`` …) with
-    the parameters as arrays and the command line's file text."""
+    the parameters as arrays and the command line's file text. Pickles as its text;
+    ``repr`` is one line (robot, level, status, RMS, base parameters)."""
 
     def __init__(self, text: str):
         super().__init__(json.loads(text))
         self._text = text
+
+    def __reduce__(self):
+        return (IdentifyResult, (self._text,))
 
     @property
     def params(self) -> np.ndarray:
@@ -344,29 +450,61 @@ class IdentifyResult(dict):
         parameter file ``--params`` / ``--prior`` / ``--nominal`` and :meth:`Robot.predict` take."""
         return self._text
 
+    def __repr__(self) -> str:
+        rms = lambda k: "None" if self.get(k) is None else np.array2string(np.round(self[k], 4), separator=", ")
+        ident = self.get("identifiability") or {}
+        return (f"IdentifyResult(robot={self.get('robot')!r}, constraints={self.get('constraints')!r}, "
+                f"status={self.get('status')!r}, weight={self.get('weight')}, bodies={len(self.get('bodies', []))}, "
+                f"training_rms={rms('training_rms')}, validation_rms={rms('validation_rms')}, "
+                f"base_parameters='{ident.get('rank')} of {ident.get('columns')}')")
 
-def identify(robot: Robot, data, constraints: str = "ellipsoid", prior: str = "cad",
+    __str__ = __repr__
+
+
+def _weight(weight) -> Optional[str]:
+    """`weight` as the extension takes it: None, ``auto`` or a number's text."""
+    if weight is None or (isinstance(weight, str) and weight == "auto"):
+        return weight
+    if isinstance(weight, str):
+        raise ValueError(f"weight: '{weight}' is not a number or 'auto'")
+    return repr(_args.number(weight, "weight", nonnegative=True))
+
+
+def _friction(friction) -> Optional[str]:
+    """`friction` as the extension takes it: None, ``auto`` or a comma-separated list
+    (an empty list: ``none``)."""
+    if friction is None or (isinstance(friction, str) and friction.strip() == "auto"):
+        return friction
+    terms = _args.names(friction, "friction")
+    return ",".join(terms) if terms else "none"
+
+
+def identify(robot: Robot, data, constraints: str = "ellipsoid", prior="cad",
              weight: Union[None, float, str] = None, regularizer: Optional[str] = None, validate=None,
              cutoff_hz: Optional[float] = None, velocity: str = "differentiate",
-             friction: Optional[str] = None,
+             friction: Union[None, str, Sequence[str]] = None,
              bounds: Union[None, float, str] = None) -> IdentifyResult:
     """The identification of `robot` from `data`, as ``momentlmi identify --json``
     reports it (``bodies`` with each body's ``params``, ``training_rms``,
-    ``validation_rms`` …).
+    ``validation_rms`` …); every warning the command line prints beside it is issued as
+    a :class:`MomentlmiWarning`.
 
-    `data` (and `validate`, held out) is a segment or a list of segments, each a dict
+    `robot` a :class:`Robot` (or a built-in's name, a URDF's path). `data` (and
+    `validate`, held out) is a segment or a list of segments, each a dict
     of arrays ``t`` (N,), ``q``, and ``qd``, ``qdd``, ``tau`` (N, n) where recorded, or
     a pandas DataFrame with the CSV's column names (``t``, ``q_<joint>`` …). A segment
     with ``qdd`` is taken as it is; one without is filtered and differentiated as a raw
-    log file (`cutoff_hz`: None chooses it; `velocity`: differentiate or file).
-    `constraints`: none, semi, consistent or ellipsoid; `prior`: cad, true or a
-    parameter file; `weight`: a number or ``"auto"`` (cross-validation; None, the
-    default: auto when the friction law is chosen, else 1e-6);
+    log file (`cutoff_hz`: a frequency > 0, always checked; None chooses it; `velocity`:
+    differentiate or file).
+    `constraints`: none, semi, consistent or ellipsoid; `prior`: cad, true, or a
+    parameter file (a result, a dict, JSON text or a path); `weight`: a number or
+    ``"auto"`` (cross-validation; None, the default: auto when the friction law is
+    chosen, else 1e-6);
     `regularizer`: euclidean, entropic or pullback (None, the default: entropic when the
     weight is chosen and every prior body is strictly consistent, else euclidean — as
-    ``--regularizer``); `friction`: the friction terms identified
-    (``"viscous,coulomb,offset,load,stribeck"``); ``"auto"``: chosen by cross-validation
-    on the training data, with the weight when it is ``"auto"``,
+    ``--regularizer``); `friction`: the friction terms identified (a list or a
+    comma-separated string: ``"viscous,coulomb,offset,load,stribeck"``); ``"auto"``:
+    chosen by cross-validation on the training data, with the weight when it is ``"auto"``,
     the table in ``result["model_selection"]``; None, the default: auto, with viscous +
     Coulomb kept (a ``law_not_chosen`` warning) when the data are too short to choose —
     as ``momentlmi identify`` without ``--friction``); `bounds`: each
@@ -374,19 +512,21 @@ def identify(robot: Robot, data, constraints: str = "ellipsoid", prior: str = "c
     × the estimate's (``"auto"``: the 95 % confidence region; None: not computed), in
     ``result["bounds"]``. ``result["identifiability"]`` has the rank, the base
     parameters with their standard deviations and the parameters that enter no torque."""
-    joints = robot.joint_names
-    if bounds is not None and not (bounds == "auto" or (not isinstance(bounds, str) and float(bounds) >= 0)):
-        raise ValueError(f"bounds: {bounds!r} is not a number >= 0 or 'auto'")
-    b = None if bounds is None else ("auto" if bounds == "auto" else repr(float(bounds)))
-    if weight is None or isinstance(weight, str):
-        if weight not in (None, "auto"):
-            raise ValueError(f"weight: '{weight}' is not a number or 'auto'")
-        w = weight
-    else:
-        w = repr(float(weight))
-    return IdentifyResult(_native.identify(robot._r, _segments(data, joints, "data"), _segments(validate, joints, "validate"),
-                                           constraints, os.fspath(prior), w, regularizer,
-                                           None if cutoff_hz is None else float(cutoff_hz), velocity, friction, b))
+    r = _robot(robot)
+    joints = r.joint_names
+    if bounds is not None and not (isinstance(bounds, str) and bounds == "auto"):
+        if isinstance(bounds, str):
+            raise ValueError(f"bounds: '{bounds}' is not a number >= 0 or 'auto'")
+        bounds = repr(_args.number(bounds, "bounds", nonnegative=True))
+    cut = None if cutoff_hz is None else _args.number(cutoff_hz, "cutoff_hz", positive=True)
+    segs = (_segments(data, joints, "data"), _segments(validate, joints, "validate"))
+    options = (_text(constraints, "constraints"),)
+    reg = None if regularizer is None else _text(regularizer, "regularizer")
+    with _params_file(prior, "prior") as p:
+        text, notes = _native.identify(r._r, *segs, *options, p, _weight(weight), reg, cut,
+                                       _text(velocity, "velocity"), _friction(friction), bounds)
+    _warn(notes)
+    return IdentifyResult(text)
 
 
 def excite(robot: Robot, seconds: float = 10.0, criterion: str = "d", harmonics: int = 5,
@@ -400,28 +540,34 @@ def excite(robot: Robot, seconds: float = 10.0, criterion: str = "d", harmonics:
     ``qdd`` (N, n) at `rate_hz`, ready for :func:`simulate`'s robot or a controller."""
     if criterion not in ("d", "e", "cond"):
         raise ValueError(f"criterion: '{criterion}' is not one of d, e, cond")
-    text, (t, q, qd, qdd) = _native.excite(robot._r, float(seconds), criterion, int(harmonics),
-                                           float(base_hz), int(seeds), int(seed), int(pool),
-                                           float(rate_hz))
+    n = _args.number
+    text, (t, q, qd, qdd) = _native.excite(_robot(robot)._r, n(seconds, "seconds"), criterion,
+                                           _args.count(harmonics, "harmonics"), n(base_hz, "base_hz"),
+                                           _args.count(seeds, "seeds"), _args.count(seed, "seed"),
+                                           _args.count(pool, "pool"), n(rate_hz, "rate_hz"))
     report = json.loads(text)
     report["samples"] = {"t": t, "q": q, "qd": qd, "qdd": qdd}
     return report
 
 
-def diagnose(robot: Robot, data, nominal: Optional[str] = None, repeats=None, nominal_data=None) -> dict:
+def diagnose(robot: Robot, data, nominal=None, repeats=None, nominal_data=None) -> dict:
     """Where `data` depart from the `nominal` model (None: the robot's own parameters;
-    ``"cad"``, ``"true"`` or a parameter file), which unmodelled effects explain the
-    gap and how far it shrinks on held-out data, as ``momentlmi diagnose --json``
-    reports it. `data` as for :func:`identify`; `repeats`, two runs of one trajectory,
-    give the noise floor (needed when the torques were low-pass filtered);
-    `nominal_data`, the data the nominal was identified on (as `data`), have its
-    bodies refit with the friction law so that what they could not determine is not
+    ``"cad"``, ``"true"`` or a parameter file: a result, a dict, JSON text or a path),
+    which unmodelled effects explain the gap and how far it shrinks on held-out data,
+    as ``momentlmi diagnose --json`` reports it; its warnings are issued as
+    :class:`MomentlmiWarning`s. `data` as for :func:`identify`; `repeats`, two runs of
+    one trajectory, give the noise floor (needed when the torques were low-pass
+    filtered); `nominal_data`, the data the nominal was identified on (as `data`), have
+    its bodies refit with the friction law so that what they could not determine is not
     named an effect (``--nominal-data``)."""
-    joints = robot.joint_names
+    r = _robot(robot)
+    joints = r.joint_names
     reps = _segments(repeats, joints, "repeats")
     own = _segments(nominal_data, joints, "nominal_data")
-    nom = None if nominal is None else os.fspath(nominal)
-    return json.loads(_native.diagnosis(robot._r, _segments(data, joints, "data"), nom, reps, own))
+    with _params_file(nominal, "nominal") as nom:
+        report = json.loads(_native.diagnosis(r._r, _segments(data, joints, "data"), nom, reps, own))
+    _warn([(w.get("kind", "diagnose"), w.get("message", str(w))) for w in report.get("warnings", [])])
+    return report
 
 
 # -- the fleet path ---------------------------------------------------------
@@ -431,11 +577,15 @@ class Reducer:
     """Samples of one robot reduced to fixed-size sums (the Gram matrix of [Y τ]): add
     samples with :meth:`update`, other reducers' sums with :meth:`merge` (from other
     processes or machines: :meth:`to_bytes` / :meth:`from_bytes`), then :meth:`solve`
-    one SDP. The sums of the parts are the sums of the whole."""
+    one SDP. The sums of the parts are the sums of the whole. Pickles as its robot and
+    its sums' bytes."""
 
     def __init__(self, robot: Robot, _native_reducer=None):
-        self.robot = robot
-        self._r = _native_reducer if _native_reducer is not None else _native.Reducer(robot._r)
+        self.robot = _robot(robot)
+        self._r = _native_reducer if _native_reducer is not None else _native.Reducer(self.robot._r)
+
+    def __reduce__(self):
+        return (_reducer_again, (self.robot, self.to_bytes() if self.samples else None))
 
     @property
     def samples(self) -> int:
@@ -443,8 +593,10 @@ class Reducer:
         return self._r.samples
 
     def update(self, q, v, a, tau) -> "Reducer":
-        """Adds samples: q (rad), v (rad/s), a (rad/s²), τ (N·m), each (N, n)."""
-        self._r.update(_floats(q, "q"), _floats(v, "v"), _floats(a, "a"), _floats(tau, "tau"))
+        """Adds samples: q (rad), v (rad/s), a (rad/s²), τ (N·m), each (N, n) (DataFrames
+        by column name: ``<joint>`` or ``q_``, ``qd_``, ``qdd_``, ``tau_<joint>``)."""
+        q, v, a = self.robot._states(q, v, a)
+        self._r.update(q, v, a, _args.samples(tau, "tau", self.robot.joint_names, "tau"))
         return self
 
     def gram(self) -> np.ndarray:
@@ -453,6 +605,8 @@ class Reducer:
 
     def merge(self, other: "Reducer") -> "Reducer":
         """Adds the sums of `other` (the same robot's)."""
+        if not isinstance(other, Reducer):
+            raise TypeError(f"other: a Reducer, not {type(other).__name__}")
         if other is self or other._r is self._r:
             raise ValueError("other: a reducer cannot be merged into itself (its samples would count twice)")
         self._r.merge(other._r)
@@ -465,11 +619,28 @@ class Reducer:
     @staticmethod
     def from_bytes(robot: Robot, data: bytes) -> "Reducer":
         """The reducer whose sums `data` holds; an error if they are not this robot's."""
-        return Reducer(robot, _native.Reducer.from_bytes(robot._r, bytes(data)))
+        if not isinstance(data, (bytes, bytearray, memoryview)):
+            raise TypeError(f"data: bytes (Reducer.to_bytes()), not {type(data).__name__}")
+        r = _robot(robot)
+        return Reducer(r, _native.Reducer.from_bytes(r._r, bytes(data)))
 
     def solve(self, constraints: str = "ellipsoid", weight: float = 1e-6,
               regularizer: str = "euclidean") -> IdentifyResult:
         """The identification on the sums, as ``momentlmi identify --json`` reports it
-        (:class:`IdentifyResult`): `constraints` none, semi, consistent or ellipsoid;
-        toward the robot's prior with `weight`."""
-        return IdentifyResult(self._r.solve(constraints, float(weight), regularizer))
+        (:class:`IdentifyResult`; its warnings issued as :class:`MomentlmiWarning`s):
+        `constraints` none, semi, consistent or ellipsoid; toward the robot's prior with
+        `weight`, a number ≥ 0 (``"auto"`` is refused: choosing it cross-validates on
+        samples, which the sums no longer hold — :func:`identify` does it)."""
+        if isinstance(weight, str):
+            raise ValueError(f"weight: {weight!r}: Reducer.solve takes a number >= 0; choosing the weight "
+                             f"('auto') cross-validates on the samples, which the sums do not keep "
+                             f"(identify(robot, data, weight='auto') does it)")
+        w = _args.number(weight, "weight", nonnegative=True)
+        text, notes = self._r.solve(_text(constraints, "constraints"), w, _text(regularizer, "regularizer"))
+        _warn(notes)
+        return IdentifyResult(text)
+
+
+def _reducer_again(robot: Robot, data: Optional[bytes]) -> Reducer:
+    """A pickled :class:`Reducer` made again from its robot and its sums."""
+    return Reducer(robot) if data is None else Reducer.from_bytes(robot, data)

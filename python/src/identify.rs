@@ -102,7 +102,8 @@ fn raw_logs(what: &str, segs: &[Segment], n: usize) -> PyResult<Vec<RawLog>> {
 /// friction terms identified, or auto (None: auto, the model's own law
 /// kept when the data are too short to choose — `--friction`); `bounds` each
 /// parameter's range with that residual margin δ (`auto`: the 95 %
-/// confidence region; None: none).
+/// confidence region; None: none). With the report, its warnings
+/// ([`crate::notes`]).
 #[pyfunction]
 #[pyo3(signature = (robot, data, validate, constraints, prior, weight, regularizer, cutoff_hz, velocity, friction, bounds))]
 #[allow(clippy::too_many_arguments)]
@@ -119,8 +120,12 @@ fn identify(
     velocity: &str,
     friction: Option<&str>,
     bounds: Option<&str>,
-) -> PyResult<String> {
+) -> PyResult<(String, Vec<crate::notes::Note>)> {
     let plan = plan(friction, weight, bounds)?;
+    if let Some(c) = cutoff_hz.filter(|c| !(c.is_finite() && *c > 0.0)) {
+        let m = format!("cutoff_hz: {c} is not a frequency > 0 (Hz)");
+        return Err(PyValueError::new_err(m));
+    }
     let setup = crate::setup::Setup::parse(constraints, regularizer, plan.weight)?;
     let velocity = match velocity {
         "differentiate" => Velocity::Differentiate,
@@ -161,7 +166,9 @@ fn identify(
         Ok::<_, String>(r)
     });
     let r = result.map_err(IdentifyError::new_err)?;
-    serde_json::to_string_pretty(&r).map_err(|e| IdentifyError::new_err(e.to_string()))
+    let json =
+        serde_json::to_string_pretty(&r).map_err(|e| IdentifyError::new_err(e.to_string()))?;
+    Ok((json, crate::notes::of_identification(&r)))
 }
 
 /// What the data choose, as the command line reads `--friction`,

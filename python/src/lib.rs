@@ -10,6 +10,7 @@ mod errors;
 mod excite;
 mod identify;
 mod inertia;
+mod notes;
 mod reducer;
 mod robot;
 mod setup;
@@ -28,6 +29,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     excite::add(m)?;
     m.add_class::<robot::Robot>()?;
     m.add_class::<reducer::Reducer>()?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add(
         "REDUCED_FORMAT_VERSION",
         momentlmi::identify::fleet::REDUCED_FORMAT_VERSION,

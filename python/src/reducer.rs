@@ -122,7 +122,7 @@ impl Reducer {
     }
 
     /// The identification on the sums, as `momentlmi identify --json`
-    /// reports it (JSON): `constraints` a level (none, semi, consistent,
+    /// reports it (JSON), and its warnings: `constraints` a level (none, semi, consistent,
     /// ellipsoid), toward the robot's prior with `weight` and `regularizer`
     /// (euclidean, entropic or pullback).
     #[pyo3(signature = (constraints="ellipsoid", weight=1e-6, regularizer="euclidean"))]
@@ -132,7 +132,7 @@ impl Reducer {
         constraints: &str,
         weight: f64,
         regularizer: &str,
-    ) -> PyResult<String> {
+    ) -> PyResult<(String, Vec<crate::notes::Note>)> {
         let Some(red) = &self.reduced else {
             return Err(IdentifyError::new_err("reduced data: no samples yet"));
         };
@@ -143,7 +143,9 @@ impl Reducer {
             id.fit_streamed(red).map_err(|e| e.to_string())
         });
         let result = result.map_err(IdentifyError::new_err)?;
-        serde_json::to_string_pretty(&result).map_err(|e| IdentifyError::new_err(e.to_string()))
+        let json = serde_json::to_string_pretty(&result)
+            .map_err(|e| IdentifyError::new_err(e.to_string()))?;
+        Ok((json, crate::notes::of_identification(&result)))
     }
 }
 

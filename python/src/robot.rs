@@ -14,6 +14,9 @@ use std::sync::Arc;
 #[pyclass(frozen, module = "momentlmi")]
 pub struct Robot {
     pub(crate) robot: Arc<RobotDescription>,
+    /// What it was loaded from (a built-in's name or a URDF's path, the
+    /// sidecar, the package paths): loaded again when it is unpickled.
+    load: (String, Option<PathBuf>, Vec<PathBuf>),
 }
 
 impl Robot {
@@ -26,6 +29,7 @@ impl Robot {
     ) -> PyResult<Self> {
         let load = momentlmi::dynamics::robots::load_robot_with;
         let mut robot = load(spec, sidecar.as_deref(), &package_paths).or_py()?;
+        let from = (spec.to_string(), sidecar, package_paths);
         if let Some(cache) = momentlmi::moments::cache::SolveCache::from_env() {
             robot = robot.with_bounding_cache(cache);
         }
@@ -35,6 +39,7 @@ impl Robot {
             .map_err(|e| MomentlmiError::new_err(e.to_string()))?;
         Ok(Self {
             robot: Arc::new(robot),
+            load: from,
         })
     }
 
@@ -79,16 +84,31 @@ fn finite_out(what: &str, values: Vec<f64>, k: usize) -> PyResult<Vec<f64>> {
 
 #[pymethods]
 impl Robot {
-    /// A built-in robot by name (`cheetah3-leg`).
+    /// A built-in robot by name (`cheetah3-leg`); another name is a
+    /// `ValueError` naming it and the built-in ones.
     #[staticmethod]
     fn builtin(name: &str) -> PyResult<Self> {
         if momentlmi::dynamics::robots::built_in(name).is_none() {
             let known = momentlmi::dynamics::robots::built_in_names().join(", ");
-            return Err(MomentlmiError::new_err(format!(
-                "no built-in robot '{name}' (built in: {known})"
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "name: no built-in robot '{name}' (built in: {known})"
             )));
         }
         Self::load(name, None, vec![])
+    }
+
+    /// What it was loaded from: the built-in's name or the URDF's path,
+    /// the sidecar's path, the package paths (to load it again).
+    #[getter]
+    fn load_args(&self) -> (String, Option<PathBuf>, Vec<PathBuf>) {
+        self.load.clone()
+    }
+
+    /// What a reduction's sums and a parameter vector depend on, by name
+    /// (joints, bodies, friction terms), as `Reducer.to_bytes` records it.
+    #[getter]
+    fn signature(&self) -> String {
+        momentlmi::identify::fleet::signature(&self.robot.model)
     }
 
     /// A URDF robot: `sidecar` the TOML of its rotors, friction, bounding
@@ -195,9 +215,11 @@ impl Robot {
     }
 
     /// Joint torques (N·m), (N, n), of the model with the identified
-    /// parameters `params` (the text of an identification's report or
-    /// parameter file; the package passes a dict's or a path's): links, rotors and every friction term, as
-    /// `momentlmi predict --params FILE` predicts them.
+    /// parameters `params`: the text of an identification's report or
+    /// parameter file, or with `from_file` its path (the package passes a
+    /// result's, a dict's, JSON text or a path): links, rotors and every
+    /// friction term, as `momentlmi predict --params FILE` predicts them.
+    #[pyo3(signature = (params, q, v, a, from_file=false))]
     fn predict<'py>(
         &self,
         py: Python<'py>,
@@ -205,11 +227,17 @@ impl Robot {
         q: PyReadonlyArrayDyn<f64>,
         v: PyReadonlyArrayDyn<f64>,
         a: PyReadonlyArrayDyn<f64>,
+        from_file: bool,
     ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         use momentlmi::dynamics::params_file::ParamsFile;
         let (rows, [q, v, a]) = self.states(&q, &v, &a)?;
-        let file: ParamsFile = serde_json::from_str(params)
-            .map_err(|e| MomentlmiError::new_err(format!("params: not a parameter file ({e})")))?;
+        let file = match from_file {
+            true => ParamsFile::read(std::path::Path::new(params))
+                .map_err(|e| crate::errors::ModelError::new_err(format!("params: {e}")))?,
+            false => serde_json::from_str(params).map_err(|e| {
+                MomentlmiError::new_err(format!("params: not a parameter file ({e})"))
+            })?,
+        };
         let mut model = self.robot.model.clone();
         let friction = file.apply(&mut model, "params").or_py()?;
         let n = model.dof();

@@ -45,3 +45,32 @@ def read_csv(path, joints):
     have = data.dtype.names
     col = lambda p: np.column_stack([data[f"{p}_{j}"] for j in joints]) if f"{p}_{joints[0]}" in have else None
     return data["t"], col("q"), col("qd"), col("qdd"), col("tau")
+
+
+def json_differences(mine, theirs, path="", rel=1e-6, abs_=1e-9, skip=()):
+    """Where two JSON values differ, field by field: numbers by more than `rel` relative
+    or `abs_` absolute, anything else at all; `skip` the paths (regular expressions, as
+    `/bodies[0]/params[3]`) not compared."""
+    import re
+
+    if any(re.fullmatch(s, path) for s in skip):
+        return []
+    if isinstance(mine, dict) and isinstance(theirs, dict):
+        if set(mine) != set(theirs):
+            return [(path, "keys", sorted(set(mine) ^ set(theirs)))]
+        return [d for k in mine for d in json_differences(mine[k], theirs[k], f"{path}/{k}", rel, abs_, skip)]
+    if isinstance(mine, list) and isinstance(theirs, list):
+        if len(mine) != len(theirs):
+            return [(path, "length", len(mine), len(theirs))]
+        return [d for k, (a, b) in enumerate(zip(mine, theirs))
+                for d in json_differences(a, b, f"{path}[{k}]", rel, abs_, skip)]
+    numbers = (int, float)
+    if isinstance(mine, numbers) and isinstance(theirs, numbers) and not isinstance(mine, bool) and not isinstance(theirs, bool):
+        close = abs(mine - theirs) <= max(abs_, rel * max(abs(mine), abs(theirs)))
+        return [] if close else [(path, mine, theirs)]
+    return [] if mine == theirs else [(path, mine, theirs)]
+
+
+#: What a report of the same identification may differ in between the command line
+#: and Python: the times, and the data's names (a file's path; "data" for arrays).
+NOT_COMPARED = (r"/(total|solve|reduce)_time_s", r"/timings/.*", r"/data_preparation/(training|validation)\[\d+\]/path")

@@ -57,8 +57,9 @@ def test_bad_states_are_value_errors_naming_the_argument(leg, bad, message):
             f(**args)
 
 
-def test_unknown_robots_and_files_are_momentlmi_errors(tmp_path):
-    with pytest.raises(m.MomentlmiError, match="no built-in robot 'arm'"):
+def test_unknown_robots_are_value_errors_and_missing_files_momentlmi_errors(tmp_path):
+    # a name is an argument: a ValueError naming it and the built-in ones (issue 58)
+    with pytest.raises(ValueError, match="name: no built-in robot 'arm' \\(built in: .*cheetah3-leg"):
         m.Robot.builtin("arm")
     with pytest.raises(m.ModelError, match="no-such.urdf"):
         m.Robot.from_urdf(tmp_path / "no-such.urdf")

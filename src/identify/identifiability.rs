@@ -10,17 +10,22 @@
 //!   [`RANK_TOL`] × the largest (the reduced factor already dropped
 //!   directions below `√((p + 1) ε)` of a unit column);
 //! - the **condition number** is the largest over the smallest of those;
-//! - the **base parameters**: a column-pivoted QR `R S P = Q [R₁ R₂]` picks
-//!   `rank` independent columns `b`; every other column `d` is a combination
-//!   of them (`R_d = R_b K`, `K = S_b R₁⁻¹ R₂ S_d⁻¹`), so the data see θ only
-//!   through `β = θ_b + K θ_d` (Gautier's base parameters);
+//! - the **base parameters**: `rank` independent columns `b` picked greedily,
+//!   each the column farthest from the span of those already picked (a
+//!   column-pivoted QR's choice), columns within [`TIE_TOL`] of the farthest
+//!   counted as tied and the first in θ's order taken, so that rounding (the
+//!   order a reduction added its samples in) does not choose; every other
+//!   column `d` is a combination of them (`R_d = R_b K`, the QR `R S [b d] =
+//!   Q [R₁ R₂]`, `K = S_b R₁⁻¹ R₂ S_d⁻¹`), so the data see θ only through
+//!   `β = θ_b + K θ_d` (Gautier's base parameters), listed in θ's order;
 //! - **unidentifiable**: the parameters whose column is zero
 //!   (norm ≤ [`ZERO_COLUMN_TOL`] × the largest: a column at rounding level
 //!   counts as zero, not scaled up), which enter no torque; the rank and
 //!   the base are taken on the other columns;
 //! - **directions**: a basis of the null space: each zero column alone,
-//!   then the other columns' null space (from the SVD), each named by its
-//!   largest components;
+//!   then per dependent column `d` (θ's order) the direction `e_d − K e_b`
+//!   (in the scaled columns, unit length) that the base leaves unseen, each
+//!   named by its largest components;
 //! - the base parameters' **standard deviations**: `σ̂² (R_bᵀ R_b)⁻¹` with
 //!   `σ̂² = ‖R θ − d‖² / (rows − rank)`, the unconstrained least-squares
 //!   covariance (active constraints narrow it further).
@@ -40,6 +45,13 @@ pub const ZERO_COLUMN_TOL: f64 = 1e-10;
 /// A dependent column's coefficient (in the scaled columns) below this is
 /// left out of a base parameter's combination.
 const TERM_TOL: f64 = 1e-6;
+
+/// Columns whose distance from the span of the base columns already picked
+/// is within this fraction of the farthest one's are tied: the first in θ's
+/// order is picked. Wide enough that two reductions of the same data (their
+/// sums added in another order) pick the same columns; narrow enough that a
+/// picked column is as well determined as the farthest, to 1e-3.
+pub const TIE_TOL: f64 = 1e-3;
 
 /// One base parameter: an identified column plus the dependent ones it
 /// stands for.
@@ -71,15 +83,17 @@ pub struct Identifiability {
     pub condition_number: f64,
     /// The rank tolerance ([`RANK_TOL`]).
     pub rank_tolerance: f64,
-    /// The base parameters, in pivot order (best determined first).
+    /// The base parameters, in θ's order of their base columns (canonical:
+    /// the same for any reduction of the same data, see [`TIE_TOL`]).
     pub base_parameters: Vec<BaseParameter>,
     /// Parameters that enter no torque of the data.
     pub unidentifiable: Vec<String>,
     /// The parameter directions the data do not excite (p − rank of them),
-    /// each named by its largest components; set by the prior and the
+    /// each named by its largest components: each zero column's, then each
+    /// dependent column's unseen combination; set by the prior and the
     /// constraints.
     pub directions: Vec<String>,
-    /// The base columns (indices into θ), in pivot order.
+    /// The base columns (indices into θ), ascending.
     #[serde(skip)]
     pub base_columns: Vec<usize>,
     /// `K` (rank × p): base parameter k is `Σ_j K[k][j] θ_j`.
@@ -155,23 +169,15 @@ impl Identifiability {
         let smin = (s.iter().cloned())
             .filter(|&v| v > tol)
             .fold(f64::INFINITY, f64::min);
-        let v = svd.V();
-        // the null space: each dead column alone, then the live columns' own
-        let null_space: Vec<Vec<f64>> = ((0..p).filter(|j| !live.contains(j)))
-            .map(|j| (0..p).map(|k| if k == j { 1.0 } else { 0.0 }).collect())
-            .chain((rank..live.len()).map(|k| {
-                let mut x = vec![0.0; p];
-                for (c, &j) in live.iter().enumerate() {
-                    x[j] = v[(c, k)];
-                }
-                x
-            }))
-            .collect();
-        let directions = null_space
-            .iter()
+        let null_space = null_space(svd.V(), &live, p, rank);
+        let base = base_columns(&rs, &norms_live, rank)?;
+        let (base_columns, combinations) = (base.columns, base.combinations);
+        // the unseen directions: each dead column alone, then the base's own
+        let dead = p - live.len();
+        let directions = (null_space[..dead].iter())
+            .chain(&base.unseen)
             .map(|x| direction_name(x, names))
             .collect();
-        let (base_columns, combinations) = base_columns(&rs, &norms_live, rank)?;
         let unidentifiable = ((0..p).filter(|j| !live.contains(j)))
             .map(|j| names[j].clone())
             .collect();
@@ -251,6 +257,23 @@ impl Identifiability {
     }
 }
 
+/// An orthonormal basis of the null space of the column-scaled regressor
+/// (`p` columns, those in `live` not zero, of rank `rank`; `v` the right
+/// singular vectors of the live columns): each dead column alone, then the
+/// live columns' own.
+fn null_space(v: faer::MatRef<'_, f64>, live: &[usize], p: usize, rank: usize) -> Vec<Vec<f64>> {
+    ((0..p).filter(|j| !live.contains(j)))
+        .map(|j| (0..p).map(|k| if k == j { 1.0 } else { 0.0 }).collect())
+        .chain((rank..live.len()).map(|k| {
+            let mut x = vec![0.0; p];
+            for (c, &j) in live.iter().enumerate() {
+                x[j] = v[(c, k)];
+            }
+            x
+        }))
+        .collect()
+}
+
 /// The rank of `model`'s regressor on 400 random states
 /// ([`on_random_states`]): the most any data could identify; `None` with a
 /// load friction term (its column needs torques).
@@ -303,10 +326,13 @@ fn abbreviated(names: &[String], most: usize) -> String {
     )
 }
 
-/// A null direction named by its up to three largest components.
+/// A null direction named by its up to three largest components (as
+/// printed, to 2 decimals; equal ones in θ's order, so that rounding does
+/// not order them).
 fn direction_name(x: &[f64], names: &[String]) -> String {
     let mut comp: Vec<(usize, f64)> = x.iter().copied().enumerate().collect();
-    comp.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
+    let shown = |c: f64| (c.abs() * 100.0).round();
+    comp.sort_by(|a, b| shown(b.1).total_cmp(&shown(a.1)).then(a.0.cmp(&b.0)));
     let terms: Vec<String> = (comp.iter().take(3))
         .filter(|c| c.1.abs() > 0.05)
         .map(|&(j, c)| format!("{c:+.2}·{}", names[j]))
@@ -314,23 +340,66 @@ fn direction_name(x: &[f64], names: &[String]) -> String {
     terms.join(" ")
 }
 
-/// The `rank` pivot columns of a column-pivoted QR of the scaled `rs`, and
-/// per base column its row of `K` in SI units (1 at itself).
-fn base_columns(
-    rs: &Mat<f64>,
-    norms: &[f64],
-    rank: usize,
-) -> Result<(Vec<usize>, Vec<Vec<f64>>), IdentifyError> {
+/// The base of the unit-column `rs` ([`pick_base`]) and what it says.
+struct Base {
+    /// The base columns, ascending.
+    columns: Vec<usize>,
+    /// Per base column its row of `K` in SI units (1 at itself).
+    combinations: Vec<Vec<f64>>,
+    /// Per dependent column whose norm is not zero (ascending), the unit
+    /// direction `e_d − K_s e_b` (scaled columns) that the data do not see.
+    unseen: Vec<Vec<f64>>,
+}
+
+/// The canonical base of the unit-column `rs` (columns `norms` > 0 live),
+/// `rank` columns, with `K` from the QR of `rs` with the base columns
+/// first: `K_s = R₁⁻¹ R₂`.
+fn base_columns(rs: &Mat<f64>, norms: &[f64], rank: usize) -> Result<Base, IdentifyError> {
     let p = rs.ncols();
-    let qr = rs.col_piv_qr();
-    let (fwd, _) = qr.P().arrays();
-    let order: Vec<usize> = fwd.to_vec();
-    let rr = qr.R();
+    let base = pick_base(rs, rank);
+    let rank = base.len();
+    let order: Vec<usize> = (base.iter().copied())
+        .chain((0..p).filter(|j| !base.contains(j)))
+        .collect();
+    let permuted = Mat::from_fn(rs.nrows(), p, |i, c| rs[(i, order[c])]);
+    let rr = permuted.qr().thin_R().to_owned();
     let r1 = Mat::from_fn(rank, rank, |i, j| rr[(i, j)]);
     let r2 = Mat::from_fn(rank, p - rank, |i, j| rr[(i, rank + j)]);
-    // K_s = R₁⁻¹ R₂ (upper triangular R₁: back substitution)
-    let mut ks = r2.clone();
-    for c in 0..p - rank {
+    let ks = back_substituted(&r1, r2)?;
+    let rows = (0..rank)
+        .map(|i| {
+            let mut k = vec![0.0; p];
+            k[base[i]] = 1.0;
+            for (c, &dj) in order[rank..].iter().enumerate() {
+                if ks[(i, c)].abs() > TERM_TOL && norms[base[i]] > 0.0 {
+                    k[dj] = ks[(i, c)] * norms[dj] / norms[base[i]];
+                }
+            }
+            k
+        })
+        .collect();
+    let unseen = (order[rank..].iter().enumerate())
+        .filter(|&(_, &dj)| norms[dj] > 0.0)
+        .map(|(c, &dj)| {
+            let mut x = vec![0.0; p];
+            x[dj] = 1.0;
+            (0..rank).for_each(|i| x[base[i]] = -ks[(i, c)]);
+            let len = x.iter().map(|v| v * v).sum::<f64>().sqrt();
+            x.iter().map(|v| v / len).collect()
+        })
+        .collect();
+    Ok(Base {
+        columns: base,
+        combinations: rows,
+        unseen,
+    })
+}
+
+/// `R₁⁻¹ R₂` (`r1` upper triangular: back substitution); an error at a
+/// zero pivot.
+fn back_substituted(r1: &Mat<f64>, mut ks: Mat<f64>) -> Result<Mat<f64>, IdentifyError> {
+    let rank = r1.nrows();
+    for c in 0..ks.ncols() {
         for i in (0..rank).rev() {
             let mut v = ks[(i, c)];
             for j in i + 1..rank {
@@ -344,20 +413,54 @@ fn base_columns(
             ks[(i, c)] = v / r1[(i, i)];
         }
     }
-    let base: Vec<usize> = order[..rank].to_vec();
-    let rows = (0..rank)
-        .map(|i| {
-            let mut k = vec![0.0; p];
-            k[base[i]] = 1.0;
-            for (c, &dj) in order[rank..].iter().enumerate() {
-                if ks[(i, c)].abs() > TERM_TOL && norms[base[i]] > 0.0 {
-                    k[dj] = ks[(i, c)] * norms[dj] / norms[base[i]];
-                }
-            }
-            k
-        })
+    Ok(ks)
+}
+
+/// `rank` columns of the unit-column `rs` picked one at a time, each the
+/// column farthest from the span of those picked (Gram–Schmidt, each
+/// projection made twice), ties within [`TIE_TOL`] of the farthest going
+/// to the first in θ's order; ascending. Fewer if the rest are all in the
+/// span (rounding).
+fn pick_base(rs: &Mat<f64>, rank: usize) -> Vec<usize> {
+    let (m, p) = (rs.nrows(), rs.ncols());
+    let mut rest: Vec<Vec<f64>> = (0..p)
+        .map(|j| (0..m).map(|i| rs[(i, j)]).collect())
         .collect();
-    Ok((base, rows))
+    let mut picked: Vec<usize> = Vec::with_capacity(rank);
+    let norm = |x: &[f64]| x.iter().map(|v| v * v).sum::<f64>().sqrt();
+    for _ in 0..rank {
+        let dist: Vec<f64> = (0..p)
+            .map(|j| {
+                if picked.contains(&j) {
+                    0.0
+                } else {
+                    norm(&rest[j])
+                }
+            })
+            .collect();
+        let far = dist.iter().copied().fold(0.0, f64::max);
+        if !(far > 0.0 && far.is_finite()) {
+            break;
+        }
+        let Some(j) = (0..p).find(|&j| dist[j] >= (1.0 - TIE_TOL) * far) else {
+            break;
+        };
+        let u: Vec<f64> = rest[j].iter().map(|v| v / dist[j]).collect();
+        for (k, col) in rest.iter_mut().enumerate() {
+            if k != j && !picked.contains(&k) {
+                (0..2).for_each(|_| project_out(col, &u));
+            }
+        }
+        picked.push(j);
+    }
+    picked.sort_unstable();
+    picked
+}
+
+/// `x − (x·u) u` in place (`u` of unit length).
+fn project_out(x: &mut [f64], u: &[f64]) {
+    let c: f64 = x.iter().zip(u).map(|(a, b)| a * b).sum();
+    x.iter_mut().zip(u).for_each(|(a, b)| *a -= c * b);
 }
 
 /// `base's name + Σ coef·name`, coefficients to 4 significant digits.
@@ -435,6 +538,40 @@ mod tests {
             assert!((full - base).abs() < 1e-12, "row {i}: {full} vs {base}");
         }
         assert!(!id.combinations.iter().any(|k| k[3] != 0.0));
+    }
+
+    /// A random orthogonal `k × k` matrix (the Q of a random matrix's QR).
+    fn rotation(k: usize, seed: u64) -> Mat<f64> {
+        let mut x = seed;
+        let mut next = move || {
+            x = x
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (x >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let a = Mat::from_fn(k, k, |_, _| next());
+        a.qr().compute_Q()
+    }
+
+    #[test]
+    fn tied_columns_go_to_the_first_whatever_the_rounding() {
+        // columns a, b, a again, 2b: ties at every step; the rows rotated
+        // (another reduction of the same data) round them otherwise
+        let r = Mat::from_fn(4, 4, |i, j| {
+            let a = [1.0, 0.5, -2.0, 0.0][i];
+            let b = [0.0, 1.0, 3.0, -1.0][i];
+            [a, b, a, 2.0 * b][j]
+        });
+        for seed in 0..20 {
+            let rotated = rotation(4, seed) * &r;
+            let id = Identifiability::of(&rotated, &names(4)).unwrap();
+            assert_eq!(id.base_columns, vec![0, 1], "seed {seed}");
+            let named: Vec<&str> = (id.base_parameters.iter())
+                .map(|b| b.combination.as_str())
+                .collect();
+            assert_eq!(named, ["x0 + 1·x2", "x1 + 2·x3"], "seed {seed}");
+            assert_eq!(id.directions, ["-0.71·x0 +0.71·x2", "-0.71·x1 +0.71·x3"]);
+        }
     }
 
     #[test]
