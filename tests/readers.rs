@@ -833,3 +833,69 @@ fn a_mapping_without_end_is_refused_at_its_size_limit() {
         "{e}"
     );
 }
+
+/// A member whose bytes do not end where its values do, or whose checksum
+/// fails, is refused: reading stops at the declared values no longer hides
+/// a corrupt member or one that inflates beyond its size (a zip bomb).
+#[test]
+fn an_array_must_end_where_its_values_do_and_match_its_checksum() {
+    let d = dir("ends");
+    let n = 50u64;
+    let t: Vec<f64> = (0..n).map(|k| k as f64 * 5e-3).collect();
+    let q = vec![0.25; 2 * n as usize];
+    let o = ReadOptions {
+        mapping: Some(
+            Mapping::parse(
+                "joints = [\"a\", \"b\"]\ntime = \"times\"\n[q]\nsource = \"positions\"\n[tau]\nsource = \"torques\"\n",
+                "m.toml",
+            )
+            .unwrap(),
+        ),
+        ..ReadOptions::default()
+    };
+    // a stored (uncompressed) member with one value's byte changed
+    let p = d.join("crc.npz");
+    let mut z = zip::ZipWriter::new(std::fs::File::create(&p).unwrap());
+    let stored =
+        zip::write::SimpleFileOptions::default().compression_method(zip::CompressionMethod::Stored);
+    for (name, shape, v) in [
+        ("times", vec![n], t.clone()),
+        ("positions", vec![n, 2], q.clone()),
+        ("torques", vec![n, 2], q.clone()),
+    ] {
+        z.start_file(format!("{name}.npy"), stored).unwrap();
+        z.write_all(&npy(&shape, &v)).unwrap();
+    }
+    z.finish().unwrap();
+    let mut bytes = std::fs::read(&p).unwrap();
+    let marker = 0.25f64.to_le_bytes();
+    let at = bytes.windows(8).position(|w| w == marker).unwrap();
+    bytes[at + 7] ^= 0x01;
+    std::fs::write(&p, &bytes).unwrap();
+    let e = read_logs(&[&p], &J, &o).unwrap_err().to_string();
+    assert!(
+        e.contains("crc.npz") && e.contains("positions") && e.contains("corrupt"),
+        "{e}"
+    );
+    // a member with bytes after its values
+    let p = d.join("tail.npz");
+    let mut z = zip::ZipWriter::new(std::fs::File::create(&p).unwrap());
+    let opts = zip::write::SimpleFileOptions::default();
+    for (name, shape, v) in [
+        ("times", vec![n], t),
+        ("positions", vec![n, 2], q.clone()),
+        ("torques", vec![n, 2], q),
+    ] {
+        z.start_file(format!("{name}.npy"), opts).unwrap();
+        z.write_all(&npy(&shape, &v)).unwrap();
+        if name == "torques" {
+            z.write_all(&vec![0u8; 1 << 16]).unwrap();
+        }
+    }
+    z.finish().unwrap();
+    let e = read_logs(&[&p], &J, &o).unwrap_err().to_string();
+    assert!(
+        e.contains("tail.npz") && e.contains("torques") && e.contains("data after"),
+        "{e}"
+    );
+}

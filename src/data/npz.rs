@@ -172,6 +172,14 @@ fn little_f64(len: u64, room: usize, mut r: impl Read) -> Result<Vec<f64>, Strin
             bytes.len() / 8
         ));
     }
+    // the end must follow the values: an archive member then has its
+    // checksum checked, and one that inflates beyond its declared size
+    // (a zip bomb) is refused, not cut at the values it declared
+    match r.read(&mut [0u8; 1]) {
+        Ok(0) => {}
+        Ok(_) => return Err("data after the array's values (a corrupt or hostile member)".into()),
+        Err(e) => return Err(format!("corrupt: {e}")),
+    }
     Ok(bytes
         .chunks_exact(8)
         .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
