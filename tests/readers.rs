@@ -802,16 +802,7 @@ fn a_value_beyond_the_limits_is_written_short() {
             ("torques", vec![n, 2], q),
         ],
     );
-    let no_qd = ReadOptions {
-        mapping: Some(
-            Mapping::parse(
-                "joints = [\"a\", \"b\"]\ntime = \"times\"\n[q]\nsource = \"positions\"\n[tau]\nsource = \"torques\"\n",
-                "m.toml",
-            )
-            .unwrap(),
-        ),
-        ..ReadOptions::default()
-    };
+    let no_qd = no_qd();
     let e = read_logs(&[&p], &J, &no_qd).unwrap_err().to_string();
     assert!(
         e.contains("huge.npz") && e.contains("row 4") && e.contains("-1.125e300 is beyond ±1e8"),
@@ -843,16 +834,7 @@ fn an_array_must_end_where_its_values_do_and_match_its_checksum() {
     let n = 50u64;
     let t: Vec<f64> = (0..n).map(|k| k as f64 * 5e-3).collect();
     let q = vec![0.25; 2 * n as usize];
-    let o = ReadOptions {
-        mapping: Some(
-            Mapping::parse(
-                "joints = [\"a\", \"b\"]\ntime = \"times\"\n[q]\nsource = \"positions\"\n[tau]\nsource = \"torques\"\n",
-                "m.toml",
-            )
-            .unwrap(),
-        ),
-        ..ReadOptions::default()
-    };
+    let o = no_qd();
     // a stored (uncompressed) member with one value's byte changed
     let p = d.join("crc.npz");
     let mut z = zip::ZipWriter::new(std::fs::File::create(&p).unwrap());
@@ -898,4 +880,13 @@ fn an_array_must_end_where_its_values_do_and_match_its_checksum() {
         e.contains("tail.npz") && e.contains("torques") && e.contains("data after"),
         "{e}"
     );
+}
+
+/// Reading the arrays `times`, `positions` and `torques` of joints a, b.
+fn no_qd() -> ReadOptions {
+    let m = "joints = [\"a\", \"b\"]\ntime = \"times\"\n[q]\nsource = \"positions\"\n[tau]\nsource = \"torques\"\n";
+    ReadOptions {
+        mapping: Some(Mapping::parse(m, "m.toml").unwrap()),
+        ..ReadOptions::default()
+    }
 }
