@@ -477,6 +477,7 @@ fn options_out_of_range_name_the_flag() {
         ("--total-mass", "-1e-300", "-1e-300: must be positive"),
         ("--cutoff-hz", "-1e-3", "must be a positive frequency"),
         ("--weight", "-1e-3", "'weight' = -0.001"),
+        ("--weight", "-1e-300", "'weight' = -1e-300: must be"),
         ("--max-memory-gib", "2e9", "at most 1e9"),
         ("--max-memory-gib", "1e300", "--max-memory-gib 1e300"),
     ] {

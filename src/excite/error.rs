@@ -11,7 +11,7 @@ pub enum ExciteError {
         problem: &'static str,
     },
     /// A setting out of its range.
-    #[error("experiment design setting '{setting}' = {value}: {requirement}")]
+    #[error("experiment design setting '{setting}' = {}: {requirement}", crate::numfmt::short(*value))]
     Setting {
         /// The setting.
         setting: &'static str,

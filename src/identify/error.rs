@@ -9,7 +9,7 @@ use crate::moments::{Level, MomentsError};
 #[non_exhaustive]
 pub enum IdentifyError {
     /// An option that must be ≥ 0 and finite.
-    #[error("identification option '{option}' = {value}: must be ≥ 0 and finite")]
+    #[error("identification option '{option}' = {}: must be ≥ 0 and finite", crate::numfmt::short(*value))]
     Negative {
         /// The option.
         option: &'static str,
@@ -17,7 +17,7 @@ pub enum IdentifyError {
         value: f64,
     },
     /// A prior entry that is not finite.
-    #[error("identification option 'prior': entry {index} is not finite ({value})")]
+    #[error("identification option 'prior': entry {index} is not finite ({})", crate::numfmt::short(*value))]
     PriorNotFinite {
         /// The entry (10 per body, links then rotors).
         index: usize,

@@ -33,7 +33,7 @@ pub enum MomentsError {
         parts: usize,
     },
     /// An option out of range.
-    #[error("invalid option {option} = {value}")]
+    #[error("invalid option {option} = {}", crate::numfmt::short(*value))]
     InvalidOption {
         /// The option.
         option: &'static str,
