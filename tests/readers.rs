@@ -890,3 +890,38 @@ fn no_qd() -> ReadOptions {
         ..ReadOptions::default()
     }
 }
+
+/// An archive that names one array twice is refused (which one is meant?),
+/// not read as whichever the zip reader kept.
+#[test]
+fn an_archive_naming_an_array_twice_is_refused() {
+    let d = dir("twice");
+    let n = 50u64;
+    let t: Vec<f64> = (0..n).map(|k| k as f64 * 5e-3).collect();
+    let q = vec![0.25; 2 * n as usize];
+    let p = d.join("twice.npz");
+    // the zip writer refuses a name twice: write "positionz" and rename it
+    // in the local and central headers
+    write_npz(
+        &p,
+        &[
+            ("times", vec![n], t),
+            ("positions", vec![n, 2], q.clone()),
+            ("positionz", vec![n, 2], q.clone()),
+            ("torques", vec![n, 2], q),
+        ],
+    );
+    let mut bytes = std::fs::read(&p).unwrap();
+    let from = b"positionz.npy";
+    let mut at = 0;
+    while let Some(k) = bytes[at..].windows(from.len()).position(|w| w == from) {
+        bytes[at + k + 8] = b's';
+        at += k + 1;
+    }
+    std::fs::write(&p, &bytes).unwrap();
+    let e = read_logs(&[&p], &J, &no_qd()).unwrap_err().to_string();
+    assert!(
+        e.contains("twice.npz") && e.contains("a name given twice"),
+        "{e}"
+    );
+}

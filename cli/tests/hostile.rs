@@ -438,7 +438,7 @@ fn options_out_of_range_name_the_flag() {
     assert!(out.exists());
     // a robot's total mass beyond any robot's: named, before the solver
     let (data, _) = leg_data(&d);
-    for m in ["1e300", "0", "-5", "2e6"] {
+    for m in ["1e300", "0", "-5", "2e6", "4.9e-324", "1e-9"] {
         let o = run(&[
             "identify",
             "--robot",
@@ -450,6 +450,7 @@ fn options_out_of_range_name_the_flag() {
         ]);
         refused(&o, "--total-mass", m);
         refused(&o, "at most 1e6 kg", m);
+        refused(&o, "a millionth of the robot's described mass", m);
         assert_eq!(o.status.code(), Some(2), "{m}");
     }
     // a cut-off that is no frequency, even on prepared data that need none
@@ -474,7 +475,7 @@ fn options_out_of_range_name_the_flag() {
         data.to_str().unwrap(),
     ];
     for (flag, v, words) in [
-        ("--total-mass", "-1e-300", "-1e-300: must be positive"),
+        ("--total-mass", "-1e-300", "-1e-300: must be above"),
         ("--cutoff-hz", "-1e-3", "must be a positive frequency"),
         ("--weight", "-1e-3", "'weight' = -0.001"),
         ("--weight", "-1e-300", "'weight' = -1e-300: must be"),

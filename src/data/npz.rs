@@ -284,11 +284,39 @@ fn open_archive(path: &Path, p: &str) -> Result<(Archive, Vec<String>), DataErro
             array: "(archive)".into(),
             message: format!("not a NumPy .npz archive (a zip file): {e}"),
         })?;
+    if let Some(listed) = listed_members(path)
+        && listed != zip.len() as u64
+    {
+        return Err(DataError::Array {
+            path: p.into(),
+            array: "(archive)".into(),
+            message: format!(
+                "lists {listed} members under {} names: a name given twice (which array is meant?)",
+                zip.len()
+            ),
+        });
+    }
     let names = (zip.file_names())
         .filter_map(Result::ok)
         .map(|n| n.trim_end_matches(".npy").to_string())
         .collect();
     Ok((zip, names))
+}
+
+/// The number of members the zip file's end record says it holds (the
+/// reader keeps one member per name), when the record is found within the
+/// file's last 64 KiB and is not a ZIP64 one.
+fn listed_members(path: &Path) -> Option<u64> {
+    use std::io::{Seek, SeekFrom};
+    let mut f = std::fs::File::open(path).ok()?;
+    let len = f.metadata().ok()?.len();
+    let tail = len.min(22 + 0xFFFF);
+    f.seek(SeekFrom::Start(len - tail)).ok()?;
+    let mut buf = Vec::with_capacity(tail as usize);
+    f.take(tail).read_to_end(&mut buf).ok()?;
+    let at = buf.windows(4).rposition(|w| w == b"PK\x05\x06")?;
+    let count = u16::from_le_bytes(buf.get(at + 10..at + 12)?.try_into().ok()?);
+    (count != 0xFFFF).then_some(u64::from(count))
 }
 
 /// What a missing array's error says: the arrays there are, and, when no

@@ -498,16 +498,21 @@ fn bounding_of(
     })
 }
 
-/// Why a robot's total mass (kg) cannot be one, if it cannot: it must be
-/// positive and at most [`MAX_ABS_PARAM`](crate::moments::MAX_ABS_PARAM)
-/// (10⁶ kg, the bound of every inertial parameter; beyond it the SDP's
-/// scaling fails). Written `= 1e300: …` for the caller to prefix its name.
-pub fn total_mass_refusal(m: f64) -> Option<String> {
+/// Why `m` (kg) cannot be the total mass of `model`, if it cannot: it
+/// must be at least a millionth of the mass `model` describes (below that
+/// the equality is lost in the solver's tolerance: no robot is left) and at
+/// most [`MAX_ABS_PARAM`](crate::moments::MAX_ABS_PARAM) (10⁶ kg, the bound
+/// of every inertial parameter; beyond it the SDP's scaling fails). Written
+/// `= 1e300: …` for the caller to prefix its name.
+pub fn total_mass_refusal(m: f64, model: &Model) -> Option<String> {
     let max = crate::moments::MAX_ABS_PARAM;
-    (!(m > 0.0 && m <= max)).then(|| {
+    let described: f64 = model.params().iter().step_by(10).sum();
+    let min = 1e-6 * described.max(0.0);
+    (!(m > min && m > 0.0 && m <= max)).then(|| {
         format!(
-            "= {}: must be positive and at most {} kg (the bound of every inertial parameter)",
+            "= {}: must be above a millionth of the robot's described mass ({} kg) and at most {} kg (the bound of every inertial parameter)",
             crate::numfmt::short(m),
+            crate::numfmt::sig4(described),
             crate::numfmt::short(max)
         )
     })
@@ -522,7 +527,7 @@ fn identification_facts(
 ) -> Result<IdentificationFacts, DynamicsError> {
     let names = model.body_names();
     let spec = sidecar.identify.clone().unwrap_or_default();
-    if let Some(why) = spec.total_mass.and_then(total_mass_refusal) {
+    if let Some(why) = spec.total_mass.and_then(|m| total_mass_refusal(m, model)) {
         return Err(err(format!("[identify] total_mass {why}")));
     }
     if let Some(w) = spec.prior_mass_weight

@@ -235,7 +235,7 @@ fn identification<'r>(
             .map_err(|e| format!("--level {l}: {e}"))?;
     }
     if let Some(m) = a.total_mass {
-        if let Some(why) = momentlmi::dynamics::total_mass_refusal(m) {
+        if let Some(why) = momentlmi::dynamics::total_mass_refusal(m, &robot.model) {
             return Err(format!("--total-mass {why}"));
         }
         id = id.constrain(move |p, v| {
