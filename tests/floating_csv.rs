@@ -92,21 +92,13 @@ fn bad_files_are_named() {
     let e = err(&partial);
     assert!(e.contains("missing column 'moment_base_link_y'"), "{e}");
     // a value that is not a number, named by row and column
-    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
-    let mut fields: Vec<&str> = lines[3].split(',').collect();
-    fields[4] = "abc";
-    lines[3] = fields.join(",");
-    let e = err(&(lines.join("\n") + "\n"));
+    let e = err(&with_cell(&text, 3, "base_qx", "abc"));
     assert!(
         e.contains("row 3") && e.contains("'base_qx'") && e.contains("'abc'"),
         "{e}"
     );
     // a quaternion that is not of unit norm: read, then refused by check
-    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
-    let mut fields: Vec<String> = lines[2].split(',').map(str::to_string).collect();
-    fields[7] = "0.5".into();
-    lines[2] = fields.join(",");
-    let log = floating_from_csv(&ff, &(lines.join("\n") + "\n"), "log.csv").unwrap();
+    let log = floating_from_csv(&ff, &with_cell(&text, 2, "base_qw", "0.5"), "log.csv").unwrap();
     let e = log.check(&ff).unwrap_err().to_string();
     assert!(e.contains("sample 1") && e.contains("norm"), "{e}");
 }

@@ -302,13 +302,8 @@ impl Columns {
             if !v.is_finite() {
                 return Err(bad(format!("non-finite value '{raw}'")));
             }
-            let limit = if c == self.t.0 {
-                MAX_ABS_TIME
-            } else {
-                MAX_ABS_VALUE
-            };
             let v = v * scale;
-            match super::raw::refusal(v, limit) {
+            match super::raw::refusal(v, super::raw::limit(c == self.t.0)) {
                 Some(why) => Err(bad(why)),
                 None => Ok(v),
             }

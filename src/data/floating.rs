@@ -6,9 +6,8 @@
 //! in base coordinates).
 
 use super::error::DataError;
-use super::raw::{MAX_ABS_TIME, MAX_ABS_VALUE, refusal};
+use super::raw::{limit, not_after, refusal};
 use crate::dynamics::{ContactWrench, DynamicsError, FreeFlyer, WrenchFrame};
-use crate::numfmt::short;
 
 /// The wrenches measured at one frame over a log.
 #[derive(Clone, Debug, PartialEq)]
@@ -58,27 +57,31 @@ impl FloatingLog {
             ("a", Some(&self.a), 6 + n),
             ("tau", self.tau.as_ref(), n),
         ];
-        check_array("t", &self.t, s, 1)?;
+        check_array(("t", true), &self.t, s, 1)?;
         if let Some(k) = self.t.windows(2).position(|w| w[1] <= w[0]) {
             return Err(DataError::Log {
                 message: format!(
-                    "t: sample {}: time {} is not after the previous sample's {}",
+                    "t: sample {}: {}",
                     k + 1,
-                    short(self.t[k + 1]),
-                    short(self.t[k])
+                    not_after(self.t[k + 1], self.t[k], "sample")
                 ),
             });
         }
         for (name, x, width) in arrays {
             if let Some(x) = x {
-                check_array(name, x, s, width)?;
+                check_array((name, false), x, s, width)?;
             }
         }
         for c in &self.contacts {
             ff.frame_index(&c.frame).map_err(|e| DataError::Log {
                 message: e.to_string(),
             })?;
-            check_array(&format!("wrench of '{}'", c.frame), &c.wrench, s, 6)?;
+            check_array(
+                (&format!("wrench of '{}'", c.frame), false),
+                &c.wrench,
+                s,
+                6,
+            )?;
         }
         let (nq, nv) = (ff.nq(), ff.nv());
         for k in 0..s {
@@ -153,7 +156,14 @@ fn bad(sample: usize, source: DynamicsError) -> DataError {
     DataError::Sample { sample, source }
 }
 
-fn check_array(name: &str, x: &[f64], samples: usize, width: usize) -> Result<(), DataError> {
+/// Checks one array of `samples × width` values; `name` names it, and
+/// `is_time` picks its limit ([`limit`]).
+fn check_array(
+    (name, is_time): (&str, bool),
+    x: &[f64],
+    samples: usize,
+    width: usize,
+) -> Result<(), DataError> {
     if x.len() != samples * width {
         return Err(DataError::Log {
             message: format!(
@@ -162,13 +172,8 @@ fn check_array(name: &str, x: &[f64], samples: usize, width: usize) -> Result<()
             ),
         });
     }
-    let limit = if name == "t" {
-        MAX_ABS_TIME
-    } else {
-        MAX_ABS_VALUE
-    };
     for (i, &v) in x.iter().enumerate() {
-        if let Some(why) = refusal(v, limit) {
+        if let Some(why) = refusal(v, limit(is_time)) {
             return Err(DataError::Log {
                 message: format!("{name}: sample {}, entry {}: {why}", i / width, i % width),
             });

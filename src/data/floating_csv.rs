@@ -15,9 +15,8 @@
 use super::csv::MAX_COLUMNS;
 use super::error::DataError;
 use super::floating::{ContactChannel, FloatingLog};
-use super::raw::{MAX_ABS_TIME, MAX_ABS_VALUE, MAX_ROWS, refusal};
+use super::raw::{MAX_ROWS, limit, not_after, refusal};
 use crate::dynamics::{FreeFlyer, WrenchFrame};
-use crate::numfmt::short;
 use std::collections::HashMap;
 
 const BASE_Q: [&str; 7] = ["x", "y", "z", "qx", "qy", "qz", "qw"];
@@ -347,22 +346,13 @@ fn push_row(
         };
         let x: f64 =
             (field.parse().ok()).ok_or_else(|| bad(format!("'{field}' is not a number")))?;
-        let limit = if *slot == Slot::T {
-            MAX_ABS_TIME
-        } else {
-            MAX_ABS_VALUE
-        };
-        if let Some(why) = refusal(x, limit) {
+        if let Some(why) = refusal(x, limit(*slot == Slot::T)) {
             return Err(bad(why));
         }
         if let (Slot::T, Some(&last)) = (slot, log.t.last())
             && x <= last
         {
-            return Err(bad(format!(
-                "time {} is not after the previous row's {}",
-                short(x),
-                short(last)
-            )));
+            return Err(bad(not_after(x, last, "row")));
         }
         match *slot {
             Slot::T => log.t.push(x),

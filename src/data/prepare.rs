@@ -220,11 +220,7 @@ fn as_prepared(raw: RawLog) -> Result<Dataset, DataError> {
             path: raw.path,
             row: r + 2,
             column: "t".into(),
-            message: format!(
-                "time {} is not after the previous row's {}",
-                short(raw.t[r + 1]),
-                short(raw.t[r])
-            ),
+            message: super::raw::not_after(raw.t[r + 1], raw.t[r], "row"),
         });
     }
     let Some(qd) = raw.qd else {

@@ -90,6 +90,22 @@ pub(crate) fn check_value(
     }
 }
 
+/// The limit of a value read from a log: [`MAX_ABS_TIME`] for a time
+/// stamp, else [`MAX_ABS_VALUE`].
+pub(crate) fn limit(is_time: bool) -> f64 {
+    if is_time { MAX_ABS_TIME } else { MAX_ABS_VALUE }
+}
+
+/// What every reader says of a time `t` that does not follow `before`
+/// (the previous `what`: row or sample).
+pub(crate) fn not_after(t: f64, before: f64, what: &str) -> String {
+    format!(
+        "time {} is not after the previous {what}'s {}",
+        crate::numfmt::short(t),
+        crate::numfmt::short(before)
+    )
+}
+
 /// Why a value read from a log is refused, if it is: not finite, or
 /// beyond `limit` in magnitude ([`MAX_ABS_VALUE`], [`MAX_ABS_TIME`]). One
 /// rule for every reader; the number is written short (`1e300`).
