@@ -11,7 +11,7 @@
 //! also writes the training log in the floating-base CSV format.
 
 use momentlmi::dynamics::urdf::free_flyer_from_urdf_file;
-use momentlmi::dynamics::{FreeFlyer, FreeFlyerData};
+use momentlmi::dynamics::{Data, Model};
 use momentlmi::identify::floating::measured;
 use momentlmi::identify::{Identification, Rows, reduce_floating};
 use momentlmi::sim::floating::{SuspendedConfig, simulate_suspended};
@@ -20,17 +20,23 @@ use std::path::Path;
 
 /// RMS of the base rows' residual `measured − Y θ` over a log.
 fn base_rms(
-    ff: &FreeFlyer,
+    ff: &Model,
     log: &momentlmi::data::floating::FloatingLog,
     theta: &[f64],
 ) -> Result<f64, Box<dyn Error>> {
-    let mut data = FreeFlyerData::new(ff);
+    let mut data = Data::new(ff);
     let (nq, nv) = (ff.nq(), ff.nv());
     let mut sum = 0.0;
     for k in 0..log.samples() {
         let b = measured(ff, &mut data, log, k)?;
         let s = |x: &[f64], w: usize| x[k * w..(k + 1) * w].to_vec();
-        let y = ff.regressor(&mut data, &s(&log.q, nq), &s(&log.v, nv), &s(&log.a, nv))?;
+        let y = momentlmi::dynamics::regressor(
+            &ff,
+            &mut data,
+            &s(&log.q, nq),
+            &s(&log.v, nv),
+            &s(&log.a, nv),
+        )?;
         for i in 0..6 {
             let pred: f64 = (0..theta.len()).map(|j| y[(i, j)] * theta[j]).sum();
             sum += (b[i] - pred).powi(2);
@@ -69,7 +75,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     );
     let mut fitted = ff.clone();
     fitted.set_params(&solved.theta[..10 * ff.num_bodies()])?;
-    let mut data = FreeFlyerData::new(&ff);
+    let mut data = Data::new(&ff);
     let q = &test.q[..ff.nq()];
     let (m0, c0, i0) = ff.centroidal(&mut data, q)?;
     let (m1, c1, i1) = fitted.centroidal(&mut data, q)?;

@@ -3,16 +3,16 @@
 
 use momentlmi::data::floating_csv::floating_from_csv;
 use momentlmi::dynamics::urdf::free_flyer_from_urdf_file;
-use momentlmi::dynamics::{FreeFlyer, WrenchFrame};
+use momentlmi::dynamics::{Model, WrenchFrame};
 use momentlmi::sim::floating::{SuspendedConfig, simulate_suspended};
 use std::path::Path;
 
-fn solo() -> FreeFlyer {
+fn solo() -> Model {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     free_flyer_from_urdf_file(&root.join("robots/solo12/solo12.urdf"), None).unwrap()
 }
 
-fn short_log(ff: &FreeFlyer) -> momentlmi::data::floating::FloatingLog {
+fn short_log(ff: &Model) -> momentlmi::data::floating::FloatingLog {
     let cfg = SuspendedConfig {
         seconds: 0.1,
         ..SuspendedConfig::default()
@@ -219,7 +219,7 @@ fn a_line_without_end_and_a_huge_column_name_make_short_errors() {
     );
 }
 
-fn err_of(ff: &FreeFlyer, text: &str) -> String {
+fn err_of(ff: &Model, text: &str) -> String {
     floating_from_csv(ff, text, "log.csv")
         .unwrap_err()
         .to_string()

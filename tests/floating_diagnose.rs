@@ -3,12 +3,12 @@
 //! invents none in a log without one.
 
 use momentlmi::diagnose::floating::{FloatingEffect, diagnose_floating};
-use momentlmi::dynamics::FreeFlyer;
+use momentlmi::dynamics::Model;
 use momentlmi::dynamics::urdf::free_flyer_from_urdf_file;
 use momentlmi::sim::floating::{FloatingEffects, SuspendedConfig, simulate_suspended};
 use std::path::Path;
 
-fn solo() -> FreeFlyer {
+fn solo() -> Model {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     free_flyer_from_urdf_file(&root.join("robots/solo12/solo12.urdf"), None).unwrap()
 }

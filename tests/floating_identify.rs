@@ -6,7 +6,7 @@
 
 use momentlmi::data::floating::FloatingLog;
 use momentlmi::dynamics::urdf::free_flyer_from_urdf_file;
-use momentlmi::dynamics::{FreeFlyer, FreeFlyerData};
+use momentlmi::dynamics::{Data, Model};
 use momentlmi::identify::{Identification, Rows, reduce_floating};
 use momentlmi::moments::InertialParams;
 use momentlmi::sim::floating::{SuspendedConfig, simulate_suspended};
@@ -16,12 +16,12 @@ use std::path::Path;
 mod floating_support;
 use floating_support::held_out_rms;
 
-fn solo() -> FreeFlyer {
+fn solo() -> Model {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     free_flyer_from_urdf_file(&root.join("robots/solo12/solo12.urdf"), None).unwrap()
 }
 
-fn logs(ff: &FreeFlyer) -> (FloatingLog, FloatingLog) {
+fn logs(ff: &Model) -> (FloatingLog, FloatingLog) {
     // two minutes of training (the centroidal inertia of a 2.5 kg robot,
     // ≈ 0.03 kg·m², is what needs them: 1.6 % off after 20 s, 1.0 % after 60 s)
     let cfg = |seconds, seed| SuspendedConfig {
@@ -35,7 +35,7 @@ fn logs(ff: &FreeFlyer) -> (FloatingLog, FloatingLog) {
     )
 }
 
-fn truth(ff: &FreeFlyer) -> Vec<f64> {
+fn truth(ff: &Model) -> Vec<f64> {
     let mut t = ff.params();
     t.resize(ff.regressor_columns(), 0.0); // no friction in the simulation
     t
@@ -65,7 +65,7 @@ fn base_rows_alone_identify_the_whole_robot() {
     // the whole robot, at two configurations
     let mut fitted = ff.clone();
     fitted.set_params(&theta[..10 * ff.num_bodies()]).unwrap();
-    let mut data = FreeFlyerData::new(&ff);
+    let mut data = Data::new(&ff);
     for k in [0, 1234] {
         let q = &test.q[k * ff.nq()..(k + 1) * ff.nq()];
         let (m0, c0, i0) = ff.centroidal(&mut data, q).unwrap();
@@ -153,7 +153,7 @@ fn rows_and_set_ups_that_do_not_match_are_named() {
     assert!(e.contains("rows 6..12"), "{e}");
     // the fixed-base steps refuse a free-flyer's set-up (its columns are
     // not its tree's)
-    let names = ff.tree.joint_names();
+    let names = ff.joint_names();
     let d = momentlmi::data::Dataset::empty(&names);
     let e = Identification::for_free_flyer(&ff, Rows::Base)
         .fit(&d)

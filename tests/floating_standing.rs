@@ -5,7 +5,7 @@
 
 use momentlmi::data::floating::FloatingLog;
 use momentlmi::dynamics::urdf::free_flyer_from_urdf_file;
-use momentlmi::dynamics::{FreeFlyer, FreeFlyerData};
+use momentlmi::dynamics::{Data, Model};
 use momentlmi::identify::floating::measured;
 use momentlmi::identify::{Identification, Rows, reduce_floating};
 use momentlmi::sim::floating::FloatingNoise;
@@ -17,23 +17,23 @@ use std::path::Path;
 mod floating_support;
 use floating_support::held_out_rms;
 
-fn solo() -> FreeFlyer {
+fn solo() -> Model {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     free_flyer_from_urdf_file(&root.join("robots/solo12/solo12.urdf"), None).unwrap()
 }
 
 const FEET: [&str; 4] = ["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"];
 
-fn config(ff: &FreeFlyer) -> StandingConfig {
+fn config(ff: &Model) -> StandingConfig {
     // knees bent forward at the front, backward at the back (joints in
     // depth-first order: FL, FR, HL, HR; HAA, HFE, KFE each)
-    assert_eq!(ff.tree.joint_names()[..3], ["FL_HAA", "FL_HFE", "FL_KFE"]);
+    assert_eq!(ff.joint_names()[..3], ["FL_HAA", "FL_HFE", "FL_KFE"]);
     let leg = |s: f64| [0.0, 0.8 * s, -1.6 * s];
     let posture = [leg(1.0), leg(1.0), leg(-1.0), leg(-1.0)].concat();
     StandingConfig::new(FEET.map(String::from).to_vec(), posture)
 }
 
-fn exact(ff: &FreeFlyer, seconds: f64, rate: f64) -> FloatingLog {
+fn exact(ff: &Model, seconds: f64, rate: f64) -> FloatingLog {
     let cfg = StandingConfig {
         seconds,
         rate,
@@ -43,7 +43,7 @@ fn exact(ff: &FreeFlyer, seconds: f64, rate: f64) -> FloatingLog {
     simulate_standing(ff, &cfg).unwrap()
 }
 
-fn pose(log: &FloatingLog, ff: &FreeFlyer, k: usize) -> (Vector3<f64>, UnitQuaternion<f64>) {
+fn pose(log: &FloatingLog, ff: &Model, k: usize) -> (Vector3<f64>, UnitQuaternion<f64>) {
     let q = &log.q[k * ff.nq()..];
     let rot = UnitQuaternion::from_quaternion(Quaternion::new(q[6], q[3], q[4], q[5]));
     (Vector3::new(q[0], q[1], q[2]), rot)
@@ -55,8 +55,8 @@ fn the_feet_stay_put_and_the_states_are_consistent() {
     let (rate, nq, nv) = (1000.0, ff.nq(), ff.nv());
     let log = exact(&ff, 2.0, rate);
     let frames: Vec<usize> = FEET.iter().map(|f| ff.frame_index(f).unwrap()).collect();
-    let mut data = FreeFlyerData::new(&ff);
-    let world = |data: &mut FreeFlyerData, k: usize| -> Vec<Vector3<f64>> {
+    let mut data = Data::new(&ff);
+    let world = |data: &mut Data, k: usize| -> Vec<Vector3<f64>> {
         let (p, rot) = pose(&log, &ff, k);
         let feet = ff.frames_in_base(data, &log.q[k * nq + 7..(k + 1) * nq], &frames);
         feet.unwrap().iter().map(|f| p + rot * f).collect()
@@ -80,7 +80,7 @@ fn the_feet_stay_put_and_the_states_are_consistent() {
         worst[1] = worst[1].max((lin - Vector3::new(v[0], v[1], v[2])).norm());
         worst[2] = worst[2].max((ang - Vector3::new(v[3], v[4], v[5])).norm());
         // joint velocities and every acceleration are the rates of the rest
-        for j in 0..ff.tree.dof() {
+        for j in 0..ff.dof() {
             let d = (log.q[(k + 1) * nq + 7 + j] - log.q[(k - 1) * nq + 7 + j]) / (2.0 * dt);
             worst[3] = worst[3].max((d - v[6 + j]).abs());
         }
@@ -106,7 +106,7 @@ fn the_feet_stay_put_and_the_states_are_consistent() {
             &log.v[k * nv..(k + 1) * nv],
             &log.a[k * nv..(k + 1) * nv],
         );
-        let g = ff.rnea(&mut data, q, v, a).unwrap();
+        let g = momentlmi::dynamics::rnea(&ff, &mut data, q, v, a).unwrap();
         biggest = biggest.max((&b - g).amax());
         // the robot stands on its feet: they carry its weight
         let fz: f64 = log.contacts.iter().map(|c| c.wrench[6 * k + 2]).sum();
@@ -146,7 +146,7 @@ fn standing_data_identify_at_the_noise_floor() {
         fitted
             .set_params(&solved.theta[..10 * ff.num_bodies()])
             .unwrap();
-        let mut data = FreeFlyerData::new(&ff);
+        let mut data = Data::new(&ff);
         let q = &test.q[..ff.nq()];
         let ((m0, c0, _), (m1, c1, _)) = (
             ff.centroidal(&mut data, q).unwrap(),

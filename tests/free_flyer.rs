@@ -5,11 +5,11 @@
 //! each other.
 
 use momentlmi::dynamics::urdf::free_flyer_from_urdf_file;
-use momentlmi::dynamics::{ContactWrench, DynamicsError, FreeFlyer, FreeFlyerData, WrenchFrame};
+use momentlmi::dynamics::{ContactWrench, Data, DynamicsError, Model, WrenchFrame};
 use serde_json::Value;
 use std::path::Path;
 
-fn solo() -> FreeFlyer {
+fn solo() -> Model {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     free_flyer_from_urdf_file(&root.join("robots/solo12/solo12.urdf"), None).unwrap()
 }
@@ -34,7 +34,7 @@ fn max_diff(a: impl IntoIterator<Item = f64>, b: impl IntoIterator<Item = f64>) 
         .fold(0.0, f64::max)
 }
 
-fn contacts(ff: &FreeFlyer, c: &Value) -> Vec<ContactWrench> {
+fn contacts(ff: &Model, c: &Value) -> Vec<ContactWrench> {
     c["contacts"]
         .as_array()
         .unwrap()
@@ -60,23 +60,29 @@ fn solo12_matches_pinocchio_free_flyer() {
         .iter()
         .map(|n| n.as_str().unwrap())
         .collect();
-    assert_eq!(ff.tree.joint_names(), names);
+    assert_eq!(ff.joint_names(), names);
     assert_eq!(
         (ff.nq(), ff.nv(), ff.regressor_columns()),
         (19, 18, 130 + 24)
     ); // + viscous and Coulomb per joint
-    let mut data = FreeFlyerData::new(&ff);
+    let mut data = Data::new(&ff);
     for (k, c) in r["cases"].as_array().unwrap().iter().enumerate() {
         let (q, v, a) = (floats(&c["q"]), floats(&c["v"]), floats(&c["a"]));
-        let tau = ff.rnea(&mut data, &q, &v, &a).unwrap().clone();
+        let tau = momentlmi::dynamics::rnea(&ff, &mut data, &q, &v, &a)
+            .unwrap()
+            .clone();
         let err = max_diff(tau.iter().copied(), floats(&c["tau"]));
         assert!(err < 1e-9, "case {k}: rnea differs by {err:e}");
-        let m = ff.crba(&mut data, &q).unwrap().clone();
+        let m = momentlmi::dynamics::crba(&ff, &mut data, &q)
+            .unwrap()
+            .clone();
         for (i, row) in c["mass_matrix"].as_array().unwrap().iter().enumerate() {
             let err = max_diff(m.row(i).iter().copied(), floats(row));
             assert!(err < 1e-9, "case {k}: mass row {i} differs by {err:e}");
         }
-        let y = ff.regressor(&mut data, &q, &v, &a).unwrap().clone();
+        let y = momentlmi::dynamics::regressor(&ff, &mut data, &q, &v, &a)
+            .unwrap()
+            .clone();
         for (i, row) in c["regressor"].as_array().unwrap().iter().enumerate() {
             let err = max_diff(y.row(i).iter().copied(), floats(row));
             assert!(err < 1e-9, "case {k}: regressor row {i} differs by {err:e}");
@@ -91,12 +97,16 @@ fn solo12_matches_pinocchio_free_flyer() {
 fn regressor_times_parameters_is_the_inverse_dynamics() {
     // with the tree's friction columns (viscous, Coulomb): Y π + Y_f φ = rnea + friction
     let ff = solo();
-    let mut data = FreeFlyerData::new(&ff);
+    let mut data = Data::new(&ff);
     let r = reference();
     let c = &r["cases"][1];
     let (q, v, a) = (floats(&c["q"]), floats(&c["v"]), floats(&c["a"]));
-    let tau = ff.rnea(&mut data, &q, &v, &a).unwrap().clone();
-    let y = ff.regressor(&mut data, &q, &v, &a).unwrap().clone();
+    let tau = momentlmi::dynamics::rnea(&ff, &mut data, &q, &v, &a)
+        .unwrap()
+        .clone();
+    let y = momentlmi::dynamics::regressor(&ff, &mut data, &q, &v, &a)
+        .unwrap()
+        .clone();
     let mut p = ff.params();
     p.resize(ff.regressor_columns(), 0.0);
     let yp = &y * nalgebra::DVector::from_vec(p);
@@ -113,11 +123,10 @@ fn a_free_robot_at_rest_weighs_its_mass() {
     // at rest, the base rows of the inverse dynamics are the weight of the
     // whole robot: force R^T (0, 0, m g), moment about the base of the CoM
     let ff = solo();
-    let mut data = FreeFlyerData::new(&ff);
+    let mut data = Data::new(&ff);
     let mut q = vec![0.0; 19];
     q[6] = 1.0;
-    let tau = ff
-        .rnea(&mut data, &q, &[0.0; 18], &[0.0; 18])
+    let tau = momentlmi::dynamics::rnea(&ff, &mut data, &q, &[0.0; 18], &[0.0; 18])
         .unwrap()
         .clone();
     let mass: f64 = ff.params().chunks(10).map(|p| p[0]).sum();
@@ -135,15 +144,14 @@ fn a_free_robot_at_rest_weighs_its_mass() {
 #[test]
 fn bad_floating_base_input_is_named() {
     let ff = solo();
-    let mut data = FreeFlyerData::new(&ff);
+    let mut data = Data::new(&ff);
     let mut q = vec![0.0; 19];
     q[6] = 0.9;
-    let e = ff.rnea(&mut data, &q, &[0.0; 18], &[0.0; 18]).unwrap_err();
+    let e = momentlmi::dynamics::rnea(&ff, &mut data, &q, &[0.0; 18], &[0.0; 18]).unwrap_err();
     assert!(matches!(e, DynamicsError::Quaternion { .. }), "{e}");
     assert!(e.to_string().contains("norm 0.9"), "{e}");
-    let e = ff
-        .rnea(&mut data, &q[..18], &[0.0; 18], &[0.0; 18])
-        .unwrap_err();
+    let e =
+        momentlmi::dynamics::rnea(&ff, &mut data, &q[..18], &[0.0; 18], &[0.0; 18]).unwrap_err();
     assert!(e.to_string().contains("q: expected length 19"), "{e}");
     let e = ff.frame_index("FL_TOE").unwrap_err();
     assert!(
@@ -165,13 +173,12 @@ fn the_centroidal_quantities_are_the_weight_and_its_moment() {
     // force (0, 0, m g) and moment c × f about the base origin — another
     // route (RNEA) to what `centroidal` reads off the mass matrix (CRBA)
     let ff = solo();
-    let mut data = FreeFlyerData::new(&ff);
+    let mut data = Data::new(&ff);
     let r = reference();
     let mut q = floats(&r["cases"][0]["q"]);
     q[3..7].copy_from_slice(&[0.0, 0.0, 0.0, 1.0]);
     let (m, c, i) = ff.centroidal(&mut data, &q).unwrap();
-    let tau = ff
-        .rnea(&mut data, &q, &[0.0; 18], &[0.0; 18])
+    let tau = momentlmi::dynamics::rnea(&ff, &mut data, &q, &[0.0; 18], &[0.0; 18])
         .unwrap()
         .clone();
     let f = nalgebra::Vector3::new(tau[0], tau[1], tau[2]);

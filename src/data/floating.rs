@@ -1,13 +1,13 @@
 //! A floating-base log: the base's pose and motion (motion capture or an
 //! estimator and an IMU), the joints' encoders and torques, and the
 //! wrenches measured at contact frames (force plates, a harness load cell,
-//! foot sensors). Conventions: [`FreeFlyer`]'s (`q` 7 + n with the
+//! foot sensors). Conventions: [`Model`]'s (`q` 7 + n with the
 //! quaternion `x, y, z, w`; `v`, `a` 6 + n, base part linear then angular
 //! in base coordinates).
 
 use super::error::DataError;
 use super::raw::{limit, not_after, refusal};
-use crate::dynamics::{ContactWrench, DynamicsError, FreeFlyer, WrenchFrame};
+use crate::dynamics::{ContactWrench, DynamicsError, Model, WrenchFrame};
 
 /// The wrenches measured at one frame over a log.
 #[derive(Clone, Debug, PartialEq)]
@@ -48,9 +48,9 @@ impl FloatingLog {
     /// Checks the log against the robot: every array's length, every value
     /// finite and within the readers' limits (times too, and increasing), every quaternion of unit norm, every contact frame one of
     /// the robot's; the error names the array, sample or frame.
-    pub fn check(&self, ff: &FreeFlyer) -> Result<(), DataError> {
+    pub fn check(&self, ff: &Model) -> Result<(), DataError> {
         let s = self.samples();
-        let n = ff.tree.dof();
+        let n = ff.dof();
         let arrays = [
             ("q", Some(&self.q), 7 + n),
             ("v", Some(&self.v), 6 + n),
@@ -95,8 +95,8 @@ impl FloatingLog {
 
     /// Whether sample `k` exists in every array (their lengths as `ff`
     /// needs them), for the per-sample readers that run without [`check`](Self::check).
-    pub fn sample_fits(&self, ff: &FreeFlyer, k: usize) -> Result<(), DynamicsError> {
-        let n = ff.tree.dof();
+    pub fn sample_fits(&self, ff: &Model, k: usize) -> Result<(), DynamicsError> {
+        let n = ff.dof();
         let need = |what: &str, x: &[f64], w: usize| {
             if x.len() < (k + 1) * w {
                 return Err(DynamicsError::Dimension {
@@ -119,12 +119,8 @@ impl FloatingLog {
         Ok(())
     }
 
-    /// Sample `k`'s contact wrenches, for [`FreeFlyer::contact_force`].
-    pub fn contacts_at(
-        &self,
-        ff: &FreeFlyer,
-        k: usize,
-    ) -> Result<Vec<ContactWrench>, DynamicsError> {
+    /// Sample `k`'s contact wrenches, for [`Model::contact_force`].
+    pub fn contacts_at(&self, ff: &Model, k: usize) -> Result<Vec<ContactWrench>, DynamicsError> {
         self.sample_fits(ff, k)?;
         self.contacts
             .iter()

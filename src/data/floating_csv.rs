@@ -16,7 +16,7 @@ use super::csv::MAX_COLUMNS;
 use super::error::DataError;
 use super::floating::{ContactChannel, FloatingLog};
 use super::raw::{MAX_ROWS, limit, not_after, refusal};
-use crate::dynamics::{FreeFlyer, WrenchFrame};
+use crate::dynamics::{Model, WrenchFrame};
 use std::collections::HashMap;
 
 const BASE_Q: [&str; 7] = ["x", "y", "z", "qx", "qy", "qz", "qw"];
@@ -44,8 +44,8 @@ fn prefix_of(expressed: WrenchFrame) -> &'static str {
 
 /// The column names of `log` for the robot `ff` (contacts: forces, then
 /// moments).
-pub fn floating_header(ff: &FreeFlyer, log: &FloatingLog) -> Vec<String> {
-    let joints = ff.tree.joint_names();
+pub fn floating_header(ff: &Model, log: &FloatingLog) -> Vec<String> {
+    let joints = ff.joint_names();
     let mut h = vec!["t".to_string()];
     h.extend(BASE_Q.iter().map(|c| format!("base_{c}")));
     h.extend(BASE_V.iter().map(|c| format!("base_{c}")));
@@ -69,11 +69,11 @@ pub fn floating_header(ff: &FreeFlyer, log: &FloatingLog) -> Vec<String> {
 impl FloatingLog {
     /// The CSV text (every value in full precision); the log is checked
     /// against `ff` first ([`FloatingLog::check`]).
-    pub fn to_csv(&self, ff: &FreeFlyer) -> Result<String, DataError> {
+    pub fn to_csv(&self, ff: &Model) -> Result<String, DataError> {
         self.check(ff)?;
         let mut s = floating_header(ff, self).join(",");
         s.push('\n');
-        let (nq, nv, n) = (ff.nq(), ff.nv(), ff.tree.dof());
+        let (nq, nv, n) = (ff.nq(), ff.nv(), ff.dof());
         for k in 0..self.samples() {
             let mut row: Vec<f64> = vec![self.t[k]];
             row.extend(&self.q[k * nq..(k + 1) * nq][..7]);
@@ -99,11 +99,11 @@ impl FloatingLog {
 /// Every column's slot, the contacts found, and whether torques are there;
 /// an unknown, repeated or missing column is an error naming it.
 fn slots(
-    ff: &FreeFlyer,
+    ff: &Model,
     header: &[String],
     path: &str,
 ) -> Result<(Vec<Slot>, Vec<(String, WrenchFrame)>, bool), DataError> {
-    let joints = ff.tree.joint_names();
+    let joints = ff.joint_names();
     let mut known: HashMap<String, Slot> = HashMap::new();
     known.insert("t".into(), Slot::T);
     for (i, c) in BASE_Q.iter().enumerate() {
@@ -174,7 +174,7 @@ fn slots(
 /// `None` for a name of another form, an error for a frame the robot does
 /// not have.
 fn contact_slot(
-    ff: &FreeFlyer,
+    ff: &Model,
     name: &str,
     contacts: &mut Vec<(String, WrenchFrame)>,
 ) -> Result<Option<Slot>, String> {
@@ -216,13 +216,13 @@ fn contact_column(name: &str) -> Option<(WrenchFrame, usize, usize, &str)> {
 /// names it in errors (row numbers 1-based, data rows). A contact without
 /// moment columns has zero moment (a point contact); a contact with some
 /// but not all three force columns is an error.
-pub fn floating_from_csv(ff: &FreeFlyer, text: &str, path: &str) -> Result<FloatingLog, DataError> {
+pub fn floating_from_csv(ff: &Model, text: &str, path: &str) -> Result<FloatingLog, DataError> {
     floating_from_reader(ff, text.as_bytes(), path)
 }
 
 /// Reads a floating-base log's CSV file (streamed, within the readers' row limit),
 /// as [`floating_from_csv`].
-pub fn read_floating_csv(ff: &FreeFlyer, path: &std::path::Path) -> Result<FloatingLog, DataError> {
+pub fn read_floating_csv(ff: &Model, path: &std::path::Path) -> Result<FloatingLog, DataError> {
     let name = path.display().to_string();
     let file = std::fs::File::open(path).map_err(|source| DataError::Io {
         path: name.clone(),
@@ -233,7 +233,7 @@ pub fn read_floating_csv(ff: &FreeFlyer, path: &std::path::Path) -> Result<Float
 
 /// [`floating_from_csv`] from any reader.
 fn floating_from_reader(
-    ff: &FreeFlyer,
+    ff: &Model,
     reader: impl std::io::Read,
     path: &str,
 ) -> Result<FloatingLog, DataError> {
@@ -311,7 +311,7 @@ fn check_forces(
 
 fn push_row(
     log: &mut FloatingLog,
-    ff: &FreeFlyer,
+    ff: &Model,
     slots: &[Slot],
     rec: &::csv::StringRecord,
     (path, row): (&str, usize),
@@ -324,7 +324,7 @@ fn push_row(
             message: format!("{} fields, the header has {}", rec.len(), slots.len()),
         });
     }
-    let (nq, nv, n) = (ff.nq(), ff.nv(), ff.tree.dof());
+    let (nq, nv, n) = (ff.nq(), ff.nv(), ff.dof());
     let (q0, v0) = (log.q.len(), log.v.len());
     log.q.resize(q0 + nq, 0.0);
     log.v.resize(v0 + nv, 0.0);

@@ -16,7 +16,7 @@
 
 use super::error::DiagnoseError;
 use crate::data::floating::FloatingLog;
-use crate::dynamics::{ContactWrench, FreeFlyer, FreeFlyerData};
+use crate::dynamics::{ContactWrench, Data, Model};
 use crate::identify::floating_fit::residual;
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
@@ -129,7 +129,7 @@ const MIN_SAMPLES: usize = 32;
 /// The data as the diagnosis sees them: per log, every sample's nominal
 /// residual (its first `rows` rows) and where the held-out part starts.
 struct Split<'a> {
-    ff: &'a FreeFlyer,
+    ff: &'a Model,
     logs: &'a [FloatingLog],
     rows: usize,
     residuals: Vec<Vec<DVector<f64>>>,
@@ -141,7 +141,7 @@ struct Split<'a> {
 /// Diagnoses `logs` against the nominal model `ff` whose regressor
 /// parameters are `theta` (bodies then friction columns).
 pub fn diagnose_floating(
-    ff: &FreeFlyer,
+    ff: &Model,
     theta: &[f64],
     logs: &[FloatingLog],
 ) -> Result<FloatingDiagnosis, DiagnoseError> {
@@ -193,11 +193,7 @@ impl<'a> Split<'a> {
     /// Every log's nominal residual (all rows when every log has joint
     /// torques, else the base's) and its split; the logs must have the same
     /// contacts and at least 34 samples each.
-    fn new(
-        ff: &'a FreeFlyer,
-        theta: &[f64],
-        logs: &'a [FloatingLog],
-    ) -> Result<Self, DiagnoseError> {
+    fn new(ff: &'a Model, theta: &[f64], logs: &'a [FloatingLog]) -> Result<Self, DiagnoseError> {
         let first = logs
             .first()
             .ok_or(DiagnoseError::Floating("no log".into()))?;
@@ -221,7 +217,7 @@ impl<'a> Split<'a> {
                     i + 1
                 )));
             }
-            let mut data = FreeFlyerData::new(ff);
+            let mut data = Data::new(ff);
             let r = (0..log.samples())
                 .map(|k| {
                     residual(ff, &mut data, theta, log, k).map(|r| r.rows(0, rows).into_owned())
@@ -244,12 +240,12 @@ impl<'a> Split<'a> {
 }
 
 /// `base_force_x…`, `base_moment_x…`, `tau_<joint>…` (the first `rows`).
-fn row_names(ff: &FreeFlyer, rows: usize) -> Vec<String> {
+fn row_names(ff: &Model, rows: usize) -> Vec<String> {
     let mut v: Vec<String> = ["force", "moment"]
         .iter()
         .flat_map(|k| ["x", "y", "z"].map(|a| format!("base_{k}_{a}")))
         .collect();
-    v.extend(ff.tree.joint_names().iter().map(|j| format!("tau_{j}")));
+    v.extend(ff.joint_names().iter().map(|j| format!("tau_{j}")));
     v.truncate(rows);
     v
 }
@@ -307,13 +303,12 @@ impl Split<'_> {
     /// correction (`None`: none).
     fn held_out_rms<F>(&self, fix: F) -> Result<Vec<f64>, DiagnoseError>
     where
-        F: Fn(&mut FreeFlyerData, usize, usize) -> Result<Option<DVector<f64>>, DiagnoseError>
-            + Sync,
+        F: Fn(&mut Data, usize, usize) -> Result<Option<DVector<f64>>, DiagnoseError> + Sync,
     {
         let parts = (self.chunks(false).par_iter())
             .map(|&(l, s0, s1)| {
                 let mut sum = vec![0.0; self.rows];
-                let mut data = FreeFlyerData::new(self.ff);
+                let mut data = Data::new(self.ff);
                 for k in s0..s1 {
                     let mut r = self.residuals[l][k].clone();
                     if let Some(c) = fix(&mut data, l, k)? {
@@ -336,11 +331,11 @@ impl Split<'_> {
     fn columns(
         &self,
         effect: FloatingEffect,
-        data: &mut FreeFlyerData,
+        data: &mut Data,
         (l, k): (usize, usize),
     ) -> Result<DMatrix<f64>, DiagnoseError> {
         let (ff, log) = (self.ff, &self.logs[l]);
-        let (nq, nv, n) = (ff.nq(), ff.nv(), ff.tree.dof());
+        let (nq, nv, n) = (ff.nq(), ff.nv(), ff.dof());
         let fail =
             |e: crate::dynamics::DynamicsError| DiagnoseError::Floating(format!("sample {k}: {e}"));
         let (q, v, a) = (
@@ -383,7 +378,7 @@ impl Split<'_> {
                 } else {
                     ff.num_bodies()
                 };
-                ff.regressor(data, q, v, a)
+                crate::dynamics::regressor(ff, data, q, v, a)
                     .map_err(fail)?
                     .columns(0, 10 * bodies)
                     .into_owned()
@@ -445,7 +440,7 @@ impl Split<'_> {
         let width = names.len();
         let parts = (self.chunks(true).par_iter())
             .map(|&(l, s0, s1)| {
-                let mut data = FreeFlyerData::new(self.ff);
+                let mut data = Data::new(self.ff);
                 let (mut g, mut b) = (DMatrix::zeros(width, width), DVector::zeros(width));
                 for k in s0..s1 {
                     let x = self.columns_of(&set, &mut data, (l, k))?;
@@ -485,7 +480,7 @@ impl Split<'_> {
     fn columns_of(
         &self,
         effects: &[FloatingEffect],
-        data: &mut FreeFlyerData,
+        data: &mut Data,
         at: (usize, usize),
     ) -> Result<DMatrix<f64>, DiagnoseError> {
         let blocks = (effects.iter())
@@ -504,7 +499,7 @@ impl Split<'_> {
     /// The names of the effect's parameters, in column order.
     fn value_names(&self, effect: FloatingEffect) -> Vec<String> {
         let ff = self.ff;
-        let joints = ff.tree.joint_names();
+        let joints = ff.joint_names();
         match effect {
             FloatingEffect::JointFriction => ["viscous", "coulomb"]
                 .iter()
@@ -524,7 +519,7 @@ impl Split<'_> {
                 } else {
                     ff.num_bodies()
                 };
-                let mut names = ff.layout(0..0).parameter_names();
+                let mut names = ff.layout_of_rows(0..0).parameter_names();
                 names.truncate(10 * bodies);
                 names
             }

@@ -27,13 +27,18 @@ pub struct Data {
     pub a_rotor: Vec<Vector6<f64>>,
     /// Rotor forces.
     pub f_rotor: Vec<Vector6<f64>>,
-    /// Joint torques / forces from [`rnea`](super::rnea) (n).
+    /// Generalized force from [`rnea`](super::rnea) ([`Model::nv`]: a
+    /// free flyer's base wrench, force then moment in base coordinates,
+    /// then the joint torques / forces).
     pub tau: DVector<f64>,
-    /// Joint-space mass matrix from [`crba`](super::crba) (n × n).
+    /// Mass matrix from [`crba`](super::crba) (nv × nv).
     pub mass_matrix: DMatrix<f64>,
     /// Composite inertias (CRBA).
     pub ic: Vec<Matrix6<f64>>,
-    /// Regressor (n × (10·bodies + 2n)) from [`regressor`](super::regressor).
+    /// Per body: base frame → body frame (a free flyer's algorithms).
+    pub x_base: Vec<Transform>,
+    /// Regressor (nv × [`Model::regressor_columns`]) from
+    /// [`regressor`](super::regressor).
     pub regressor: DMatrix<f64>,
     /// Per joint, the load (N·m) the regressor's `load` friction column
     /// is scaled by ([`FrictionTerm::Load`](super::FrictionTerm::Load)):
@@ -48,7 +53,7 @@ pub struct Data {
 impl Data {
     /// Buffers sized for `model`.
     pub fn new(model: &Model) -> Self {
-        let n = model.dof();
+        let (n, nv) = (model.dof(), model.nv());
         let nr = model.rotors.len();
         let z = Vector6::zeros();
         Self {
@@ -60,10 +65,11 @@ impl Data {
             v_rotor: vec![z; nr],
             a_rotor: vec![z; nr],
             f_rotor: vec![z; nr],
-            tau: DVector::zeros(n),
-            mass_matrix: DMatrix::zeros(n, n),
+            tau: DVector::zeros(nv),
+            mass_matrix: DMatrix::zeros(nv, nv),
             ic: vec![Matrix6::zeros(); n],
-            regressor: DMatrix::zeros(n, model.regressor_columns()),
+            x_base: vec![Transform::identity(); n],
+            regressor: DMatrix::zeros(nv, model.regressor_columns()),
             load: vec![f64::NAN; n],
             axes: (0..n).map(|_| Vec::with_capacity(n)).collect(),
         }

@@ -55,6 +55,16 @@ pub enum DynamicsError {
         /// Its norm.
         norm: f64,
     },
+    /// A free flyer's algorithm asked of a fixed-base model.
+    #[error(
+        "model '{model}' has a fixed base; {what} needs a free-flying root (sidecar [floating_base] or --floating-base)"
+    )]
+    FixedBase {
+        /// The model.
+        model: String,
+        /// What needed the free flyer.
+        what: &'static str,
+    },
     /// The mass matrix is not positive definite (forward dynamics).
     #[error("the mass matrix is not positive definite at this state")]
     SingularMassMatrix,

@@ -1,5 +1,6 @@
-//! A floating-base robot: a [`Model`] (the joint tree) hanging from a free
-//! body, the base, that moves with six degrees of freedom.
+//! The free-flyer root joint ([`RootJoint::FreeFlyer`]): a [`Model`]'s tree
+//! hanging from a free body, the base, that moves with six degrees of
+//! freedom; its state and kinematics.
 //!
 //! Conventions (Pinocchio's free-flyer, so that logs from it read as they are):
 //!
@@ -16,34 +17,22 @@
 //!
 //! The base frame is the URDF root link's frame; gravity ([`Model::gravity`])
 //! is in world coordinates. The equation of motion is
-//! `M(q) a + h(q, v) = [0; τ] + Σ_c J_cᵀ w_c`: [`rnea`](FreeFlyer::rnea)
-//! gives its left side, [`contact_force`](FreeFlyer::contact_force) the
-//! contact part of its right side.
+//! `M(q) a + h(q, v) = [0; τ] + Σ_c J_cᵀ w_c`: [`rnea`](super::rnea) gives
+//! its left side, [`contact_force`](Model::contact_force) the contact part
+//! of its right side.
+//!
+//! [`RootJoint::FreeFlyer`]: super::RootJoint::FreeFlyer
 
 use super::data::Data;
 use super::error::DynamicsError;
 use super::model::Model;
-use super::rnea::{Root, check_len};
+use super::rnea::{RootMotion, check_len};
 use super::spatial::Transform;
-use crate::moments::InertialParams;
-use nalgebra::{DMatrix, DVector, Matrix3, Quaternion, UnitQuaternion, Vector3, Vector6};
+use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3, Vector6};
 
 /// The largest `|‖quaternion‖ − 1|` accepted (a float32 log of a unit
 /// quaternion is within 1e-7); the quaternion is normalised.
 pub const QUATERNION_TOLERANCE: f64 = 1e-5;
-
-/// A floating-base robot: the base body and the joint tree on it.
-#[derive(Clone, Debug, PartialEq)]
-pub struct FreeFlyer {
-    /// The joint tree (joints whose parent is `None` hang from the base);
-    /// its gravity is in world coordinates.
-    pub tree: Model,
-    /// The base's name (the URDF root link).
-    pub base_name: String,
-    /// The base's inertial parameters in the base frame (paper order),
-    /// every link fixed to the root merged in.
-    pub base: InertialParams,
-}
 
 /// The base's pose and motion at one sample, as the algorithms use them.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -58,91 +47,23 @@ pub struct BaseState {
     pub acceleration: Vector6<f64>,
 }
 
-/// Buffers for one [`FreeFlyer`] (its tree's [`Data`] and its own).
-#[derive(Clone, Debug)]
-pub struct FreeFlyerData {
-    /// The tree's buffers.
-    pub tree: Data,
-    /// Per body: base frame → body frame, at the last state.
-    pub x_base: Vec<Transform>,
-    /// Generalized force (6 + n) from [`FreeFlyer::rnea`].
-    pub tau: DVector<f64>,
-    /// Mass matrix ((6 + n)²) from [`FreeFlyer::crba`].
-    pub mass_matrix: DMatrix<f64>,
-    /// Regressor ((6 + n) × [`FreeFlyer::regressor_columns`]).
-    pub regressor: DMatrix<f64>,
-}
-
-impl FreeFlyerData {
-    /// Buffers sized for `ff`.
-    pub fn new(ff: &FreeFlyer) -> Self {
-        let n = ff.nv();
-        Self {
-            tree: Data::new(&ff.tree),
-            x_base: vec![Transform::identity(); ff.tree.dof()],
-            tau: DVector::zeros(n),
-            mass_matrix: DMatrix::zeros(n, n),
-            regressor: DMatrix::zeros(n, ff.regressor_columns()),
+impl Model {
+    /// An error unless the root is a free flyer (`what` names the caller).
+    pub(crate) fn need_free_flyer(&self, what: &'static str) -> Result<(), DynamicsError> {
+        if self.is_floating() {
+            return Ok(());
         }
-    }
-}
-
-impl FreeFlyer {
-    /// A free-flyer from its tree and base; the base parameters are checked.
-    pub fn new(tree: Model, base_name: &str, base: InertialParams) -> Result<Self, DynamicsError> {
-        base.validate().map_err(|e| DynamicsError::Description {
-            source_name: tree.name.clone(),
-            message: format!("base '{base_name}': {e}"),
-        })?;
-        Ok(Self {
-            tree,
-            base_name: base_name.to_string(),
-            base,
+        Err(DynamicsError::FixedBase {
+            model: self.name.clone(),
+            what,
         })
     }
 
-    /// Configuration size `7 + n`.
-    pub fn nq(&self) -> usize {
-        7 + self.tree.dof()
-    }
-
-    /// Velocity size `6 + n` (rows of the dynamics).
-    pub fn nv(&self) -> usize {
-        6 + self.tree.dof()
-    }
-
-    /// Bodies: the base, then the tree's links and rotors.
-    pub fn num_bodies(&self) -> usize {
-        1 + self.tree.num_bodies()
-    }
-
-    /// Regressor columns: the base's 10, then the tree's
-    /// ([`Model::regressor_columns`], friction included).
-    pub fn regressor_columns(&self) -> usize {
-        10 + self.tree.regressor_columns()
-    }
-
-    /// The regressor's column layout by name (the base first), fitting the
-    /// `rows` of each sample (`0..6 + n` for every row).
-    pub fn layout(&self, rows: std::ops::Range<usize>) -> super::ParamLayout {
-        let mut l = self.tree.layout();
-        l.bodies.insert(0, self.base_name.clone());
-        (l.first_row, l.rows) = (rows.start, rows.len());
-        l
-    }
-
-    /// Every body's parameters: the base's, then [`Model::params`].
-    pub fn params(&self) -> Vec<f64> {
-        let mut p = self.base.0.to_vec();
-        p.extend(self.tree.params());
-        p
-    }
-
-    /// The index of a named frame (a URDF link) in the tree's frames, for a
-    /// [`ContactWrench`](super::ContactWrench); an unknown name is an error
-    /// listing the known ones.
+    /// The index of a named frame (a URDF link) in [`frames`](Model::frames),
+    /// for a [`ContactWrench`](super::ContactWrench); an unknown name is an
+    /// error listing the known ones.
     pub fn frame_index(&self, name: &str) -> Result<usize, DynamicsError> {
-        let frames = &self.tree.frames;
+        let frames = &self.frames;
         frames
             .iter()
             .position(|f| f.name == name)
@@ -157,24 +78,19 @@ impl FreeFlyer {
             })
     }
 
-    /// Sets every body's parameters (10 per body: the base, then the
-    /// tree's, [`Model::set_params`]).
-    pub fn set_params(&mut self, p: &[f64]) -> Result<(), DynamicsError> {
-        check_len("free-flyer parameters", p, 10 * self.num_bodies())?;
-        self.tree.set_params(&p[10..])?;
-        self.base = InertialParams(std::array::from_fn(|k| p[k]));
-        Ok(())
-    }
-
-    /// The whole robot at configuration `q`: its mass (kg), centre of mass
-    /// (m) and rotational inertia about it (kg·m²), in base coordinates
-    /// (from the mass matrix's base block, the composite inertia).
+    /// The whole robot at configuration `q` (a free flyer's): its mass
+    /// (kg), centre of mass (m) and rotational inertia about it (kg·m²), in
+    /// base coordinates (from the mass matrix's base block, the composite
+    /// inertia).
     pub fn centroidal(
         &self,
-        data: &mut FreeFlyerData,
+        data: &mut Data,
         q: &[f64],
     ) -> Result<(f64, Vector3<f64>, Matrix3<f64>), DynamicsError> {
-        let m6 = self.crba(data, q)?.fixed_view::<6, 6>(0, 0).into_owned();
+        self.need_free_flyer("the centroidal inertia")?;
+        let m6 = super::crba(self, data, q)?
+            .fixed_view::<6, 6>(0, 0)
+            .into_owned();
         let mass = m6[(0, 0)];
         // M_bb = [[m 1, −m [c]×], [m [c]×, I_o]] in (linear, angular) order
         let mc = m6.fixed_view::<3, 3>(3, 0).into_owned();
@@ -184,10 +100,11 @@ impl FreeFlyer {
         Ok((mass, c, io + mass * sc * sc))
     }
 
-    /// The base state of a configuration, velocity and acceleration (each
-    /// checked for length; the quaternion for unit norm within
-    /// [`QUATERNION_TOLERANCE`]).
+    /// The base state of a free flyer's configuration, velocity and
+    /// acceleration (each checked for length; the quaternion for unit norm
+    /// within [`QUATERNION_TOLERANCE`]).
     pub fn base_state(&self, q: &[f64], v: &[f64], a: &[f64]) -> Result<BaseState, DynamicsError> {
+        self.need_free_flyer("a base state")?;
         check_len("q", q, self.nq())?;
         check_len("v", v, self.nv())?;
         check_len("a", a, self.nv())?;
@@ -209,16 +126,16 @@ impl FreeFlyer {
 
     /// The root motion the tree algorithms start from: `[ω; v]` and
     /// `[ω̇; v̇] − (0, Rᵀ g)` in base coordinates.
-    pub(crate) fn root(&self, s: &BaseState, with_gravity: bool) -> Root {
+    pub(crate) fn root_motion(&self, s: &BaseState, with_gravity: bool) -> RootMotion {
         let swap = |x: &Vector6<f64>| Vector6::new(x[3], x[4], x[5], x[0], x[1], x[2]);
         let mut a = swap(&s.acceleration);
         if with_gravity {
-            let g = s.orientation.inverse_transform_vector(&self.tree.gravity);
+            let g = s.orientation.inverse_transform_vector(&self.gravity);
             for k in 0..3 {
                 a[3 + k] -= g[k];
             }
         }
-        Root {
+        RootMotion {
             v: swap(&s.velocity),
             a,
         }
@@ -230,25 +147,24 @@ impl FreeFlyer {
         Transform::from_pose(&rot, &s.position)
     }
 
-    /// The origins of `frames` (indices into the tree's
-    /// [`frames`](Model::frames)) in base coordinates (m), at joint
-    /// positions `joints` (n): the forward kinematics of contact points.
+    /// The origins of `frames` (indices into [`frames`](Model::frames)) in
+    /// base coordinates (m), at joint positions `joints` (n): the forward
+    /// kinematics of contact points.
     pub fn frames_in_base(
         &self,
-        data: &mut FreeFlyerData,
+        data: &mut Data,
         joints: &[f64],
         frames: &[usize],
     ) -> Result<Vec<Vector3<f64>>, DynamicsError> {
-        check_len("joint positions", joints, self.tree.dof())?;
+        check_len("joint positions", joints, self.dof())?;
         for (i, &x) in joints.iter().enumerate() {
-            data.tree.x_up[i] = self.tree.joint_transform(i, x);
+            data.x_up[i] = self.joint_transform(i, x);
         }
         self.chain_to_base(data);
-        let known = self.tree.frames.len();
+        let known = self.frames.len();
         (frames.iter())
             .map(|&f| {
                 let frame = self
-                    .tree
                     .frames
                     .get(f)
                     .ok_or_else(|| DynamicsError::UnknownName {
@@ -264,12 +180,12 @@ impl FreeFlyer {
             .collect()
     }
 
-    /// Fills `data.x_base` (base → each body) from the tree's `x_up`.
-    pub(crate) fn chain_to_base(&self, data: &mut FreeFlyerData) {
-        for i in 0..self.tree.dof() {
-            data.x_base[i] = match self.tree.joints[i].parent {
-                Some(p) => data.tree.x_up[i].compose(&data.x_base[p]),
-                None => data.tree.x_up[i],
+    /// Fills `data.x_base` (base → each body) from `data.x_up`.
+    pub(crate) fn chain_to_base(&self, data: &mut Data) {
+        for i in 0..self.dof() {
+            data.x_base[i] = match self.joints[i].parent {
+                Some(p) => data.x_up[i].compose(&data.x_base[p]),
+                None => data.x_up[i],
             };
         }
     }

@@ -1,6 +1,8 @@
 //! # `dynamics`: kinematic trees with geared rotors
 //!
-//! A [`Model`] (constant: joints, bodies, rotors, gravity) and a [`Data`]
+//! A [`Model`] (constant: joints, bodies, rotors, gravity, and its root
+//! joint: fixed, or a free flyer as Pinocchio's `JointModelFreeFlyer`,
+//! [`RootJoint`]) and a [`Data`]
 //! (per-evaluation buffers, [`Data::new`]) in Pinocchio's split; every
 //! algorithm has the shape `algo(&model, &mut data, q, …)` and allocates
 //! nothing per call (the batch regressor allocates one `Data` per chunk).
@@ -51,11 +53,11 @@ pub use data::{BodyRegressor, Data};
 pub use description::{IdentificationFacts, ParamChoice, RobotDescription, total_mass_refusal};
 pub use error::DynamicsError;
 pub use fault::ModelFault;
-pub use free_flyer::{BaseState, FreeFlyer, FreeFlyerData, QUATERNION_TOLERANCE};
+pub use free_flyer::{BaseState, QUATERNION_TOLERANCE};
 pub use free_flyer_dynamics::{ContactWrench, WrenchFrame};
 pub use friction::{DEFAULT_STRIBECK_VELOCITY, Friction, FrictionTerm, sign};
 pub use layout::ParamLayout;
-pub use model::{Frame, Joint, JointKind, Model, Rotor, ToolPoint};
+pub use model::{BaseBody, Frame, Joint, JointKind, Model, RootJoint, Rotor, ToolPoint};
 pub use random_states::random_states;
 pub use rates::JointRates;
 pub use regressor::{

@@ -1,4 +1,5 @@
-//! The constant description of a fixed-base kinematic tree with geared rotors.
+//! The constant description of a kinematic tree with geared rotors, fixed
+//! to the world or hanging from a free-flying base ([`RootJoint`]).
 
 use super::error::DynamicsError;
 use super::fault::{MAX_ABS_LIMIT, ModelFault};
@@ -120,17 +121,43 @@ pub struct ToolPoint {
     pub point: Vector3<f64>,
 }
 
-/// A fixed-base kinematic tree: joints in topological order (parents first),
-/// one body per joint, optional rotors, and gravity.
+/// The joint that attaches the tree to the world (Pinocchio's root joint).
+#[derive(Clone, Debug, PartialEq)]
+pub enum RootJoint {
+    /// Welded to the world: the base does not move and has no parameters.
+    Fixed,
+    /// Pinocchio's free flyer: the base is a body with six degrees of
+    /// freedom (conventions in [`super::free_flyer`]).
+    FreeFlyer(BaseBody),
+}
+
+/// The free-flying base body.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BaseBody {
+    /// The base's name (the URDF root link).
+    pub name: String,
+    /// Its inertial parameters in the base frame (paper order), every link
+    /// fixed to the root merged in.
+    pub inertia: InertialParams,
+}
+
+/// A kinematic tree: joints in topological order (parents first), one body
+/// per joint, optional rotors, gravity, and the root joint that attaches
+/// it to the world. With a free-flying root the base is body 0 of the
+/// parameter vector and the generalized velocity has its 6 entries first
+/// ([`Model::nv`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Model {
     /// Model name.
     pub name: String,
+    /// How the tree is attached to the world.
+    pub root: RootJoint,
     /// Joints, parents before children.
     pub joints: Vec<Joint>,
     /// Rotors.
     pub rotors: Vec<Rotor>,
-    /// Gravity in the base frame (m/s²), e.g. (0, 0, −9.81).
+    /// Gravity in the world frame (m/s²), e.g. (0, 0, −9.81) (the fixed
+    /// base's frame is the world's).
     pub gravity: Vector3<f64>,
     /// Named frames (by default one per body, at the body frame).
     pub frames: Vec<Frame>,
@@ -183,6 +210,7 @@ impl Model {
         });
         Ok(Self {
             name: name.to_string(),
+            root: RootJoint::Fixed,
             joints,
             rotors,
             gravity,
@@ -254,14 +282,80 @@ impl Model {
         Ok(self)
     }
 
-    /// Degrees of freedom n.
+    /// The same tree hanging from a free-flying base `name` with parameters
+    /// `inertia` (checked: finite, physically consistent).
+    pub fn with_free_flyer(
+        mut self,
+        name: &str,
+        inertia: InertialParams,
+    ) -> Result<Self, DynamicsError> {
+        inertia.validate().map_err(|e| DynamicsError::Description {
+            source_name: self.name.clone(),
+            message: format!("base '{name}': {e}"),
+        })?;
+        if self.body_names().iter().any(|b| b == name) {
+            return Err(DynamicsError::InvalidModel {
+                model: self.name.clone(),
+                fault: ModelFault::DuplicateBody(name.to_string()),
+            });
+        }
+        self.root = RootJoint::FreeFlyer(BaseBody {
+            name: name.to_string(),
+            inertia,
+        });
+        Ok(self)
+    }
+
+    /// The free-flying base, `None` for a fixed base.
+    pub fn base(&self) -> Option<&BaseBody> {
+        match &self.root {
+            RootJoint::Fixed => None,
+            RootJoint::FreeFlyer(b) => Some(b),
+        }
+    }
+
+    /// Whether the root is a free flyer.
+    pub fn is_floating(&self) -> bool {
+        self.base().is_some()
+    }
+
+    /// The same tree welded to the world (the base body dropped).
+    pub fn fixed_tree(&self) -> Model {
+        Model {
+            root: RootJoint::Fixed,
+            ..self.clone()
+        }
+    }
+
+    /// Degrees of freedom of the joints, n (the free flyer's 6 not counted).
     pub fn dof(&self) -> usize {
         self.joints.len()
     }
 
-    /// Number of bodies with parameters: links then rotors.
+    /// The root joint's velocity size: 0 fixed, 6 free flyer.
+    pub fn root_nv(&self) -> usize {
+        6 * usize::from(self.is_floating())
+    }
+
+    /// Configuration size: n, or `7 + n` with a free flyer.
+    pub fn nq(&self) -> usize {
+        self.dof() + 7 * usize::from(self.is_floating())
+    }
+
+    /// Velocity size (rows of the dynamics): n, or `6 + n` with a free flyer.
+    pub fn nv(&self) -> usize {
+        self.dof() + self.root_nv()
+    }
+
+    /// Bodies with parameters before link 0 (1 with a free-flying base).
+    pub(crate) fn first_link_body(&self) -> usize {
+        usize::from(self.is_floating())
+    }
+
+    /// Number of bodies with parameters: the free-flying base (if any),
+    /// links, then rotors.
     pub fn num_bodies(&self) -> usize {
-        self.joints.len() + self.rotors.len()
+        self.first_link_body() + self.joints.len() + self.rotors.len()
     }
 
     /// Joint names in order.
@@ -269,26 +363,27 @@ impl Model {
         self.joints.iter().map(|j| j.name.as_str()).collect()
     }
 
-    /// Body names in parameter order: links (by their body names) then rotors.
+    /// Body names in parameter order: the free-flying base (if any), links
+    /// (by their body names), then rotors.
     pub fn body_names(&self) -> Vec<String> {
-        self.joints
-            .iter()
-            .map(|j| j.body.clone())
+        (self.base().map(|b| b.name.clone()).into_iter())
+            .chain(self.joints.iter().map(|j| j.body.clone()))
             .chain(self.rotors.iter().map(|r| r.name.clone()))
             .collect()
     }
 
-    /// All inertial parameters stacked: links then rotors (10 per body).
+    /// All inertial parameters stacked: the free-flying base (if any),
+    /// links, then rotors (10 per body).
     pub fn params(&self) -> Vec<f64> {
-        self.joints
-            .iter()
-            .map(|j| j.inertia)
+        (self.base().map(|b| b.inertia).into_iter())
+            .chain(self.joints.iter().map(|j| j.inertia))
             .chain(self.rotors.iter().map(|r| r.inertia))
             .flat_map(|p| p.0)
             .collect()
     }
 
-    /// Replaces all inertial parameters (links then rotors, 10 per body).
+    /// Replaces all inertial parameters (the free-flying base, links, then
+    /// rotors; 10 per body).
     pub fn set_params(&mut self, p: &[f64]) -> Result<(), DynamicsError> {
         if p.len() != 10 * self.num_bodies() {
             return Err(DynamicsError::Dimension {
@@ -306,9 +401,14 @@ impl Model {
                 },
             });
         }
-        let nj = self.joints.len();
+        let (b0, nj) = (self.first_link_body(), self.joints.len());
         for (k, chunk) in p.chunks(10).enumerate() {
             let v = InertialParams(std::array::from_fn(|i| chunk[i]));
+            if let (true, RootJoint::FreeFlyer(b)) = (k < b0, &mut self.root) {
+                b.inertia = v;
+                continue;
+            }
+            let k = k - b0;
             if k < nj {
                 self.joints[k].inertia = v;
             } else {
@@ -334,6 +434,7 @@ impl Model {
         }
         Model {
             name: self.name.clone(),
+            root: self.root.clone(),
             joints,
             rotors: vec![],
             gravity: self.gravity,
@@ -387,14 +488,21 @@ impl Model {
         self.joints.iter().position(|j| j.name == name)
     }
 
-    /// The regressor's column layout by name (rows: one per joint).
+    /// The regressor's column layout by name (rows: one per velocity
+    /// coordinate, [`nv`](Self::nv)).
     pub fn layout(&self) -> super::ParamLayout {
+        self.layout_of_rows(0..self.nv())
+    }
+
+    /// The column layout fitting the `rows` of each sample (a free flyer's
+    /// base rows `0..6`, joint rows `6..6 + n`, or both).
+    pub fn layout_of_rows(&self, rows: std::ops::Range<usize>) -> super::ParamLayout {
         super::ParamLayout {
             bodies: self.body_names(),
             joints: self.joint_names().iter().map(|j| j.to_string()).collect(),
             terms: self.friction_terms().to_vec(),
-            rows: self.dof(),
-            first_row: 0,
+            rows: rows.len(),
+            first_row: rows.start,
         }
     }
 

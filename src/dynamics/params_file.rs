@@ -84,7 +84,8 @@ impl FittedEffect {
 }
 
 impl ParamsFile {
-    /// The parameters and friction currently in a model.
+    /// The parameters and friction currently in a model (a free-flying
+    /// base's first, by its name).
     pub fn from_model(model: &Model, friction: Friction) -> Self {
         let p = model.params();
         Self {
@@ -128,36 +129,6 @@ impl ParamsFile {
         let p = self.body_params(&model.body_names()).map_err(err)?;
         model.set_params(&p)?;
         self.friction_of(&model.joint_names()).map_err(err)
-    }
-
-    /// [`apply`](Self::apply) to a floating-base robot: its base (by its
-    /// name) and its tree's bodies.
-    pub fn apply_free_flyer(
-        &self,
-        ff: &mut super::FreeFlyer,
-        path: &str,
-    ) -> Result<Friction, DynamicsError> {
-        let err = |m: String| DynamicsError::File {
-            path: path.into(),
-            message: m,
-        };
-        self.check_header(&ff.tree.name).map_err(err)?;
-        let mut names = vec![ff.base_name.clone()];
-        names.extend(ff.tree.body_names());
-        let p = self.body_params(&names).map_err(err)?;
-        ff.set_params(&p)?;
-        self.friction_of(&ff.tree.joint_names()).map_err(err)
-    }
-
-    /// A floating-base robot's parameters (the base first) and friction.
-    pub fn from_free_flyer(ff: &super::FreeFlyer, friction: Friction) -> Self {
-        let mut file = Self::from_model(&ff.tree, friction);
-        let base = BodyParams {
-            name: ff.base_name.clone(),
-            params: ff.base.0,
-        };
-        file.bodies.insert(0, base);
-        file
     }
 
     /// The file is for robot `robot`, in the stated parameter order.

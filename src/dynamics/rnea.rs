@@ -1,4 +1,5 @@
-//! Recursive Newton–Euler inverse dynamics with geared rotors.
+//! Recursive Newton–Euler inverse dynamics with geared rotors, from a fixed
+//! or a free-flying root.
 
 use super::data::Data;
 use super::error::DynamicsError;
@@ -22,12 +23,12 @@ pub(crate) fn check_len(what: &str, v: &[f64], n: usize) -> Result<(), DynamicsE
 /// acceleration); a free-flyer's is its twist and its acceleration minus
 /// gravity, both in base coordinates.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Root {
+pub(crate) struct RootMotion {
     pub v: Vector6<f64>,
     pub a: Vector6<f64>,
 }
 
-impl Root {
+impl RootMotion {
     /// The fixed base, with or without gravity.
     pub fn fixed(model: &Model, with_gravity: bool) -> Self {
         let g = if with_gravity {
@@ -35,7 +36,7 @@ impl Root {
         } else {
             nalgebra::Vector3::zeros()
         };
-        Root {
+        RootMotion {
             v: Vector6::zeros(),
             a: Vector6::new(0.0, 0.0, 0.0, -g.x, -g.y, -g.z),
         }
@@ -44,7 +45,12 @@ impl Root {
 
 /// Forward pass shared by RNEA and the regressor: fills `x_up`, `v`, `a`
 /// for links and rotors from the root's motion (a fixed base's carries −g).
-pub(crate) fn forward_pass_from(model: &Model, data: &mut Data, state: [&[f64]; 3], root: &Root) {
+pub(crate) fn forward_pass_from(
+    model: &Model,
+    data: &mut Data,
+    state: [&[f64]; 3],
+    root: &RootMotion,
+) {
     let [q, qd, qdd] = state;
     let (v0, a0) = (root.v, root.a);
     for i in 0..model.dof() {
@@ -74,8 +80,10 @@ pub(crate) fn forward_pass_from(model: &Model, data: &mut Data, state: [&[f64]; 
 
 /// Inverse dynamics `τ = M(q) q̈ + C(q, q̇) q̇ + g(q)` including rotors
 /// (their spin about `N q̇`, reflected inertia and gyroscopic coupling).
-/// Inputs of length n (rad, rad/s, rad/s²; m for prismatic joints); writes
-/// `data.tau` (N·m or N) and the kinematic buffers, and returns `&data.tau`.
+/// Inputs of length [`Model::nq`], [`Model::nv`], [`Model::nv`] (rad,
+/// rad/s, rad/s²; m for prismatic joints; a free flyer's conventions in
+/// [`super::free_flyer`]); writes `data.tau` (N·m or N; a free flyer's
+/// base wrench first) and the kinematic buffers, and returns `&data.tau`.
 pub fn rnea<'a>(
     model: &Model,
     data: &'a mut Data,
@@ -83,12 +91,27 @@ pub fn rnea<'a>(
     qd: &[f64],
     qdd: &[f64],
 ) -> Result<&'a DVector<f64>, DynamicsError> {
-    let n = model.dof();
-    check_len("q", q, n)?;
-    check_len("qd", qd, n)?;
-    check_len("qdd", qdd, n)?;
-    rnea_unchecked(model, data, q, qd, qdd, true);
+    check_state(model, q, qd, qdd)?;
+    if model.is_floating() {
+        let s = model.base_state(q, qd, qdd)?;
+        let j = model.root_nv();
+        model.free_flyer_inverse_dynamics(data, &s, [&q[7..], &qd[j..], &qdd[j..]], true);
+    } else {
+        rnea_unchecked(model, data, q, qd, qdd, true);
+    }
     Ok(&data.tau)
+}
+
+/// A state's lengths: `q` [`Model::nq`], `qd` and `qdd` [`Model::nv`].
+pub(crate) fn check_state(
+    model: &Model,
+    q: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+) -> Result<(), DynamicsError> {
+    check_len("q", q, model.nq())?;
+    check_len("qd", qd, model.nv())?;
+    check_len("qdd", qdd, model.nv())
 }
 
 pub(crate) fn rnea_unchecked(
@@ -99,19 +122,27 @@ pub(crate) fn rnea_unchecked(
     qdd: &[f64],
     gravity: bool,
 ) {
-    rnea_from(model, data, [q, qd, qdd], &Root::fixed(model, gravity));
+    debug_assert!(!model.is_floating(), "rnea_unchecked is the fixed base's");
+    rnea_from(
+        model,
+        data,
+        [q, qd, qdd],
+        &RootMotion::fixed(model, gravity),
+    );
 }
 
-/// RNEA from a moving root: writes `data.tau` and returns the force the
+/// RNEA from a moving root: writes the joint rows of `data.tau` (after the
+/// root's [`Model::root_nv`]) and returns the force the
 /// tree exerts on its root (root coordinates, `[moment; force]`), what the
 /// fixed base absorbs and a free-flyer's base must balance.
 pub(crate) fn rnea_from(
     model: &Model,
     data: &mut Data,
     state: [&[f64]; 3],
-    root: &Root,
+    root: &RootMotion,
 ) -> Vector6<f64> {
     forward_pass_from(model, data, state, root);
+    let o = model.root_nv();
     let mut f_root = Vector6::zeros();
     for i in 0..model.dof() {
         let p = &model.joints[i].inertia.0;
@@ -135,7 +166,7 @@ pub(crate) fn rnea_from(
                 None => f_root += fr,
             }
         }
-        data.tau[i] = t;
+        data.tau[o + i] = t;
         let fp = data.x_up[i].apply_force_transpose(&data.f[i]);
         match model.joints[i].parent {
             Some(pp) => data.f[pp] += fp,

@@ -18,7 +18,6 @@
 pub use super::sidecar::{Sidecar, SidecarRotor};
 
 use super::error::DynamicsError;
-use super::free_flyer::FreeFlyer;
 use super::model::{Frame, Joint, JointKind, Model, Rotor};
 use super::spatial::Transform;
 use crate::moments::{InertialParams, rpy_rotation};
@@ -295,23 +294,25 @@ pub fn model_from_robot(
 }
 
 /// The URDF as a floating-base robot: its root link (and every link fixed
-/// to it) is the free base, the rest as [`model_from_robot`] makes it.
+/// to it) is the base of a free-flyer root joint
+/// ([`RootJoint::FreeFlyer`](super::RootJoint::FreeFlyer)), the rest as
+/// [`model_from_robot`] makes it.
 pub fn free_flyer_from_robot(
     robot: &Robot,
     path: &str,
     sidecar: Option<&Sidecar>,
-) -> Result<FreeFlyer, DynamicsError> {
+) -> Result<Model, DynamicsError> {
     let (tree, base) = tree_from_robot(robot, path, sidecar)?;
     let t = format::validate(robot, path)?;
     let name = t.link(t.root()).name.clone();
-    FreeFlyer::new(tree, &name, base).map_err(|e| ferr(path, e.to_string()))
+    (tree.with_free_flyer(&name, base)).map_err(|e| ferr(path, e.to_string()))
 }
 
 /// Reads a URDF file (and an optional sidecar) as a floating-base robot.
 pub fn free_flyer_from_urdf_file(
     path: &Path,
     sidecar: Option<&Path>,
-) -> Result<FreeFlyer, DynamicsError> {
+) -> Result<Model, DynamicsError> {
     let (_, robot) = crate::urdf::read_file(path)?;
     let sc = sidecar.map(Sidecar::read).transpose()?;
     free_flyer_from_robot(&robot, &path.display().to_string(), sc.as_ref())

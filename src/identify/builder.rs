@@ -167,9 +167,9 @@ impl<'m> Identification<'m> {
     /// A floating-base robot's problem: its base and tree bodies (every one
     /// consistent), fitted on the `rows` of its dynamics, on data reduced by
     /// [`reduce_floating`](super::floating::reduce_floating) with the same rows.
-    pub fn for_free_flyer(ff: &'m crate::dynamics::FreeFlyer, rows: super::Rows) -> Self {
-        let mut s = Self::new(&ff.tree);
-        s.layout = ff.layout(rows.range(ff.tree.dof()));
+    pub fn for_free_flyer(ff: &'m crate::dynamics::Model, rows: super::Rows) -> Self {
+        let mut s = Self::new(ff);
+        s.layout = ff.layout_of_rows(rows.range(ff.dof()));
         s.bodies = vec![s.bodies[0]; s.layout.num_bodies()];
         if rows == super::Rows::Base {
             // no friction acts on the base rows: its columns are zero, and
@@ -464,7 +464,7 @@ impl<'m> Identification<'m> {
     /// An error naming `what` if this set-up is a free-flyer's (whose
     /// columns are not its tree model's).
     pub(super) fn fixed_base(&self, what: &'static str) -> Result<(), IdentifyError> {
-        if self.layout == self.model.layout() {
+        if !self.model.is_floating() && self.layout == self.model.layout() {
             Ok(())
         } else {
             Err(IdentifyError::FreeFlyerSetUp { what })

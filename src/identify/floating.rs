@@ -10,7 +10,7 @@
 use super::error::IdentifyError;
 use super::reduce::Reduced;
 use crate::data::floating::FloatingLog;
-use crate::dynamics::{FreeFlyer, FreeFlyerData};
+use crate::dynamics::{Data, Model};
 use faer::Mat;
 use rayon::prelude::*;
 
@@ -55,9 +55,9 @@ const CHUNK: usize = 256;
 
 /// The Gram matrix `[A b]ᵀ[A b]` of the chosen rows of every sample of
 /// `log` (checked against `ff` first): A the regressor
-/// ([`FreeFlyer::regressor`]), b the measured generalized force.
+/// ([`crate::dynamics::regressor`]), b the measured generalized force.
 pub fn reduce_floating(
-    ff: &FreeFlyer,
+    ff: &Model,
     log: &FloatingLog,
     rows: Rows,
 ) -> Result<Reduced, IdentifyError> {
@@ -67,7 +67,7 @@ pub fn reduce_floating(
 /// [`reduce_floating`] with each row of the generalized force (6 + n)
 /// weighted by `weights` (≥ 0, finite; e.g. 1/σ² of its noise).
 pub fn reduce_floating_weighted(
-    ff: &FreeFlyer,
+    ff: &Model,
     log: &FloatingLog,
     rows: Rows,
     weights: Option<&[f64]>,
@@ -101,22 +101,22 @@ pub fn reduce_floating_weighted(
     // XᵀX is symmetric in exact arithmetic; make it so in floating point
     let gram = Mat::from_fn(p1, p1, |i, j| 0.5 * (gram[(i, j)] + gram[(j, i)]));
     Ok(Reduced {
-        row_range: Some(rows.range(ff.tree.dof())),
+        row_range: Some(rows.range(ff.dof())),
         ..Reduced::from_gram(gram, samples)?
     })
 }
 
 /// One chunk's `XᵀX`, X its rows `[A b]`.
 fn chunk_gram(
-    ff: &FreeFlyer,
+    ff: &Model,
     (log, weights): (&FloatingLog, Option<&[f64]>),
     rows: Rows,
     range: std::ops::Range<usize>,
 ) -> Result<Mat<f64>, IdentifyError> {
-    let (n, p) = (ff.tree.dof(), ff.regressor_columns());
+    let (n, p) = (ff.dof(), ff.regressor_columns());
     let r = rows.range(n);
     let mut x = Mat::<f64>::zeros(range.len() * r.len(), p + 1);
-    let mut data = FreeFlyerData::new(ff);
+    let mut data = Data::new(ff);
     for (local, k) in range.enumerate() {
         let b = measured(ff, &mut data, log, k)?;
         let y = sample_regressor(ff, &mut data, log, k)?;
@@ -134,8 +134,8 @@ fn chunk_gram(
 /// Sample k's regressor; call after [`measured`] (which checks the
 /// sample's lengths).
 pub(super) fn sample_regressor<'d>(
-    ff: &FreeFlyer,
-    data: &'d mut FreeFlyerData,
+    ff: &Model,
+    data: &'d mut Data,
     log: &FloatingLog,
     k: usize,
 ) -> Result<&'d nalgebra::DMatrix<f64>, IdentifyError> {
@@ -143,23 +143,23 @@ pub(super) fn sample_regressor<'d>(
     let (nq, nv) = (ff.nq(), ff.nv());
     // without torques only the base rows are fitted, where no friction acts
     match &log.tau {
-        Some(t) => data.tree.load.copy_from_slice(row(t, k, ff.tree.dof())),
-        None => data.tree.load.fill(0.0),
+        Some(t) => data.load.copy_from_slice(row(t, k, ff.dof())),
+        None => data.load.fill(0.0),
     }
     let (q, v, a) = (row(&log.q, k, nq), row(&log.v, k, nv), row(&log.a, k, nv));
-    ff.regressor(data, q, v, a)
+    crate::dynamics::regressor(ff, data, q, v, a)
         .map_err(|source| IdentifyError::Regressor { sample: k, source })
 }
 
 /// Sample k's measured generalized force `[0; τ] + Σ_c J_cᵀ w_c` (6 + n;
 /// the joint part zero without torques).
 pub fn measured(
-    ff: &FreeFlyer,
-    data: &mut FreeFlyerData,
+    ff: &Model,
+    data: &mut Data,
     log: &FloatingLog,
     k: usize,
 ) -> Result<nalgebra::DVector<f64>, IdentifyError> {
-    let (nq, n) = (ff.nq(), ff.tree.dof());
+    let (nq, n) = (ff.nq(), ff.dof());
     let fail = |source| IdentifyError::Regressor { sample: k, source };
     let contacts = log.contacts_at(ff, k).map_err(fail)?; // (checks sample k's lengths)
     let q = &log.q[k * nq..(k + 1) * nq];

@@ -10,7 +10,7 @@ use super::floating::{Rows, measured, reduce_floating_weighted};
 use super::reduce::Reduced;
 use super::solved::Solved;
 use crate::data::floating::FloatingLog;
-use crate::dynamics::{FreeFlyer, FreeFlyerData, Friction};
+use crate::dynamics::{Data, Friction, Model};
 use crate::moments::InertialParams;
 use rayon::prelude::*;
 
@@ -46,7 +46,7 @@ pub struct FloatingFit {
     /// The solver's answer (θ, names, identifiability).
     pub solved: Solved,
     /// The robot with the identified bodies.
-    pub model: FreeFlyer,
+    pub model: Model,
     /// The identified friction (zero with the base rows alone).
     pub friction: Friction,
     /// Per body (base first): the smallest eigenvalue of its pseudo-inertia
@@ -81,7 +81,7 @@ fn group_weights(r: &FloatingRms) -> Vec<f64> {
 /// Every training log reduced on `rows` (each row weighted by `weights`,
 /// if given), the Gram matrices summed.
 pub fn reduce_floating_logs(
-    ff: &FreeFlyer,
+    ff: &Model,
     logs: &[FloatingLog],
     rows: Rows,
     weights: Option<&[f64]>,
@@ -107,7 +107,7 @@ pub fn reduce_floating_logs(
 /// on the training logs and reports the fit on them and on `validate`.
 pub fn fit_floating(
     id: &Identification,
-    ff: &FreeFlyer,
+    ff: &Model,
     rows: Rows,
     train: &[FloatingLog],
     validate: &[FloatingLog],
@@ -128,7 +128,7 @@ pub fn fit_floating(
     }
     let mut model = ff.clone();
     model.set_params(&solved.theta[..10 * ff.num_bodies()])?;
-    let friction = solved.friction_law(ff.tree.stribeck_velocity());
+    let friction = solved.friction_law(ff.stribeck_velocity());
     let min_eigenvalues = (0..ff.num_bodies())
         .map(|b| {
             let p = InertialParams(std::array::from_fn(|k| solved.theta[10 * b + k]));
@@ -164,8 +164,8 @@ pub fn fit_floating(
 }
 
 /// The whole robot `ff` at configuration `q`.
-pub fn whole_body(ff: &FreeFlyer, q: &[f64]) -> Result<WholeBody, IdentifyError> {
-    let mut data = FreeFlyerData::new(ff);
+pub fn whole_body(ff: &Model, q: &[f64]) -> Result<WholeBody, IdentifyError> {
+    let mut data = Data::new(ff);
     let (mass, com, inertia) = ff.centroidal(&mut data, q)?;
     Ok(WholeBody {
         mass,
@@ -176,11 +176,11 @@ pub fn whole_body(ff: &FreeFlyer, q: &[f64]) -> Result<WholeBody, IdentifyError>
 
 /// [`floating_rms`] over several logs together.
 pub fn floating_rms_of(
-    ff: &FreeFlyer,
+    ff: &Model,
     theta: &[f64],
     logs: &[FloatingLog],
 ) -> Result<FloatingRms, IdentifyError> {
-    let n = ff.tree.dof();
+    let n = ff.dof();
     let mut sums = vec![0.0; 6 + n];
     let (mut samples, mut torques) = (0, true);
     for log in logs {
@@ -208,7 +208,7 @@ pub fn floating_rms_of(
 /// The residual RMS of the model `theta` (the regressor's columns) on
 /// `log`, by row group.
 pub fn floating_rms(
-    ff: &FreeFlyer,
+    ff: &Model,
     theta: &[f64],
     log: &FloatingLog,
 ) -> Result<FloatingRms, IdentifyError> {
@@ -217,7 +217,7 @@ pub fn floating_rms(
 
 /// Per row (6 + n), the sum over the samples of `(measured − Y θ)²`.
 fn squared_residuals(
-    ff: &FreeFlyer,
+    ff: &Model,
     theta: &[f64],
     log: &FloatingLog,
 ) -> Result<Vec<f64>, IdentifyError> {
@@ -225,7 +225,7 @@ fn squared_residuals(
     let chunks: Vec<usize> = (0..log.samples()).step_by(256).collect();
     let parts = (chunks.par_iter())
         .map(|&s0| {
-            let mut data = FreeFlyerData::new(ff);
+            let mut data = Data::new(ff);
             let mut sums = vec![0.0; ff.nv()];
             for k in s0..(s0 + 256).min(log.samples()) {
                 let r = residual(ff, &mut data, theta, log, k)?;
@@ -243,8 +243,8 @@ fn squared_residuals(
 
 /// Sample k's `measured − Y θ` (6 + n).
 pub fn residual(
-    ff: &FreeFlyer,
-    data: &mut FreeFlyerData,
+    ff: &Model,
+    data: &mut Data,
     theta: &[f64],
     log: &FloatingLog,
     k: usize,

@@ -9,7 +9,7 @@
 use super::error::SimError;
 use super::trajectory::harmonic_state;
 use crate::data::floating::{ContactChannel, FloatingLog};
-use crate::dynamics::{FreeFlyer, FreeFlyerData, WrenchFrame};
+use crate::dynamics::{Data, Model, RootJoint, WrenchFrame};
 use crate::moments::InertialParams;
 use nalgebra::{UnitQuaternion, Vector3};
 use rand::rngs::StdRng;
@@ -89,7 +89,7 @@ impl FloatingEffects {
     }
 
     /// The true robot: `ff` with the payload in its base.
-    pub fn truth(&self, ff: &FreeFlyer) -> Result<FreeFlyer, SimError> {
+    pub fn truth(&self, ff: &Model) -> Result<Model, SimError> {
         let mut t = ff.clone();
         if let Some((m, [x, y, z])) = self.payload {
             if !(m.is_finite() && m > 0.0 && [x, y, z].iter().all(|v| v.is_finite())) {
@@ -101,7 +101,9 @@ impl FloatingEffects {
             }
             let com = nalgebra::Vector3::new(x, y, z);
             let point = InertialParams::from_mass_com_inertia(m, com, nalgebra::Matrix3::zeros());
-            t.base = InertialParams(std::array::from_fn(|k| t.base.0[k] + point.0[k]));
+            if let RootJoint::FreeFlyer(base) = &mut t.root {
+                base.inertia = base.inertia.plus(&point);
+            }
         }
         Ok(t)
     }
@@ -190,8 +192,8 @@ pub(super) fn channels(coef: &[[Vec<f64>; 2]], t: f64) -> Vec<[f64; 3]> {
 /// the pose integrated from the body-frame twist (20 steps a sample, each
 /// the exact rotation of the step's midpoint angular velocity, so the
 /// quaternion stays of unit norm).
-fn motion(ff: &FreeFlyer, cfg: &SuspendedConfig, rng: &mut StdRng) -> [Vec<f64>; 3] {
-    let n = ff.tree.dof();
+fn motion(ff: &Model, cfg: &SuspendedConfig, rng: &mut StdRng) -> [Vec<f64>; 3] {
+    let n = ff.dof();
     let joints = coefficients(rng, n, cfg.joint_amplitude);
     let mut base = coefficients(rng, 6, cfg.base_amplitude);
     base[..3]
@@ -247,7 +249,7 @@ fn integrate_pose(
 /// A suspended log of the robot `ff` (the nominal model; the truth is it
 /// with `cfg.effects`): the harness wrench at the base frame (local axes)
 /// and the joint torques, with noise.
-pub fn simulate_suspended(ff: &FreeFlyer, cfg: &SuspendedConfig) -> Result<FloatingLog, SimError> {
+pub fn simulate_suspended(ff: &Model, cfg: &SuspendedConfig) -> Result<FloatingLog, SimError> {
     let truth = cfg.effects.truth(ff)?;
     let ff = &truth;
     let samples = cfg.seconds * cfg.rate;
@@ -260,15 +262,16 @@ pub fn simulate_suspended(ff: &FreeFlyer, cfg: &SuspendedConfig) -> Result<Float
     }
     let mut rng = StdRng::seed_from_u64(cfg.seed);
     let [q, v, a] = motion(ff, cfg, &mut rng);
-    let (nq, nv, n) = (ff.nq(), ff.nv(), ff.tree.dof());
+    let (nq, nv, n) = (ff.nq(), ff.nv(), ff.dof());
     let samples = q.len() / nq;
-    let mut data = FreeFlyerData::new(ff);
+    let mut data = Data::new(ff);
     let (mut wrench, mut tau) = (
         Vec::with_capacity(6 * samples),
         Vec::with_capacity(n * samples),
     );
     for k in 0..samples {
-        let g = ff.rnea(
+        let g = crate::dynamics::rnea(
+            ff,
             &mut data,
             &q[k * nq..(k + 1) * nq],
             &v[k * nv..(k + 1) * nv],
@@ -284,7 +287,7 @@ pub fn simulate_suspended(ff: &FreeFlyer, cfg: &SuspendedConfig) -> Result<Float
         a,
         tau: Some(tau),
         contacts: vec![ContactChannel {
-            frame: ff.base_name.clone(),
+            frame: ff.body_names()[0].clone(),
             expressed: WrenchFrame::Local,
             wrench,
         }],
@@ -298,7 +301,7 @@ pub fn simulate_suspended(ff: &FreeFlyer, cfg: &SuspendedConfig) -> Result<Float
 /// moment, the base twist and its rate, the joint states and torques (the
 /// quaternion and base position are left exact).
 pub(super) fn add_noise(
-    ff: &FreeFlyer,
+    ff: &Model,
     log: &mut FloatingLog,
     noise: &FloatingNoise,
     rng: &mut StdRng,

@@ -16,7 +16,7 @@
 use super::error::SimError;
 use super::floating::{FloatingEffects, FloatingNoise, add_noise, channels, coefficients};
 use crate::data::floating::{ContactChannel, FloatingLog};
-use crate::dynamics::{ContactWrench, FreeFlyer, FreeFlyerData, WrenchFrame};
+use crate::dynamics::{ContactWrench, Data, Model, WrenchFrame};
 use nalgebra::{DMatrix, DVector, Matrix3, UnitQuaternion, Vector3};
 use rand::SeedableRng;
 use rand::rngs::StdRng;
@@ -103,7 +103,7 @@ fn base_motion(origin: Vector3<f64>, c: &[[f64; 3]]) -> BaseMotion {
 /// The stance's fixed parts: the feet's frame indices and world
 /// positions, the base's rest position, the motion's coefficients.
 struct Stance<'a> {
-    ff: &'a FreeFlyer,
+    ff: &'a Model,
     cfg: &'a StandingConfig,
     frames: Vec<usize>,
     feet: Vec<Vector3<f64>>,
@@ -112,11 +112,11 @@ struct Stance<'a> {
 }
 
 impl<'a> Stance<'a> {
-    fn new(ff: &'a FreeFlyer, cfg: &'a StandingConfig, rng: &mut StdRng) -> Result<Self, SimError> {
+    fn new(ff: &'a Model, cfg: &'a StandingConfig, rng: &mut StdRng) -> Result<Self, SimError> {
         let frames = (cfg.feet.iter())
             .map(|f| ff.frame_index(f))
             .collect::<Result<Vec<_>, _>>()?;
-        let mut data = FreeFlyerData::new(ff);
+        let mut data = Data::new(ff);
         let rest = ff.frames_in_base(&mut data, &cfg.posture, &frames)?;
         let lowest = rest.iter().map(|f| f.z).fold(f64::INFINITY, f64::min);
         let origin = Vector3::new(0.0, 0.0, -lowest);
@@ -152,7 +152,7 @@ impl Stance<'_> {
     }
 
     /// The feet in base coordinates, stacked (3 per foot).
-    fn fk(&self, data: &mut FreeFlyerData, q: &[f64]) -> Result<DVector<f64>, SimError> {
+    fn fk(&self, data: &mut Data, q: &[f64]) -> Result<DVector<f64>, SimError> {
         let f = self.ff.frames_in_base(data, q, &self.frames)?;
         Ok(DVector::from_iterator(
             3 * f.len(),
@@ -161,7 +161,7 @@ impl Stance<'_> {
     }
 
     /// The feet's Jacobian (3 per foot × n) by central differences.
-    fn jacobian(&self, data: &mut FreeFlyerData, q: &[f64]) -> Result<DMatrix<f64>, SimError> {
+    fn jacobian(&self, data: &mut Data, q: &[f64]) -> Result<DMatrix<f64>, SimError> {
         let n = q.len();
         let mut j = DMatrix::zeros(3 * self.frames.len(), n);
         let mut x = q.to_vec();
@@ -201,7 +201,7 @@ impl Stance<'_> {
     /// by Newton's method from `q`.
     fn inverse_kinematics(
         &self,
-        data: &mut FreeFlyerData,
+        data: &mut Data,
         mut q: Vec<f64>,
         target: &DVector<f64>,
         time: f64,
@@ -227,12 +227,7 @@ impl Stance<'_> {
 impl Stance<'_> {
     /// The free-flyer's `q`, `v`, `a` at `time`, the feet fixed; `prev`:
     /// the joint positions the inverse kinematics starts from.
-    fn state(
-        &self,
-        data: &mut FreeFlyerData,
-        prev: Vec<f64>,
-        time: f64,
-    ) -> Result<[Vec<f64>; 3], SimError> {
+    fn state(&self, data: &mut Data, prev: Vec<f64>, time: f64) -> Result<[Vec<f64>; 3], SimError> {
         let m = base_motion(self.origin, &channels(&self.coef, time));
         let rt: Matrix3<f64> = m.rot.to_rotation_matrix().matrix().transpose();
         let v_b = rt * m.p[1];
@@ -263,7 +258,7 @@ impl Stance<'_> {
     /// `J̇ q̇` of the feet: the second difference of the kinematics along q̇.
     fn bias(
         &self,
-        data: &mut FreeFlyerData,
+        data: &mut Data,
         q: &[f64],
         qd: &DVector<f64>,
     ) -> Result<DVector<f64>, SimError> {
@@ -286,7 +281,7 @@ impl Stance<'_> {
     /// friction cone, and the joint torques left.
     fn forces(
         &self,
-        data: &mut FreeFlyerData,
+        data: &mut Data,
         q: &[f64],
         g: &DVector<f64>,
         time: f64,
@@ -335,7 +330,7 @@ impl Stance<'_> {
 
 /// A log of the robot `ff` (the nominal model; the truth is it with
 /// `cfg.effects`) standing on force plates (module doc), with noise.
-pub fn simulate_standing(ff: &FreeFlyer, cfg: &StandingConfig) -> Result<FloatingLog, SimError> {
+pub fn simulate_standing(ff: &Model, cfg: &StandingConfig) -> Result<FloatingLog, SimError> {
     check(cfg)?;
     check_stance(ff, cfg)?;
     let truth = cfg.effects.truth(ff)?;
@@ -343,13 +338,13 @@ pub fn simulate_standing(ff: &FreeFlyer, cfg: &StandingConfig) -> Result<Floatin
     let mut rng = StdRng::seed_from_u64(cfg.seed);
     let stance = Stance::new(ff, cfg, &mut rng)?;
     let samples = (cfg.seconds * cfg.rate).round() as usize;
-    let mut data = FreeFlyerData::new(ff);
+    let mut data = Data::new(ff);
     let mut log = FloatingLog {
         t: Vec::with_capacity(samples),
         q: Vec::with_capacity(samples * ff.nq()),
         v: Vec::with_capacity(samples * ff.nv()),
         a: Vec::with_capacity(samples * ff.nv()),
-        tau: Some(Vec::with_capacity(samples * ff.tree.dof())),
+        tau: Some(Vec::with_capacity(samples * ff.dof())),
         contacts: (cfg.feet.iter())
             .map(|frame| ContactChannel {
                 frame: frame.clone(),
@@ -362,7 +357,7 @@ pub fn simulate_standing(ff: &FreeFlyer, cfg: &StandingConfig) -> Result<Floatin
     for k in 0..samples {
         let time = k as f64 / cfg.rate;
         let [q, v, a] = stance.state(&mut data, prev, time)?;
-        let g = ff.rnea(&mut data, &q, &v, &a)?.clone();
+        let g = crate::dynamics::rnea(ff, &mut data, &q, &v, &a)?.clone();
         let (f, tau) = stance.forces(&mut data, &q, &g, time)?;
         for (i, c) in log.contacts.iter_mut().enumerate() {
             c.wrench
@@ -384,10 +379,10 @@ pub fn simulate_standing(ff: &FreeFlyer, cfg: &StandingConfig) -> Result<Floatin
 
 /// The stance: feet named once each (not the base), a finite posture of
 /// the robot's joints.
-fn check_stance(ff: &FreeFlyer, cfg: &StandingConfig) -> Result<(), SimError> {
+fn check_stance(ff: &Model, cfg: &StandingConfig) -> Result<(), SimError> {
     let fail = |problem: String| Err(SimError::Stance { time: 0.0, problem });
-    if cfg.posture.len() != ff.tree.dof() || cfg.posture.iter().any(|x| !x.is_finite()) {
-        let (found, n) = (cfg.posture.len(), ff.tree.dof());
+    if cfg.posture.len() != ff.dof() || cfg.posture.iter().any(|x| !x.is_finite()) {
+        let (found, n) = (cfg.posture.len(), ff.dof());
         return fail(format!(
             "the posture has {found} joint positions, not {n} finite ones"
         ));
@@ -403,7 +398,7 @@ fn check_stance(ff: &FreeFlyer, cfg: &StandingConfig) -> Result<(), SimError> {
             return fail(format!("foot '{foot}' is named twice"));
         }
         let frame = ff.frame_index(foot)?;
-        if ff.tree.frames[frame].body.is_none() {
+        if ff.frames[frame].body.is_none() {
             return fail(format!(
                 "foot '{foot}' is on the base: a foot must be moved by joints"
             ));

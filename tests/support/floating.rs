@@ -3,13 +3,13 @@
 //! fault there cannot hide in the tests' floor).
 
 use momentlmi::data::floating::FloatingLog;
-use momentlmi::dynamics::{FreeFlyer, FreeFlyerData};
+use momentlmi::dynamics::{Data, Model};
 use momentlmi::identify::Rows;
 use momentlmi::identify::floating::measured;
 
 /// RMS over the samples of `log` of the chosen rows of (measured − Y θ).
-pub fn held_out_rms(ff: &FreeFlyer, log: &FloatingLog, theta: &[f64], rows: Rows) -> f64 {
-    let mut data = FreeFlyerData::new(ff);
+pub fn held_out_rms(ff: &Model, log: &FloatingLog, theta: &[f64], rows: Rows) -> f64 {
+    let mut data = Data::new(ff);
     let (nq, nv) = (ff.nq(), ff.nv());
     let (mut sum, mut count) = (0.0, 0usize);
     for k in 0..log.samples() {
@@ -19,8 +19,8 @@ pub fn held_out_rms(ff: &FreeFlyer, log: &FloatingLog, theta: &[f64], rows: Rows
             &log.v[k * nv..(k + 1) * nv],
             &log.a[k * nv..(k + 1) * nv],
         );
-        let y = ff.regressor(&mut data, q, v, a).unwrap();
-        for i in rows.range(ff.tree.dof()) {
+        let y = momentlmi::dynamics::regressor(&ff, &mut data, q, v, a).unwrap();
+        for i in rows.range(ff.dof()) {
             let pred: f64 = (0..theta.len()).map(|j| y[(i, j)] * theta[j]).sum();
             sum += (b[i] - pred).powi(2);
             count += 1;

@@ -11,7 +11,7 @@ use momentlmi::data::Staged;
 use momentlmi::data::floating::FloatingLog;
 use momentlmi::dynamics::sidecar::Sidecar;
 use momentlmi::dynamics::urdf::free_flyer_from_robot;
-use momentlmi::dynamics::{FreeFlyer, FreeFlyerData};
+use momentlmi::dynamics::{Data, Model};
 use momentlmi::identify::floating_fit::{
     FloatingFit, fit_floating, floating_rms, residual, whole_body,
 };
@@ -24,7 +24,7 @@ const URDF: &str = include_str!("../../../robots/solo12/solo12.urdf");
 const SIDECAR: &str = include_str!("../../../robots/solo12/solo12.toml");
 
 /// Solo12 and its sidecar, from the embedded files.
-fn solo() -> Result<(FreeFlyer, Sidecar), String> {
+fn solo() -> Result<(Model, Sidecar), String> {
     let path = "robots/solo12/solo12.urdf";
     let robot = momentlmi::urdf::read_str(URDF, path).map_err(|e| e.to_string())?;
     let sidecar =
@@ -34,7 +34,7 @@ fn solo() -> Result<(FreeFlyer, Sidecar), String> {
 }
 
 /// The true model's θ (its bodies; no friction acts in the simulation).
-fn truth(ff: &FreeFlyer) -> Vec<f64> {
+fn truth(ff: &Model) -> Vec<f64> {
     let mut t = ff.params();
     t.resize(ff.regressor_columns(), 0.0);
     t
@@ -74,7 +74,7 @@ pub fn run((out, staged): (&Path, &mut Staged), tick: &mut dyn FnMut(&str)) -> R
 }
 
 fn fit(
-    ff: &FreeFlyer,
+    ff: &Model,
     rows: Rows,
     train: &FloatingLog,
     test: &FloatingLog,
@@ -95,7 +95,7 @@ fn fit(
 /// `q0`: the first training sample's configuration, where the fits' whole
 /// robot is.
 fn print_fits(
-    ff: &FreeFlyer,
+    ff: &Model,
     (test, q0): (&FloatingLog, &[f64]),
     fits: [&FloatingFit; 3],
 ) -> Result<(), String> {
@@ -164,7 +164,7 @@ fn relative(a: &[[f64; 3]; 3], b: &[[f64; 3]; 3]) -> f64 {
 
 /// Standing on force plates: the base rows weigh the robot and place its
 /// CoM over the feet.
-fn standing(ff: &FreeFlyer, sidecar: &Sidecar) -> Result<(), String> {
+fn standing(ff: &Model, sidecar: &Sidecar) -> Result<(), String> {
     let facts = sidecar.floating_base.clone().unwrap_or_default();
     let stance = super::floating::stance(ff, &facts)?;
     let cfg = |seconds, seed| StandingConfig {
@@ -200,9 +200,8 @@ fn standing(ff: &FreeFlyer, sidecar: &Sidecar) -> Result<(), String> {
 /// The held-out residual (measured − predicted) over 5 s: the base force
 /// and moment's vertical rows and one knee's torque, of the model
 /// identified from the load cell alone and of the true one.
-fn figure(ff: &FreeFlyer, fit: &FloatingFit, test: &FloatingLog) -> Result<String, String> {
+fn figure(ff: &Model, fit: &FloatingFit, test: &FloatingLog) -> Result<String, String> {
     let knee = ff
-        .tree
         .joint_names()
         .iter()
         .position(|j| *j == "FL_KFE")
@@ -211,9 +210,9 @@ fn figure(ff: &FreeFlyer, fit: &FloatingFit, test: &FloatingLog) -> Result<Strin
     let titles = [
         "base force z [N]".to_string(),
         "base moment z [N·m]".into(),
-        format!("{} torque [N·m]", ff.tree.joint_names()[knee]),
+        format!("{} torque [N·m]", ff.joint_names()[knee]),
     ];
-    let mut data = FreeFlyerData::new(ff);
+    let mut data = Data::new(ff);
     let mut series = |theta: &[f64]| -> Result<Vec<Vec<(f64, f64)>>, String> {
         let mut pts = vec![vec![]; rows.len()];
         for k in 0..test.samples().min(1000) {
@@ -252,7 +251,7 @@ fn figure(ff: &FreeFlyer, fit: &FloatingFit, test: &FloatingLog) -> Result<Strin
 }
 
 /// A Solo12 carrying 0.3 kg the URDF lacks, diagnosed against the URDF.
-fn diagnose_payload(ff: &FreeFlyer) -> Result<(), String> {
+fn diagnose_payload(ff: &Model) -> Result<(), String> {
     use momentlmi::diagnose::floating::diagnose_floating;
     use momentlmi::sim::floating::FloatingEffects;
     let effects = FloatingEffects {

@@ -6,7 +6,7 @@
 use momentlmi::data::floating::FloatingLog;
 use momentlmi::data::floating::lay_end_to_end;
 use momentlmi::data::floating_csv::read_floating_csv;
-use momentlmi::dynamics::FreeFlyer;
+use momentlmi::dynamics::Model;
 use momentlmi::dynamics::sidecar::{Sidecar, SidecarFloating};
 use momentlmi::dynamics::urdf::free_flyer_from_urdf_file;
 use std::path::{Path, PathBuf};
@@ -78,7 +78,7 @@ impl Robot<'_> {
     }
 
     /// The free-flyer and the sidecar's floating-base facts.
-    pub fn load(&self) -> Result<(FreeFlyer, SidecarFloating), String> {
+    pub fn load(&self) -> Result<(Model, SidecarFloating), String> {
         let path = Path::new(self.spec);
         let is_urdf = path
             .extension()
@@ -124,7 +124,7 @@ pub fn reading_options(read: &super::ReadChoice) -> [(&'static str, bool); 3] {
 /// more than `max_gib` in memory (a sample's numbers take at most 4× its
 /// text). Laid end to end as fixed-base files are (times increasing).
 pub fn read_logs(
-    ff: &FreeFlyer,
+    ff: &Model,
     paths: &[PathBuf],
     (what, max_gib): (&str, f64),
 ) -> Result<Vec<FloatingLog>, String> {
@@ -173,19 +173,19 @@ pub fn read_logs(
 
 /// The regressor's parameter vector: every body's, then each friction
 /// term's coefficients per joint (the model's terms; absent ones 0).
-pub fn theta_of(ff: &FreeFlyer, friction: &momentlmi::dynamics::Friction) -> Vec<f64> {
+pub fn theta_of(ff: &Model, friction: &momentlmi::dynamics::Friction) -> Vec<f64> {
     let mut theta = ff.params();
-    for &term in ff.tree.friction_terms() {
+    for &term in ff.friction_terms() {
         let c = friction.coefficients(term);
-        theta.extend((0..ff.tree.dof()).map(|j| c.get(j).copied().unwrap_or(0.0)));
+        theta.extend((0..ff.dof()).map(|j| c.get(j).copied().unwrap_or(0.0)));
     }
     theta
 }
 
 /// The stance's joint positions (n) from the sidecar's table; a joint the
 /// robot does not have is an error naming it.
-pub fn stance(ff: &FreeFlyer, facts: &SidecarFloating) -> Result<Vec<f64>, String> {
-    let names = ff.tree.joint_names();
+pub fn stance(ff: &Model, facts: &SidecarFloating) -> Result<Vec<f64>, String> {
+    let names = ff.joint_names();
     let mut q = vec![0.0; names.len()];
     for (joint, &value) in &facts.stance {
         let i = names.iter().position(|n| n == joint).ok_or_else(|| {
@@ -208,19 +208,16 @@ pub fn stance(ff: &FreeFlyer, facts: &SidecarFloating) -> Result<Vec<f64>, Strin
 /// URDF's own, no friction; else a parameter file's, e.g. `identify --json`),
 /// and their friction; `option` names the flag in errors.
 pub fn apply_params(
-    ff: &mut FreeFlyer,
+    ff: &mut Model,
     choice: Option<&str>,
     option: &str,
 ) -> Result<momentlmi::dynamics::Friction, String> {
     match choice {
-        None | Some("cad") | Some("true") => {
-            Ok(momentlmi::dynamics::Friction::zeros(ff.tree.dof()))
-        }
+        None | Some("cad") | Some("true") => Ok(momentlmi::dynamics::Friction::zeros(ff.dof())),
         Some(file) => {
             let pf = momentlmi::dynamics::params_file::ParamsFile::read(Path::new(file))
                 .map_err(|e| format!("{option}: {e}"))?;
-            pf.apply_free_flyer(ff, file)
-                .map_err(|e| format!("{option}: {e}"))
+            pf.apply(ff, file).map_err(|e| format!("{option}: {e}"))
         }
     }
 }

@@ -5,7 +5,7 @@
 use super::floating::{Robot, read_logs, refuse};
 use super::identify::IdentifyArgs;
 use momentlmi::dynamics::params_file::ParamsFile;
-use momentlmi::dynamics::{FreeFlyer, FrictionTerm};
+use momentlmi::dynamics::{FrictionTerm, Model};
 use momentlmi::identify::floating_fit::{FloatingFit, FloatingRms, fit_floating};
 use momentlmi::identify::{CHECK_TOL, Identification, JointWeighting, Level, Regularizer, Rows};
 use std::path::Path;
@@ -78,7 +78,7 @@ fn fit(a: &IdentifyArgs, robot: Robot) -> Result<FloatingFit, String> {
     let (mut ff, _) = robot.load()?;
     if let Some(list) = a.friction.as_deref() {
         let terms = FrictionTerm::parse_list(list).map_err(|e| format!("--friction: {e}"))?;
-        ff.tree = ff.tree.clone().with_friction_terms(&terms);
+        ff = ff.with_friction_terms(&terms);
     }
     let budget = a.max_memory_gib;
     let train = read_logs(&ff, &a.data, ("--data", budget))?;
@@ -134,13 +134,13 @@ fn rows(
 
 /// The prior's θ (bodies only; friction 0): the URDF's (cad, true) or a
 /// parameter file's.
-fn prior(ff: &FreeFlyer, choice: Option<&str>) -> Result<Vec<f64>, String> {
+fn prior(ff: &Model, choice: Option<&str>) -> Result<Vec<f64>, String> {
     let mut p = match choice {
         None | Some("cad") | Some("true") => ff.params(),
         Some(file) => {
             let mut fitted = ff.clone();
             let pf = ParamsFile::read(Path::new(file)).map_err(|e| format!("--prior: {e}"))?;
-            pf.apply_free_flyer(&mut fitted, file)
+            pf.apply(&mut fitted, file)
                 .map_err(|e| format!("--prior: {e}"))?;
             fitted.params()
         }
@@ -224,7 +224,7 @@ fn determined_alone(fit: &FloatingFit) -> Vec<String> {
     let id = &fit.solved.identifiability;
     let names = fit
         .model
-        .layout(fit.rows.range(fit.model.tree.dof()))
+        .layout_of_rows(fit.rows.range(fit.model.dof()))
         .parameter_names();
     (names.into_iter().enumerate())
         .filter(|(k, _)| id.determined_alone(*k))
@@ -235,7 +235,7 @@ fn determined_alone(fit: &FloatingFit) -> Vec<String> {
 /// The JSON: a parameter file (robot, joints, bodies, friction) with the
 /// fit beside it.
 fn json(fit: &FloatingFit) -> serde_json::Value {
-    let file = ParamsFile::from_free_flyer(&fit.model, fit.friction.clone());
+    let file = ParamsFile::from_model(&fit.model, fit.friction.clone());
     let mut v = serde_json::to_value(file).unwrap_or_default();
     if let Some(m) = v.as_object_mut() {
         m.insert("floating_base".into(), true.into());

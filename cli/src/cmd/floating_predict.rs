@@ -7,7 +7,7 @@ use super::floating::{Robot, read_logs, reading_options, refuse, theta_of};
 use super::predict::PredictArgs;
 use momentlmi::data::Staged;
 use momentlmi::data::floating::FloatingLog;
-use momentlmi::dynamics::{FreeFlyer, FreeFlyerData};
+use momentlmi::dynamics::{Data, Model};
 use momentlmi::identify::floating_fit::floating_rms_of;
 use std::path::Path;
 
@@ -66,33 +66,32 @@ pub fn run(a: &PredictArgs, robot: Robot) -> Result<(), String> {
 }
 
 /// `t, base_force_x…z, base_moment_x…z, tau_<joint>…`.
-fn header(ff: &FreeFlyer) -> String {
+fn header(ff: &Model) -> String {
     let mut h = vec!["t".to_string()];
     for kind in ["force", "moment"] {
         h.extend(["x", "y", "z"].map(|a| format!("base_{kind}_{a}")));
     }
-    h.extend(ff.tree.joint_names().iter().map(|j| format!("tau_{j}")));
+    h.extend(ff.joint_names().iter().map(|j| format!("tau_{j}")));
     h.join(",") + "\n"
 }
 
 /// The predicted `Y θ` of every sample, one CSV row each.
-fn rows(ff: &FreeFlyer, theta: &[f64], log: &FloatingLog) -> Result<String, String> {
+fn rows(ff: &Model, theta: &[f64], log: &FloatingLog) -> Result<String, String> {
     let (nq, nv) = (ff.nq(), ff.nv());
-    let mut data = FreeFlyerData::new(ff);
+    let mut data = Data::new(ff);
     let th = nalgebra::DVector::from_column_slice(theta);
     let mut out = String::new();
     for k in 0..log.samples() {
         if let Some(tau) = &log.tau {
-            let n = ff.tree.dof();
-            data.tree.load.copy_from_slice(&tau[k * n..(k + 1) * n]);
+            let n = ff.dof();
+            data.load.copy_from_slice(&tau[k * n..(k + 1) * n]);
         }
         let (q, v, acc) = (
             &log.q[k * nq..(k + 1) * nq],
             &log.v[k * nv..(k + 1) * nv],
             &log.a[k * nv..(k + 1) * nv],
         );
-        let y = ff
-            .regressor(&mut data, q, v, acc)
+        let y = momentlmi::dynamics::regressor(ff, &mut data, q, v, acc)
             .map_err(|e| format!("sample {k}: {e}"))?;
         let g = y * &th;
         let cells: Vec<String> = std::iter::once(log.t[k])

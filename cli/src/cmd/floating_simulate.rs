@@ -5,7 +5,7 @@ use super::floating::{Contacts, Robot, refuse, stance};
 use super::simulate::SimulateArgs;
 use momentlmi::data::floating::FloatingLog;
 use momentlmi::data::{Staged, record_path};
-use momentlmi::dynamics::FreeFlyer;
+use momentlmi::dynamics::Model;
 use momentlmi::sim::floating::{FloatingNoise, SuspendedConfig, simulate_suspended};
 use momentlmi::sim::standing::{StandingConfig, simulate_standing};
 
@@ -73,7 +73,7 @@ pub fn run(a: &SimulateArgs, robot: Robot) -> Result<(), String> {
         "wrote {} ({} samples, {}, contacts: {}) and {}",
         a.out.display(),
         log.samples(),
-        ff.tree.name,
+        ff.name,
         (log.contacts.iter())
             .map(|c| c.frame.as_str())
             .collect::<Vec<_>>()
@@ -101,7 +101,7 @@ fn noise(sigma: Option<f64>) -> Result<FloatingNoise, String> {
 
 /// What the record says of the log: how it was made.
 fn record_of(
-    ff: &FreeFlyer,
+    ff: &Model,
     log: &FloatingLog,
     (contacts, effects): (Contacts, &momentlmi::sim::floating::FloatingEffects),
     noise: &FloatingNoise,
@@ -110,10 +110,10 @@ fn record_of(
     serde_json::json!({
         "generator": format!("momentlmi {}", env!("CARGO_PKG_VERSION")),
         "floating_base": true,
-        "robot": ff.tree.name,
-        "base": ff.base_name,
+        "robot": ff.name,
+        "base": ff.base().map(|b| b.name.as_str()),
         "samples": log.samples(),
-        "joints": ff.tree.joint_names(),
+        "joints": ff.joint_names(),
         "contacts": format!("{contacts:?}").to_lowercase(),
         "contact_frames": log.contacts.iter().map(|c| &c.frame).collect::<Vec<_>>(),
         "effects": effects.names(),
@@ -130,18 +130,20 @@ fn record_of(
 
 /// The true robot's parameter file: the payload in its base, its friction.
 fn true_params(
-    ff: &FreeFlyer,
+    ff: &Model,
     effects: &momentlmi::sim::floating::FloatingEffects,
 ) -> Option<momentlmi::dynamics::params_file::ParamsFile> {
     use momentlmi::dynamics::{Friction, FrictionTerm};
     let truth = effects.truth(ff).ok()?; // (it simulated: it is valid)
-    let n = ff.tree.dof();
+    let n = ff.dof();
     let mut friction = Friction::zeros(n);
     if let Some([b, c]) = effects.joint_friction {
         *friction.coefficients_mut(FrictionTerm::Viscous) = vec![b; n];
         *friction.coefficients_mut(FrictionTerm::Coulomb) = vec![c; n];
     }
-    Some(momentlmi::dynamics::params_file::ParamsFile::from_free_flyer(&truth, friction))
+    Some(momentlmi::dynamics::params_file::ParamsFile::from_model(
+        &truth, friction,
+    ))
 }
 
 /// The most memory a simulated log and its CSV text may take (GiB): they
@@ -150,9 +152,9 @@ const MAX_GIB: f64 = 8.0;
 
 /// Refuses a `--seconds` whose log (numbers and text, ≈ 40 bytes a column
 /// a sample) would not fit in [`MAX_GIB`].
-fn check_size(ff: &FreeFlyer, seconds: f64, contacts: usize) -> Result<(), String> {
+fn check_size(ff: &Model, seconds: f64, contacts: usize) -> Result<(), String> {
     let rate = SuspendedConfig::default().rate;
-    let columns = 1 + ff.nq() + 2 * ff.nv() + ff.tree.dof() + 6 * contacts;
+    let columns = 1 + ff.nq() + 2 * ff.nv() + ff.dof() + 6 * contacts;
     let gib = seconds * rate * (40 * columns) as f64 / (1u64 << 30) as f64;
     if gib > MAX_GIB {
         let most = MAX_GIB * (1u64 << 30) as f64 / (rate * (40 * columns) as f64);
