@@ -118,7 +118,7 @@ fn couple_ancestors(
         at = model.joints[j].parent;
     }
     if model.is_floating() {
-        for (r, h) in super::free_flyer::force_first(&f).into_iter().enumerate() {
+        for (r, h) in super::spatial::force_first(&f).into_iter().enumerate() {
             data.mass_matrix[(col, r)] += h;
             data.mass_matrix[(r, col)] += h;
         }

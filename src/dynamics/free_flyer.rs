@@ -78,28 +78,6 @@ impl Model {
             })
     }
 
-    /// The whole robot at configuration `q` (a free flyer's): its mass
-    /// (kg), centre of mass (m) and rotational inertia about it (kg·m²), in
-    /// base coordinates (from the mass matrix's base block, the composite
-    /// inertia).
-    pub fn centroidal(
-        &self,
-        data: &mut Data,
-        q: &[f64],
-    ) -> Result<(f64, Vector3<f64>, Matrix3<f64>), DynamicsError> {
-        self.need_free_flyer("the centroidal inertia")?;
-        let m6 = super::crba(self, data, q)?
-            .fixed_view::<6, 6>(0, 0)
-            .into_owned();
-        let mass = m6[(0, 0)];
-        // M_bb = [[m 1, −m [c]×], [m [c]×, I_o]] in (linear, angular) order
-        let mc = m6.fixed_view::<3, 3>(3, 0).into_owned();
-        let c = Vector3::new(mc[(2, 1)], mc[(0, 2)], mc[(1, 0)]) / mass;
-        let sc = crate::moments::skew(&c);
-        let io = m6.fixed_view::<3, 3>(3, 3).into_owned();
-        Ok((mass, c, io + mass * sc * sc))
-    }
-
     /// The base state of a free flyer's configuration, velocity and
     /// acceleration (each checked for length; the quaternion for unit norm
     /// within [`QUATERNION_TOLERANCE`]).
@@ -189,9 +167,4 @@ impl Model {
             };
         }
     }
-}
-
-/// `[n; f]` (the spatial order) to `[f; n]` (the generalized-force order).
-pub(crate) fn force_first(w: &Vector6<f64>) -> [f64; 6] {
-    [w[3], w[4], w[5], w[0], w[1], w[2]]
 }

@@ -4,11 +4,11 @@
 
 use super::data::Data;
 use super::error::DynamicsError;
-use super::free_flyer::{BaseState, force_first};
+use super::free_flyer::BaseState;
 use super::model::Model;
 use super::rnea::{check_len, rnea_from};
-use super::spatial::{Transform, cross_force, inertia_times};
-use nalgebra::{DVector, Vector6};
+use super::spatial::{Transform, cross_force, force_first, inertia_times};
+use nalgebra::{DVector, Matrix3, Vector3, Vector6};
 
 /// How a contact wrench's components are expressed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -33,6 +33,28 @@ pub struct ContactWrench {
 }
 
 impl Model {
+    /// The whole robot at configuration `q` (a free flyer's): its mass
+    /// (kg), centre of mass (m) and rotational inertia about it (kg·m²), in
+    /// base coordinates (from the mass matrix's base block, the composite
+    /// inertia).
+    pub fn centroidal(
+        &self,
+        data: &mut Data,
+        q: &[f64],
+    ) -> Result<(f64, Vector3<f64>, Matrix3<f64>), DynamicsError> {
+        self.need_free_flyer("the centroidal inertia")?;
+        let m6 = super::crba(self, data, q)?
+            .fixed_view::<6, 6>(0, 0)
+            .into_owned();
+        let mass = m6[(0, 0)];
+        // M_bb = [[m 1, −m [c]×], [m [c]×, I_o]] in (linear, angular) order
+        let mc = m6.fixed_view::<3, 3>(3, 0).into_owned();
+        let c = Vector3::new(mc[(2, 1)], mc[(0, 2)], mc[(1, 0)]) / mass;
+        let sc = crate::moments::skew(&c);
+        let io = m6.fixed_view::<3, 3>(3, 3).into_owned();
+        Ok((mass, c, io + mass * sc * sc))
+    }
+
     /// A free flyer's inverse dynamics from its base state and joint state
     /// (n each) into `data.tau` (6 + n).
     pub(crate) fn free_flyer_inverse_dynamics(

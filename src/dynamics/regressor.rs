@@ -13,10 +13,10 @@
 
 use super::data::{BodyRegressor, Data};
 use super::error::DynamicsError;
-use super::free_flyer::force_first;
+
 use super::model::Model;
 use super::rnea::{RootMotion, check_state, forward_pass_from};
-use super::spatial::Transform;
+use super::spatial::{Transform, force_first};
 use crate::moments::skew;
 use nalgebra::{Matrix3, SMatrix, Vector3, Vector6};
 

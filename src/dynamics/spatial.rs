@@ -123,3 +123,8 @@ pub fn axis_rotation(axis: &Vector3<f64>, q: f64) -> Matrix3<f64> {
     let k = crate::moments::skew(axis);
     Matrix3::identity() + k * s + k * k * (1.0 - c)
 }
+
+/// `[n; f]` (the spatial order) to `[f; n]` (the generalized-force order).
+pub(crate) fn force_first(w: &Vector6<f64>) -> [f64; 6] {
+    [w[3], w[4], w[5], w[0], w[1], w[2]]
+}

@@ -52,6 +52,12 @@ pub struct FloatingFit {
     /// Per body (base first): the smallest eigenvalue of its pseudo-inertia
     /// J (kg·m²; ≥ 0 consistent).
     pub min_eigenvalues: Vec<f64>,
+    /// Per body (base first): mass, CoM, principal moments, consistency,
+    /// degeneracy — the fixed base's summary
+    /// ([`IdentifyResult::bodies`](super::IdentifyResult::bodies)).
+    pub bodies: Vec<super::BodyResult>,
+    /// Every body satisfies its constraint level (checked by `moments`).
+    pub constraints_satisfied: bool,
     /// The whole robot at the first training sample's configuration.
     pub whole_body: WholeBody,
     /// Residuals on the training logs.
@@ -135,6 +141,7 @@ pub fn fit_floating(
             p.pseudo_inertia().symmetric_eigenvalues().min()
         })
         .collect();
+    let (bodies, constraints_satisfied) = super::result::body_results(id, &solved.theta);
     let q0 = &train[0].q[..ff.nq()];
     let whole_body = whole_body(&model, q0)?;
     // a millionth of the URDF's mass is no robot: the fit collapsed
@@ -156,6 +163,8 @@ pub fn fit_floating(
         model,
         friction,
         min_eigenvalues,
+        bodies,
+        constraints_satisfied,
         whole_body,
         train: train_rms,
         validation,

@@ -187,18 +187,22 @@ fn report(fit: &FloatingFit, verbose: bool) -> String {
         w.centroidal_inertia[1][1],
         w.centroidal_inertia[2][2]
     );
-    out += "body                mass (kg)   CoM (m)                      min eig J\n";
-    for (b, name) in s.bodies.iter().enumerate() {
-        let t = &s.theta[10 * b..10 * b + 10];
-        let m = t[0];
-        let c = if m > 0.0 {
-            [t[1] / m, t[2] / m, t[3] / m]
-        } else {
-            [f64::NAN; 3]
-        };
+    out += "body                mass (kg)   CoM (m)                      principal moments (kg·m²)        consistent  min eig J\n";
+    for (b, body) in fit.bodies.iter().enumerate() {
+        let c = body.com.unwrap_or([f64::NAN; 3]);
+        let pm = body.principal_moments;
         out += &format!(
-            "{name:<18} {m:>10.4}   [{:>7.4}, {:>7.4}, {:>7.4}]   {:>10.2e}\n",
-            c[0], c[1], c[2], fit.min_eigenvalues[b]
+            "{:<18} {:>10.4}   [{:>7.4}, {:>7.4}, {:>7.4}]   [{:>8.2e}, {:>8.2e}, {:>8.2e}]   {:<10}  {:>10.2e}\n",
+            body.name,
+            body.mass,
+            c[0],
+            c[1],
+            c[2],
+            pm[0],
+            pm[1],
+            pm[2],
+            if body.consistent { "yes" } else { "NO" },
+            fit.min_eigenvalues[b]
         );
     }
     let alone = determined_alone(fit);
@@ -233,11 +237,35 @@ fn determined_alone(fit: &FloatingFit) -> Vec<String> {
 }
 
 /// The JSON: a parameter file (robot, joints, bodies, friction) with the
-/// fit beside it.
+/// fit beside it; each body as the fixed base's JSON has it (name, params,
+/// mass, CoM, principal moments, consistency, degeneracy).
 fn json(fit: &FloatingFit) -> serde_json::Value {
     let file = ParamsFile::from_model(&fit.model, fit.friction.clone());
     let mut v = serde_json::to_value(file).unwrap_or_default();
+    let names = |keep: fn(&momentlmi::identify::BodyResult) -> bool| -> Vec<&str> {
+        (fit.bodies.iter().filter(|b| keep(b)))
+            .map(|b| b.name.as_str())
+            .collect()
+    };
     if let Some(m) = v.as_object_mut() {
+        m.insert("bodies".into(), serde_json::json!(fit.bodies));
+        let inconsistent = names(|b| !b.consistent);
+        m.insert(
+            "all_bodies_consistent".into(),
+            inconsistent.is_empty().into(),
+        );
+        m.insert(
+            "inconsistent_bodies".into(),
+            serde_json::json!(inconsistent),
+        );
+        m.insert(
+            "degenerate_bodies".into(),
+            serde_json::json!(names(|b| b.degenerate.is_some())),
+        );
+        m.insert(
+            "constraints_satisfied".into(),
+            fit.constraints_satisfied.into(),
+        );
         m.insert("floating_base".into(), true.into());
         m.insert("rows".into(), fit.rows.as_str().into());
         m.insert("status".into(), format!("{:?}", fit.solved.status).into());
