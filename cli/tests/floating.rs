@@ -435,3 +435,66 @@ fn a_fit_that_loses_the_robot_and_a_memory_limit_of_nan_are_refused() {
         }
     }
 }
+
+/// The fixed base's identification options on a floating base (one set-up
+/// for both): the ellipsoid level bounds every body (the base by its root
+/// link's geometry), `--total-mass` and `--equal` constrain the bodies,
+/// the entropic regulariser needs a weight.
+#[test]
+fn the_fixed_base_options_act_on_a_floating_base() {
+    let dir = TempDir::new("floating-options");
+    let train = simulate(&dir, "train.csv", &["--seconds", "20", "--seed", "3"]);
+    let (robot, train) = (solo(), train.to_str().unwrap().to_string());
+    let fit = |extra: &[&str]| -> serde_json::Value {
+        let mut args = vec![
+            "identify", "--robot", &robot, "--data", &train, "--rows", "base", "--json",
+        ];
+        args.extend(extra);
+        serde_json::from_slice(&ok(&args)).unwrap()
+    };
+    let e = fit(&["--constraints", "ellipsoid"]);
+    assert_eq!(e["constraints_satisfied"], true);
+    let bodies = e["bodies"].as_array().unwrap();
+    assert_eq!(bodies.len(), 13, "the base and twelve links");
+    assert_eq!(bodies[0]["name"], "base_link");
+    for b in bodies {
+        assert_eq!(b["level"], "ellipsoid", "{}", b["name"]);
+        assert_eq!(b["realizability"]["realizable"], true, "{}", b["name"]);
+        assert!(
+            b["principal_moments"]
+                .as_array()
+                .is_some_and(|p| p.len() == 3)
+        );
+    }
+    let m = fit(&["--total-mass", "2.6"]);
+    let mass = num(&m, &["whole_body", "mass"]);
+    assert!((mass - 2.6).abs() < 1e-6, "total mass {mass}");
+    let q = fit(&["--equal", "FL_LOWER_LEG,FR_LOWER_LEG"]);
+    let params = |name: &str| -> Vec<f64> {
+        let b = q["bodies"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|b| b["name"] == name);
+        let p = b.unwrap()["params"].as_array().unwrap();
+        p.iter().map(|x| x.as_f64().unwrap()).collect()
+    };
+    let (a, b) = (params("FL_LOWER_LEG"), params("FR_LOWER_LEG"));
+    assert!(
+        a.iter().zip(&b).all(|(x, y)| (x - y).abs() < 1e-6),
+        "{a:?} vs {b:?}"
+    );
+    let out = bin()
+        .args([
+            "identify", "--robot", &robot, "--data", &train, "--rows", "base",
+        ])
+        .args(["--regularizer", "entropic", "--weight", "0"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("--regularizer entropic needs --weight > 0"),
+        "{err}"
+    );
+}

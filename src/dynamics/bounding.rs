@@ -111,11 +111,11 @@ fn compute(
 ) -> Computed {
     let mut per_body = given.to_vec();
     let mut warnings = vec![];
-    let mut parts: Vec<Vec<Ellipsoid>> = vec![vec![]; model.dof()];
+    let mut parts: Vec<Vec<Ellipsoid>> = vec![vec![]; model.num_bodies()];
     let links: HashMap<&str, &crate::urdf::Link> =
         robot.links.iter().map(|l| (l.name.as_str(), l)).collect();
     for f in &model.frames {
-        let (Some(b), Some(link)) = (f.body, links.get(f.name.as_str())) else {
+        let (Some(b), Some(link)) = (model.body_of_frame(f), links.get(f.name.as_str())) else {
             continue;
         };
         if !given[b].is_empty() {
@@ -150,7 +150,7 @@ fn compute(
                 stored.into_iter().for_each(|e| meshes.note_cache_error(e));
             }
             Err(m) => warnings.push(DescriptionWarning::NoBoundingEllipsoid {
-                body: model.joints[b].body.clone(),
+                body: model.body_names()[b].clone(),
                 reason: m.to_string(),
             }),
         }

@@ -352,6 +352,16 @@ impl Model {
         usize::from(self.is_floating())
     }
 
+    /// The parameter-order index of the body frame `f` is on: link i's is
+    /// `i` (after a free-flying base's 0); a frame on the base is on body 0
+    /// with a free flyer, on no body (`None`) with a fixed base.
+    pub fn body_of_frame(&self, f: &Frame) -> Option<usize> {
+        match f.body {
+            Some(i) => Some(self.first_link_body() + i),
+            None => self.is_floating().then_some(0),
+        }
+    }
+
     /// Number of bodies with parameters: the free-flying base (if any),
     /// links, then rotors.
     pub fn num_bodies(&self) -> usize {

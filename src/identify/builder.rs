@@ -166,22 +166,30 @@ impl<'m> Identification<'m> {
 
     /// A floating-base robot's problem: its base and tree bodies (every one
     /// consistent), fitted on the `rows` of its dynamics, on data reduced by
-    /// [`reduce_floating`](super::floating::reduce_floating) with the same rows.
-    pub fn for_free_flyer(ff: &'m crate::dynamics::Model, rows: super::Rows) -> Self {
-        let mut s = Self::new(ff);
-        s.layout = ff.layout_of_rows(rows.range(ff.dof()));
-        s.bodies = vec![s.bodies[0]; s.layout.num_bodies()];
+    /// [`reduce_floating`](super::floating::reduce_floating) with the same
+    /// rows ([`Self::rows`] of [`Self::new`]).
+    pub fn for_free_flyer(ff: &'m Model, rows: super::Rows) -> Self {
+        Self::new(ff).rows(rows)
+    }
+
+    /// The set-up fitted on the `rows` of a free flyer's dynamics (its
+    /// base rows, joint rows or both; a fixed base's model is left as it
+    /// is). On the base rows alone no friction acts: the friction
+    /// coefficients are pinned to 0 rather than left arbitrary.
+    pub fn rows(mut self, rows: super::Rows) -> Self {
+        if !self.model.is_floating() {
+            return self;
+        }
+        self.layout = self.model.layout_of_rows(rows.range(self.model.dof()));
         if rows == super::Rows::Base {
-            // no friction acts on the base rows: its columns are zero, and
-            // its coefficients pinned to 0 rather than left arbitrary
-            s = s.constrain(|p, v| {
+            self = self.constrain(|p, v| {
                 if !v.friction.is_empty() {
                     p.add_zeros(v.friction.iter().cloned())?;
                 }
                 Ok(())
             });
         }
-        s
+        self
     }
 
     /// The set-up of [`IdentifyOptions`] (one level for every body).

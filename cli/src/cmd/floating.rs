@@ -79,6 +79,25 @@ impl Robot<'_> {
 
     /// The free-flyer and the sidecar's floating-base facts.
     pub fn load(&self) -> Result<(Model, SidecarFloating), String> {
+        let path = self.urdf()?;
+        let ff = free_flyer_from_urdf_file(path, self.sidecar).map_err(|e| e.to_string())?;
+        Ok((ff, self.facts()?.unwrap_or_default()))
+    }
+
+    /// The robot described with a free-flying root (prior, bounding
+    /// volumes of every body, the base's from the root link's geometry;
+    /// sidecar facts), meshes also looked for in `package_paths`.
+    pub fn describe(
+        &self,
+        package_paths: &[std::path::PathBuf],
+    ) -> Result<momentlmi::dynamics::RobotDescription, String> {
+        let path = self.urdf()?.to_str().ok_or("a non-UTF-8 URDF path")?;
+        momentlmi::dynamics::robots::load_free_flyer(path, self.sidecar, package_paths)
+            .map_err(|e| e.to_string())
+    }
+
+    /// The URDF file, or an error: a floating base is a URDF's root link.
+    fn urdf(&self) -> Result<&Path, String> {
         let path = Path::new(self.spec);
         let is_urdf = path
             .extension()
@@ -89,8 +108,7 @@ impl Robot<'_> {
                 self.spec
             ));
         }
-        let ff = free_flyer_from_urdf_file(path, self.sidecar).map_err(|e| e.to_string())?;
-        Ok((ff, self.facts()?.unwrap_or_default()))
+        Ok(path)
     }
 }
 

@@ -4,11 +4,10 @@
 
 use super::floating::{Robot, read_logs, refuse};
 use super::identify::IdentifyArgs;
+use momentlmi::dynamics::FrictionTerm;
 use momentlmi::dynamics::params_file::ParamsFile;
-use momentlmi::dynamics::{FrictionTerm, Model};
 use momentlmi::identify::floating_fit::{FloatingFit, FloatingRms, fit_floating};
-use momentlmi::identify::{CHECK_TOL, Identification, JointWeighting, Level, Regularizer, Rows};
-use std::path::Path;
+use momentlmi::identify::{CHECK_TOL, JointWeighting, Regularizer, Rows};
 
 /// Identifies; exit 0 every body consistent, 1 not, 2 bad input.
 pub fn run(a: &IdentifyArgs, robot: Robot) -> i32 {
@@ -31,7 +30,11 @@ pub fn run(a: &IdentifyArgs, robot: Robot) -> i32 {
                 .iter()
                 .copied()
                 .fold(f64::INFINITY, f64::min);
-            if worst >= -CHECK_TOL { 0 } else { 1 }
+            if worst >= -CHECK_TOL && fit.constraints_satisfied {
+                0
+            } else {
+                1
+            }
         }
         Err(e) => {
             eprintln!("error: {e}");
@@ -43,15 +46,7 @@ pub fn run(a: &IdentifyArgs, robot: Robot) -> i32 {
 fn refused(a: &IdentifyArgs) -> Result<(), String> {
     refuse(&super::floating::reading_options(&a.read.choice()))?;
     refuse(&[
-        ("--level", !a.levels.is_empty()),
-        ("--total-mass", a.total_mass.is_some()),
-        ("--equal", !a.equal.is_empty()),
         ("--bounds", a.bounds.as_deref().is_some()),
-        (
-            "--regularizer entropic/pullback",
-            a.regularizer.is_some_and(|r| r != Regularizer::Euclidean),
-        ),
-        ("--prior-mass-weight", a.prior_mass_weight.is_some()),
         (
             "--joint-weighting noise",
             a.joint_weighting != JointWeighting::Equal,
@@ -72,39 +67,36 @@ fn refused(a: &IdentifyArgs) -> Result<(), String> {
     ])
 }
 
-/// Reads the logs, sets the problem up as the flags say and solves it.
+/// Reads the logs, sets the problem up as the flags say (the fixed base's
+/// set-up, [`super::identify::identification`], on the rows fitted) and
+/// solves it.
 fn fit(a: &IdentifyArgs, robot: Robot) -> Result<FloatingFit, String> {
     refused(a)?;
-    let (mut ff, _) = robot.load()?;
+    let mut described = robot.describe(&a.robot.package_path)?;
     if let Some(list) = a.friction.as_deref() {
         let terms = FrictionTerm::parse_list(list).map_err(|e| format!("--friction: {e}"))?;
-        ff = ff.with_friction_terms(&terms);
+        described.model = described.model.clone().with_friction_terms(&terms);
     }
+    let ff = &described.model;
     let budget = a.max_memory_gib;
-    let train = read_logs(&ff, &a.data, ("--data", budget))?;
-    let validate = read_logs(&ff, &a.validate, ("--validate", budget))?;
+    let train = read_logs(ff, &a.data, ("--data", budget))?;
+    let validate = read_logs(ff, &a.validate, ("--validate", budget))?;
     let rows = rows(a.rows, &train)?;
-    let level = Level::parse(a.constraints.as_str()).ok_or_else(|| {
-        format!(
-            "--constraints: '{}' is not one of none, semi, consistent",
-            a.constraints.as_str()
-        )
-    })?;
-    if level == Level::Ellipsoid {
-        return Err("--constraints ellipsoid is not available with --floating-base yet (no bounding volumes are computed for a free-flyer)".into());
-    }
     let given = a.weight.as_deref().unwrap_or("1e-6");
     let weight: f64 = (given.trim().parse().ok())
         .filter(|w: &f64| w.is_finite() && *w >= 0.0)
         .ok_or_else(|| format!("--weight: '{given}' is not a number ≥ 0"))?;
-    let mut id = Identification::for_free_flyer(&ff, rows).level_all(level);
-    if weight > 0.0 {
-        let prior = prior(&ff, a.prior.as_deref())?;
-        id = id
-            .prior(weight, prior)
-            .map_err(|e| format!("--prior: {e}"))?;
+    let regularizer = a.regularizer.unwrap_or(Regularizer::Euclidean);
+    if regularizer != Regularizer::Euclidean && weight <= 0.0 {
+        return Err(format!(
+            "--regularizer {} needs --weight > 0 (typically 1e-3 to 1e-1), got {weight}",
+            regularizer.as_str()
+        ));
     }
-    fit_floating(&id, &ff, rows, &train, &validate).map_err(|e| e.to_string())
+    let id = super::identify::identification(a, &described, weight)?
+        .regularizer(regularizer)
+        .rows(rows);
+    fit_floating(&id, ff, rows, &train, &validate).map_err(|e| e.to_string())
 }
 
 /// The rows asked, else every row when each log has joint torques, else
@@ -130,23 +122,6 @@ fn rows(
             Ok(r)
         }
     }
-}
-
-/// The prior's θ (bodies only; friction 0): the URDF's (cad, true) or a
-/// parameter file's.
-fn prior(ff: &Model, choice: Option<&str>) -> Result<Vec<f64>, String> {
-    let mut p = match choice {
-        None | Some("cad") | Some("true") => ff.params(),
-        Some(file) => {
-            let mut fitted = ff.clone();
-            let pf = ParamsFile::read(Path::new(file)).map_err(|e| format!("--prior: {e}"))?;
-            pf.apply(&mut fitted, file)
-                .map_err(|e| format!("--prior: {e}"))?;
-            fitted.params()
-        }
-    };
-    p.truncate(10 * ff.num_bodies());
-    Ok(p)
 }
 
 /// `a/b/c` RMS by row group.

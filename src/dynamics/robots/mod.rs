@@ -44,6 +44,34 @@ pub fn load_robot_with(
     sidecar: Option<&Path>,
     package_paths: &[std::path::PathBuf],
 ) -> Result<RobotDescription, DynamicsError> {
+    load_rooted(spec, sidecar, package_paths, false)
+}
+
+/// [`load_robot_with`] for a URDF whose root link is a free-flying base
+/// ([`RootJoint::FreeFlyer`](super::RootJoint::FreeFlyer)): the base is
+/// body 0 of the description (its prior, its bounding volume from the
+/// root link's geometry, its sidecar `[[body]]` entry by the root link's
+/// name). A built-in robot has a fixed base.
+pub fn load_free_flyer(
+    spec: &str,
+    sidecar: Option<&Path>,
+    package_paths: &[std::path::PathBuf],
+) -> Result<RobotDescription, DynamicsError> {
+    if BUILT_IN.iter().any(|b| b.name == spec) {
+        return Err(DynamicsError::File {
+            path: spec.into(),
+            message: "a built-in robot has a fixed base; a floating base needs a URDF file (its root link is the base)".into(),
+        });
+    }
+    load_rooted(spec, sidecar, package_paths, true)
+}
+
+fn load_rooted(
+    spec: &str,
+    sidecar: Option<&Path>,
+    package_paths: &[std::path::PathBuf],
+    free_flyer: bool,
+) -> Result<RobotDescription, DynamicsError> {
     if let Some(b) = BUILT_IN.iter().find(|b| b.name == spec) {
         if sidecar.is_some() {
             return Err(DynamicsError::File {
@@ -66,8 +94,11 @@ pub fn load_robot_with(
     }
     let (_, robot) = crate::urdf::read_file(p)?;
     let sc = sidecar.map(Sidecar::read).transpose()?.unwrap_or_default();
-    let model = model_from_robot(&robot, spec, Some(&sc))
-        .map_err(|e| name_the_sidecar(e, spec, sidecar))?;
+    let model = match free_flyer {
+        false => model_from_robot(&robot, spec, Some(&sc)),
+        true => super::urdf::free_flyer_from_robot(&robot, spec, Some(&sc)),
+    };
+    let model = model.map_err(|e| name_the_sidecar(e, spec, sidecar))?;
     let described = RobotDescription::new(spec, model, &sc, Some(&robot));
     let mut described = described
         .map_err(|e| name_the_sidecar(e, spec, sidecar))?

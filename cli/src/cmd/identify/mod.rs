@@ -191,8 +191,9 @@ fn regularizer(a: &IdentifyArgs, prior: &[f64], level: Level) -> Result<Regulari
 }
 
 /// The identification with the robot's set-up and the flags' constraints,
-/// at `weight` (the grid's first when it is chosen: the choice sets it).
-fn identification<'r>(
+/// at `weight` (the grid's first when it is chosen: the choice sets it);
+/// a floating base's as well (its rows set by the caller).
+pub(super) fn identification<'r>(
     a: &IdentifyArgs,
     robot: &'r RobotDescription,
     weight: f64,
