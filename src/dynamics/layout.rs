@@ -1,6 +1,6 @@
 //! The regressor's column layout, by name: what identification needs to
-//! know of a robot to name and constrain its parameters, whether the robot
-//! is a fixed-base [`Model`](super::Model) or a [`FreeFlyer`](super::FreeFlyer).
+//! know of a robot to name and constrain its parameters, whether its
+//! [`Model`](super::Model) has a fixed or a free-flying root.
 
 use super::friction::FrictionTerm;
 
