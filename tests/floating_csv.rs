@@ -224,3 +224,74 @@ fn err_of(ff: &Model, text: &str) -> String {
         .unwrap_err()
         .to_string()
 }
+
+/// A NumPy `.npz` archive of a log's CSV columns (one float64 1-D array
+/// per column, in the CSV's order but `t` last: the reader puts it first).
+fn npz_of(text: &str, path: &Path) {
+    use npyz::WriterBuilder;
+    use std::io::Write;
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let rows: Vec<Vec<f64>> =
+        (lines.map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())).collect();
+    let mut z = zip::ZipWriter::new(std::fs::File::create(path).unwrap());
+    let opts = zip::write::SimpleFileOptions::default();
+    let order = (1..header.len()).chain([0]);
+    for c in order {
+        let values: Vec<f64> = rows.iter().map(|r| r[c]).collect();
+        let mut bytes = vec![];
+        let mut w = npyz::WriteOptions::new()
+            .default_dtype()
+            .shape(&[values.len() as u64])
+            .writer(&mut bytes)
+            .begin_nd()
+            .unwrap();
+        w.extend(values.iter().copied()).unwrap();
+        w.finish().unwrap();
+        z.start_file(format!("{}.npy", header[c]), opts).unwrap();
+        z.write_all(&bytes).unwrap();
+    }
+    z.finish().unwrap();
+}
+
+#[test]
+fn a_numpy_archive_of_the_columns_reads_as_its_csv_and_identifies_the_same() {
+    use momentlmi::data::floating_csv::read_floating_npz;
+    use momentlmi::identify::{Identification, Rows, reduce_floating};
+    let ff = solo();
+    let cfg = SuspendedConfig {
+        seconds: 5.0,
+        ..SuspendedConfig::default()
+    };
+    let log = simulate_suspended(&ff, &cfg).unwrap();
+    let text = log.to_csv(&ff).unwrap();
+    let dir = std::env::temp_dir().join(format!("momentlmi-floating-npz-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("log.npz");
+    npz_of(&text, &path);
+    let from_csv = floating_from_csv(&ff, &text, "log.csv").unwrap();
+    let from_npz = read_floating_npz(&ff, &path, 1 << 30).unwrap();
+    assert_eq!(from_npz, from_csv);
+    let fit = |l| {
+        let red = reduce_floating(&ff, l, Rows::Base).unwrap();
+        Identification::for_free_flyer(&ff, Rows::Base)
+            .solve(&red)
+            .unwrap()
+            .theta
+    };
+    assert_eq!(fit(&from_npz), fit(&from_csv));
+    // the memory bound is checked before the arrays past the first are read
+    let e = read_floating_npz(&ff, &path, 1000).unwrap_err().to_string();
+    assert!(
+        e.contains("log.npz") && e.contains("values allowed in memory"),
+        "{e}"
+    );
+    // a column the log does not have is named, as in a CSV
+    let renamed = text.replacen("base_qw", "base_qq", 1);
+    npz_of(&renamed, &path);
+    let e = read_floating_npz(&ff, &path, 1 << 30)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("base_qq"), "{e}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

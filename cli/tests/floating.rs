@@ -288,7 +288,21 @@ fn options_a_floating_base_cannot_take_are_named() {
     let npz = npz.to_str().unwrap();
     refused(
         &["identify", "--robot", &robot, "--data", npz],
-        &["run.npz", "CSV only"],
+        &["run.npz", "not a NumPy .npz archive"],
+    );
+    let npy = dir.write("run.npy", "x");
+    refused(
+        &[
+            "identify",
+            "--robot",
+            &robot,
+            "--data",
+            npy.to_str().unwrap(),
+        ],
+        &[
+            "run.npy",
+            ".npy and MCAP are not read for a floating base yet",
+        ],
     );
     assert!(!Path::new(out).exists());
 }

@@ -10,7 +10,9 @@
 //!   frame's own axes, or `world_force_…`, `world_moment_…` in world-aligned
 //!   axes at the frame origin (a force plate's).
 //!
-//! Any column order; every other column is an error naming it.
+//! Any column order; every other column is an error naming it. The same
+//! columns as the arrays of a NumPy `.npz` archive (one 1-D array per
+//! column, [`read_floating_npz`]).
 
 use super::csv::MAX_COLUMNS;
 use super::error::DataError;
@@ -231,6 +233,29 @@ pub fn read_floating_csv(ff: &Model, path: &std::path::Path) -> Result<FloatingL
     floating_from_reader(ff, std::io::BufReader::new(file), &name)
 }
 
+/// Reads a floating-base log from a NumPy `.npz` archive: one 1-D array
+/// per column, named as the CSV's columns (module docs), checked as the
+/// CSV is (rows numbered from 1); at most `max_values` numbers in all
+/// (checked before the archive's arrays past the first are read).
+pub fn read_floating_npz(
+    ff: &Model,
+    path: &std::path::Path,
+    max_values: u64,
+) -> Result<FloatingLog, DataError> {
+    let name = path.display().to_string();
+    let (header, columns) = super::npz::read_npz_columns(path, MAX_COLUMNS, max_values)?;
+    let (slots, contacts, has_tau) = slots(ff, &header, &name)?;
+    check_forces(&slots, &contacts, &name)?;
+    let mut log = empty_log(&contacts, has_tau);
+    let rows = columns.first().map_or(0, Vec::len);
+    let mut values = vec![0.0; columns.len()];
+    for r in 0..rows {
+        values.iter_mut().zip(&columns).for_each(|(v, c)| *v = c[r]);
+        push_values(&mut log, ff, &slots, &values, (&name, r + 1), &header)?;
+    }
+    Ok(log)
+}
+
 /// [`floating_from_csv`] from any reader.
 fn floating_from_reader(
     ff: &Model,
@@ -324,6 +349,29 @@ fn push_row(
             message: format!("{} fields, the header has {}", rec.len(), slots.len()),
         });
     }
+    let values = (rec.iter().zip(header))
+        .map(|(field, name)| {
+            field.parse().map_err(|_| DataError::Value {
+                path: path.into(),
+                row,
+                column: name.clone(),
+                message: format!("'{field}' is not a number"),
+            })
+        })
+        .collect::<Result<Vec<f64>, _>>()?;
+    push_values(log, ff, slots, &values, (path, row), header)
+}
+
+/// One row's values (one per slot) into `log`, each within the readers'
+/// limits, the time after the last row's.
+fn push_values(
+    log: &mut FloatingLog,
+    ff: &Model,
+    slots: &[Slot],
+    values: &[f64],
+    (path, row): (&str, usize),
+    header: &[String],
+) -> Result<(), DataError> {
     let (nq, nv, n) = (ff.nq(), ff.nv(), ff.dof());
     let (q0, v0) = (log.q.len(), log.v.len());
     log.q.resize(q0 + nq, 0.0);
@@ -337,15 +385,13 @@ fn push_row(
     log.contacts
         .iter_mut()
         .for_each(|c| c.wrench.resize(c.wrench.len() + 6, 0.0));
-    for ((field, slot), name) in rec.iter().zip(slots).zip(header) {
+    for ((&x, slot), name) in values.iter().zip(slots).zip(header) {
         let bad = |message| DataError::Value {
             path: path.into(),
             row,
             column: name.clone(),
             message,
         };
-        let x: f64 =
-            (field.parse().ok()).ok_or_else(|| bad(format!("'{field}' is not a number")))?;
         if let Some(why) = refusal(x, limit(*slot == Slot::T)) {
             return Err(bad(why));
         }

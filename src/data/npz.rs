@@ -270,6 +270,66 @@ pub fn read_npz(
     Ok(log)
 }
 
+/// Every array of an `.npz` archive as one column (a 1-D array, or n × 1)
+/// of one value per time stamp, named by the array (`t` first when there
+/// is one): a table saved as `numpy.savez(path, **columns)`. At most
+/// `max_columns` arrays and `max_values` values in all (the rows of the
+/// first times the arrays, checked before the others are read); each
+/// checked on its header (one value per row of the first, at most
+/// [`MAX_ROWS`]) before a value is decompressed.
+pub fn read_npz_columns(
+    path: &Path,
+    max_columns: usize,
+    max_values: u64,
+) -> Result<(Vec<String>, Vec<Vec<f64>>), DataError> {
+    let p = path.display().to_string();
+    let (mut zip, mut names) = open_archive(path, &p)?;
+    if names.len() > max_columns {
+        return Err(DataError::Array {
+            path: p,
+            array: "(archive)".into(),
+            message: format!("{} arrays; at most {max_columns}", names.len()),
+        });
+    }
+    if let Some(k) = names.iter().position(|n| n == "t") {
+        names[..=k].rotate_right(1);
+    }
+    let mut columns: Vec<Vec<f64>> = Vec::with_capacity(names.len());
+    for name in &names {
+        let want = match columns.first() {
+            None => Want::AT_MOST_ROWS,
+            Some(c) => Want::Vector {
+                rows: c.len(),
+                exact: true,
+            },
+        };
+        let mut f = zip
+            .by_name(&format!("{name}.npy"))
+            .map_err(|e| DataError::Array {
+                path: p.clone(),
+                array: name.clone(),
+                message: e.to_string(),
+            })?;
+        let size = f.size();
+        let r = std::io::BufReader::with_capacity((size as usize).clamp(8 << 10, 1 << 20), &mut f);
+        let a = Array::read(r, size, (&p, name), want)?;
+        columns.push(vector(&a, &p, name)?);
+        let total = (columns[0].len() as u64).saturating_mul(names.len() as u64);
+        if total > max_values {
+            return Err(DataError::Array {
+                path: p,
+                array: "(archive)".into(),
+                message: format!(
+                    "{} arrays of {} values: more than the {max_values} values allowed in memory",
+                    names.len(),
+                    columns[0].len()
+                ),
+            });
+        }
+    }
+    Ok((names, columns))
+}
+
 type Archive = zip::ZipArchive<std::io::BufReader<std::fs::File>>;
 
 /// The archive at `path` (`p` names it) and its arrays' names.

@@ -5,7 +5,7 @@
 
 use momentlmi::data::floating::FloatingLog;
 use momentlmi::data::floating::lay_end_to_end;
-use momentlmi::data::floating_csv::read_floating_csv;
+use momentlmi::data::floating_csv::{read_floating_csv, read_floating_npz};
 use momentlmi::dynamics::Model;
 use momentlmi::dynamics::sidecar::{Sidecar, SidecarFloating};
 use momentlmi::dynamics::urdf::free_flyer_from_urdf_file;
@@ -162,13 +162,19 @@ pub fn read_logs(
     (paths.iter())
         .map(|p| {
             let ext = p.extension().map(|e| e.to_string_lossy().to_lowercase());
-            if matches!(ext.as_deref(), Some("npz" | "npy" | "mcap")) {
+            if matches!(ext.as_deref(), Some("npy" | "mcap")) {
                 return Err(format!(
-                    "{what}: {}: a floating-base log is read from CSV only (docs/floating-base.md); NumPy and MCAP are not read for a floating base yet",
+                    "{what}: {}: a floating-base log is read from CSV or a NumPy .npz archive of its columns (docs/floating-base.md); .npy and MCAP are not read for a floating base yet",
                     p.display()
                 ));
             }
-            let log = read_floating_csv(ff, p).map_err(|e| format!("{what}: {e}"))?;
+            // the log's numbers are held about twice (read, then laid out)
+            let values = (max_gib * (1u64 << 30) as f64 / 16.0) as u64;
+            let log = match ext.as_deref() {
+                Some("npz") => read_floating_npz(ff, p, values),
+                _ => read_floating_csv(ff, p),
+            };
+            let log = log.map_err(|e| format!("{what}: {e}"))?;
             let at = || format!("{what}: {}", p.display());
             log.check(ff).map_err(|e| format!("{}: {e}", at()))?;
             if log.samples() == 0 {
