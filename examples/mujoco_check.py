@@ -17,6 +17,11 @@ joints, STL meshes) and the KUKA LWR4+ (a real robot's URDF):
    torques (the Panda without friction: the MJCF is then the whole model)
    stays within 1e-4 rad of the recorded motion for 0.2 s (each step's
    torque the mean of the samples at its ends; measured 2e-6 rad).
+5. a floating base (Solo12, robots/solo12): the exported MJCF's free joint
+   under `mj_inverse` equals `momentlmi predict` (base wrench and joint
+   torques) to 1e-6, MuJoCo's free-joint conventions converted (qpos
+   w x y z; linear velocity and acceleration in world axes, force in world
+   axes; angular ones in the base's); the URDF round trip as in 3.
 
 Usage: mujoco_check.py [path of the momentlmi binary]"""
 import csv
@@ -108,6 +113,60 @@ def forward(xml, data, start=500, steps=200):
     return worst
 
 
+def floating_inverse(xml, data, pred):
+    """max |qfrc_inverse − predicted| (N, N·m) of a free-flyer's MJCF:
+    momentlmi's base twist, its derivative and the base force are in base
+    axes, MuJoCo's free joint has the linear ones in world axes."""
+    m = mujoco.MjModel.from_xml_path(str(xml))
+    m.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONSTRAINT
+    m.dof_damping[:] = 0
+    d = mujoco.MjData(m)
+    assert m.jnt_type[0] == mujoco.mjtJoint.mjJNT_FREE
+    names = joint_names(m)[1:]
+    h, a = read_csv(data)
+    hp, p = read_csv(pred)
+    base = lambda hh, aa, cols: columns(hh, aa, "base", cols)
+    pos, quat = base(h, a, ["x", "y", "z"]), base(h, a, ["qw", "qx", "qy", "qz"])
+    v, w = base(h, a, ["vx", "vy", "vz"]), base(h, a, ["wx", "wy", "wz"])
+    dv, dw = base(h, a, ["dvx", "dvy", "dvz"]), base(h, a, ["dwx", "dwy", "dwz"])
+    q, qd, qdd = (columns(h, a, x, names) for x in ("q", "qd", "qdd"))
+    force = base(hp, p, ["force_x", "force_y", "force_z"])
+    moment = base(hp, p, ["moment_x", "moment_y", "moment_z"])
+    tau = columns(hp, p, "tau", names)
+    worst = 0.0
+    for k in range(len(a)):
+        r = np.zeros(9)
+        mujoco.mju_quat2Mat(r, quat[k] / np.linalg.norm(quat[k]))
+        r = r.reshape(3, 3)
+        d.qpos[:] = np.concatenate([pos[k], quat[k], q[k]])
+        d.qvel[:] = np.concatenate([r @ v[k], w[k], qd[k]])
+        d.qacc[:] = np.concatenate([r @ (dv[k] + np.cross(w[k], v[k])), dw[k], qdd[k]])
+        mujoco.mj_inverse(m, d)
+        ours = np.concatenate([r @ force[k], moment[k], tau[k]])
+        worst = max(worst, float(np.abs(d.qfrc_inverse - ours).max()))
+    return worst
+
+
+def floating(tmp):
+    """Solo12 with its free-flying base: mj_inverse, and the URDF round trip."""
+    robot = ["--robot", str(ROOT / "robots/solo12/solo12.urdf")]
+    data, pred = tmp / "solo.csv", tmp / "solo_pred.csv"
+    urdf, side, xml = tmp / "solo.urdf", tmp / "solo.toml", tmp / "solo.xml"
+    run("simulate", *robot, "--seconds", 2, "--out", data)
+    run("export", *robot, "--params", "true", "--urdf-out", urdf, "--mjcf-out", xml)
+    run("predict", *robot, "--params", "true", "--data", data, "--out", pred)
+    worst = floating_inverse(xml, data, pred)
+    print(f"solo12: max |mj_inverse - predict| (free joint) = {worst:.2e}")
+    assert worst <= 1e-6, worst
+    back = tmp / "solo_back.csv"
+    run("predict", "--robot", urdf, "--sidecar", side, "--params", "true", "--data", data, "--out", back)
+    (h1, a1), (h2, a2) = read_csv(pred), read_csv(back)
+    assert h1 == h2, (h1, h2)
+    gap = float(np.abs(a1 - a2).max())
+    print(f"solo12: URDF round trip, max difference {gap:.2e}")
+    assert gap <= 1e-9, gap
+
+
 def main():
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
@@ -135,6 +194,7 @@ def main():
                 drift = forward(xml, data)
                 print(f"{name}: mj_step under the recorded torques, 0.2 s: max |dq| = {drift:.2e} rad")
                 assert drift <= 1e-4, drift
+        floating(tmp)
     print("mujoco: ok")
 
 

@@ -384,20 +384,64 @@ fn floating_logs_take_the_readers_limits_and_follow_each_other() {
 }
 
 #[test]
-fn export_and_excite_refuse_a_floating_base_by_name() {
+fn export_writes_a_free_root_and_excite_refuses_a_floating_base() {
     let dir = TempDir::new("floating-export-excite");
     let robot = solo();
     let (xml, csv) = (dir.0.join("s.xml"), dir.0.join("s.csv"));
+    let urdf = dir.0.join("s.urdf");
     let export = [
         "export",
         "--robot",
         &robot,
+        "--params",
+        "true",
         "--mjcf-out",
         xml.to_str().unwrap(),
+        "--urdf-out",
+        urdf.to_str().unwrap(),
     ];
-    refused(
-        &export,
-        &["export is not built for a floating base", "[floating_base]"],
+    ok(&export);
+    // the MJCF's root body is the base with a free joint and its inertial
+    let text = std::fs::read_to_string(&xml).unwrap();
+    let root = text
+        .find("<body name=\"base_link\">")
+        .expect("the base body");
+    let free = text
+        .find("<freejoint name=\"base_link\"/>")
+        .expect("a free joint");
+    assert!(root < free && text[free..].find("<inertial").is_some());
+    // the URDF's root link holds the base's identified inertial, the
+    // sidecar keeps [floating_base]: the round trip predicts the same
+    let side = dir.0.join("s.toml");
+    assert!(
+        std::fs::read_to_string(&side)
+            .unwrap()
+            .contains("[floating_base]")
+    );
+    let log = simulate(&dir, "log.csv", &["--seconds", "1"]);
+    let predict = |robot: &str, sidecar: Option<&Path>, out: &str| {
+        let out = dir.0.join(out);
+        let mut args = vec!["predict", "--robot", robot, "--params", "true"];
+        args.extend([
+            "--data",
+            log.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        if let Some(s) = sidecar {
+            args.extend(["--sidecar", s.to_str().unwrap()]);
+        }
+        ok(&args);
+        std::fs::read_to_string(out).unwrap()
+    };
+    let (a, b) = (
+        predict(&robot, None, "a.csv"),
+        predict(urdf.to_str().unwrap(), Some(&side), "b.csv"),
+    );
+    assert!(a.lines().next().unwrap().starts_with("t,base_force_x"));
+    assert_eq!(
+        a, b,
+        "the exported URDF and sidecar predict as the original"
     );
     let excite = [
         "excite",
@@ -409,11 +453,12 @@ fn export_and_excite_refuse_a_floating_base_by_name() {
         csv.to_str().unwrap(),
     ];
     refused(&excite, &["excite is not built for a floating base"]);
-    assert!(!xml.exists() && !csv.exists());
+    assert!(!csv.exists());
     // with no sidecar the URDF is a fixed-base robot, as the user said
-    let fixed = [&export[..], &["--no-sidecar"]].concat();
+    std::fs::remove_file(&xml).unwrap();
+    let fixed = [&export[..3], &export[5..7], &["--no-sidecar"]].concat();
     ok(&fixed);
-    assert!(xml.exists());
+    assert!(!std::fs::read_to_string(&xml).unwrap().contains("freejoint"));
 }
 
 #[test]

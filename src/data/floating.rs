@@ -49,6 +49,10 @@ impl FloatingLog {
     /// finite and within the readers' limits (times too, and increasing), every quaternion of unit norm, every contact frame one of
     /// the robot's; the error names the array, sample or frame.
     pub fn check(&self, ff: &Model) -> Result<(), DataError> {
+        ff.need_free_flyer("a floating-base log")
+            .map_err(|e| DataError::Log {
+                message: e.to_string(),
+            })?;
         let s = self.samples();
         let n = ff.dof();
         let arrays = [

@@ -34,7 +34,7 @@ pub struct RobotDescription {
     /// The model with its own parameters (the built-in's identified values,
     /// a URDF's inertias).
     pub model: Model,
-    /// The CAD prior per body (links then rotors, body frames): the
+    /// The CAD prior per body (a free-flying base, links, then rotors; body frames): the
     /// sidecar's, else the model's own.
     pub prior: Vec<InertialParams>,
     /// Bounding ellipsoids per body, the geometry's computed when first
@@ -65,7 +65,7 @@ pub struct RobotDescription {
 /// sidecar; `identify` checks them), a total mass, bodies forced equal.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct IdentificationFacts {
-    /// Per body (links then rotors): its level's name, if the sidecar sets one.
+    /// Per body (a free-flying base, links, then rotors): its level's name, if the sidecar sets one.
     pub levels: Vec<Option<Level>>,
     /// The total mass of every body (kg).
     pub total_mass: Option<f64>,
@@ -200,7 +200,7 @@ impl RobotDescription {
         self
     }
 
-    /// Bounding ellipsoids per body (links then rotors, body frames;
+    /// Bounding ellipsoids per body (a free-flying base, links, then rotors; body frames;
     /// several: their union; none: unknown): the sidecar's, and the URDF
     /// geometry's, computed on the first call (meshes read, minimum-volume
     /// ellipsoids solved; [`Self::bounding_warnings`] says what could not be
@@ -216,7 +216,7 @@ impl RobotDescription {
         self.bounds.warnings(&self.model)
     }
 
-    /// The prior as one vector (10 per body, links then rotors).
+    /// The prior as one vector (10 per body, a free-flying base, links, then rotors).
     pub fn prior_vector(&self) -> Vec<f64> {
         self.prior.iter().flat_map(|p| p.0).collect()
     }
@@ -427,7 +427,7 @@ fn nominal_friction(
     (f, warnings)
 }
 
-/// The sidecar's `[[body]]` entry of each body (links then rotors), checking
+/// The sidecar's `[[body]]` entry of each body (a free-flying base, links, then rotors), checking
 /// that every entry names a body and none is given twice.
 fn body_entries<'s>(
     model: &Model,

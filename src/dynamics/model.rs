@@ -430,21 +430,25 @@ impl Model {
 
     /// The links as a compliant transmission drives them: each rotor's body
     /// welded to the link it is mounted on at zero spin angle (its housing
-    /// moves with that link; a rotor on the fixed base drops out), and no
+    /// moves with that link; a rotor on a fixed base drops out, one on a
+    /// free-flying base rides on it), and no
     /// rotor spin (exact for rotors symmetric about their spin axes). The
     /// spin terms (the rotors' motion relative to their mounts) stay with
     /// the motor side: `full(θ) − link_side(θ)` at a rigid state.
     pub fn link_side(&self) -> Model {
         let mut joints = self.joints.clone();
+        let mut root = self.root.clone();
         for r in &self.rotors {
-            if let Some(p) = self.joints[r.joint].parent {
-                let moved = r.inertia.transformed(&r.x_tree.e.transpose(), &r.x_tree.r);
-                joints[p].inertia = joints[p].inertia.plus(&moved);
+            let moved = r.inertia.transformed(&r.x_tree.e.transpose(), &r.x_tree.r);
+            match (self.joints[r.joint].parent, &mut root) {
+                (Some(p), _) => joints[p].inertia = joints[p].inertia.plus(&moved),
+                (None, RootJoint::FreeFlyer(base)) => base.inertia = base.inertia.plus(&moved),
+                (None, RootJoint::Fixed) => {}
             }
         }
         Model {
             name: self.name.clone(),
-            root: self.root.clone(),
+            root,
             joints,
             rotors: vec![],
             gravity: self.gravity,

@@ -10,7 +10,10 @@
 //!   geoms; meshes referenced by their absolute path, STL, OBJ and MSH
 //!   only (the formats MuJoCo reads: others are left out, noted);
 //!
-//! a `<motor>` per joint (gear 1, unlimited: `ctrl` is the joint torque),
+//! a free-flying root as a body with a `<freejoint>` (its qpos the base
+//! position and quaternion w x y z, its qvel the linear velocity in world
+//! axes and the angular velocity in the base's: docs/export.md), a
+//! `<motor>` per joint (gear 1, unlimited: `ctrl` is the joint torque),
 //! gravity, a 1 ms time step, and a joint `<equality>` per URDF `<mimic>`
 //! (q = multiplier · q_leader + offset; momentlmi itself treats such
 //! joints as free). `<compiler inertiafromgeom="false">`: the geoms add no
@@ -66,10 +69,19 @@ pub fn mjcf(view: &MujocoView, full: &Model, shapes: Option<&Shapes>) -> Result<
         g.x, g.y, g.z
     );
     let mut world = String::new();
-    w.geoms(&mut world, model, None, shapes, "    ")?;
-    for (b, joint) in model.joints.iter().enumerate() {
-        if joint.parent.is_none() {
-            w.body(&mut world, view, b, shapes, "    ")?;
+    match model.base() {
+        None => w.root_children(&mut world, view, shapes, "    ")?,
+        Some(base) => {
+            // a free-flying root: the base body with a free joint
+            let _ = writeln!(world, "    <body name=\"{}\">", escape(&base.name));
+            let _ = writeln!(world, "      <freejoint name=\"{}\"/>", escape(&base.name));
+            let _ = writeln!(
+                world,
+                "      {}",
+                inertial(&base.name, &base.inertia, true)?
+            );
+            w.root_children(&mut world, view, shapes, "      ")?;
+            let _ = writeln!(world, "    </body>");
         }
     }
     let name = escape(&full.name);
@@ -101,6 +113,24 @@ struct Writer {
 }
 
 impl Writer {
+    /// The geoms of the links on the base and the bodies hanging from it,
+    /// indented by `pad`.
+    fn root_children(
+        &mut self,
+        out: &mut String,
+        view: &MujocoView,
+        shapes: Option<&Shapes>,
+        pad: &str,
+    ) -> Result<(), ExportError> {
+        self.geoms(out, &view.model, None, shapes, pad)?;
+        for (b, joint) in view.model.joints.iter().enumerate() {
+            if joint.parent.is_none() {
+                self.body(out, view, b, shapes, pad)?;
+            }
+        }
+        Ok(())
+    }
+
     /// Body `b` and its subtree, indented by `pad`.
     fn body(
         &mut self,

@@ -58,7 +58,7 @@ impl MujocoView {
         for r in &model.rotors {
             let a = r.axis;
             armature[r.joint] = r.gear_ratio.powi(2) * (a.transpose() * r.inertia.inertia() * a)[0];
-            if model.joints[r.joint].parent.is_none() {
+            if model.joints[r.joint].parent.is_none() && !model.is_floating() {
                 notes.push(format!(
                     "rotor '{}' sits on the fixed base: only its spin (armature) moves",
                     r.name
@@ -89,7 +89,8 @@ impl MujocoView {
 
     /// Rigid-body and armature torques `M(q) q̈ + C q̇ + g + armature ⊙ q̈`
     /// (no friction), as MuJoCo's inverse dynamics gives them without
-    /// passive and constraint forces (N·m or N).
+    /// passive and constraint forces (N·m or N; a free flyer's base wrench
+    /// first, in its conventions: [`crate::dynamics::rnea`]).
     pub fn torques(
         &self,
         data: &mut Data,
@@ -97,17 +98,20 @@ impl MujocoView {
         qd: &[f64],
         qdd: &[f64],
     ) -> Result<Vec<f64>, ExportError> {
-        let tau = rnea(&self.model, data, q, qd, qdd)?;
-        Ok(tau
+        let o = self.model.root_nv();
+        let mut tau: Vec<f64> = rnea(&self.model, data, q, qd, qdd)?
             .iter()
-            .zip(&self.armature)
-            .zip(qdd)
-            .map(|((t, a), a_q)| t + a * a_q)
-            .collect())
+            .copied()
+            .collect();
+        for (j, a) in self.armature.iter().enumerate() {
+            tau[o + j] += a * qdd[o + j];
+        }
+        Ok(tau)
     }
 
-    /// What the view changes in the rigid-body torques of `full` (the model
-    /// it was made from) over `seconds` of `motion` at 1 kHz.
+    /// What the view changes in the rigid-body joint torques of `full` (the
+    /// model it was made from) over `seconds` of `motion` at 1 kHz (a free
+    /// flyer's base held at rest).
     pub fn dropped(
         &self,
         full: &Model,
@@ -118,15 +122,22 @@ impl MujocoView {
         let (mut full_data, mut data) = (Data::new(full), Data::new(&self.model));
         let (mut diff, mut sq) = (vec![0.0; n], vec![0.0; n]);
         let samples = (seconds * 1000.0).round().max(1.0) as usize;
+        let o = full.root_nv();
+        // a free flyer's base held at rest at the world origin
+        let rooted = |x: Vec<f64>, pose: &[f64]| -> Vec<f64> {
+            if o == 0 { x } else { [pose, &x].concat() }
+        };
+        let (at_rest, still) = ([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0], [0.0; 6]);
         for k in 0..samples {
             let Some((q, qd, qdd)) = motion.state(k as f64 * 1e-3) else {
                 continue;
             };
+            let (q, qd, qdd) = (rooted(q, &at_rest), rooted(qd, &still), rooted(qdd, &still));
             let view = self.torques(&mut data, &q, &qd, &qdd)?;
             let tau = rnea(full, &mut full_data, &q, &qd, &qdd)?;
             for j in 0..n {
-                diff[j] += (tau[j] - view[j]).powi(2);
-                sq[j] += tau[j].powi(2);
+                diff[j] += (tau[o + j] - view[o + j]).powi(2);
+                sq[j] += tau[o + j].powi(2);
             }
         }
         let rms = |v: Vec<f64>| v.into_iter().map(|x| (x / samples as f64).sqrt()).collect();

@@ -8,7 +8,10 @@
 //! where its mass went. A simulator that merges fixed joints (MuJoCo's,
 //! Gazebo's, Pinocchio's URDF readers do) then has the same bodies;
 //! locked joints are still movable in the copy: lock them there too.
-//! Links on the fixed base keep their elements.
+//! Links on a fixed base keep their elements; with a free-flying root the
+//! root link holds the base body's identified whole, as the moving bodies'
+//! links do (the root stays a plain link: ROS's convention for a floating
+//! base, which its readers are told of, as Pinocchio's `JointModelFreeFlyer`).
 
 use super::checks::{has_friction, urdf_inertial};
 use super::error::ExportError;
@@ -42,6 +45,16 @@ pub fn urdf_with_params(
     friction: &Friction,
 ) -> Result<String, ExportError> {
     let mut edits = Vec::new();
+    if let Some(base) = model.base() {
+        // a free-flying root: the root link holds the base body's whole
+        let link = link_of(source, &base.name)?;
+        edits.push(body_inertial(source, link, &base.inertia)?);
+        for f in model.frames.iter().filter(|f| f.body.is_none()) {
+            if f.name != base.name {
+                edits.extend(merged_inertial(link_of(source, &f.name)?, &base.name));
+            }
+        }
+    }
     for (b, joint) in model.joints.iter().enumerate() {
         let link = link_of(source, &joint.body)?;
         edits.push(body_inertial(source, link, &joint.inertia)?);

@@ -41,7 +41,7 @@ use crate::moments::{Ellipsoid, InertialParams, lmi::BodyVars};
 /// variables.
 pub(super) type Hook<'h> = Box<dyn Fn(&mut Problem, &Vars) -> Result<(), IdentifyError> + 'h>;
 
-/// The variables a hook sees: every body's π (links then rotors, by name)
+/// The variables a hook sees: every body's π (a free-flying base, links, then rotors, by name)
 /// and every joint's friction coefficients. θ is scaled internally; these
 /// expressions are in the user's units.
 pub struct Vars {
@@ -94,7 +94,7 @@ impl Vars {
         self.friction(FrictionTerm::Coulomb, joint)
     }
 
-    /// The sum of every body's mass (links and rotors), kg.
+    /// The sum of every body's mass (a free-flying base, links and rotors), kg.
     pub fn total_mass(&self) -> AffExpr {
         self.bodies.iter().map(|(_, b)| b.mass()).sum()
     }
@@ -316,7 +316,7 @@ impl<'m> Identification<'m> {
     }
 
     /// An extra `w_m Σ_b (m_b − m̂_b)²` toward the prior's masses, every
-    /// body's (links and rotors), added to the regulariser of either kind;
+    /// body's (a free-flying base, links and rotors), added to the regulariser of either kind;
     /// `w_m` in the units of `weight`, ≥ 0 and finite (0, the default: off;
     /// [`Self::for_robot`] takes the sidecar's `[identify]
     /// prior_mass_weight`); needs the prior. For masses known

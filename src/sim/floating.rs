@@ -90,6 +90,7 @@ impl FloatingEffects {
 
     /// The true robot: `ff` with the payload in its base.
     pub fn truth(&self, ff: &Model) -> Result<Model, SimError> {
+        ff.need_free_flyer("a floating-base simulation")?;
         let mut t = ff.clone();
         if let Some((m, [x, y, z])) = self.payload {
             if !(m.is_finite() && m > 0.0 && [x, y, z].iter().all(|v| v.is_finite())) {

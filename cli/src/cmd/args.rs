@@ -35,9 +35,19 @@ impl RobotArgs {
     }
 
     /// The robot (its sidecar's `[effects]` names checked:
-    /// [`super::load_robot`]).
+    /// [`super::load_robot_rooted`]).
     pub fn load(&self) -> Result<momentlmi::dynamics::RobotDescription, String> {
-        super::load_robot(&self.robot, self.sidecar.as_deref(), &self.package_path)
+        self.load_rooted(false)
+    }
+
+    /// [`Self::load`] with the URDF's root link a free-flying base when
+    /// `free_flyer`.
+    pub fn load_rooted(
+        &self,
+        free_flyer: bool,
+    ) -> Result<momentlmi::dynamics::RobotDescription, String> {
+        let (spec, sidecar) = (&self.robot, self.sidecar.as_deref());
+        super::load_robot_rooted(spec, sidecar, &self.package_path, free_flyer)
     }
 
     /// The files loading this robot reads, which none of the command's

@@ -71,8 +71,8 @@ pub struct ExportArgs {
 }
 
 /// Exit codes: 0 written, 2 bad input or a model a format cannot hold.
-pub fn run(a: &ExportArgs) -> i32 {
-    match run_inner(a) {
+pub fn run(a: &ExportArgs, free_flyer: bool) -> i32 {
+    match run_inner(a, free_flyer) {
         Ok(()) => 0,
         Err(e) => {
             eprintln!("error: {e}");
@@ -81,7 +81,7 @@ pub fn run(a: &ExportArgs) -> i32 {
     }
 }
 
-fn run_inner(a: &ExportArgs) -> Result<(), String> {
+fn run_inner(a: &ExportArgs, free_flyer: bool) -> Result<(), String> {
     if !a.out.outputs().any() {
         return Err("nothing to write: give --urdf-out and/or --mjcf-out".into());
     }
@@ -90,7 +90,7 @@ fn run_inner(a: &ExportArgs) -> Result<(), String> {
             .inputs_with(&[], &[a.params.as_deref().unwrap_or("")]),
     );
     a.out.outputs().claim(&staged)?;
-    let robot = a.robot.load()?;
+    let robot = a.robot.load_rooted(free_flyer)?;
     if a.params.as_deref().is_some_and(|p| p == "true") {
         // placeholder friction would otherwise be written as if it were known
         super::warn_robot(&robot);

@@ -92,8 +92,7 @@ impl Robot<'_> {
         package_paths: &[std::path::PathBuf],
     ) -> Result<momentlmi::dynamics::RobotDescription, String> {
         let path = self.urdf()?.to_str().ok_or("a non-UTF-8 URDF path")?;
-        momentlmi::dynamics::robots::load_free_flyer(path, self.sidecar, package_paths)
-            .map_err(|e| e.to_string())
+        super::load_robot_rooted(path, self.sidecar, package_paths, true)
     }
 
     /// The URDF file, or an error: a floating base is a URDF's root link.

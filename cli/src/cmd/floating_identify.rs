@@ -9,7 +9,8 @@ use momentlmi::dynamics::params_file::ParamsFile;
 use momentlmi::identify::floating_fit::{FloatingFit, FloatingRms, fit_floating};
 use momentlmi::identify::{CHECK_TOL, JointWeighting, Regularizer, Rows};
 
-/// Identifies; exit 0 every body consistent, 1 not, 2 bad input.
+/// Identifies; exit 0 every body consistent and at its constraint level,
+/// 1 not, 2 bad input.
 pub fn run(a: &IdentifyArgs, robot: Robot) -> i32 {
     match fit(a, robot) {
         Ok(fit) => {
@@ -47,6 +48,7 @@ fn refused(a: &IdentifyArgs) -> Result<(), String> {
     refuse(&super::floating::reading_options(&a.read.choice()))?;
     refuse(&[
         ("--bounds", a.bounds.as_deref().is_some()),
+        ("--with-effects", a.with_effects.is_some()),
         (
             "--joint-weighting noise",
             a.joint_weighting != JointWeighting::Equal,
@@ -96,6 +98,14 @@ fn fit(a: &IdentifyArgs, robot: Robot) -> Result<FloatingFit, String> {
     let id = super::identify::identification(a, &described, weight)?
         .regularizer(regularizer)
         .rows(rows);
+    let ellipsoid = a.constraints.as_str() == "ellipsoid"
+        || a.levels.iter().any(|l| l.trim_end().ends_with("ellipsoid"));
+    if ellipsoid {
+        // the bounding volumes come from the geometry these warnings are about
+        for w in described.bounding_warnings() {
+            eprintln!("warning: {}: {w}", described.source);
+        }
+    }
     fit_floating(&id, ff, rows, &train, &validate).map_err(|e| e.to_string())
 }
 

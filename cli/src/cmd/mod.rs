@@ -33,14 +33,22 @@ pub(crate) fn per_joint(v: &[f64], digits: usize) -> String {
 
 /// The robot (a built-in name, or a URDF with its sidecar and mesh
 /// folders), with its sidecar's `[effects]` names checked against the
-/// built-in effects: a typo is an error here, whatever the command.
-pub(crate) fn load_robot(
+/// built-in effects: a typo is an error here, whatever the command; its
+/// URDF's root link a free-flying base when `free_flyer`
+/// ([`momentlmi::dynamics::robots::load_free_flyer`]).
+pub(crate) fn load_robot_rooted(
     spec: &str,
     sidecar: Option<&Path>,
     package_paths: &[std::path::PathBuf],
+    free_flyer: bool,
 ) -> Result<momentlmi::dynamics::RobotDescription, String> {
-    let mut robot = momentlmi::dynamics::robots::load_robot_with(spec, sidecar, package_paths)
-        .map_err(|e| e.to_string())?;
+    use momentlmi::dynamics::robots::{load_free_flyer, load_robot_with};
+    let load = if free_flyer {
+        load_free_flyer
+    } else {
+        load_robot_with
+    };
+    let mut robot = load(spec, sidecar, package_paths).map_err(|e| e.to_string())?;
     if let Some(cache) = solve_cache() {
         robot = robot.with_bounding_cache(cache);
     }

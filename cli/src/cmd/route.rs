@@ -89,10 +89,11 @@ fn fixed_only(command: &str, r: &super::args::RobotArgs) -> Result<(), String> {
     }
 }
 
-/// `momentlmi export`: a fixed base only.
+/// `momentlmi export`: a floating base (the sidecar's `[floating_base]`
+/// table) exported with a free-flying root.
 pub fn export(a: &export::ExportArgs) -> i32 {
-    match fixed_only("export", &a.robot) {
-        Ok(()) => export::run(a),
+    match robot(&a.robot.robot, a.robot.sidecar.as_deref(), false).is_floating() {
+        Ok(floating) => export::run(a, floating),
         Err(e) => failed(e),
     }
 }
