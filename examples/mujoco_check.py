@@ -158,12 +158,18 @@ def floating(tmp):
     worst = floating_inverse(xml, data, pred)
     print(f"solo12: max |mj_inverse - predict| (free joint) = {worst:.2e}")
     assert worst <= 1e-6, worst
-    back = tmp / "solo_back.csv"
+    round_trip("solo12", (urdf, side), data, pred, tmp / "solo_back.csv")
+
+
+def round_trip(name, written, data, orig, back):
+    """`predict` on the written URDF and sidecar equals `orig` (the original
+    robot's prediction) to 1e-9."""
+    urdf, side = written
     run("predict", "--robot", urdf, "--sidecar", side, "--params", "true", "--data", data, "--out", back)
-    (h1, a1), (h2, a2) = read_csv(pred), read_csv(back)
+    (h1, a1), (h2, a2) = read_csv(orig), read_csv(back)
     assert h1 == h2, (h1, h2)
     gap = float(np.abs(a1 - a2).max())
-    print(f"solo12: URDF round trip, max difference {gap:.2e}")
+    print(f"{name}: URDF round trip, max difference {gap:.2e}")
     assert gap <= 1e-9, gap
 
 
@@ -181,14 +187,9 @@ def main():
             assert worst <= 1e-6, worst
             friction_matches(xml, side)
             # round trip through the written URDF and sidecar
-            back, orig = tmp / f"{name}_back.csv", tmp / f"{name}_orig.csv"
+            orig = tmp / f"{name}_orig.csv"
             run("predict", *robot, "--params", "true", "--data", data, "--out", orig)
-            run("predict", "--robot", urdf, "--sidecar", side, "--params", "true", "--data", data, "--out", back)
-            (h1, a1), (h2, a2) = read_csv(orig), read_csv(back)
-            assert h1 == h2, (h1, h2)
-            gap = float(np.abs(a1 - a2).max())
-            print(f"{name}: URDF round trip, max torque difference {gap:.2e} N·m")
-            assert gap <= 1e-9, gap
+            round_trip(name, (urdf, side), data, orig, tmp / f"{name}_back.csv")
             run("check", urdf, "--package-path", ROOT / "robots/panda")
             if name == "panda":
                 drift = forward(xml, data)
