@@ -95,9 +95,6 @@ fn fit(a: &IdentifyArgs, robot: Robot) -> Result<FloatingFit, String> {
             regularizer.as_str()
         ));
     }
-    let id = super::identify::identification(a, &described, weight)?
-        .regularizer(regularizer)
-        .rows(rows);
     let ellipsoid = a.constraints.as_str() == "ellipsoid"
         || a.levels.iter().any(|l| l.trim_end().ends_with("ellipsoid"));
     if ellipsoid {
@@ -106,6 +103,9 @@ fn fit(a: &IdentifyArgs, robot: Robot) -> Result<FloatingFit, String> {
             eprintln!("warning: {}: {w}", described.source);
         }
     }
+    let id = super::identify::identification(a, &described, weight)?
+        .regularizer(regularizer)
+        .rows(rows);
     fit_floating(&id, ff, rows, &train, &validate).map_err(|e| e.to_string())
 }
 
