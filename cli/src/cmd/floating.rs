@@ -8,7 +8,6 @@ use momentlmi::data::floating::lay_end_to_end;
 use momentlmi::data::floating_csv::{read_floating_csv, read_floating_npz};
 use momentlmi::dynamics::Model;
 use momentlmi::dynamics::sidecar::{Sidecar, SidecarFloating};
-use momentlmi::dynamics::urdf::free_flyer_from_urdf_file;
 use std::path::{Path, PathBuf};
 
 /// How a simulated floating-base robot touches the world.
@@ -77,11 +76,9 @@ impl Robot<'_> {
         }
     }
 
-    /// The free-flyer and the sidecar's floating-base facts.
-    pub fn load(&self) -> Result<(Model, SidecarFloating), String> {
-        let path = self.urdf()?;
-        let ff = free_flyer_from_urdf_file(path, self.sidecar).map_err(|e| e.to_string())?;
-        Ok((ff, self.facts()?.unwrap_or_default()))
+    /// The sidecar's floating-base facts (an empty table without one).
+    pub fn floating_facts(&self) -> Result<SidecarFloating, String> {
+        Ok(self.facts()?.unwrap_or_default())
     }
 
     /// The robot described with a free-flying root (prior, bounding
@@ -227,20 +224,28 @@ pub fn stance(ff: &Model, facts: &SidecarFloating) -> Result<Vec<f64>, String> {
     Ok(q)
 }
 
-/// The parameters `choice` names put into `ff` (none, `cad`, `true`: the
-/// URDF's own, no friction; else a parameter file's, e.g. `identify --json`),
-/// and their friction; `option` names the flag in errors.
-pub fn apply_params(
-    ff: &mut Model,
+/// The robot with the parameters `choice` names (none or `true`: the
+/// URDF's own; `cad`: the description's prior, as `identify --prior cad`
+/// takes it; else a parameter file's, e.g. `identify --json`) and their
+/// friction (none for `true` and `cad`); `option` names the flag in errors.
+pub fn with_params(
+    robot: &momentlmi::dynamics::RobotDescription,
     choice: Option<&str>,
     option: &str,
-) -> Result<momentlmi::dynamics::Friction, String> {
-    match choice {
-        None | Some("cad") | Some("true") => Ok(momentlmi::dynamics::Friction::zeros(ff.dof())),
+) -> Result<(Model, momentlmi::dynamics::Friction), String> {
+    let mut ff = robot.model.clone();
+    let friction = match choice {
+        None | Some("true") => momentlmi::dynamics::Friction::zeros(ff.dof()),
+        Some("cad") => {
+            (ff.set_params(&robot.prior_vector())).map_err(|e| format!("{option}: {e}"))?;
+            momentlmi::dynamics::Friction::zeros(ff.dof())
+        }
         Some(file) => {
             let pf = momentlmi::dynamics::params_file::ParamsFile::read(Path::new(file))
                 .map_err(|e| format!("{option}: {e}"))?;
-            pf.apply(ff, file).map_err(|e| format!("{option}: {e}"))
+            pf.apply(&mut ff, file)
+                .map_err(|e| format!("{option}: {e}"))?
         }
-    }
+    };
+    Ok((ff, friction))
 }

@@ -38,8 +38,9 @@ fn diagnosis(a: &DiagnoseArgs, robot: Robot) -> Result<(), String> {
             dir.display()
         ));
     }
-    let (mut ff, _) = robot.load()?;
-    let friction = super::floating::apply_params(&mut ff, a.nominal.as_deref(), "--nominal")?;
+    let described = robot.describe(&a.robot.package_path)?;
+    let (ff, friction) =
+        super::floating::with_params(&described, a.nominal.as_deref(), "--nominal")?;
     let logs = read_logs(&ff, &a.data, ("--data", a.max_memory_gib))?;
     let d = diagnose_floating(&ff, &theta_of(&ff, &friction), &logs).map_err(|e| e.to_string())?;
     let json = serde_json::to_string_pretty(&d).map_err(|e| e.to_string())?;

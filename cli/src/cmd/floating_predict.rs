@@ -24,8 +24,8 @@ pub fn run(a: &PredictArgs, robot: Robot) -> Result<(), String> {
         .inputs_with(&files, &[a.params.as_deref().unwrap_or("")]);
     let mut staged = Staged::protecting(inputs);
     staged.claim(a.out.as_path()).map_err(|e| e.to_string())?;
-    let (mut ff, _) = robot.load()?;
-    let friction = super::floating::apply_params(&mut ff, a.params.as_deref(), "--params")?;
+    let described = robot.describe(&a.robot.package_path)?;
+    let (ff, friction) = super::floating::with_params(&described, a.params.as_deref(), "--params")?;
     let theta = theta_of(&ff, &friction);
     let logs = read_logs(&ff, &a.data, ("--data", DEFAULT_MAX_MEMORY_GIB))?;
     let mut text = header(&ff);

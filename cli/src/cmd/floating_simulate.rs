@@ -29,7 +29,11 @@ pub fn run(a: &SimulateArgs, robot: Robot) -> Result<(), String> {
     for p in [a.out.as_path(), &rec] {
         staged.claim(p).map_err(|e| e.to_string())?;
     }
-    let (ff, facts) = robot.load()?;
+    let (described, facts) = (
+        robot.describe(&a.robot.package_path)?,
+        robot.floating_facts()?,
+    );
+    let ff = described.model;
     check_size(&ff, a.seconds, facts.feet.len().max(1))?;
     let noise = noise(a.noise)?;
     let effects = super::floating::SimEffect::effects(&a.floating_effects);
