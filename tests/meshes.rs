@@ -716,3 +716,20 @@ fn bounding_volumes_come_from_the_cache_when_it_holds_them() {
     put(&new[0], &ball(0.7));
     assert_eq!(load()[0], vec![ball(0.7)]);
 }
+
+/// A binary STL whose header begins with "solid" (as CAD exporters name
+/// the part there; Solo12's feet) reads as the binary file it is.
+#[test]
+fn a_binary_stl_whose_header_says_solid_is_read_as_binary() {
+    let d = dir("stl-solid-header");
+    let (bv, bf) = box_mesh([0.1, 0.2, 0.3]);
+    let plain = stl_binary(&bv, &bf);
+    let mut named = plain.clone();
+    named[..14].copy_from_slice(b"solid foot_stl");
+    let (p, n) = (d.join("plain.stl"), d.join("named.stl"));
+    std::fs::write(&p, &plain).unwrap();
+    std::fs::write(&n, &named).unwrap();
+    let v = read_vertices(&n).expect("a binary STL named 'solid …'");
+    assert_eq!(v, read_vertices(&p).unwrap());
+    assert!(!v.is_empty());
+}

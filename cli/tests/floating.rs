@@ -284,6 +284,18 @@ fn options_a_floating_base_cannot_take_are_named() {
         ],
         &["--nominal-data", "not available with --floating-base"],
     );
+    let sim_npz = dir.0.join("sim.npz");
+    refused(
+        &[
+            "simulate",
+            "--robot",
+            &robot,
+            "--out",
+            sim_npz.to_str().unwrap(),
+        ],
+        &["sim.npz", "written as CSV"],
+    );
+    assert!(!sim_npz.exists());
     let npz = dir.write("run.npz", "PK");
     let npz = npz.to_str().unwrap();
     refused(
@@ -513,6 +525,10 @@ fn the_fixed_base_options_act_on_a_floating_base() {
     };
     let e = fit(&["--constraints", "ellipsoid"]);
     assert_eq!(e["constraints_satisfied"], true);
+    // no friction acts on the base rows: exactly zero, not the solver's 1e-14
+    for c in e["friction"]["viscous"].as_array().unwrap() {
+        assert_eq!(c.as_f64(), Some(0.0));
+    }
     let bodies = e["bodies"].as_array().unwrap();
     assert_eq!(bodies.len(), 13, "the base and twelve links");
     assert_eq!(bodies[0]["name"], "base_link");

@@ -35,8 +35,7 @@ pub fn crba<'a>(
 ) -> Result<&'a DMatrix<f64>, DynamicsError> {
     check_len("q", q, model.nq())?;
     if model.is_floating() {
-        let zeros = vec![0.0; model.nv()];
-        model.base_state(q, &zeros, &zeros)?;
+        model.base_pose(q)?;
     }
     let joints = &q[model.nq() - model.dof()..];
     let base = composite(model, data, joints);
@@ -173,8 +172,8 @@ pub fn energy(
     let (mut u, root) = match model.base() {
         None => (0.0, None),
         Some(b) => {
-            let zeros = vec![0.0; model.nv()];
-            let x = Model::base_transform(&model.base_state(q, &zeros, &zeros)?);
+            let (p, r) = model.base_pose(q)?;
+            let x = Model::pose_transform(&p, &r);
             (pot(&x, &b.inertia), Some(x))
         }
     };

@@ -82,10 +82,25 @@ impl Model {
     /// acceleration (each checked for length; the quaternion for unit norm
     /// within [`QUATERNION_TOLERANCE`]).
     pub fn base_state(&self, q: &[f64], v: &[f64], a: &[f64]) -> Result<BaseState, DynamicsError> {
-        self.need_free_flyer("a base state")?;
-        check_len("q", q, self.nq())?;
+        let (position, orientation) = self.base_pose(q)?;
         check_len("v", v, self.nv())?;
         check_len("a", a, self.nv())?;
+        Ok(BaseState {
+            position,
+            orientation,
+            velocity: Vector6::from_column_slice(&v[..6]),
+            acceleration: Vector6::from_column_slice(&a[..6]),
+        })
+    }
+
+    /// The base pose of a free flyer's configuration `q` (checked for
+    /// length, the quaternion for unit norm within [`QUATERNION_TOLERANCE`]).
+    pub fn base_pose(
+        &self,
+        q: &[f64],
+    ) -> Result<(Vector3<f64>, UnitQuaternion<f64>), DynamicsError> {
+        self.need_free_flyer("a base pose")?;
+        check_len("q", q, self.nq())?;
         let quat = Quaternion::new(q[6], q[3], q[4], q[5]);
         let norm = quat.norm();
         if !((norm - 1.0).abs() <= QUATERNION_TOLERANCE) {
@@ -94,12 +109,10 @@ impl Model {
                 norm,
             });
         }
-        Ok(BaseState {
-            position: Vector3::new(q[0], q[1], q[2]),
-            orientation: UnitQuaternion::from_quaternion(quat),
-            velocity: Vector6::from_column_slice(&v[..6]),
-            acceleration: Vector6::from_column_slice(&a[..6]),
-        })
+        Ok((
+            Vector3::new(q[0], q[1], q[2]),
+            UnitQuaternion::from_quaternion(quat),
+        ))
     }
 
     /// The root motion the tree algorithms start from: `[ω; v]` and
@@ -121,8 +134,13 @@ impl Model {
 
     /// World → base as a spatial transform.
     pub fn base_transform(s: &BaseState) -> Transform {
-        let rot: Matrix3<f64> = s.orientation.to_rotation_matrix().into_inner();
-        Transform::from_pose(&rot, &s.position)
+        Self::pose_transform(&s.position, &s.orientation)
+    }
+
+    /// World → base as a spatial transform, from the base's pose.
+    pub fn pose_transform(position: &Vector3<f64>, orientation: &UnitQuaternion<f64>) -> Transform {
+        let rot: Matrix3<f64> = orientation.to_rotation_matrix().into_inner();
+        Transform::from_pose(&rot, position)
     }
 
     /// The origins of `frames` (indices into [`frames`](Model::frames)) in

@@ -67,6 +67,8 @@ pub struct FloatingFit {
     /// Every row's weight (6 + n) with [`Rows::All`]: 1/σ̂² of its group
     /// (base force, base moment, each joint) from an unweighted fit first.
     pub row_weights: Option<Vec<f64>>,
+    /// What the caller should know (the solver's reduced tolerances).
+    pub warnings: Vec<super::IdentifyWarning>,
 }
 
 /// 1/σ̂² per row from a fit's residuals by group (a zero σ̂ weighs as the
@@ -132,9 +134,20 @@ pub fn fit_floating(
         solved = id.solve(&reduce_floating_logs(ff, train, rows, Some(&w))?)?;
         row_weights = Some(w);
     }
+    if rows == Rows::Base {
+        // no friction acts on the base rows: pinned to 0, exactly (the
+        // solver's equality holds to its tolerance)
+        solved.theta[10 * ff.num_bodies()..].fill(0.0);
+    }
     let mut model = ff.clone();
     model.set_params(&solved.theta[..10 * ff.num_bodies()])?;
     let friction = solved.friction_law(ff.stribeck_velocity());
+    let warnings = (solved.status == crate::conic::Status::SolvedInaccurately)
+        .then_some(super::IdentifyWarning::Inaccurate {
+            iterations: solved.iterations,
+        })
+        .into_iter()
+        .collect();
     let min_eigenvalues = (0..ff.num_bodies())
         .map(|b| {
             let p = InertialParams(std::array::from_fn(|k| solved.theta[10 * b + k]));
@@ -169,6 +182,7 @@ pub fn fit_floating(
         train: train_rms,
         validation,
         row_weights,
+        warnings,
     })
 }
 

@@ -229,7 +229,7 @@ pub fn read_vertices(path: &Path) -> Result<Vec<[f64; 3]>, MeshError> {
         )))
     };
     let scene = match ext.as_str() {
-        "stl" => loader.load_stl_from_slice(&bytes, path),
+        "stl" => loader.load_stl_from_slice(&binary_stl_unnamed(bytes), path),
         "obj" => loader.load_obj_from_slice_with_reader(&bytes, path, never),
         "dae" => {
             let text = std::str::from_utf8(&bytes).map_err(|_| MeshError::NotUtf8(file()))?;
@@ -246,6 +246,21 @@ pub fn read_vertices(path: &Path) -> Result<Vec<[f64; 3]>, MeshError> {
         source,
     })?;
     vertices_of(&scene, path)
+}
+
+/// A binary STL whose 80-byte header begins with `solid` (CAD exporters
+/// write their part's name there, e.g. Solo12's feet) reads as a broken
+/// ASCII STL: when the file is exactly a binary STL's size (84 bytes and
+/// 50 per triangle its header counts) that word is blanked so the binary
+/// reader takes it. An ASCII file of that exact size would have to declare
+/// a triangle count in the billions in its bytes 80–84.
+fn binary_stl_unnamed(mut bytes: Vec<u8>) -> Vec<u8> {
+    let count = (bytes.get(80..84)).map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]) as u64);
+    let binary_size = count.is_some_and(|n| 84 + 50 * n == bytes.len() as u64);
+    if binary_size && bytes.starts_with(b"solid") {
+        bytes[..5].fill(0);
+    }
+    bytes
 }
 
 /// Every vertex of `scene` (at most [`MAX_MESH_VERTICES`], each finite, at

@@ -14,6 +14,9 @@ use momentlmi::identify::{CHECK_TOL, JointWeighting, Regularizer, Rows};
 pub fn run(a: &IdentifyArgs, robot: Robot) -> i32 {
     match fit(a, robot) {
         Ok(fit) => {
+            for w in &fit.warnings {
+                eprintln!("warning: {w}");
+            }
             let out = if a.json {
                 serde_json::to_string_pretty(&json(&fit)).map_err(|e| e.to_string())
             } else {
@@ -254,6 +257,15 @@ fn json(fit: &FloatingFit) -> serde_json::Value {
         m.insert("floating_base".into(), true.into());
         m.insert("rows".into(), fit.rows.as_str().into());
         m.insert("status".into(), format!("{:?}", fit.solved.status).into());
+        m.insert(
+            "warnings".into(),
+            serde_json::json!(
+                fit.warnings
+                    .iter()
+                    .map(|w| w.to_string())
+                    .collect::<Vec<_>>()
+            ),
+        );
         m.insert(
             "min_eigenvalues".into(),
             serde_json::json!(fit.min_eigenvalues),

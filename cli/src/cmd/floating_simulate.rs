@@ -9,6 +9,19 @@ use momentlmi::dynamics::Model;
 use momentlmi::sim::floating::{FloatingNoise, SuspendedConfig, simulate_suspended};
 use momentlmi::sim::standing::{StandingConfig, simulate_standing};
 
+/// A floating-base log is written as CSV: an output named as another
+/// format is refused rather than filled with CSV text.
+fn csv_out(out: &std::path::Path) -> Result<(), String> {
+    let ext = (out.extension()).map(|e| e.to_string_lossy().to_lowercase());
+    if matches!(ext.as_deref(), Some("npz" | "npy" | "mcap" | "parquet")) {
+        return Err(format!(
+            "--out {}: a floating-base log is written as CSV (name it .csv; docs/floating-base.md)",
+            out.display()
+        ));
+    }
+    Ok(())
+}
+
 /// Simulates, writes the CSV and its record whole (or nothing).
 pub fn run(a: &SimulateArgs, robot: Robot) -> Result<(), String> {
     refuse(&[
@@ -25,6 +38,7 @@ pub fn run(a: &SimulateArgs, robot: Robot) -> Result<(), String> {
             .into_iter()
             .chain([std::path::Path::new(a.robot.robot.as_str())]),
     );
+    csv_out(&a.out)?;
     let rec = record_path(a.out.as_path());
     for p in [a.out.as_path(), &rec] {
         staged.claim(p).map_err(|e| e.to_string())?;
