@@ -304,10 +304,7 @@ impl Identification<'_> {
             inconsistent_bodies,
             degenerate_bodies,
             status: status.as_str().into(),
-            warnings: (status == crate::conic::Status::SolvedInaccurately)
-                .then_some(IdentifyWarning::Inaccurate {
-                    iterations: solved.iterations,
-                })
+            warnings: IdentifyWarning::of_status(status, solved.iterations)
                 .into_iter()
                 .chain(self.mass_weight_warning())
                 .chain(self.prior_outside_warning())

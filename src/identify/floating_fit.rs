@@ -142,10 +142,7 @@ pub fn fit_floating(
     let mut model = ff.clone();
     model.set_params(&solved.theta[..10 * ff.num_bodies()])?;
     let friction = solved.friction_law(ff.stribeck_velocity());
-    let warnings = (solved.status == crate::conic::Status::SolvedInaccurately)
-        .then_some(super::IdentifyWarning::Inaccurate {
-            iterations: solved.iterations,
-        })
+    let warnings = super::IdentifyWarning::of_status(solved.status, solved.iterations)
         .into_iter()
         .collect();
     let min_eigenvalues = (0..ff.num_bodies())

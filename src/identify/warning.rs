@@ -57,6 +57,15 @@ pub enum IdentifyWarning {
     },
 }
 
+impl IdentifyWarning {
+    /// [`IdentifyWarning::Inaccurate`] when the solve ended at the solver's
+    /// reduced tolerances.
+    pub fn of_status(status: crate::conic::Status, iterations: u32) -> Option<Self> {
+        (status == crate::conic::Status::SolvedInaccurately)
+            .then_some(IdentifyWarning::Inaccurate { iterations })
+    }
+}
+
 impl fmt::Display for IdentifyWarning {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
