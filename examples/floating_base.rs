@@ -21,28 +21,21 @@ use std::path::Path;
 /// RMS of the base rows' residual `measured − Y θ` over a log.
 fn base_rms(
     ff: &Model,
-    log: &momentlmi::data::floating::FloatingLog,
+    log: &momentlmi::data::Dataset,
     theta: &[f64],
 ) -> Result<f64, Box<dyn Error>> {
     let mut data = Data::new(ff);
-    let (nq, nv) = (ff.nq(), ff.nv());
     let mut sum = 0.0;
-    for k in 0..log.samples() {
+    for k in 0..log.len() {
         let b = measured(ff, &mut data, log, k)?;
-        let s = |x: &[f64], w: usize| x[k * w..(k + 1) * w].to_vec();
-        let y = momentlmi::dynamics::regressor(
-            &ff,
-            &mut data,
-            &s(&log.q, nq),
-            &s(&log.v, nv),
-            &s(&log.a, nv),
-        )?;
+        let (q, v, a) = log.state(k);
+        let y = momentlmi::dynamics::regressor(&ff, &mut data, &q, &v, &a)?;
         for i in 0..6 {
             let pred: f64 = (0..theta.len()).map(|j| y[(i, j)] * theta[j]).sum();
             sum += (b[i] - pred).powi(2);
         }
     }
-    Ok((sum / (6 * log.samples()) as f64).sqrt())
+    Ok((sum / (6 * log.len()) as f64).sqrt())
 }
 
 fn main() -> Result<(), Box<dyn Error>> {
@@ -58,7 +51,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         simulate_suspended(&ff, &cfg(20.0, 2))?,
     );
     if let Some(out) = std::env::args().nth(1) {
-        momentlmi::data::write_whole(Path::new(&out), &train.to_csv(&ff)?)?;
+        momentlmi::data::write_whole(Path::new(&out), &train.to_csv())?;
     }
     let red = reduce_floating(&ff, &train, Rows::Base)?;
     let solved = Identification::for_free_flyer(&ff, Rows::Base).solve(&red)?;
@@ -76,7 +69,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     let mut fitted = ff.clone();
     fitted.set_params(&solved.theta[..10 * ff.num_bodies()])?;
     let mut data = Data::new(&ff);
-    let q = &test.q[..ff.nq()];
+    let q = &test.state(0).0;
     let (m0, c0, i0) = ff.centroidal(&mut data, q)?;
     let (m1, c1, i1) = fitted.centroidal(&mut data, q)?;
     println!("mass {m1:.4} kg (truth {m0:.4})");

@@ -4,7 +4,7 @@
 //! consistent, the whole robot's mass, CoM and centroidal inertia as the
 //! truth's.
 
-use momentlmi::data::floating::FloatingLog;
+use momentlmi::data::Dataset;
 use momentlmi::dynamics::urdf::free_flyer_from_urdf_file;
 use momentlmi::dynamics::{Data, Model};
 use momentlmi::identify::{Identification, Rows, reduce_floating};
@@ -21,7 +21,7 @@ fn solo() -> Model {
     free_flyer_from_urdf_file(&root.join("robots/solo12/solo12.urdf"), None).unwrap()
 }
 
-fn logs(ff: &Model) -> (FloatingLog, FloatingLog) {
+fn logs(ff: &Model) -> (Dataset, Dataset) {
     // two minutes of training (the centroidal inertia of a 2.5 kg robot,
     // ≈ 0.03 kg·m², is what needs them: 1.6 % off after 20 s, 1.0 % after 60 s)
     let cfg = |seconds, seed| SuspendedConfig {
@@ -67,7 +67,7 @@ fn base_rows_alone_identify_the_whole_robot() {
     fitted.set_params(&theta[..10 * ff.num_bodies()]).unwrap();
     let mut data = Data::new(&ff);
     for k in [0, 1234] {
-        let q = &test.q[k * ff.nq()..(k + 1) * ff.nq()];
+        let q = &test.state(k).0;
         let (m0, c0, i0) = ff.centroidal(&mut data, q).unwrap();
         let (m1, c1, i1) = fitted.centroidal(&mut data, q).unwrap();
         let rel = (i1 - i0).norm() / i0.norm();
@@ -109,7 +109,7 @@ fn a_log_that_does_not_fit_is_named() {
         .to_string();
     assert!(e.contains("contact frame 'harness'"), "{e}");
     let (mut log, _) = logs(&ff);
-    log.q[19 * 7 + 6] = 0.5; // sample 7's quaternion w
+    log.base.as_mut().unwrap().pose[7][6] = 0.5; // sample 7's quaternion w
     let e = reduce_floating(&ff, &log, Rows::Base)
         .unwrap_err()
         .to_string();
@@ -121,7 +121,7 @@ fn a_log_that_does_not_fit_is_named() {
         .to_string();
     assert!(e.contains("wrench of 'base_link'"), "{e}");
     let (mut log, _) = logs(&ff);
-    log.tau = None;
+    log.tau.clear(); // no torques measured
     assert!(reduce_floating(&ff, &log, Rows::Base).is_ok());
     let e = reduce_floating(&ff, &log, Rows::Joints)
         .unwrap_err()

@@ -3,7 +3,7 @@
 //! consistent with their derivatives, forces and torques balancing the
 //! dynamics), and identification from it reaches the noise floor.
 
-use momentlmi::data::floating::FloatingLog;
+use momentlmi::data::Dataset;
 use momentlmi::dynamics::urdf::free_flyer_from_urdf_file;
 use momentlmi::dynamics::{Data, Model};
 use momentlmi::identify::floating::measured;
@@ -15,7 +15,7 @@ use std::path::Path;
 
 #[path = "support/floating.rs"]
 mod floating_support;
-use floating_support::held_out_rms;
+use floating_support::{generalized, held_out_rms};
 
 fn solo() -> Model {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -33,7 +33,7 @@ fn config(ff: &Model) -> StandingConfig {
     StandingConfig::new(FEET.map(String::from).to_vec(), posture)
 }
 
-fn exact(ff: &Model, seconds: f64, rate: f64) -> FloatingLog {
+fn exact(ff: &Model, seconds: f64, rate: f64) -> Dataset {
     let cfg = StandingConfig {
         seconds,
         rate,
@@ -43,8 +43,8 @@ fn exact(ff: &Model, seconds: f64, rate: f64) -> FloatingLog {
     simulate_standing(ff, &cfg).unwrap()
 }
 
-fn pose(log: &FloatingLog, ff: &Model, k: usize) -> (Vector3<f64>, UnitQuaternion<f64>) {
-    let q = &log.q[k * ff.nq()..];
+fn pose(log: &Dataset, k: usize) -> (Vector3<f64>, UnitQuaternion<f64>) {
+    let q = &log.state(k).0;
     let rot = UnitQuaternion::from_quaternion(Quaternion::new(q[6], q[3], q[4], q[5]));
     (Vector3::new(q[0], q[1], q[2]), rot)
 }
@@ -54,39 +54,40 @@ fn the_feet_stay_put_and_the_states_are_consistent() {
     let ff = solo();
     let (rate, nq, nv) = (1000.0, ff.nq(), ff.nv());
     let log = exact(&ff, 2.0, rate);
+    let [lq, lv, la] = generalized(&log);
     let frames: Vec<usize> = FEET.iter().map(|f| ff.frame_index(f).unwrap()).collect();
     let mut data = Data::new(&ff);
     let world = |data: &mut Data, k: usize| -> Vec<Vector3<f64>> {
-        let (p, rot) = pose(&log, &ff, k);
-        let feet = ff.frames_in_base(data, &log.q[k * nq + 7..(k + 1) * nq], &frames);
+        let (p, rot) = pose(&log, k);
+        let feet = ff.frames_in_base(data, &lq[k * nq + 7..(k + 1) * nq], &frames);
         feet.unwrap().iter().map(|f| p + rot * f).collect()
     };
     let first = world(&mut data, 0);
     let dt = 1.0 / rate;
     let mut worst = [0.0f64; 5];
-    for k in 1..log.samples() - 1 {
+    for k in 1..log.len() - 1 {
         for (a, b) in world(&mut data, k).iter().zip(&first) {
             worst[0] = worst[0].max((a - b).norm());
         }
         // the base's twist is the pose's rate, in base axes
         let ((p0, r0), (p1, r1), (_, r)) = (
-            pose(&log, &ff, k - 1),
-            pose(&log, &ff, k + 1),
-            pose(&log, &ff, k),
+            pose(&log, k - 1),
+            pose(&log, k + 1),
+            pose(&log, k),
         );
-        let v = &log.v[k * nv..(k + 1) * nv];
+        let v = &lv[k * nv..(k + 1) * nv];
         let lin = r.inverse() * (p1 - p0) / (2.0 * dt);
         let ang = (r0.inverse() * r1).scaled_axis() / (2.0 * dt);
         worst[1] = worst[1].max((lin - Vector3::new(v[0], v[1], v[2])).norm());
         worst[2] = worst[2].max((ang - Vector3::new(v[3], v[4], v[5])).norm());
         // joint velocities and every acceleration are the rates of the rest
         for j in 0..ff.dof() {
-            let d = (log.q[(k + 1) * nq + 7 + j] - log.q[(k - 1) * nq + 7 + j]) / (2.0 * dt);
+            let d = (lq[(k + 1) * nq + 7 + j] - lq[(k - 1) * nq + 7 + j]) / (2.0 * dt);
             worst[3] = worst[3].max((d - v[6 + j]).abs());
         }
         for i in 0..nv {
-            let d = (log.v[(k + 1) * nv + i] - log.v[(k - 1) * nv + i]) / (2.0 * dt);
-            worst[4] = worst[4].max((d - log.a[k * nv + i]).abs());
+            let d = (lv[(k + 1) * nv + i] - lv[(k - 1) * nv + i]) / (2.0 * dt);
+            worst[4] = worst[4].max((d - la[k * nv + i]).abs());
         }
     }
     println!(
@@ -99,12 +100,12 @@ fn the_feet_stay_put_and_the_states_are_consistent() {
     assert!(worst[3] < 1e-5 && worst[4] < 1e-5, "{worst:?}");
     // forces and torques balance the dynamics: [0; τ] + Σ Jᵀ f = M a + h
     let mut biggest = 0.0f64;
-    for k in (0..log.samples()).step_by(97) {
+    for k in (0..log.len()).step_by(97) {
         let b = measured(&ff, &mut data, &log, k).unwrap();
         let (q, v, a) = (
-            &log.q[k * nq..(k + 1) * nq],
-            &log.v[k * nv..(k + 1) * nv],
-            &log.a[k * nv..(k + 1) * nv],
+            &lq[k * nq..(k + 1) * nq],
+            &lv[k * nv..(k + 1) * nv],
+            &la[k * nv..(k + 1) * nv],
         );
         let g = momentlmi::dynamics::rnea(&ff, &mut data, q, v, a).unwrap();
         biggest = biggest.max((&b - g).amax());
@@ -147,7 +148,7 @@ fn standing_data_identify_at_the_noise_floor() {
             .set_params(&solved.theta[..10 * ff.num_bodies()])
             .unwrap();
         let mut data = Data::new(&ff);
-        let q = &test.q[..ff.nq()];
+        let q = &test.state(0).0;
         let ((m0, c0, _), (m1, c1, _)) = (
             ff.centroidal(&mut data, q).unwrap(),
             fitted.centroidal(&mut data, q).unwrap(),

@@ -54,21 +54,16 @@ impl<R: std::io::Read> std::io::Read for LineLimit<R> {
 }
 
 impl Dataset {
-    /// The CSV text: `t, q_*, qd_*, qdd_*, tau_*` (tau only when present).
+    /// The CSV text: `t`, the base's columns when the log has a base
+    /// (module [`floating_csv`](super::floating_csv)), `q_*, qd_*, qdd_*,
+    /// tau_*` (tau only when present), then the contact wrenches' columns.
     pub fn to_csv(&self) -> String {
-        let mut s = String::from("t");
-        for p in ["q", "qd", "qdd", "tau"] {
-            if p == "tau" && self.tau.is_empty() {
-                continue;
-            }
-            for j in &self.joints {
-                s += &format!(",{p}_{j}");
-            }
-        }
+        let mut s = self.csv_header().join(",");
         s.push('\n');
         for k in 0..self.len() {
             s += &format!("{}", self.t[k]);
-            for v in [&self.q, &self.qd, &self.qdd, &self.tau] {
+            let base = self.base.iter().flat_map(|b| [&b.pose, &b.twist, &b.accel]);
+            for v in base.chain([&self.q, &self.qd, &self.qdd, &self.tau]) {
                 if v.is_empty() {
                     continue;
                 }
@@ -76,9 +71,31 @@ impl Dataset {
                     s += &format!(",{x:e}");
                 }
             }
+            for c in &self.contacts {
+                for x in &c.wrench[6 * k..6 * k + 6] {
+                    s += &format!(",{x:e}");
+                }
+            }
             s.push('\n');
         }
         s
+    }
+
+    /// The column names [`to_csv`](Self::to_csv) writes.
+    pub fn csv_header(&self) -> Vec<String> {
+        let mut h = vec!["t".to_string()];
+        if self.base.is_some() {
+            h.extend(super::floating_csv::base_columns());
+        }
+        for p in ["q", "qd", "qdd", "tau"] {
+            if p != "tau" || !self.tau.is_empty() {
+                h.extend(self.joints.iter().map(|j| format!("{p}_{j}")));
+            }
+        }
+        for c in &self.contacts {
+            h.extend(super::floating_csv::contact_columns(c));
+        }
+        h
     }
 
     /// Writes the CSV whole or not at all (temporary file, then rename).

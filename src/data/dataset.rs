@@ -1,8 +1,12 @@
-//! A robot log in memory: samples of t, q, q̇, q̈, τ for named joints.
+//! A robot log in memory: samples of t, q, q̇, q̈, τ for named joints and,
+//! when the log has them, the base's motion and contact wrenches
+//! ([`base`](super::base)).
 
+use super::base::{BaseMotion, ContactChannel};
 use crate::dynamics::Samples;
 
-/// Samples of joint positions, velocities, accelerations and torques.
+/// Samples of joint positions, velocities, accelerations and torques, and
+/// of the base's motion and contact wrenches where the robot has them.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Dataset {
     /// Joint names (column suffixes).
@@ -21,6 +25,12 @@ pub struct Dataset {
     /// data are several files or a log split at its gaps: no filter or
     /// derivative crossed a boundary. Empty: one segment.
     pub segments: Vec<usize>,
+    /// The base's motion, for a robot whose root is free (`None`: a fixed
+    /// base).
+    pub base: Option<BaseMotion>,
+    /// The wrenches measured at contact frames (every external wrench on a
+    /// floating base; none is the usual fixed-base log).
+    pub contacts: Vec<ContactChannel>,
 }
 
 impl Dataset {
@@ -35,12 +45,16 @@ impl Dataset {
             qdd: Samples::new(n),
             tau: Samples::new(n),
             segments: vec![],
+            base: None,
+            contacts: vec![],
         }
     }
 
     /// Appends the samples of `s` as a new segment; when its times do not
     /// follow ours, they are shifted to start one of its steps after our
-    /// last (times stay increasing).
+    /// last (times stay increasing). The base's motion and the contact
+    /// channels are appended too (channels matched by frame and axes;
+    /// [`check`](Self::check) names a series whose length then differs).
     pub fn append_segment(&mut self, mut s: Dataset) {
         if let Some(&last) = self.t.last() {
             follow(last, &mut s.t);
@@ -51,6 +65,7 @@ impl Dataset {
             }
             self.segments.push(self.len());
         }
+        self.append_beyond_joints(s.base.take(), std::mem::take(&mut s.contacts));
         self.t.append(&mut s.t);
         self.q.append(&mut s.q);
         self.qd.append(&mut s.qd);
@@ -86,6 +101,7 @@ impl Dataset {
         for v in [&mut self.q, &mut self.qd, &mut self.qdd, &mut self.tau] {
             v.keep(range.clone());
         }
+        self.keep_beyond_joints(&range);
         self.segments = segments_within(&self.segments, &range);
     }
 
@@ -98,6 +114,7 @@ impl Dataset {
                 v.slice(range.clone())
             }
         };
+        let (base, contacts) = self.slice_beyond_joints(&range);
         Dataset {
             joints: self.joints.clone(),
             t: self.t[range.clone()].to_vec(),
@@ -106,6 +123,8 @@ impl Dataset {
             qdd: cut(&self.qdd),
             tau: cut(&self.tau),
             segments: segments_within(&self.segments, &range),
+            base,
+            contacts,
         }
     }
 }

@@ -1,4 +1,5 @@
-//! The CSV form of a [`FloatingLog`] (docs/inputs.md, "Floating-base logs"):
+//! The CSV form of a floating-base robot's [`Dataset`] (docs/inputs.md,
+//! "Floating-base logs"):
 //!
 //! - `t`; the base pose `base_x, base_y, base_z` (world, m) and
 //!   `base_qx, base_qy, base_qz, base_qw` (base → world); its twist
@@ -12,11 +13,12 @@
 //!
 //! Any column order; every other column is an error naming it. The same
 //! columns as the arrays of a NumPy `.npz` archive (one 1-D array per
-//! column, [`read_floating_npz`]).
+//! column, [`read_floating_npz`]); [`Dataset::to_csv`] writes it.
 
 use super::csv::MAX_COLUMNS;
 use super::error::DataError;
-use super::floating::{ContactChannel, FloatingLog};
+use super::Dataset;
+use super::base::ContactChannel;
 use super::raw::{MAX_ROWS, limit, not_after, refusal};
 use crate::dynamics::{Model, WrenchFrame};
 use std::collections::HashMap;
@@ -44,67 +46,29 @@ fn prefix_of(expressed: WrenchFrame) -> &'static str {
     }
 }
 
-/// The column names of `log` for the robot `ff` (contacts: forces, then
-/// moments).
-pub fn floating_header(ff: &Model, log: &FloatingLog) -> Vec<String> {
-    let joints = ff.joint_names();
-    let mut h = vec!["t".to_string()];
-    h.extend(BASE_Q.iter().map(|c| format!("base_{c}")));
-    h.extend(BASE_V.iter().map(|c| format!("base_{c}")));
-    h.extend(BASE_V.iter().map(|c| format!("base_d{c}")));
-    let mut families = vec!["q", "qd", "qdd"];
-    if log.tau.is_some() {
-        families.push("tau");
-    }
-    for p in families {
-        h.extend(joints.iter().map(|j| format!("{p}_{j}")));
-    }
-    for c in &log.contacts {
-        let w = prefix_of(c.expressed);
-        for kind in ["force", "moment"] {
-            h.extend(AXES.iter().map(|a| format!("{w}{kind}_{}_{a}", c.frame)));
-        }
-    }
-    h
+/// The base's columns: pose, twist, the twist's derivative.
+pub(super) fn base_columns() -> impl Iterator<Item = String> {
+    let pose = BASE_Q.iter().map(|c| format!("base_{c}"));
+    let twist = BASE_V.iter().map(|c| format!("base_{c}"));
+    pose.chain(twist).chain(BASE_V.iter().map(|c| format!("base_d{c}")))
 }
 
-impl FloatingLog {
-    /// The CSV text (every value in full precision); the log is checked
-    /// against `ff` first ([`FloatingLog::check`]).
-    pub fn to_csv(&self, ff: &Model) -> Result<String, DataError> {
-        self.check(ff)?;
-        let mut s = floating_header(ff, self).join(",");
-        s.push('\n');
-        let (nq, nv, n) = (ff.nq(), ff.nv(), ff.dof());
-        for k in 0..self.samples() {
-            let mut row: Vec<f64> = vec![self.t[k]];
-            row.extend(&self.q[k * nq..(k + 1) * nq][..7]);
-            row.extend(&self.v[k * nv..k * nv + 6]);
-            row.extend(&self.a[k * nv..k * nv + 6]);
-            row.extend(&self.q[k * nq + 7..(k + 1) * nq]);
-            row.extend(&self.v[k * nv + 6..(k + 1) * nv]);
-            row.extend(&self.a[k * nv + 6..(k + 1) * nv]);
-            if let Some(t) = &self.tau {
-                row.extend(&t[k * n..(k + 1) * n]);
-            }
-            for c in &self.contacts {
-                row.extend(&c.wrench[6 * k..6 * k + 6]);
-            }
-            let text: Vec<String> = row.iter().map(|x| format!("{x:e}")).collect();
-            s += &text.join(",");
-            s.push('\n');
-        }
-        Ok(s)
-    }
+/// A contact's columns: force, then moment, each x, y, z.
+pub(super) fn contact_columns(c: &ContactChannel) -> Vec<String> {
+    let w = prefix_of(c.expressed);
+    let kinds = ["force", "moment"].into_iter();
+    kinds
+        .flat_map(|kind| AXES.iter().map(move |a| format!("{w}{kind}_{}_{a}", c.frame)))
+        .collect()
 }
 
-/// Every column's slot, the contacts found, and whether torques are there;
+/// Every column's slot and the contacts found;
 /// an unknown, repeated or missing column is an error naming it.
 fn slots(
     ff: &Model,
     header: &[String],
     path: &str,
-) -> Result<(Vec<Slot>, Vec<(String, WrenchFrame)>, bool), DataError> {
+) -> Result<(Vec<Slot>, Vec<(String, WrenchFrame)>), DataError> {
     let joints = ff.joint_names();
     let mut known: HashMap<String, Slot> = HashMap::new();
     known.insert("t".into(), Slot::T);
@@ -169,7 +133,7 @@ fn slots(
             header: header.join(","),
         });
     }
-    Ok((out, contacts, has_tau))
+    Ok((out, contacts))
 }
 
 /// A `[world_]force_<frame>_<axis>` or `[world_]moment_…` column's slot;
@@ -218,13 +182,13 @@ fn contact_column(name: &str) -> Option<(WrenchFrame, usize, usize, &str)> {
 /// names it in errors (row numbers 1-based, data rows). A contact without
 /// moment columns has zero moment (a point contact); a contact with some
 /// but not all three force columns is an error.
-pub fn floating_from_csv(ff: &Model, text: &str, path: &str) -> Result<FloatingLog, DataError> {
+pub fn floating_from_csv(ff: &Model, text: &str, path: &str) -> Result<Dataset, DataError> {
     floating_from_reader(ff, text.as_bytes(), path)
 }
 
 /// Reads a floating-base log's CSV file (streamed, within the readers' row limit),
 /// as [`floating_from_csv`].
-pub fn read_floating_csv(ff: &Model, path: &std::path::Path) -> Result<FloatingLog, DataError> {
+pub fn read_floating_csv(ff: &Model, path: &std::path::Path) -> Result<Dataset, DataError> {
     let name = path.display().to_string();
     let file = std::fs::File::open(path).map_err(|source| DataError::Io {
         path: name.clone(),
@@ -241,12 +205,16 @@ pub fn read_floating_npz(
     ff: &Model,
     path: &std::path::Path,
     max_values: u64,
-) -> Result<FloatingLog, DataError> {
+) -> Result<Dataset, DataError> {
     let name = path.display().to_string();
     let (header, columns) = super::npz::read_npz_columns(path, MAX_COLUMNS, max_values)?;
-    let (slots, contacts, has_tau) = slots(ff, &header, &name)?;
+    let (slots, contacts) = slots(ff, &header, &name)?;
     check_forces(&slots, &contacts, &name)?;
-    let mut log = empty_log(&contacts, has_tau);
+    ff.need_free_flyer("a floating-base log")
+        .map_err(|e| DataError::Log {
+            message: e.to_string(),
+        })?;
+    let mut log = Dataset::for_model(ff, &contacts);
     let rows = columns.first().map_or(0, Vec::len);
     let mut values = vec![0.0; columns.len()];
     for r in 0..rows {
@@ -261,7 +229,7 @@ fn floating_from_reader(
     ff: &Model,
     reader: impl std::io::Read,
     path: &str,
-) -> Result<FloatingLog, DataError> {
+) -> Result<Dataset, DataError> {
     let mut rdr = ::csv::ReaderBuilder::new()
         .trim(::csv::Trim::All)
         .from_reader(super::csv::LineLimit::new(reader));
@@ -280,9 +248,13 @@ fn floating_from_reader(
             format!("{} columns; at most {MAX_COLUMNS}", header.len()),
         ));
     }
-    let (slots, contacts, has_tau) = slots(ff, &header, path)?;
+    let (slots, contacts) = slots(ff, &header, path)?;
     check_forces(&slots, &contacts, path)?;
-    let mut log = empty_log(&contacts, has_tau);
+    ff.need_free_flyer("a floating-base log")
+        .map_err(|e| DataError::Log {
+            message: e.to_string(),
+        })?;
+    let mut log = Dataset::for_model(ff, &contacts);
     for (r, rec) in rdr.records().enumerate() {
         let rec = rec.map_err(|e| row_err(r + 1, e.to_string()))?;
         if r >= MAX_ROWS {
@@ -291,23 +263,6 @@ fn floating_from_reader(
         push_row(&mut log, ff, &slots, &rec, (path, r + 1), &header)?;
     }
     Ok(log)
-}
-
-fn empty_log(contacts: &[(String, WrenchFrame)], has_tau: bool) -> FloatingLog {
-    FloatingLog {
-        t: vec![],
-        q: vec![],
-        v: vec![],
-        a: vec![],
-        tau: has_tau.then(Vec::new),
-        contacts: (contacts.iter())
-            .map(|(frame, expressed)| ContactChannel {
-                frame: frame.clone(),
-                expressed: *expressed,
-                wrench: vec![],
-            })
-            .collect(),
-    }
 }
 
 /// Every contact has its three force columns.
@@ -335,7 +290,7 @@ fn check_forces(
 }
 
 fn push_row(
-    log: &mut FloatingLog,
+    log: &mut Dataset,
     ff: &Model,
     slots: &[Slot],
     rec: &::csv::StringRecord,
@@ -365,7 +320,7 @@ fn push_row(
 /// One row's values (one per slot) into `log`, each within the readers'
 /// limits, the time after the last row's.
 fn push_values(
-    log: &mut FloatingLog,
+    log: &mut Dataset,
     ff: &Model,
     slots: &[Slot],
     values: &[f64],
@@ -373,18 +328,9 @@ fn push_values(
     header: &[String],
 ) -> Result<(), DataError> {
     let (nq, nv, n) = (ff.nq(), ff.nv(), ff.dof());
-    let (q0, v0) = (log.q.len(), log.v.len());
-    log.q.resize(q0 + nq, 0.0);
-    log.v.resize(v0 + nv, 0.0);
-    log.a.resize(v0 + nv, 0.0);
-    let t0 = log.tau.as_ref().map_or(0, Vec::len);
-    if let Some(t) = &mut log.tau {
-        t.resize(t0 + n, 0.0);
-    }
-    let w0: Vec<usize> = log.contacts.iter().map(|c| c.wrench.len()).collect();
-    log.contacts
-        .iter_mut()
-        .for_each(|c| c.wrench.resize(c.wrench.len() + 6, 0.0));
+    let (mut q, mut v, mut a, mut tau) = (vec![0.0; nq], vec![0.0; nv], vec![0.0; nv], vec![0.0; n]);
+    let mut wrench = vec![[0.0; 6]; log.contacts.len()];
+    let mut time = 0.0;
     for ((&x, slot), name) in values.iter().zip(slots).zip(header) {
         let bad = |message| DataError::Value {
             path: path.into(),
@@ -401,13 +347,18 @@ fn push_values(
             return Err(bad(not_after(x, last, "row")));
         }
         match *slot {
-            Slot::T => log.t.push(x),
-            Slot::Q(i) => log.q[q0 + i] = x,
-            Slot::V(i) => log.v[v0 + i] = x,
-            Slot::A(i) => log.a[v0 + i] = x,
-            Slot::Tau(i) => log.tau.as_mut().expect("tau columns")[t0 + i] = x,
-            Slot::Wrench(c, i) => log.contacts[c].wrench[w0[c] + i] = x,
+            Slot::T => time = x,
+            Slot::Q(i) => q[i] = x,
+            Slot::V(i) => v[i] = x,
+            Slot::A(i) => a[i] = x,
+            Slot::Tau(i) => tau[i] = x,
+            Slot::Wrench(c, i) => wrench[c][i] = x,
         }
+    }
+    let has_tau = slots.iter().any(|s| matches!(s, Slot::Tau(_)));
+    log.push_state(time, (&q, &v, &a), has_tau.then_some(&tau[..]));
+    for (c, w) in log.contacts.iter_mut().zip(wrench) {
+        c.wrench.extend(w);
     }
     Ok(())
 }

@@ -26,7 +26,7 @@ pub mod csv;
 mod dataset;
 mod error;
 pub mod filter;
-pub mod floating;
+pub mod base;
 pub mod floating_csv;
 pub mod mapping;
 pub mod npz;

@@ -238,6 +238,8 @@ fn as_prepared(raw: RawLog) -> Result<Dataset, DataError> {
         qdd: raw.qdd.unwrap_or_default(),
         tau: raw.tau.unwrap_or_default(),
         segments: vec![],
+        base: None,
+        contacts: vec![],
     })
 }
 
@@ -380,6 +382,8 @@ fn filtered(u: &RawLog, fs: f64, cutoff: f64, velocity: Velocity, trim: usize) -
         qdd,
         tau: u.tau.as_ref().map(lp).unwrap_or_default(),
         segments: vec![],
+        base: None,
+        contacts: vec![],
     };
     d.keep(trim..n - trim); // the ends dropped in place
     Some(d)

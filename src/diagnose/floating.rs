@@ -15,7 +15,7 @@
 //! while that gap is one (on average `(rms/floor)² − 1 ≥ 0.05` a row).
 
 use super::error::DiagnoseError;
-use crate::data::floating::FloatingLog;
+use crate::data::Dataset;
 use crate::dynamics::{ContactWrench, Data, Model};
 use crate::identify::floating_fit::residual;
 use nalgebra::{DMatrix, DVector};
@@ -130,7 +130,7 @@ const MIN_SAMPLES: usize = 32;
 /// residual (its first `rows` rows) and where the held-out part starts.
 struct Split<'a> {
     ff: &'a Model,
-    logs: &'a [FloatingLog],
+    logs: &'a [Dataset],
     rows: usize,
     residuals: Vec<Vec<DVector<f64>>>,
     cuts: Vec<usize>,
@@ -143,7 +143,7 @@ struct Split<'a> {
 pub fn diagnose_floating(
     ff: &Model,
     theta: &[f64],
-    logs: &[FloatingLog],
+    logs: &[Dataset],
 ) -> Result<FloatingDiagnosis, DiagnoseError> {
     let mut split = Split::new(ff, theta, logs)?;
     let floor = split.floor();
@@ -183,7 +183,7 @@ pub fn diagnose_floating(
 }
 
 /// The contacts of a log, by frame and axes.
-fn contacts_of(l: &FloatingLog) -> Vec<(String, crate::dynamics::WrenchFrame)> {
+fn contacts_of(l: &Dataset) -> Vec<(String, crate::dynamics::WrenchFrame)> {
     (l.contacts.iter())
         .map(|c| (c.frame.clone(), c.expressed))
         .collect()
@@ -193,11 +193,11 @@ impl<'a> Split<'a> {
     /// Every log's nominal residual (all rows when every log has joint
     /// torques, else the base's) and its split; the logs must have the same
     /// contacts and at least 34 samples each.
-    fn new(ff: &'a Model, theta: &[f64], logs: &'a [FloatingLog]) -> Result<Self, DiagnoseError> {
+    fn new(ff: &'a Model, theta: &[f64], logs: &'a [Dataset]) -> Result<Self, DiagnoseError> {
         let first = logs
             .first()
             .ok_or(DiagnoseError::Floating("no log".into()))?;
-        let joints = logs.iter().all(|l| l.tau.is_some());
+        let joints = logs.iter().all(Dataset::has_torques);
         let rows = if joints { ff.nv() } else { 6 };
         let mut split = Split {
             ff,
@@ -218,20 +218,20 @@ impl<'a> Split<'a> {
                 )));
             }
             let mut data = Data::new(ff);
-            let r = (0..log.samples())
+            let r = (0..log.len())
                 .map(|k| {
                     residual(ff, &mut data, theta, log, k).map(|r| r.rows(0, rows).into_owned())
                 })
                 .collect::<Result<Vec<_>, _>>()
                 .map_err(|e| fail(e.to_string()))?;
-            if log.samples() < MIN_SAMPLES {
+            if log.len() < MIN_SAMPLES {
                 return Err(fail(format!(
                     "log {} has {} samples; a diagnosis needs at least {MIN_SAMPLES} (its last 30 % held out)",
                     i + 1,
-                    log.samples()
+                    log.len()
                 )));
             }
-            let cut = (TRAIN_SHARE * log.samples() as f64).round() as usize;
+            let cut = (TRAIN_SHARE * log.len() as f64).round() as usize;
             split.residuals.push(r);
             split.cuts.push(cut);
         }
@@ -260,7 +260,7 @@ fn excess(rms: &[f64], floor: &[f64]) -> f64 {
 impl Split<'_> {
     fn samples(&self) -> [usize; 2] {
         let train: usize = self.cuts.iter().sum();
-        let all: usize = self.logs.iter().map(|l| l.samples()).sum();
+        let all: usize = self.logs.iter().map(|l| l.len()).sum();
         [train, all - train]
     }
 
@@ -290,7 +290,7 @@ impl Split<'_> {
             let range = if train {
                 0..self.cuts[l]
             } else {
-                self.cuts[l]..log.samples()
+                self.cuts[l]..log.len()
             };
             for s in range.clone().step_by(256) {
                 v.push((l, s, (s + 256).min(range.end)));
@@ -335,14 +335,10 @@ impl Split<'_> {
         (l, k): (usize, usize),
     ) -> Result<DMatrix<f64>, DiagnoseError> {
         let (ff, log) = (self.ff, &self.logs[l]);
-        let (nq, nv, n) = (ff.nq(), ff.nv(), ff.dof());
+        let (nv, n) = (ff.nv(), ff.dof());
         let fail =
             |e: crate::dynamics::DynamicsError| DiagnoseError::Floating(format!("sample {k}: {e}"));
-        let (q, v, a) = (
-            &log.q[k * nq..(k + 1) * nq],
-            &log.v[k * nv..(k + 1) * nv],
-            &log.a[k * nv..(k + 1) * nv],
-        );
+        let (q, v, a) = log.state(k);
         let x = match effect {
             FloatingEffect::JointFriction => {
                 let mut x = DMatrix::zeros(nv, 2 * n);
@@ -366,7 +362,7 @@ impl Split<'_> {
                         };
                         x.set_column(
                             6 * c + axis,
-                            &ff.contact_force(data, q, &[w]).map_err(fail)?,
+                            &ff.contact_force(data, &q, &[w]).map_err(fail)?,
                         );
                     }
                 }
@@ -378,7 +374,7 @@ impl Split<'_> {
                 } else {
                     ff.num_bodies()
                 };
-                crate::dynamics::regressor(ff, data, q, v, a)
+                crate::dynamics::regressor(ff, data, &q, &v, &a)
                     .map_err(fail)?
                     .columns(0, 10 * bodies)
                     .into_owned()

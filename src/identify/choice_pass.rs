@@ -401,6 +401,8 @@ mod tests {
             qdd,
             tau: Samples::from_flat(n, wave).unwrap(),
             segments: vec![0, 1300],
+            base: None,
+            contacts: vec![],
         }
     }
 

@@ -1,6 +1,6 @@
 //! A floating-base robot's data reduced for identification: the chosen rows
 //! ([`Rows`]) of `Y(q, v, a) π = [0; τ] + Σ_c J_cᵀ w_c` stacked over the
-//! samples of a [`FloatingLog`] and reduced to their Gram matrix (as
+//! samples of a [`Dataset`] and reduced to their Gram matrix (as
 //! [`reduce`](super::reduce) does for a fixed base), for
 //! [`Identification::for_free_flyer`](super::Identification::for_free_flyer).
 //!
@@ -9,7 +9,7 @@
 
 use super::error::IdentifyError;
 use super::reduce::Reduced;
-use crate::data::floating::FloatingLog;
+use crate::data::Dataset;
 use crate::dynamics::{Data, Model};
 use faer::Mat;
 use rayon::prelude::*;
@@ -58,7 +58,7 @@ const CHUNK: usize = 256;
 /// ([`crate::dynamics::regressor`]), b the measured generalized force.
 pub fn reduce_floating(
     ff: &Model,
-    log: &FloatingLog,
+    log: &Dataset,
     rows: Rows,
 ) -> Result<Reduced, IdentifyError> {
     reduce_floating_weighted(ff, log, rows, None)
@@ -68,7 +68,7 @@ pub fn reduce_floating(
 /// weighted by `weights` (≥ 0, finite; e.g. 1/σ² of its noise).
 pub fn reduce_floating_weighted(
     ff: &Model,
-    log: &FloatingLog,
+    log: &Dataset,
     rows: Rows,
     weights: Option<&[f64]>,
 ) -> Result<Reduced, IdentifyError> {
@@ -81,8 +81,8 @@ pub fn reduce_floating_weighted(
             });
         }
     }
-    let samples = log.samples();
-    if rows != Rows::Base && log.tau.is_none() {
+    let samples = log.len();
+    if rows != Rows::Base && !log.has_torques() {
         return Err(IdentifyError::NoTrainingData {
             samples,
             torques: 0,
@@ -109,7 +109,7 @@ pub fn reduce_floating_weighted(
 /// One chunk's `XᵀX`, X its rows `[A b]`.
 fn chunk_gram(
     ff: &Model,
-    (log, weights): (&FloatingLog, Option<&[f64]>),
+    (log, weights): (&Dataset, Option<&[f64]>),
     rows: Rows,
     range: std::ops::Range<usize>,
 ) -> Result<Mat<f64>, IdentifyError> {
@@ -136,18 +136,17 @@ fn chunk_gram(
 pub(super) fn sample_regressor<'d>(
     ff: &Model,
     data: &'d mut Data,
-    log: &FloatingLog,
+    log: &Dataset,
     k: usize,
 ) -> Result<&'d nalgebra::DMatrix<f64>, IdentifyError> {
     // (sample k's lengths were checked by `measured`, called first)
-    let (nq, nv) = (ff.nq(), ff.nv());
     // without torques only the base rows are fitted, where no friction acts
-    match &log.tau {
-        Some(t) => data.load.copy_from_slice(row(t, k, ff.dof())),
-        None => data.load.fill(0.0),
+    match log.tau.is_empty() {
+        false => data.load.copy_from_slice(&log.tau[k]),
+        true => data.load.fill(0.0),
     }
-    let (q, v, a) = (row(&log.q, k, nq), row(&log.v, k, nv), row(&log.a, k, nv));
-    crate::dynamics::regressor(ff, data, q, v, a)
+    let (q, v, a) = log.state(k);
+    crate::dynamics::regressor(ff, data, &q, &v, &a)
         .map_err(|source| IdentifyError::Regressor { sample: k, source })
 }
 
@@ -156,23 +155,17 @@ pub(super) fn sample_regressor<'d>(
 pub fn measured(
     ff: &Model,
     data: &mut Data,
-    log: &FloatingLog,
+    log: &Dataset,
     k: usize,
 ) -> Result<nalgebra::DVector<f64>, IdentifyError> {
-    let (nq, n) = (ff.nq(), ff.dof());
     let fail = |source| IdentifyError::Regressor { sample: k, source };
     let contacts = log.contacts_at(ff, k).map_err(fail)?; // (checks sample k's lengths)
-    let q = &log.q[k * nq..(k + 1) * nq];
-    let mut b = ff.contact_force(data, q, &contacts).map_err(fail)?;
-    if let Some(tau) = &log.tau {
-        for j in 0..n {
-            b[6 + j] += tau[k * n + j];
+    let (q, _, _) = log.state(k);
+    let mut b = ff.contact_force(data, &q, &contacts).map_err(fail)?;
+    if !log.tau.is_empty() {
+        for (j, t) in log.tau[k].iter().enumerate() {
+            b[6 + j] += t;
         }
     }
     Ok(b)
-}
-
-/// Sample k's row of a `samples × width` array.
-fn row(x: &[f64], k: usize, width: usize) -> &[f64] {
-    &x[k * width..(k + 1) * width]
 }

@@ -9,7 +9,7 @@ use super::error::IdentifyError;
 use super::floating::{Rows, measured, reduce_floating_weighted};
 use super::reduce::Reduced;
 use super::solved::Solved;
-use crate::data::floating::FloatingLog;
+use crate::data::Dataset;
 use crate::dynamics::{Data, Friction, Model};
 use crate::moments::InertialParams;
 use rayon::prelude::*;
@@ -90,7 +90,7 @@ fn group_weights(r: &FloatingRms) -> Vec<f64> {
 /// if given), the Gram matrices summed.
 pub fn reduce_floating_logs(
     ff: &Model,
-    logs: &[FloatingLog],
+    logs: &[Dataset],
     rows: Rows,
     weights: Option<&[f64]>,
 ) -> Result<Reduced, IdentifyError> {
@@ -117,8 +117,8 @@ pub fn fit_floating(
     id: &Identification,
     ff: &Model,
     rows: Rows,
-    train: &[FloatingLog],
-    validate: &[FloatingLog],
+    train: &[Dataset],
+    validate: &[Dataset],
 ) -> Result<FloatingFit, IdentifyError> {
     let red = reduce_floating_logs(ff, train, rows, None)?;
     for v in validate {
@@ -152,10 +152,10 @@ pub fn fit_floating(
         })
         .collect();
     let (bodies, constraints_satisfied) = super::result::body_results(id, &solved.theta);
-    let q0 = &train[0].q[..ff.nq()];
-    let whole_body = whole_body(&model, q0)?;
+    let (q0, _, _) = train[0].state(0);
+    let whole_body = whole_body(&model, &q0)?;
     // a millionth of the URDF's mass is no robot: the fit collapsed
-    let described = self::whole_body(ff, q0)?.mass;
+    let described = self::whole_body(ff, &q0)?.mass;
     if !(whole_body.mass > 1e-6 * described && whole_body.com.iter().all(|c| c.is_finite())) {
         return Err(IdentifyError::NoWholeMass {
             mass: whole_body.mass,
@@ -198,7 +198,7 @@ pub fn whole_body(ff: &Model, q: &[f64]) -> Result<WholeBody, IdentifyError> {
 pub fn floating_rms_of(
     ff: &Model,
     theta: &[f64],
-    logs: &[FloatingLog],
+    logs: &[Dataset],
 ) -> Result<FloatingRms, IdentifyError> {
     let n = ff.dof();
     let mut sums = vec![0.0; 6 + n];
@@ -206,8 +206,8 @@ pub fn floating_rms_of(
     for log in logs {
         let s = squared_residuals(ff, theta, log)?;
         sums.iter_mut().zip(&s).for_each(|(a, b)| *a += b);
-        samples += log.samples();
-        torques &= log.tau.is_some();
+        samples += log.len();
+        torques &= log.has_torques();
     }
     let rms = |range: std::ops::Range<usize>| {
         let k = (range.len() * samples) as f64;
@@ -230,7 +230,7 @@ pub fn floating_rms_of(
 pub fn floating_rms(
     ff: &Model,
     theta: &[f64],
-    log: &FloatingLog,
+    log: &Dataset,
 ) -> Result<FloatingRms, IdentifyError> {
     floating_rms_of(ff, theta, std::slice::from_ref(log))
 }
@@ -239,15 +239,15 @@ pub fn floating_rms(
 fn squared_residuals(
     ff: &Model,
     theta: &[f64],
-    log: &FloatingLog,
+    log: &Dataset,
 ) -> Result<Vec<f64>, IdentifyError> {
     log.check(ff)?;
-    let chunks: Vec<usize> = (0..log.samples()).step_by(256).collect();
+    let chunks: Vec<usize> = (0..log.len()).step_by(256).collect();
     let parts = (chunks.par_iter())
         .map(|&s0| {
             let mut data = Data::new(ff);
             let mut sums = vec![0.0; ff.nv()];
-            for k in s0..(s0 + 256).min(log.samples()) {
+            for k in s0..(s0 + 256).min(log.len()) {
                 let r = residual(ff, &mut data, theta, log, k)?;
                 sums.iter_mut().zip(r.iter()).for_each(|(s, x)| *s += x * x);
             }
@@ -266,7 +266,7 @@ pub fn residual(
     ff: &Model,
     data: &mut Data,
     theta: &[f64],
-    log: &FloatingLog,
+    log: &Dataset,
     k: usize,
 ) -> Result<nalgebra::DVector<f64>, IdentifyError> {
     if theta.len() != ff.regressor_columns() {

@@ -91,6 +91,8 @@ mod tests {
             qdd,
             tau,
             segments: vec![],
+            base: None,
+            contacts: vec![],
         };
         let base = reduce_samples(&model, &train.q, &train.qd, &train.qdd, &train.tau, 16).unwrap();
         let rows = LoadRows::new(&model, &train)

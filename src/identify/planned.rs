@@ -317,6 +317,8 @@ mod tests {
             qdd,
             tau,
             segments: vec![0],
+            base: None,
+            contacts: vec![],
         };
         (robot, d)
     }

@@ -91,6 +91,8 @@ mod tests {
                 qdd: s.clone(),
                 tau: s,
                 segments: vec![],
+                base: None,
+                contacts: vec![],
             });
         }
         d

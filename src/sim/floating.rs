@@ -8,7 +8,7 @@
 
 use super::error::SimError;
 use super::trajectory::harmonic_state;
-use crate::data::floating::{ContactChannel, FloatingLog};
+use crate::data::{Dataset, Samples};
 use crate::dynamics::{Data, Model, RootJoint, WrenchFrame};
 use crate::moments::InertialParams;
 use nalgebra::{UnitQuaternion, Vector3};
@@ -111,12 +111,12 @@ impl FloatingEffects {
 
     /// The friction and the offset, added to an exact log's torques and
     /// wrenches (before the noise).
-    pub(super) fn apply(&self, log: &mut FloatingLog, nv: usize) {
-        if let (Some([b, c]), Some(tau)) = (self.joint_friction, &mut log.tau) {
-            let n = nv - 6;
-            for (i, t) in tau.iter_mut().enumerate() {
-                let qd = log.v[(i / n) * nv + 6 + i % n];
-                *t += b * qd + c * crate::dynamics::sign(qd);
+    pub(super) fn apply(&self, log: &mut Dataset) {
+        if let Some([b, c]) = self.joint_friction {
+            for (tau, qd) in log.tau.iter_mut().zip(log.qd.iter()) {
+                for (t, &qd) in tau.iter_mut().zip(qd) {
+                    *t += b * qd + c * crate::dynamics::sign(qd);
+                }
             }
         }
         if let Some(o) = self.wrench_offset {
@@ -250,7 +250,7 @@ fn integrate_pose(
 /// A suspended log of the robot `ff` (the nominal model; the truth is it
 /// with `cfg.effects`): the harness wrench at the base frame (local axes)
 /// and the joint torques, with noise.
-pub fn simulate_suspended(ff: &Model, cfg: &SuspendedConfig) -> Result<FloatingLog, SimError> {
+pub fn simulate_suspended(ff: &Model, cfg: &SuspendedConfig) -> Result<Dataset, SimError> {
     let truth = cfg.effects.truth(ff)?;
     let ff = &truth;
     let samples = cfg.seconds * cfg.rate;
@@ -281,20 +281,19 @@ pub fn simulate_suspended(ff: &Model, cfg: &SuspendedConfig) -> Result<FloatingL
         wrench.extend(g.iter().take(6));
         tau.extend(g.iter().skip(6));
     }
-    let mut log = FloatingLog {
-        t: (0..samples).map(|k| k as f64 / cfg.rate).collect(),
-        q,
-        v,
-        a,
-        tau: Some(tau),
-        contacts: vec![ContactChannel {
-            frame: ff.body_names()[0].clone(),
-            expressed: WrenchFrame::Local,
-            wrench,
-        }],
-    };
-    cfg.effects.apply(&mut log, nv);
-    add_noise(ff, &mut log, &cfg.noise, &mut rng)?;
+    let harness = [(ff.body_names()[0].clone(), WrenchFrame::Local)];
+    let mut log = Dataset::for_model(ff, &harness);
+    for k in 0..samples {
+        let state = (
+            &q[k * nq..(k + 1) * nq],
+            &v[k * nv..(k + 1) * nv],
+            &a[k * nv..(k + 1) * nv],
+        );
+        log.push_state(k as f64 / cfg.rate, state, Some(&tau[k * n..(k + 1) * n]));
+    }
+    log.contacts[0].wrench = wrench;
+    cfg.effects.apply(&mut log);
+    add_noise(&mut log, &cfg.noise, &mut rng)?;
     Ok(log)
 }
 
@@ -302,8 +301,7 @@ pub fn simulate_suspended(ff: &Model, cfg: &SuspendedConfig) -> Result<FloatingL
 /// moment, the base twist and its rate, the joint states and torques (the
 /// quaternion and base position are left exact).
 pub(super) fn add_noise(
-    ff: &Model,
-    log: &mut FloatingLog,
+    log: &mut Dataset,
     noise: &FloatingNoise,
     rng: &mut StdRng,
 ) -> Result<(), SimError> {
@@ -321,43 +319,28 @@ pub(super) fn add_noise(
             };
         }
     }
-    if let Some(tau) = &mut log.tau {
-        tau.iter_mut().for_each(|x| *x += nt.sample(rng));
-    }
-    let (nq, nv) = (ff.nq(), ff.nv());
-    add_state_noise(&mut log.v, nv, [noise.twist, 10.0 * noise.encoder], rng)?;
-    add_state_noise(
-        &mut log.a,
-        nv,
-        [noise.twist_rate, 100.0 * noise.encoder],
-        rng,
-    )?;
+    (log.tau.as_flat_mut().iter_mut()).for_each(|x| *x += nt.sample(rng));
+    // (the simulators' logs are of a free flyer: `truth` refuses a fixed base)
+    let base = log.base.as_mut().expect("a floating-base log");
+    let (nb, nj) = (normal(noise.twist)?, normal(10.0 * noise.encoder)?);
+    add_state_noise((&mut base.twist, &mut log.qd), (nb, nj), rng);
+    let (nb, nj) = (normal(noise.twist_rate)?, normal(100.0 * noise.encoder)?);
+    add_state_noise((&mut base.accel, &mut log.qdd), (nb, nj), rng);
     let ne = normal(noise.encoder)?;
-    for k in 0..log.samples() {
-        log.q[k * nq + 7..(k + 1) * nq]
-            .iter_mut()
-            .for_each(|x| *x += ne.sample(rng));
-    }
+    (log.q.as_flat_mut().iter_mut()).for_each(|x| *x += ne.sample(rng));
     Ok(())
 }
 
-/// Noise of σ `[base, joints]` on a `samples × width` array (the base's
-/// six first).
+/// Noise on each sample's base part (`nb`), then its joint part (`nj`).
 fn add_state_noise(
-    x: &mut [f64],
-    width: usize,
-    [base, joints]: [f64; 2],
+    (base, joints): (&mut Samples, &mut Samples),
+    (nb, nj): (Normal<f64>, Normal<f64>),
     rng: &mut StdRng,
-) -> Result<(), SimError> {
-    let (nb, nj) = (normal(base)?, normal(joints)?);
-    for (i, v) in x.iter_mut().enumerate() {
-        *v += if i % width < 6 {
-            nb.sample(rng)
-        } else {
-            nj.sample(rng)
-        };
+) {
+    for (b, j) in base.iter_mut().zip(joints.iter_mut()) {
+        b.iter_mut().for_each(|x| *x += nb.sample(rng));
+        j.iter_mut().for_each(|x| *x += nj.sample(rng));
     }
-    Ok(())
 }
 
 /// A normal distribution of standard deviation `sigma` (finite, ≥ 0).

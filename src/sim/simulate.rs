@@ -457,6 +457,8 @@ pub fn simulate_with(
         qdd,
         tau,
         segments: vec![],
+        base: None,
+        contacts: vec![],
     };
     if cfg.processed {
         process(model, cfg, &mut d);

@@ -15,7 +15,7 @@
 
 use super::error::SimError;
 use super::floating::{FloatingEffects, FloatingNoise, add_noise, channels, coefficients};
-use crate::data::floating::{ContactChannel, FloatingLog};
+use crate::data::Dataset;
 use crate::dynamics::{ContactWrench, Data, Model, WrenchFrame};
 use nalgebra::{DMatrix, DVector, Matrix3, UnitQuaternion, Vector3};
 use rand::SeedableRng;
@@ -330,7 +330,7 @@ impl Stance<'_> {
 
 /// A log of the robot `ff` (the nominal model; the truth is it with
 /// `cfg.effects`) standing on force plates (module doc), with noise.
-pub fn simulate_standing(ff: &Model, cfg: &StandingConfig) -> Result<FloatingLog, SimError> {
+pub fn simulate_standing(ff: &Model, cfg: &StandingConfig) -> Result<Dataset, SimError> {
     check(cfg)?;
     check_stance(ff, cfg)?;
     let truth = cfg.effects.truth(ff)?;
@@ -339,20 +339,10 @@ pub fn simulate_standing(ff: &Model, cfg: &StandingConfig) -> Result<FloatingLog
     let stance = Stance::new(ff, cfg, &mut rng)?;
     let samples = (cfg.seconds * cfg.rate).round() as usize;
     let mut data = Data::new(ff);
-    let mut log = FloatingLog {
-        t: Vec::with_capacity(samples),
-        q: Vec::with_capacity(samples * ff.nq()),
-        v: Vec::with_capacity(samples * ff.nv()),
-        a: Vec::with_capacity(samples * ff.nv()),
-        tau: Some(Vec::with_capacity(samples * ff.dof())),
-        contacts: (cfg.feet.iter())
-            .map(|frame| ContactChannel {
-                frame: frame.clone(),
-                expressed: WrenchFrame::WorldAligned,
-                wrench: Vec::with_capacity(6 * samples),
-            })
-            .collect(),
-    };
+    let feet: Vec<(String, WrenchFrame)> = (cfg.feet.iter())
+        .map(|frame| (frame.clone(), WrenchFrame::WorldAligned))
+        .collect();
+    let mut log = Dataset::for_model(ff, &feet);
     let mut prev = cfg.posture.clone();
     for k in 0..samples {
         let time = k as f64 / cfg.rate;
@@ -363,17 +353,11 @@ pub fn simulate_standing(ff: &Model, cfg: &StandingConfig) -> Result<FloatingLog
             c.wrench
                 .extend([f[3 * i], f[3 * i + 1], f[3 * i + 2], 0.0, 0.0, 0.0]);
         }
-        if let Some(t) = &mut log.tau {
-            t.extend(tau);
-        }
+        log.push_state(time, (&q, &v, &a), Some(&tau));
         prev = q[7..].to_vec();
-        log.t.push(time);
-        log.q.extend(q);
-        log.v.extend(v);
-        log.a.extend(a);
     }
-    cfg.effects.apply(&mut log, ff.nv());
-    add_noise(ff, &mut log, &cfg.noise, &mut rng)?;
+    cfg.effects.apply(&mut log);
+    add_noise(&mut log, &cfg.noise, &mut rng)?;
     Ok(log)
 }
 

@@ -8,7 +8,7 @@
 
 use crate::plots::figures::{Series, line_panels};
 use momentlmi::data::Staged;
-use momentlmi::data::floating::FloatingLog;
+use momentlmi::data::Dataset;
 use momentlmi::dynamics::sidecar::Sidecar;
 use momentlmi::dynamics::urdf::free_flyer_from_robot;
 use momentlmi::dynamics::{Data, Model};
@@ -62,7 +62,7 @@ pub fn run((out, staged): (&Path, &mut Staged), tick: &mut dyn FnMut(&str)) -> R
     let base = fit(&ff, Rows::Base, &train, &test)?;
     let joints = fit(&ff, Rows::Joints, &train, &test)?;
     let all = fit(&ff, Rows::All, &train, &test)?;
-    print_fits(&ff, (&test, &train.q[..ff.nq()]), [&base, &joints, &all])?;
+    print_fits(&ff, (&test, &train.state(0).0), [&base, &joints, &all])?;
     tick("floating base: standing on force plates");
     standing(&ff, &sidecar)?;
     tick("floating base: diagnosing a payload the URDF lacks");
@@ -76,8 +76,8 @@ pub fn run((out, staged): (&Path, &mut Staged), tick: &mut dyn FnMut(&str)) -> R
 fn fit(
     ff: &Model,
     rows: Rows,
-    train: &FloatingLog,
-    test: &FloatingLog,
+    train: &Dataset,
+    test: &Dataset,
 ) -> Result<FloatingFit, String> {
     let id = Identification::for_free_flyer(ff, rows);
     fit_floating(
@@ -96,7 +96,7 @@ fn fit(
 /// robot is.
 fn print_fits(
     ff: &Model,
-    (test, q0): (&FloatingLog, &[f64]),
+    (test, q0): (&Dataset, &[f64]),
     fits: [&FloatingFit; 3],
 ) -> Result<(), String> {
     let floor = floating_rms(ff, &truth(ff), test).map_err(|e| e.to_string())?;
@@ -182,7 +182,7 @@ fn standing(ff: &Model, sidecar: &Sidecar) -> Result<(), String> {
     let v = fit.validation.as_ref().ok_or("no held-out residual")?;
     let (w, t) = (
         &fit.whole_body,
-        whole_body(ff, &train.q[..ff.nq()]).map_err(|e| e.to_string())?,
+        whole_body(ff, &train.state(0).0).map_err(|e| e.to_string())?,
     );
     println!(
         "   standing on four force plates, the base swaying (60 s to fit, 20 s held out), base rows: held-out {:.4} N / {:.4} N·m (floor {:.4} / {:.4});",
@@ -200,7 +200,7 @@ fn standing(ff: &Model, sidecar: &Sidecar) -> Result<(), String> {
 /// The held-out residual (measured − predicted) over 5 s: the base force
 /// and moment's vertical rows and one knee's torque, of the model
 /// identified from the load cell alone and of the true one.
-fn figure(ff: &Model, fit: &FloatingFit, test: &FloatingLog) -> Result<String, String> {
+fn figure(ff: &Model, fit: &FloatingFit, test: &Dataset) -> Result<String, String> {
     let knee = ff
         .joint_names()
         .iter()
@@ -215,7 +215,7 @@ fn figure(ff: &Model, fit: &FloatingFit, test: &FloatingLog) -> Result<String, S
     let mut data = Data::new(ff);
     let mut series = |theta: &[f64]| -> Result<Vec<Vec<(f64, f64)>>, String> {
         let mut pts = vec![vec![]; rows.len()];
-        for k in 0..test.samples().min(1000) {
+        for k in 0..test.len().min(1000) {
             let r = residual(ff, &mut data, theta, test, k).map_err(|e| e.to_string())?;
             for (p, &row) in pts.iter_mut().zip(&rows) {
                 p.push((test.t[k], r[row]));

@@ -3,8 +3,8 @@
 //! the flag is given or the sidecar has a `[floating_base]` table; options
 //! that have no floating-base meaning yet are refused by name.
 
-use momentlmi::data::floating::FloatingLog;
-use momentlmi::data::floating::lay_end_to_end;
+use momentlmi::data::Dataset;
+use momentlmi::data::base::lay_end_to_end;
 use momentlmi::data::floating_csv::{read_floating_csv, read_floating_npz};
 use momentlmi::dynamics::Model;
 use momentlmi::dynamics::sidecar::{Sidecar, SidecarFloating};
@@ -141,7 +141,7 @@ pub fn read_logs(
     ff: &Model,
     paths: &[PathBuf],
     (what, max_gib): (&str, f64),
-) -> Result<Vec<FloatingLog>, String> {
+) -> Result<Vec<Dataset>, String> {
     super::gib(max_gib)?;
     let bytes: u64 = (paths.iter())
         .filter_map(|p| std::fs::metadata(p).ok())
@@ -173,7 +173,7 @@ pub fn read_logs(
             let log = log.map_err(|e| format!("{what}: {e}"))?;
             let at = || format!("{what}: {}", p.display());
             log.check(ff).map_err(|e| format!("{}: {e}", at()))?;
-            if log.samples() == 0 {
+            if log.len() == 0 {
                 return Err(format!("{}: no samples (a header only)", at()));
             }
             if log.contacts.is_empty() {

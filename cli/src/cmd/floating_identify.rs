@@ -116,9 +116,9 @@ fn fit(a: &IdentifyArgs, robot: Robot) -> Result<FloatingFit, String> {
 /// the base rows (said on stderr).
 fn rows(
     asked: Option<Rows>,
-    train: &[momentlmi::data::floating::FloatingLog],
+    train: &[momentlmi::data::Dataset],
 ) -> Result<Rows, String> {
-    let torques = train.iter().all(|l| l.tau.is_some());
+    let torques = train.iter().all(momentlmi::data::Dataset::has_torques);
     match asked {
         Some(r) if r != Rows::Base && !torques => Err(format!(
             "--rows {}: a --data log has no joint torques (tau_<joint> columns); --rows base needs none",

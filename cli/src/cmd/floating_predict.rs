@@ -6,7 +6,7 @@
 use super::floating::{Robot, read_logs, reading_options, refuse, theta_of};
 use super::predict::PredictArgs;
 use momentlmi::data::Staged;
-use momentlmi::data::floating::FloatingLog;
+use momentlmi::data::Dataset;
 use momentlmi::dynamics::{Data, Model};
 use momentlmi::identify::floating_fit::floating_rms_of;
 use std::path::Path;
@@ -76,22 +76,16 @@ fn header(ff: &Model) -> String {
 }
 
 /// The predicted `Y θ` of every sample, one CSV row each.
-fn rows(ff: &Model, theta: &[f64], log: &FloatingLog) -> Result<String, String> {
-    let (nq, nv) = (ff.nq(), ff.nv());
+fn rows(ff: &Model, theta: &[f64], log: &Dataset) -> Result<String, String> {
     let mut data = Data::new(ff);
     let th = nalgebra::DVector::from_column_slice(theta);
     let mut out = String::new();
-    for k in 0..log.samples() {
-        if let Some(tau) = &log.tau {
-            let n = ff.dof();
-            data.load.copy_from_slice(&tau[k * n..(k + 1) * n]);
+    for k in 0..log.len() {
+        if !log.tau.is_empty() {
+            data.load.copy_from_slice(&log.tau[k]);
         }
-        let (q, v, acc) = (
-            &log.q[k * nq..(k + 1) * nq],
-            &log.v[k * nv..(k + 1) * nv],
-            &log.a[k * nv..(k + 1) * nv],
-        );
-        let y = momentlmi::dynamics::regressor(ff, &mut data, q, v, acc)
+        let (q, v, acc) = log.state(k);
+        let y = momentlmi::dynamics::regressor(ff, &mut data, &q, &v, &acc)
             .map_err(|e| format!("sample {k}: {e}"))?;
         let g = y * &th;
         let cells: Vec<String> = std::iter::once(log.t[k])

@@ -3,7 +3,7 @@
 
 use super::floating::{Contacts, Robot, refuse, stance};
 use super::simulate::SimulateArgs;
-use momentlmi::data::floating::FloatingLog;
+use momentlmi::data::Dataset;
 use momentlmi::data::{Staged, record_path};
 use momentlmi::dynamics::Model;
 use momentlmi::sim::floating::{FloatingNoise, SuspendedConfig, simulate_suspended};
@@ -80,7 +80,7 @@ pub fn run(a: &SimulateArgs, robot: Robot) -> Result<(), String> {
     staged
         .add(
             a.out.as_path(),
-            log.to_csv(&ff).map_err(|e| e.to_string())?.as_bytes(),
+            log.to_csv().as_bytes(),
         )
         .map_err(|e| e.to_string())?;
     staged
@@ -90,7 +90,7 @@ pub fn run(a: &SimulateArgs, robot: Robot) -> Result<(), String> {
     println!(
         "wrote {} ({} samples, {}, contacts: {}) and {}",
         a.out.display(),
-        log.samples(),
+        log.len(),
         ff.name,
         (log.contacts.iter())
             .map(|c| c.frame.as_str())
@@ -120,7 +120,7 @@ fn noise(sigma: Option<f64>) -> Result<FloatingNoise, String> {
 /// What the record says of the log: how it was made.
 fn record_of(
     ff: &Model,
-    log: &FloatingLog,
+    log: &Dataset,
     (contacts, effects): (Contacts, &momentlmi::sim::floating::FloatingEffects),
     noise: &FloatingNoise,
     a: &SimulateArgs,
@@ -130,7 +130,7 @@ fn record_of(
         "floating_base": true,
         "robot": ff.name,
         "base": ff.base().map(|b| b.name.as_str()),
-        "samples": log.samples(),
+        "samples": log.len(),
         "joints": ff.joint_names(),
         "contacts": format!("{contacts:?}").to_lowercase(),
         "contact_frames": log.contacts.iter().map(|c| &c.frame).collect::<Vec<_>>(),

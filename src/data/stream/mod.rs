@@ -228,6 +228,8 @@ mod tests {
             qdd: rows(1.0),
             tau: rows(3.0),
             segments: vec![],
+            base: None,
+            contacts: vec![],
         }
     }
 
@@ -246,6 +248,8 @@ mod tests {
                 qdd: r.qdd.clone().unwrap(),
                 tau: r.tau.clone().unwrap(),
                 segments: vec![],
+                base: None,
+                contacts: vec![],
             };
             (b.first_row, d)
         };

@@ -1,0 +1,379 @@
+//! What a log holds beyond the joints: the base's motion when the robot's
+//! root is free (motion capture or an estimator and an IMU) and the
+//! wrenches measured at contact frames (force plates, a harness load
+//! cell, foot or wrist sensors), with the checks of a [`Dataset`] against
+//! the robot ([`Model`]'s conventions: the generalized `q` is 7 + n with
+//! the quaternion `x, y, z, w`; `v`, `a` are 6 + n, the base part linear
+//! then angular in base coordinates).
+
+use super::Dataset;
+use super::error::DataError;
+use super::raw::{limit, not_after, refusal};
+use crate::dynamics::{ContactWrench, DynamicsError, Model, Samples, WrenchFrame};
+
+/// The base's motion over a log, one row per sample.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BaseMotion {
+    /// Position (world, m) then orientation quaternion `x, y, z, w`
+    /// (base → world): width 7.
+    pub pose: Samples,
+    /// Twist in base coordinates, linear (m/s) then angular (rad/s):
+    /// width 6.
+    pub twist: Samples,
+    /// The twist's time derivative, width 6.
+    pub accel: Samples,
+}
+
+impl BaseMotion {
+    /// No samples.
+    pub fn new() -> Self {
+        Self {
+            pose: Samples::new(7),
+            twist: Samples::new(6),
+            accel: Samples::new(6),
+        }
+    }
+
+    fn series(&mut self) -> [&mut Samples; 3] {
+        [&mut self.pose, &mut self.twist, &mut self.accel]
+    }
+}
+
+impl Default for BaseMotion {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// The wrenches measured at one frame over a log.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ContactChannel {
+    /// The frame (a URDF link of the robot) where the wrench acts.
+    pub frame: String,
+    /// The axes the wrench is expressed in.
+    pub expressed: WrenchFrame,
+    /// Per sample, force (N) then moment about the frame origin (N·m):
+    /// `samples × 6`, sample-major.
+    pub wrench: Vec<f64>,
+}
+
+/// One sample's generalized state: `q` (nq), `v` and `a` (nv).
+pub type State = (Vec<f64>, Vec<f64>, Vec<f64>);
+
+impl Dataset {
+    /// A log of the robot `model` with no samples: its joints, the base's
+    /// motion when its root is free, torques, and the contact channels
+    /// `contacts` (frame, axes).
+    pub fn for_model(model: &Model, contacts: &[(String, WrenchFrame)]) -> Self {
+        let mut d = Dataset::empty(&model.joint_names());
+        d.base = model.is_floating().then(BaseMotion::new);
+        d.contacts = (contacts.iter())
+            .map(|(frame, expressed)| ContactChannel {
+                frame: frame.clone(),
+                expressed: *expressed,
+                wrench: vec![],
+            })
+            .collect();
+        d
+    }
+
+    /// Whether torques were measured (a log without them fits only the
+    /// base rows of a floating base).
+    pub fn has_torques(&self) -> bool {
+        !self.tau.is_empty() || self.is_empty()
+    }
+
+    /// Sample `k`'s generalized `q`, `v`, `a` (the base's, when there is
+    /// one, before the joints').
+    pub fn state(&self, k: usize) -> State {
+        let joined = |b: Option<&Samples>, j: &Samples| match b {
+            Some(b) => [&b[k], &j[k]].concat(),
+            None => j[k].to_vec(),
+        };
+        let base = self.base.as_ref();
+        (
+            joined(base.map(|b| &b.pose), &self.q),
+            joined(base.map(|b| &b.twist), &self.qd),
+            joined(base.map(|b| &b.accel), &self.qdd),
+        )
+    }
+
+    /// Appends one sample given as the generalized `q`, `v`, `a` (the
+    /// base's part first when the log has a base), its torques (none: not
+    /// measured) and its contact wrenches (one 6-vector per channel).
+    pub fn push_state(&mut self, t: f64, (q, v, a): (&[f64], &[f64], &[f64]), tau: Option<&[f64]>) {
+        let (qb, vb) = if self.base.is_some() { (7, 6) } else { (0, 0) };
+        if let Some(b) = &mut self.base {
+            b.pose.push(&q[..qb]);
+            b.twist.push(&v[..vb]);
+            b.accel.push(&a[..vb]);
+        }
+        self.t.push(t);
+        self.q.push(&q[qb..]);
+        self.qd.push(&v[vb..]);
+        self.qdd.push(&a[vb..]);
+        if let Some(tau) = tau {
+            self.tau.push(tau);
+        }
+    }
+
+    /// Checks the log against the robot: the base's motion there exactly
+    /// when the root is free, every series's length and width, every value
+    /// finite and within the readers' limits (times too, and increasing),
+    /// every quaternion of unit norm, every contact frame one of the
+    /// robot's; the error names the series, sample or frame.
+    pub fn check(&self, model: &Model) -> Result<(), DataError> {
+        let log = |message: String| DataError::Log { message };
+        match &self.base {
+            Some(_) => model
+                .need_free_flyer("a floating-base log")
+                .map_err(|e| log(e.to_string()))?,
+            None if model.is_floating() => {
+                return Err(log(format!(
+                    "the log has no base motion (base_* columns) and '{}' has a free-flying base",
+                    model.name
+                )));
+            }
+            None => {}
+        }
+        self.check_series(model.dof())?;
+        for c in &self.contacts {
+            model
+                .frame_index(&c.frame)
+                .map_err(|e| log(e.to_string()))?;
+            check_array(
+                (&format!("wrench of '{}'", c.frame), false),
+                &c.wrench,
+                self.len(),
+                6,
+            )?;
+        }
+        if model.is_floating() {
+            for k in 0..self.len() {
+                let (q, v, a) = self.state(k);
+                (model.base_state(&q, &v, &a)).map_err(|source| DataError::Sample { sample: k, source })?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Every series's shape (`n` joints) and values, and the times increasing.
+    fn check_series(&self, n: usize) -> Result<(), DataError> {
+        let s = self.len();
+        check_array(("t", true), &self.t, s, 1)?;
+        if let Some(k) = self.t.windows(2).position(|w| w[1] <= w[0]) {
+            return Err(DataError::Log {
+                message: format!(
+                    "t: sample {}: {}",
+                    k + 1,
+                    not_after(self.t[k + 1], self.t[k], "sample")
+                ),
+            });
+        }
+        for (x, width, (name, offset), column) in self.series(n) {
+            if x.len() != s || (s > 0 && x.width() != width) {
+                return Err(DataError::Log {
+                    message: format!(
+                        "{column}…: {} samples of {} values, expected {s} of {width}",
+                        x.len(),
+                        x.width()
+                    ),
+                });
+            }
+            for (i, &v) in x.as_flat().iter().enumerate() {
+                if let Some(why) = refusal(v, limit(false)) {
+                    let (k, e) = (i / width, i % width);
+                    return Err(DataError::Log {
+                        message: format!(
+                            "{name}: sample {k}, entry {} (column {}): {why}",
+                            offset + e,
+                            column_name(column, e, &self.joints)
+                        ),
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Every series of samples beside the times: (values, width, (its
+    /// name in the generalized vectors, its first entry there), its
+    /// columns' prefix).
+    fn series(&self, n: usize) -> Vec<(&Samples, usize, (&'static str, usize), &'static str)> {
+        let mut v = vec![];
+        let (qb, vb) = match &self.base {
+            Some(b) => {
+                v.push((&b.pose, 7, ("q", 0), "base_pose"));
+                v.push((&b.twist, 6, ("v", 0), "base_twist"));
+                v.push((&b.accel, 6, ("a", 0), "base_accel"));
+                (7, 6)
+            }
+            None => (0, 0),
+        };
+        v.push((&self.q, n, ("q", qb), "q"));
+        v.push((&self.qd, n, ("v", vb), "qd"));
+        v.push((&self.qdd, n, ("a", vb), "qdd"));
+        if self.has_torques() {
+            v.push((&self.tau, n, ("tau", 0), "tau"));
+        }
+        v
+    }
+
+    /// Whether sample `k` of every series exists, for the
+    /// per-sample readers that run without [`check`](Self::check).
+    pub fn sample_fits(&self, k: usize) -> Result<(), DynamicsError> {
+        let need = |what: &str, len: usize, w: usize| {
+            if len < (k + 1) * w {
+                return Err(DynamicsError::Dimension {
+                    what: format!("log, sample {k}: {what}"),
+                    expected: (k + 1) * w,
+                    found: len,
+                });
+            }
+            Ok(())
+        };
+        need("t", self.t.len(), 1)?;
+        let base = self.base.as_ref();
+        let series = [
+            base.map(|b| ("base pose", &b.pose)),
+            base.map(|b| ("base twist", &b.twist)),
+            base.map(|b| ("base acceleration", &b.accel)),
+            Some(("q", &self.q)),
+            Some(("qd", &self.qd)),
+            Some(("qdd", &self.qdd)),
+            (!self.tau.is_empty()).then_some(("tau", &self.tau)),
+        ];
+        for (name, x) in series.into_iter().flatten() {
+            need(name, x.len(), 1)?;
+        }
+        for c in &self.contacts {
+            need(&format!("wrench of '{}'", c.frame), c.wrench.len(), 6)?;
+        }
+        Ok(())
+    }
+
+    /// Sample `k`'s contact wrenches, for [`Model::contact_force`].
+    pub fn contacts_at(
+        &self,
+        model: &Model,
+        k: usize,
+    ) -> Result<Vec<ContactWrench>, DynamicsError> {
+        self.sample_fits(k)?;
+        self.contacts
+            .iter()
+            .map(|c| {
+                Ok(ContactWrench {
+                    frame: model.frame_index(&c.frame)?,
+                    wrench: std::array::from_fn(|i| c.wrench[6 * k + i]),
+                    expressed: c.expressed,
+                })
+            })
+            .collect()
+    }
+
+    /// Appends a segment's base motion and contacts, called before its
+    /// times are (a log with no samples yet takes them as they are).
+    pub(super) fn append_beyond_joints(
+        &mut self,
+        base: Option<BaseMotion>,
+        contacts: Vec<ContactChannel>,
+    ) {
+        match (&mut self.base, base) {
+            (Some(b), Some(mut more)) => (b.series().into_iter())
+                .zip(more.series())
+                .for_each(|(x, y)| x.append(y)),
+            (None, base) if self.t.is_empty() => self.base = base,
+            _ => {}
+        }
+        for c in contacts {
+            match (self.contacts.iter_mut())
+                .find(|d| d.frame == c.frame && d.expressed == c.expressed)
+            {
+                Some(d) => d.wrench.extend(c.wrench),
+                None => self.contacts.push(c),
+            }
+        }
+    }
+
+    /// Keeps the base's and the contacts' samples in `range` (beside
+    /// [`keep`](Self::keep)'s joints).
+    pub(super) fn keep_beyond_joints(&mut self, range: &std::ops::Range<usize>) {
+        if let Some(b) = &mut self.base {
+            b.series().into_iter().for_each(|x| x.keep(range.clone()));
+        }
+        for c in &mut self.contacts {
+            let end = (6 * range.end).min(c.wrench.len());
+            c.wrench.truncate(end);
+            c.wrench.drain(..(6 * range.start).min(end));
+        }
+    }
+
+    /// The base's and the contacts' samples in `range`.
+    pub(super) fn slice_beyond_joints(
+        &self,
+        range: &std::ops::Range<usize>,
+    ) -> (Option<BaseMotion>, Vec<ContactChannel>) {
+        let base = self.base.as_ref().map(|b| BaseMotion {
+            pose: b.pose.slice(range.clone()),
+            twist: b.twist.slice(range.clone()),
+            accel: b.accel.slice(range.clone()),
+        });
+        let contacts = (self.contacts.iter())
+            .map(|c| ContactChannel {
+                wrench: c.wrench[6 * range.start..6 * range.end].to_vec(),
+                ..c.clone()
+            })
+            .collect();
+        (base, contacts)
+    }
+}
+
+/// Lays logs end to end as [`Dataset::append_segment`] does: a log whose
+/// times do not start after the previous one's last is shifted to start
+/// one of its own steps after it.
+pub fn lay_end_to_end(logs: &mut [Dataset]) {
+    for i in 1..logs.len() {
+        let (before, rest) = logs.split_at_mut(i);
+        if let Some(&last) = before[i - 1].t.last() {
+            super::dataset::follow(last, &mut rest[0].t);
+        }
+    }
+}
+
+/// The CSV column of entry `e` of a series (its prefix as
+/// [`Dataset::series`] names it).
+fn column_name(prefix: &str, e: usize, joints: &[String]) -> String {
+    let base: Vec<String> = super::floating_csv::base_columns().collect();
+    match prefix {
+        "base_pose" => base[e].clone(),
+        "base_twist" => base[7 + e].clone(),
+        "base_accel" => base[13 + e].clone(),
+        _ => format!("{prefix}_{}", joints.get(e).map_or("?", String::as_str)),
+    }
+}
+
+/// Checks one array of `samples × width` values; `name` names it, and
+/// `is_time` picks its limit ([`limit`]).
+fn check_array(
+    (name, is_time): (&str, bool),
+    x: &[f64],
+    samples: usize,
+    width: usize,
+) -> Result<(), DataError> {
+    if x.len() != samples * width {
+        return Err(DataError::Log {
+            message: format!(
+                "{name}: {} values, expected {samples} samples × {width}",
+                x.len()
+            ),
+        });
+    }
+    for (i, &v) in x.iter().enumerate() {
+        if let Some(why) = refusal(v, limit(is_time)) {
+            return Err(DataError::Log {
+                message: format!("{name}: sample {}, entry {}: {why}", i / width, i % width),
+            });
+        }
+    }
+    Ok(())
+}
