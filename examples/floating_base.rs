@@ -29,7 +29,7 @@ fn base_rms(
     for k in 0..log.len() {
         let b = measured(ff, &mut data, log, k)?;
         let (q, v, a) = log.state(k);
-        let y = momentlmi::dynamics::regressor(&ff, &mut data, &q, &v, &a)?;
+        let y = momentlmi::dynamics::regressor(ff, &mut data, &q, &v, &a)?;
         for i in 0..6 {
             let pred: f64 = (0..theta.len()).map(|j| y[(i, j)] * theta[j]).sum();
             sum += (b[i] - pred).powi(2);

@@ -70,11 +70,7 @@ fn the_feet_stay_put_and_the_states_are_consistent() {
             worst[0] = worst[0].max((a - b).norm());
         }
         // the base's twist is the pose's rate, in base axes
-        let ((p0, r0), (p1, r1), (_, r)) = (
-            pose(&log, k - 1),
-            pose(&log, k + 1),
-            pose(&log, k),
-        );
+        let ((p0, r0), (p1, r1), (_, r)) = (pose(&log, k - 1), pose(&log, k + 1), pose(&log, k));
         let v = &lv[k * nv..(k + 1) * nv];
         let lin = r.inverse() * (p1 - p0) / (2.0 * dt);
         let ang = (r0.inverse() * r1).scaled_axis() / (2.0 * dt);

@@ -241,18 +241,29 @@ class Robot:
 
     @staticmethod
     def from_urdf(path: PathLike, sidecar: Optional[PathLike] = None,
-                  package_paths: Optional[Sequence[PathLike]] = None) -> "Robot":
+                  package_paths: Optional[Sequence[PathLike]] = None,
+                  floating_base: bool = False) -> "Robot":
         """A URDF robot; `sidecar` is its TOML (rotors, friction, bounding volumes, data
-        mapping), `package_paths` the folders where ``package://`` meshes are found."""
+        mapping), `package_paths` the folders where ``package://`` meshes are found;
+        `floating_base`: its root link is free (a legged robot's base; the sidecar's
+        ``[floating_base]`` table says so too), as ``--floating-base``."""
         sc = _args.optional_path(sidecar, "sidecar")
+        if not isinstance(floating_base, bool):
+            raise TypeError(f"floating_base: {floating_base!r} is not True or False")
         absolute = lambda p: None if p is None else os.path.abspath(p)
         pkgs = [absolute(p) for p in _args.paths(package_paths, "package_paths")]
-        return Robot(_native.Robot.from_urdf(absolute(_args.path(path, "path")), absolute(sc), pkgs))
+        return Robot(_native.Robot.from_urdf(absolute(_args.path(path, "path")), absolute(sc), pkgs,
+                                             floating_base))
 
     def __reduce__(self):
         spec, sidecar, pkgs = self._r.load_args
         return (_robot_again, (spec, sidecar and os.fspath(sidecar), [os.fspath(p) for p in pkgs],
-                               self._r.signature, self.params()))
+                               self._r.signature, self.params(), self._r.floating_asked))
+
+    @property
+    def floating_base(self) -> bool:
+        """Whether the robot's root link is free (a floating base)."""
+        return self._r.floating_base
 
     @property
     def joint_names(self) -> list:
@@ -309,9 +320,10 @@ class Robot:
         return repr(self._r)
 
 
-def _robot_again(spec: str, sidecar, package_paths: list, signature: str, params) -> Robot:
+def _robot_again(spec: str, sidecar, package_paths: list, signature: str, params,
+                 floating_base: bool = False) -> Robot:
     """A pickled :class:`Robot` loaded again, and checked to be the one pickled."""
-    r = Robot(_native.Robot.from_urdf(spec, sidecar, package_paths))
+    r = Robot(_native.Robot.from_urdf(spec, sidecar, package_paths, floating_base))
     if r._r.signature != signature or not np.array_equal(r.params(), params):
         raise MomentlmiError(f"unpickling a Robot: '{spec}' is not the robot that was pickled "
                              f"(its files changed: {r._r.signature}; pickled: {signature})")
@@ -483,7 +495,7 @@ def identify(robot: Robot, data, constraints: str = "ellipsoid", prior="cad",
              weight: Union[None, float, str] = None, regularizer: Optional[str] = None, validate=None,
              cutoff_hz: Optional[float] = None, velocity: str = "differentiate",
              friction: Union[None, str, Sequence[str]] = None,
-             bounds: Union[None, float, str] = None) -> IdentifyResult:
+             bounds: Union[None, float, str] = None, rows: Optional[str] = None) -> IdentifyResult:
     """The identification of `robot` from `data`, as ``momentlmi identify --json``
     reports it (``bodies`` with each body's ``params``, ``training_rms``,
     ``validation_rms`` …); every warning the command line prints beside it is issued as
@@ -511,8 +523,25 @@ def identify(robot: Robot, data, constraints: str = "ellipsoid", prior="cad",
     parameter's range over the constrained models whose residual is at most (1 + bounds)
     × the estimate's (``"auto"``: the 95 % confidence region; None: not computed), in
     ``result["bounds"]``. ``result["identifiability"]`` has the rank, the base
-    parameters with their standard deviations and the parameters that enter no torque."""
+    parameters with their standard deviations and the parameters that enter no torque.
+
+    A floating-base `robot` (``Robot.from_urdf(..., floating_base=True)``) is identified
+    as ``momentlmi identify --floating-base --json`` does it: each log of `data` and
+    `validate` a file (CSV or ``.npz``, docs/floating-base.md) or its columns (a
+    DataFrame, or a dict of 1-D arrays, named as the CSV's: ``t``, ``base_x`` …,
+    ``q_<joint>`` …, ``force_<link>_x`` …); `rows` ``"base"``, ``"joints"`` or ``"all"``
+    (None: every row when the logs have joint torques, else the base's); `weight` a
+    number (None: 1e-6), `friction` a list (None: the robot's own terms); `cutoff_hz`,
+    `velocity`, `bounds` and the ``"auto"`` choices are not taken for a floating base yet."""
     r = _robot(robot)
+    if r.floating_base:
+        given = {"cutoff_hz": cutoff_hz is not None, "velocity": velocity != "differentiate",
+                 "bounds": bounds is not None, "weight='auto'": weight == "auto",
+                 "friction='auto'": friction == "auto"}
+        return _identify_logs(r, data, validate, constraints, prior, weight, regularizer, friction,
+                              rows, [k for k, v in given.items() if v])
+    if rows is not None:
+        raise ValueError("rows: a fixed-base robot has only joint rows (rows is for a floating base)")
     joints = r.joint_names
     if bounds is not None and not (isinstance(bounds, str) and bounds == "auto"):
         if isinstance(bounds, str):
@@ -526,6 +555,43 @@ def identify(robot: Robot, data, constraints: str = "ellipsoid", prior="cad",
         text, notes = _native.identify(r._r, *segs, *options, p, _weight(weight), reg, cut,
                                        _text(velocity, "velocity"), _friction(friction), bounds)
     _warn(notes)
+    return IdentifyResult(text)
+
+
+def _floating_log(d, name: str):
+    """A floating-base log as the extension takes it: a path, or (names, 1-D arrays)."""
+    if isinstance(d, (str, os.PathLike)):
+        return os.fspath(d)
+    if _args.is_frame(d):
+        items = [(str(c), d[c]) for c in d.columns]
+    elif isinstance(d, dict):
+        items = [(str(k), v) for k, v in d.items()]
+    else:
+        raise TypeError(f"{name}: a file's path, a DataFrame or a dict of columns, not {type(d).__name__}")
+    columns = [_args.times(v, f"{name}: {k}") for k, v in items]
+    for (k, _), c in zip(items, columns):
+        if c.ndim != 1:
+            raise ValueError(f"{name}: column '{k}' has shape {c.shape}, not (N,)")
+    return ([k for k, _ in items], columns)
+
+
+def _identify_logs(r: Robot, data, validate, constraints, prior, weight, regularizer, friction,
+                   rows, refused: list) -> IdentifyResult:
+    """:func:`identify` of a floating-base robot."""
+    if refused:
+        raise ValueError(f"{refused[0]} is not available for a floating base yet "
+                         "(docs/floating-base.md, \"Not yet built\")")
+    logs = lambda x, name: [] if x is None else [
+        _floating_log(d, f"{name}[{k}]" if isinstance(x, (list, tuple)) else name)
+        for k, d in enumerate(x if isinstance(x, (list, tuple)) else [x])]
+    w = None if weight is None else _args.number(weight, "weight", nonnegative=True)
+    reg = None if regularizer is None else _text(regularizer, "regularizer")
+    fr = None if friction is None else _friction(friction)
+    rw = None if rows is None else _text(rows, "rows")
+    with _params_file(prior, "prior") as p:
+        text, notes = _native.identify_logs(r._r, logs(data, "data"), logs(validate, "validate"),
+                                            _text(constraints, "constraints"), p or "cad", w, reg, fr, rw)
+    _warn(notes, stacklevel=4)
     return IdentifyResult(text)
 
 

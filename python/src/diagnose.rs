@@ -42,7 +42,7 @@ fn diagnosis(
         );
         return Err(PyValueError::new_err(m));
     }
-    let desc = &*robot.robot;
+    let desc = &**robot.fixed("diagnose")?;
     let opts = ReadOptions::default();
     let d = prepared(desc, "data", &data, &opts)?.data;
     let runs = (repeats.iter().enumerate())

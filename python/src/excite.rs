@@ -51,7 +51,7 @@ fn excite<'py>(
         pool,
         ..ExciteOptions::default()
     };
-    let desc = robot.robot.clone();
+    let desc = robot.fixed("excite")?.clone();
     let (d, data) = py
         .detach(|| {
             let d = design(&desc, &opts)?;

@@ -60,7 +60,10 @@ fn raw_log(name: &str, (t, q, qd, qdd, tau): &Segment, n: usize) -> PyResult<Raw
 
 /// The robot with the friction terms `list` names (`viscous,coulomb,…`;
 /// `None`: its own), as `--friction` makes it.
-fn with_friction(robot: &Robot, list: Option<&str>) -> PyResult<std::sync::Arc<RobotDescription>> {
+pub(crate) fn with_friction(
+    robot: &Robot,
+    list: Option<&str>,
+) -> PyResult<std::sync::Arc<RobotDescription>> {
     let Some(list) = list else {
         return Ok(robot.robot.clone());
     };

@@ -9,6 +9,7 @@ mod diagnose;
 mod errors;
 mod excite;
 mod identify;
+mod identify_logs;
 mod inertia;
 mod notes;
 mod reducer;
@@ -25,6 +26,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     check::add(m)?;
     simulate::add(m)?;
     identify::add(m)?;
+    identify_logs::add(m)?;
     diagnose::add(m)?;
     excite::add(m)?;
     m.add_class::<robot::Robot>()?;

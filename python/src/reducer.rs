@@ -29,11 +29,11 @@ pub struct Reducer {
 #[pymethods]
 impl Reducer {
     #[new]
-    fn new(robot: &Robot) -> Self {
-        Self {
-            robot: robot.robot.clone(),
+    fn new(robot: &Robot) -> PyResult<Self> {
+        Ok(Self {
+            robot: robot.fixed("Reducer")?.clone(),
             reduced: None,
-        }
+        })
     }
 
     /// The samples reduced so far.
@@ -114,7 +114,7 @@ impl Reducer {
     /// A reducer with the sums `data` holds, for `robot`.
     #[staticmethod]
     fn from_bytes(robot: &Robot, data: &[u8]) -> PyResult<Self> {
-        let reduced = Reduced::from_bytes(&robot.robot.model, data).or_py()?;
+        let reduced = Reduced::from_bytes(&robot.fixed("Reducer")?.model, data).or_py()?;
         Ok(Self {
             robot: robot.robot.clone(),
             reduced: Some(reduced),

@@ -17,6 +17,9 @@ pub struct Robot {
     /// What it was loaded from (a built-in's name or a URDF's path, the
     /// sidecar, the package paths): loaded again when it is unpickled.
     load: (String, Option<PathBuf>, Vec<PathBuf>),
+    /// `floating_base` was asked (the sidecar's `[floating_base]` table
+    /// asks it too).
+    floating_asked: bool,
 }
 
 impl Robot {
@@ -26,8 +29,15 @@ impl Robot {
         spec: &str,
         sidecar: Option<PathBuf>,
         package_paths: Vec<PathBuf>,
+        floating_asked: bool,
     ) -> PyResult<Self> {
-        let load = momentlmi::dynamics::robots::load_robot_with;
+        use momentlmi::dynamics::robots::{load_free_flyer, load_robot_with};
+        let floating = floating_asked || sidecar_floats(sidecar.as_deref())?;
+        let load = if floating {
+            load_free_flyer
+        } else {
+            load_robot_with
+        };
         let mut robot = load(spec, sidecar.as_deref(), &package_paths).or_py()?;
         let from = (spec.to_string(), sidecar, package_paths);
         if let Some(cache) = momentlmi::moments::cache::SolveCache::from_env() {
@@ -40,7 +50,20 @@ impl Robot {
         Ok(Self {
             robot: Arc::new(robot),
             load: from,
+            floating_asked,
         })
+    }
+
+    /// The robot's description, unless its root is free: `what` (a
+    /// function of the binding) takes a fixed base only, for now.
+    pub(crate) fn fixed(&self, what: &str) -> PyResult<&Arc<RobotDescription>> {
+        if self.robot.model.is_floating() {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "{what}: '{}' has a floating base, and this is for a fixed-base robot for now (a floating base's logs go to identify; docs/floating-base.md)",
+                self.robot.model.name
+            )));
+        }
+        Ok(&self.robot)
     }
 
     /// `q, v, a` checked (each (N, n) or (n,), the same N) and read.
@@ -50,7 +73,7 @@ impl Robot {
         v: &PyReadonlyArrayDyn<f64>,
         a: &PyReadonlyArrayDyn<f64>,
     ) -> PyResult<(usize, [Vec<f64>; 3])> {
-        let n = self.robot.model.dof();
+        let n = self.fixed("rnea, regressor and predict")?.model.dof();
         let (rows, q) = samples("q", q, n)?;
         let mut out = [q, vec![], vec![]];
         for (k, (what, x)) in [("v", v), ("a", a)].into_iter().enumerate() {
@@ -62,6 +85,19 @@ impl Robot {
             out[k + 1] = x;
         }
         Ok((rows, out))
+    }
+}
+
+/// Whether the sidecar has a `[floating_base]` table (the robot's root is
+/// free, as the command line reads it).
+fn sidecar_floats(sidecar: Option<&std::path::Path>) -> PyResult<bool> {
+    match sidecar {
+        None => Ok(false),
+        Some(p) => {
+            let s = momentlmi::dynamics::sidecar::Sidecar::read(p)
+                .map_err(|e| MomentlmiError::new_err(e.to_string()))?;
+            Ok(s.floating_base.is_some())
+        }
     }
 }
 
@@ -94,7 +130,7 @@ impl Robot {
                 "name: no built-in robot '{name}' (built in: {known})"
             )));
         }
-        Self::load(name, None, vec![])
+        Self::load(name, None, vec![], false)
     }
 
     /// What it was loaded from: the built-in's name or the URDF's path,
@@ -113,15 +149,36 @@ impl Robot {
 
     /// A URDF robot: `sidecar` the TOML of its rotors, friction, bounding
     /// volumes and data mapping; `package_paths` the folders where its
-    /// `package://` meshes are found.
+    /// `package://` meshes are found; `floating_base` its root link free
+    /// (a free-flying base; the sidecar's `[floating_base]` table says so
+    /// too).
     #[staticmethod]
-    #[pyo3(signature = (path, sidecar=None, package_paths=vec![]))]
+    #[pyo3(signature = (path, sidecar=None, package_paths=vec![], floating_base=false))]
     fn from_urdf(
         path: PathBuf,
         sidecar: Option<PathBuf>,
         package_paths: Vec<PathBuf>,
+        floating_base: bool,
     ) -> PyResult<Self> {
-        Self::load(&path.display().to_string(), sidecar, package_paths)
+        Self::load(
+            &path.display().to_string(),
+            sidecar,
+            package_paths,
+            floating_base,
+        )
+    }
+
+    /// Whether the robot's root is free (a floating base).
+    #[getter]
+    fn floating_base(&self) -> bool {
+        self.robot.model.is_floating()
+    }
+
+    /// Whether `floating_base` was asked when it was loaded (to load it
+    /// again).
+    #[getter]
+    fn floating_asked(&self) -> bool {
+        self.floating_asked
     }
 
     /// The joints, in the order of every array's columns.

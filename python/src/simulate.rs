@@ -34,7 +34,7 @@ fn simulate<'py>(
     let library = Library::builtin();
     let effects = Effects::parse(&effects.join(","), &params).map_err(|e| err(e.to_string()))?;
     library.check(&effects).map_err(|e| err(e.to_string()))?;
-    let desc = &*robot.robot;
+    let desc = &**robot.fixed("simulate")?;
     let mut cfg = SimConfig::for_robot(desc, seconds, effects, seed);
     if let Some(s) = noise {
         cfg.noise_sigma = s;

@@ -151,7 +151,8 @@ impl Dataset {
         if model.is_floating() {
             for k in 0..self.len() {
                 let (q, v, a) = self.state(k);
-                (model.base_state(&q, &v, &a)).map_err(|source| DataError::Sample { sample: k, source })?;
+                (model.base_state(&q, &v, &a))
+                    .map_err(|source| DataError::Sample { sample: k, source })?;
             }
         }
         Ok(())

@@ -96,6 +96,15 @@ pub enum DataError {
         /// What is wrong.
         message: String,
     },
+    /// An input file that cannot be used as a whole (no samples, a
+    /// format not read for it).
+    #[error("{path}: {message}")]
+    File {
+        /// The file.
+        path: String,
+        /// What is wrong.
+        message: String,
+    },
     /// A column mapping that cannot be used.
     #[error("{path}: mapping: {message}")]
     Mapping {

@@ -15,10 +15,10 @@
 //! columns as the arrays of a NumPy `.npz` archive (one 1-D array per
 //! column, [`read_floating_npz`]); [`Dataset::to_csv`] writes it.
 
-use super::csv::MAX_COLUMNS;
-use super::error::DataError;
 use super::Dataset;
 use super::base::ContactChannel;
+use super::csv::MAX_COLUMNS;
+use super::error::DataError;
 use super::raw::{MAX_ROWS, limit, not_after, refusal};
 use crate::dynamics::{Model, WrenchFrame};
 use std::collections::HashMap;
@@ -50,7 +50,8 @@ fn prefix_of(expressed: WrenchFrame) -> &'static str {
 pub(super) fn base_columns() -> impl Iterator<Item = String> {
     let pose = BASE_Q.iter().map(|c| format!("base_{c}"));
     let twist = BASE_V.iter().map(|c| format!("base_{c}"));
-    pose.chain(twist).chain(BASE_V.iter().map(|c| format!("base_d{c}")))
+    pose.chain(twist)
+        .chain(BASE_V.iter().map(|c| format!("base_d{c}")))
 }
 
 /// A contact's columns: force, then moment, each x, y, z.
@@ -58,7 +59,10 @@ pub(super) fn contact_columns(c: &ContactChannel) -> Vec<String> {
     let w = prefix_of(c.expressed);
     let kinds = ["force", "moment"].into_iter();
     kinds
-        .flat_map(|kind| AXES.iter().map(move |a| format!("{w}{kind}_{}_{a}", c.frame)))
+        .flat_map(|kind| {
+            AXES.iter()
+                .map(move |a| format!("{w}{kind}_{}_{a}", c.frame))
+        })
         .collect()
 }
 
@@ -208,20 +212,62 @@ pub fn read_floating_npz(
 ) -> Result<Dataset, DataError> {
     let name = path.display().to_string();
     let (header, columns) = super::npz::read_npz_columns(path, MAX_COLUMNS, max_values)?;
-    let (slots, contacts) = slots(ff, &header, &name)?;
-    check_forces(&slots, &contacts, &name)?;
+    floating_from_columns(ff, &header, &columns, &name)
+}
+
+/// A floating-base log from named columns of equal length (`header[i]`
+/// names `columns[i]`, as the CSV's columns), checked as the CSV is (rows
+/// numbered from 1); `name` names the log in errors.
+pub fn floating_from_columns<C: AsRef<[f64]>>(
+    ff: &Model,
+    header: &[String],
+    columns: &[C],
+    name: &str,
+) -> Result<Dataset, DataError> {
+    let rows = columns.first().map_or(0, |c| c.as_ref().len());
+    if header.len() != columns.len() || header.len() > MAX_COLUMNS {
+        return Err(DataError::Row {
+            path: name.into(),
+            row: 0,
+            message: format!(
+                "{} names for {} columns (at most {MAX_COLUMNS})",
+                header.len(),
+                columns.len()
+            ),
+        });
+    }
+    if let Some(i) = columns.iter().position(|c| c.as_ref().len() != rows) {
+        return Err(DataError::Value {
+            path: name.into(),
+            row: 0,
+            column: header[i].clone(),
+            message: format!(
+                "{} values; the first column has {rows}",
+                columns[i].as_ref().len()
+            ),
+        });
+    }
+    let (slots, contacts) = slots(ff, header, name)?;
+    check_forces(&slots, &contacts, name)?;
+    let mut log = new_log(ff, &contacts)?;
+    let mut values = vec![0.0; columns.len()];
+    for r in 0..rows {
+        values
+            .iter_mut()
+            .zip(columns)
+            .for_each(|(v, c)| *v = c.as_ref()[r]);
+        push_values(&mut log, ff, &slots, &values, (name, r + 1), header)?;
+    }
+    Ok(log)
+}
+
+/// An empty log of the free flyer `ff` with the `contacts`.
+fn new_log(ff: &Model, contacts: &[(String, WrenchFrame)]) -> Result<Dataset, DataError> {
     ff.need_free_flyer("a floating-base log")
         .map_err(|e| DataError::Log {
             message: e.to_string(),
         })?;
-    let mut log = Dataset::for_model(ff, &contacts);
-    let rows = columns.first().map_or(0, Vec::len);
-    let mut values = vec![0.0; columns.len()];
-    for r in 0..rows {
-        values.iter_mut().zip(&columns).for_each(|(v, c)| *v = c[r]);
-        push_values(&mut log, ff, &slots, &values, (&name, r + 1), &header)?;
-    }
-    Ok(log)
+    Ok(Dataset::for_model(ff, contacts))
 }
 
 /// [`floating_from_csv`] from any reader.
@@ -250,11 +296,7 @@ fn floating_from_reader(
     }
     let (slots, contacts) = slots(ff, &header, path)?;
     check_forces(&slots, &contacts, path)?;
-    ff.need_free_flyer("a floating-base log")
-        .map_err(|e| DataError::Log {
-            message: e.to_string(),
-        })?;
-    let mut log = Dataset::for_model(ff, &contacts);
+    let mut log = new_log(ff, &contacts)?;
     for (r, rec) in rdr.records().enumerate() {
         let rec = rec.map_err(|e| row_err(r + 1, e.to_string()))?;
         if r >= MAX_ROWS {
@@ -328,7 +370,8 @@ fn push_values(
     header: &[String],
 ) -> Result<(), DataError> {
     let (nq, nv, n) = (ff.nq(), ff.nv(), ff.dof());
-    let (mut q, mut v, mut a, mut tau) = (vec![0.0; nq], vec![0.0; nv], vec![0.0; nv], vec![0.0; n]);
+    let (mut q, mut v, mut a, mut tau) =
+        (vec![0.0; nq], vec![0.0; nv], vec![0.0; nv], vec![0.0; n]);
     let mut wrench = vec![[0.0; 6]; log.contacts.len()];
     let mut time = 0.0;
     for ((&x, slot), name) in values.iter().zip(slots).zip(header) {

@@ -22,11 +22,11 @@
 //! - [`write`](mod@write): outputs written whole or not at all, and the JSON record
 //!   written beside a CSV (how the data were made).
 
+pub mod base;
 pub mod csv;
 mod dataset;
 mod error;
 pub mod filter;
-pub mod base;
 pub mod floating_csv;
 pub mod mapping;
 pub mod npz;
@@ -50,7 +50,7 @@ pub use mapping::Mapping;
 pub use options::ReadOptions;
 pub use prepare::{FileReport, Prepare, Velocity};
 pub use raw::RawLog;
-pub use read::{Reading, prepare_logs, read_as_csv, read_logs, read_raw_logs};
+pub use read::{Reading, prepare_logs, read_as_csv, read_floating_logs, read_logs, read_raw_logs};
 pub use stats::{rms, rms_per_joint};
 pub use target::Target;
 pub use warning::ReadWarning;

@@ -55,6 +55,73 @@ pub fn read_logs(
     Ok(r)
 }
 
+/// Reads the logs of a floating-base robot `model` (the column set of
+/// [`floating_csv`](super::floating_csv), from CSV or `.npz`), each
+/// checked against the robot, with samples and a contact wrench, laid end
+/// to end as fixed-base files are (times increasing). Refused before
+/// reading when the files could need more than `max_bytes` in memory (a
+/// sample's numbers take at most 4× its text).
+pub fn read_floating_logs(
+    model: &crate::dynamics::Model,
+    paths: &[&Path],
+    max_bytes: u64,
+) -> Result<Vec<Dataset>, DataError> {
+    let bytes: u64 = (paths.iter())
+        .filter_map(|p| std::fs::metadata(p).ok())
+        .map(|m| m.len())
+        .sum();
+    if bytes.saturating_mul(4) > max_bytes {
+        let gib = |b: u64| b as f64 / (1u64 << 30) as f64;
+        return Err(DataError::Option {
+            option: "max_memory_gib (--max-memory-gib)",
+            value: format!("{:.1}", gib(max_bytes)),
+            message: format!(
+                "{:.1} GB of logs could need {:.1} GiB in memory, over the limit",
+                bytes as f64 / 1e9,
+                gib(bytes.saturating_mul(4))
+            ),
+        });
+    }
+    let mut logs = (paths.iter())
+        .map(|p| read_floating_log(model, p, max_bytes / 16))
+        .collect::<Result<Vec<_>, DataError>>()?;
+    super::base::lay_end_to_end(&mut logs);
+    Ok(logs)
+}
+
+/// One floating-base log, checked (at most `values` numbers in an `.npz`:
+/// they are held about twice, read then laid out).
+fn read_floating_log(
+    model: &crate::dynamics::Model,
+    p: &Path,
+    values: u64,
+) -> Result<Dataset, DataError> {
+    let ext = p.extension().map(|e| e.to_string_lossy().to_lowercase());
+    let file = |message: &str| DataError::File {
+        path: p.display().to_string(),
+        message: message.into(),
+    };
+    if matches!(ext.as_deref(), Some("npy" | "mcap")) {
+        return Err(file(
+            "a floating-base log is read from CSV or a NumPy .npz archive of its columns (docs/floating-base.md); .npy and MCAP are not read for a floating base yet",
+        ));
+    }
+    let log = match ext.as_deref() {
+        Some("npz") => super::floating_csv::read_floating_npz(model, p, values)?,
+        _ => super::floating_csv::read_floating_csv(model, p)?,
+    };
+    log.check(model).map_err(|e| file(&e.to_string()))?;
+    if log.is_empty() {
+        return Err(file("no samples (a header only)"));
+    }
+    if log.contacts.is_empty() {
+        return Err(file(
+            "no contact wrench columns (force_<link>_x…): the base rows balance the contact wrenches, so a floating-base log needs every one acting on the robot (docs/floating-base.md)",
+        ));
+    }
+    Ok(log)
+}
+
 /// Reads `paths` as [`read_logs`] does, without preparing them: the logs
 /// as recorded (a file with q̈ has it in [`RawLog::qdd`]).
 pub fn read_raw_logs(

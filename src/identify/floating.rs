@@ -48,6 +48,28 @@ impl Rows {
             Rows::All => "all",
         }
     }
+
+    /// The rows `asked`, else every row when each log has joint torques,
+    /// else the base rows; with the default, the words saying which and
+    /// why. Rows with joints asked of a log without torques are an error.
+    pub fn for_logs(
+        asked: Option<Rows>,
+        logs: &[Dataset],
+    ) -> Result<(Rows, Option<&'static str>), String> {
+        let torques = logs.iter().all(Dataset::has_torques);
+        match asked {
+            Some(r) if r != Rows::Base && !torques => Err(format!(
+                "rows {}: a log has no joint torques (tau_<joint> columns); the base rows need none",
+                r.as_str()
+            )),
+            Some(r) => Ok((r, None)),
+            None if torques => Ok((Rows::All, Some("every row (the logs have joint torques)"))),
+            None => Ok((
+                Rows::Base,
+                Some("the base rows (the logs have no joint torques)"),
+            )),
+        }
+    }
 }
 
 /// Samples per chunk of the reduction.
@@ -56,11 +78,7 @@ const CHUNK: usize = 256;
 /// The Gram matrix `[A b]ᵀ[A b]` of the chosen rows of every sample of
 /// `log` (checked against `ff` first): A the regressor
 /// ([`crate::dynamics::regressor`]), b the measured generalized force.
-pub fn reduce_floating(
-    ff: &Model,
-    log: &Dataset,
-    rows: Rows,
-) -> Result<Reduced, IdentifyError> {
+pub fn reduce_floating(ff: &Model, log: &Dataset, rows: Rows) -> Result<Reduced, IdentifyError> {
     reduce_floating_weighted(ff, log, rows, None)
 }
 

@@ -236,11 +236,7 @@ pub fn floating_rms(
 }
 
 /// Per row (6 + n), the sum over the samples of `(measured − Y θ)²`.
-fn squared_residuals(
-    ff: &Model,
-    theta: &[f64],
-    log: &Dataset,
-) -> Result<Vec<f64>, IdentifyError> {
+fn squared_residuals(ff: &Model, theta: &[f64], log: &Dataset) -> Result<Vec<f64>, IdentifyError> {
     log.check(ff)?;
     let chunks: Vec<usize> = (0..log.len()).step_by(256).collect();
     let parts = (chunks.par_iter())
@@ -278,4 +274,68 @@ pub fn residual(
     let b = measured(ff, data, log, k)?;
     let y = super::floating::sample_regressor(ff, data, log, k)?;
     Ok(b - y * nalgebra::DVector::from_column_slice(theta))
+}
+
+impl FloatingFit {
+    /// The parameters the fitted rows determine on their own.
+    pub fn determined_alone(&self) -> Vec<String> {
+        let id = &self.solved.identifiability;
+        let names = (self.model)
+            .layout_of_rows(self.rows.range(self.model.dof()))
+            .parameter_names();
+        (names.into_iter().enumerate())
+            .filter(|(k, _)| id.determined_alone(*k))
+            .map(|(_, n)| n)
+            .collect()
+    }
+
+    /// The report as `identify --json` writes it: a parameter file
+    /// (robot, joints, bodies, friction; `predict --params` reads it) with
+    /// the fit beside it; each body as the fixed base's report has it
+    /// (name, params, mass, CoM, principal moments, consistency,
+    /// degeneracy).
+    pub fn to_json(&self) -> serde_json::Value {
+        let file = crate::dynamics::params_file::ParamsFile::from_model(
+            &self.model,
+            self.friction.clone(),
+        );
+        let mut v = serde_json::to_value(file).unwrap_or_default();
+        let names = |keep: fn(&super::BodyResult) -> bool| -> Vec<&str> {
+            (self.bodies.iter().filter(|b| keep(b)))
+                .map(|b| b.name.as_str())
+                .collect()
+        };
+        let inconsistent = names(|b| !b.consistent);
+        let warnings: Vec<String> = self.warnings.iter().map(|w| w.to_string()).collect();
+        let fields = [
+            ("bodies", serde_json::json!(self.bodies)),
+            ("all_bodies_consistent", inconsistent.is_empty().into()),
+            ("inconsistent_bodies", serde_json::json!(inconsistent)),
+            (
+                "degenerate_bodies",
+                serde_json::json!(names(|b| b.degenerate.is_some())),
+            ),
+            ("constraints_satisfied", self.constraints_satisfied.into()),
+            ("floating_base", true.into()),
+            ("rows", self.rows.as_str().into()),
+            ("status", format!("{:?}", self.solved.status).into()),
+            ("warnings", serde_json::json!(warnings)),
+            ("min_eigenvalues", serde_json::json!(self.min_eigenvalues)),
+            ("whole_body", serde_json::json!(self.whole_body)),
+            ("train_rms", serde_json::json!(self.train)),
+            ("validation_rms", serde_json::json!(self.validation)),
+            (
+                "determined_alone",
+                serde_json::json!(self.determined_alone()),
+            ),
+            (
+                "identifiability",
+                serde_json::json!(self.solved.identifiability),
+            ),
+        ];
+        if let Some(m) = v.as_object_mut() {
+            m.extend(fields.into_iter().map(|(k, x)| (k.to_string(), x)));
+        }
+        v
+    }
 }

@@ -14,7 +14,7 @@ pub fn held_out_rms(ff: &Model, log: &Dataset, theta: &[f64], rows: Rows) -> f64
     for k in 0..log.len() {
         let b = measured(ff, &mut data, log, k).unwrap();
         let (q, v, a) = log.state(k);
-        let y = momentlmi::dynamics::regressor(&ff, &mut data, &q, &v, &a).unwrap();
+        let y = momentlmi::dynamics::regressor(ff, &mut data, &q, &v, &a).unwrap();
         for i in rows.range(ff.dof()) {
             let pred: f64 = (0..theta.len()).map(|j| y[(i, j)] * theta[j]).sum();
             sum += (b[i] - pred).powi(2);

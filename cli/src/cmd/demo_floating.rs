@@ -7,8 +7,8 @@
 //! files are named `floating_*`.
 
 use crate::plots::figures::{Series, line_panels};
-use momentlmi::data::Staged;
 use momentlmi::data::Dataset;
+use momentlmi::data::Staged;
 use momentlmi::dynamics::sidecar::Sidecar;
 use momentlmi::dynamics::urdf::free_flyer_from_robot;
 use momentlmi::dynamics::{Data, Model};
@@ -73,12 +73,7 @@ pub fn run((out, staged): (&Path, &mut Staged), tick: &mut dyn FnMut(&str)) -> R
     Ok(())
 }
 
-fn fit(
-    ff: &Model,
-    rows: Rows,
-    train: &Dataset,
-    test: &Dataset,
-) -> Result<FloatingFit, String> {
+fn fit(ff: &Model, rows: Rows, train: &Dataset, test: &Dataset) -> Result<FloatingFit, String> {
     let id = Identification::for_free_flyer(ff, rows);
     fit_floating(
         &id,

@@ -4,8 +4,6 @@
 //! that have no floating-base meaning yet are refused by name.
 
 use momentlmi::data::Dataset;
-use momentlmi::data::base::lay_end_to_end;
-use momentlmi::data::floating_csv::{read_floating_csv, read_floating_npz};
 use momentlmi::dynamics::Model;
 use momentlmi::dynamics::sidecar::{Sidecar, SidecarFloating};
 use std::path::{Path, PathBuf};
@@ -132,63 +130,17 @@ pub fn reading_options(read: &super::ReadChoice) -> [(&'static str, bool); 3] {
     ]
 }
 
-/// Every floating-base CSV log in `paths` (docs/floating-base.md), each
-/// checked against `ff`, with samples and a contact wrench; `what` names
-/// the option in errors. Refused before reading when the files could need
-/// more than `max_gib` in memory (a sample's numbers take at most 4× its
-/// text). Laid end to end as fixed-base files are (times increasing).
+/// Every floating-base log in `paths`
+/// ([`read_floating_logs`](momentlmi::data::read_floating_logs)); `what`
+/// names the option in errors, `max_gib` the memory allowed.
 pub fn read_logs(
     ff: &Model,
     paths: &[PathBuf],
     (what, max_gib): (&str, f64),
 ) -> Result<Vec<Dataset>, String> {
-    super::gib(max_gib)?;
-    let bytes: u64 = (paths.iter())
-        .filter_map(|p| std::fs::metadata(p).ok())
-        .map(|m| m.len())
-        .sum();
-    let need = 4.0 * bytes as f64 / (1u64 << 30) as f64;
-    if need > max_gib {
-        return Err(format!(
-            "{what}: {:.1} GB of logs could need {need:.1} GiB in memory, over the limit of {} GiB (--max-memory-gib)",
-            bytes as f64 / 1e9,
-            momentlmi::numfmt::short(max_gib)
-        ));
-    }
-    (paths.iter())
-        .map(|p| {
-            let ext = p.extension().map(|e| e.to_string_lossy().to_lowercase());
-            if matches!(ext.as_deref(), Some("npy" | "mcap")) {
-                return Err(format!(
-                    "{what}: {}: a floating-base log is read from CSV or a NumPy .npz archive of its columns (docs/floating-base.md); .npy and MCAP are not read for a floating base yet",
-                    p.display()
-                ));
-            }
-            // the log's numbers are held about twice (read, then laid out)
-            let values = (max_gib * (1u64 << 30) as f64 / 16.0) as u64;
-            let log = match ext.as_deref() {
-                Some("npz") => read_floating_npz(ff, p, values),
-                _ => read_floating_csv(ff, p),
-            };
-            let log = log.map_err(|e| format!("{what}: {e}"))?;
-            let at = || format!("{what}: {}", p.display());
-            log.check(ff).map_err(|e| format!("{}: {e}", at()))?;
-            if log.len() == 0 {
-                return Err(format!("{}: no samples (a header only)", at()));
-            }
-            if log.contacts.is_empty() {
-                return Err(format!(
-                    "{}: no contact wrench columns (force_<link>_x…): the base rows balance the contact wrenches, so a floating-base log needs every one acting on the robot (docs/floating-base.md)",
-                    at()
-                ));
-            }
-            Ok(log)
-        })
-        .collect::<Result<Vec<_>, String>>()
-        .map(|mut logs| {
-            lay_end_to_end(&mut logs);
-            logs
-        })
+    let max_bytes = super::gib(max_gib)?;
+    let paths: Vec<&Path> = paths.iter().map(PathBuf::as_path).collect();
+    momentlmi::data::read_floating_logs(ff, &paths, max_bytes).map_err(|e| format!("{what}: {e}"))
 }
 
 /// The regressor's parameter vector: every body's, then each friction

@@ -5,7 +5,6 @@
 use super::floating::{Robot, read_logs, refuse};
 use super::identify::IdentifyArgs;
 use momentlmi::dynamics::FrictionTerm;
-use momentlmi::dynamics::params_file::ParamsFile;
 use momentlmi::identify::floating_fit::{FloatingFit, FloatingRms, fit_floating};
 use momentlmi::identify::{CHECK_TOL, JointWeighting, Regularizer, Rows};
 
@@ -18,7 +17,7 @@ pub fn run(a: &IdentifyArgs, robot: Robot) -> i32 {
                 eprintln!("warning: {w}");
             }
             let out = if a.json {
-                serde_json::to_string_pretty(&json(&fit)).map_err(|e| e.to_string())
+                serde_json::to_string_pretty(&fit.to_json()).map_err(|e| e.to_string())
             } else {
                 Ok(report(&fit, a.verbose))
             };
@@ -114,27 +113,12 @@ fn fit(a: &IdentifyArgs, robot: Robot) -> Result<FloatingFit, String> {
 
 /// The rows asked, else every row when each log has joint torques, else
 /// the base rows (said on stderr).
-fn rows(
-    asked: Option<Rows>,
-    train: &[momentlmi::data::Dataset],
-) -> Result<Rows, String> {
-    let torques = train.iter().all(momentlmi::data::Dataset::has_torques);
-    match asked {
-        Some(r) if r != Rows::Base && !torques => Err(format!(
-            "--rows {}: a --data log has no joint torques (tau_<joint> columns); --rows base needs none",
-            r.as_str()
-        )),
-        Some(r) => Ok(r),
-        None => {
-            let (r, said) = if torques {
-                (Rows::All, "every row (the logs have joint torques)")
-            } else {
-                (Rows::Base, "the base rows (the logs have no joint torques)")
-            };
-            eprintln!("note: fitting {said}; --rows base|joints|all to choose");
-            Ok(r)
-        }
+fn rows(asked: Option<Rows>, train: &[momentlmi::data::Dataset]) -> Result<Rows, String> {
+    let (rows, said) = Rows::for_logs(asked, train).map_err(|e| format!("--{e}"))?;
+    if let Some(said) = said {
+        eprintln!("note: fitting {said}; --rows base|joints|all to choose");
     }
+    Ok(rows)
 }
 
 /// `a/b/c` RMS by row group.
@@ -193,7 +177,7 @@ fn report(fit: &FloatingFit, verbose: bool) -> String {
             fit.min_eigenvalues[b]
         );
     }
-    let alone = determined_alone(fit);
+    let alone = fit.determined_alone();
     let most = if verbose { alone.len() } else { 6 };
     let shown: Vec<&str> = alone.iter().take(most).map(String::as_str).collect();
     out += &format!(
@@ -209,78 +193,4 @@ fn report(fit: &FloatingFit, verbose: bool) -> String {
         }
     );
     out
-}
-
-/// The parameters the fitted rows determine on their own.
-fn determined_alone(fit: &FloatingFit) -> Vec<String> {
-    let id = &fit.solved.identifiability;
-    let names = fit
-        .model
-        .layout_of_rows(fit.rows.range(fit.model.dof()))
-        .parameter_names();
-    (names.into_iter().enumerate())
-        .filter(|(k, _)| id.determined_alone(*k))
-        .map(|(_, n)| n)
-        .collect()
-}
-
-/// The JSON: a parameter file (robot, joints, bodies, friction) with the
-/// fit beside it; each body as the fixed base's JSON has it (name, params,
-/// mass, CoM, principal moments, consistency, degeneracy).
-fn json(fit: &FloatingFit) -> serde_json::Value {
-    let file = ParamsFile::from_model(&fit.model, fit.friction.clone());
-    let mut v = serde_json::to_value(file).unwrap_or_default();
-    let names = |keep: fn(&momentlmi::identify::BodyResult) -> bool| -> Vec<&str> {
-        (fit.bodies.iter().filter(|b| keep(b)))
-            .map(|b| b.name.as_str())
-            .collect()
-    };
-    if let Some(m) = v.as_object_mut() {
-        m.insert("bodies".into(), serde_json::json!(fit.bodies));
-        let inconsistent = names(|b| !b.consistent);
-        m.insert(
-            "all_bodies_consistent".into(),
-            inconsistent.is_empty().into(),
-        );
-        m.insert(
-            "inconsistent_bodies".into(),
-            serde_json::json!(inconsistent),
-        );
-        m.insert(
-            "degenerate_bodies".into(),
-            serde_json::json!(names(|b| b.degenerate.is_some())),
-        );
-        m.insert(
-            "constraints_satisfied".into(),
-            fit.constraints_satisfied.into(),
-        );
-        m.insert("floating_base".into(), true.into());
-        m.insert("rows".into(), fit.rows.as_str().into());
-        m.insert("status".into(), format!("{:?}", fit.solved.status).into());
-        m.insert(
-            "warnings".into(),
-            serde_json::json!(
-                fit.warnings
-                    .iter()
-                    .map(|w| w.to_string())
-                    .collect::<Vec<_>>()
-            ),
-        );
-        m.insert(
-            "min_eigenvalues".into(),
-            serde_json::json!(fit.min_eigenvalues),
-        );
-        m.insert("whole_body".into(), serde_json::json!(fit.whole_body));
-        m.insert("train_rms".into(), serde_json::json!(fit.train));
-        m.insert("validation_rms".into(), serde_json::json!(fit.validation));
-        m.insert(
-            "determined_alone".into(),
-            serde_json::json!(determined_alone(fit)),
-        );
-        m.insert(
-            "identifiability".into(),
-            serde_json::json!(fit.solved.identifiability),
-        );
-    }
-    v
 }

@@ -5,8 +5,8 @@
 
 use super::floating::{Robot, read_logs, reading_options, refuse, theta_of};
 use super::predict::PredictArgs;
-use momentlmi::data::Staged;
 use momentlmi::data::Dataset;
+use momentlmi::data::Staged;
 use momentlmi::dynamics::{Data, Model};
 use momentlmi::identify::floating_fit::floating_rms_of;
 use std::path::Path;

@@ -78,10 +78,7 @@ pub fn run(a: &SimulateArgs, robot: Robot) -> Result<(), String> {
     let record = record_of(&ff, &log, (contacts, &effects), &noise, a);
     let text = serde_json::to_string_pretty(&record).map_err(|e| e.to_string())?;
     staged
-        .add(
-            a.out.as_path(),
-            log.to_csv().as_bytes(),
-        )
+        .add(a.out.as_path(), log.to_csv().as_bytes())
         .map_err(|e| e.to_string())?;
     staged
         .add(&rec, text.as_bytes())
