@@ -196,6 +196,28 @@ fn bad_floating_base_logs_are_named() {
         ],
         &["--rows joints", "no joint torques"],
     );
+    // the robot loaded with a fixed base (no sidecar): the base's motion
+    // would be lost, so the log is refused by its first base column
+    let (log, out) = (dir.0.join("log.csv"), dir.0.join("p.csv"));
+    let predict = [
+        "predict",
+        "--params",
+        "true",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    for cmd in [&["identify"][..], &predict[..]] {
+        let mut args = cmd.to_vec();
+        args.extend([
+            "--robot",
+            &robot,
+            "--no-sidecar",
+            "--data",
+            log.to_str().unwrap(),
+        ]);
+        refused(&args, &["column 'base_x'", "--floating-base"]);
+    }
+    assert!(!out.exists());
 }
 
 #[test]

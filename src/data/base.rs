@@ -378,3 +378,61 @@ fn check_array(
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A two-joint log of `k` samples with a base and one contact, every
+    /// value its sample index plus the entry / 100.
+    fn log(k: usize) -> Dataset {
+        let mut d = Dataset::empty(&["a", "b"]);
+        d.base = Some(BaseMotion::new());
+        d.contacts = vec![ContactChannel {
+            frame: "foot".into(),
+            expressed: WrenchFrame::Local,
+            wrench: vec![],
+        }];
+        for s in 0..k {
+            let x = |n: usize, off: usize| -> Vec<f64> {
+                (0..n)
+                    .map(|i| s as f64 + (off + i) as f64 / 100.0)
+                    .collect()
+            };
+            d.push_state(s as f64, (&x(9, 0), &x(8, 10), &x(8, 20)), Some(&x(2, 30)));
+            d.contacts[0].wrench.extend(x(6, 40));
+        }
+        d
+    }
+
+    #[test]
+    fn the_state_joins_the_base_and_the_joints() {
+        let d = log(3);
+        let (q, v, a) = d.state(2);
+        assert_eq!(q.len(), 9);
+        assert_eq!((q[6], q[7]), (2.06, 2.07));
+        assert_eq!((v[5], v[6]), (2.15, 2.16));
+        assert_eq!(a[7], 2.27);
+        assert_eq!(&d.tau[2], &[2.30, 2.31]);
+        assert!(d.sample_fits(2).is_ok() && d.sample_fits(3).is_err());
+    }
+
+    #[test]
+    fn keep_slice_and_append_carry_the_base_and_the_contacts() {
+        let mut d = log(5);
+        let s = d.slice(1..3);
+        assert_eq!(s.state(0), d.state(1));
+        assert_eq!(s.contacts[0].wrench, d.contacts[0].wrench[6..18].to_vec());
+        d.append_segment(log(2));
+        assert_eq!((d.len(), d.segments.clone()), (7, vec![0, 5]));
+        assert_eq!(d.state(6).1[0], 1.10); // the second log's sample 1
+        assert_eq!(d.contacts[0].wrench.len(), 42);
+        d.keep(4..7);
+        assert_eq!(d.base.as_ref().unwrap().pose.len(), 3);
+        assert_eq!(d.state(0).0[0], 4.0);
+        assert_eq!(d.contacts[0].wrench[0], 4.40);
+        let mut empty = Dataset::empty(&["a", "b"]);
+        empty.append_segment(log(2));
+        assert!(empty.base.is_some() && empty.contacts.len() == 1);
+    }
+}

@@ -165,6 +165,7 @@ pub(super) fn columns_of(
     joints: &[&str],
     require_tau: bool,
 ) -> Result<Columns, DataError> {
+    refuse_base_columns(header, path)?;
     let default = Mapping::csv_default();
     let mut mapping = mapping.unwrap_or(&default);
     let has = |name: &str| header.iter().any(|h| h == name);
@@ -172,6 +173,22 @@ pub(super) fn columns_of(
         mapping = &default; // the format's own names, not the robot's default mapping
     }
     Columns::find(header, path, mapping, joints, require_tau)
+}
+
+/// A floating base's log (the base's pose, twist, accelerations) read for a
+/// robot with a fixed base would lose the base's motion: an error naming
+/// the column and how to load the robot with a free root.
+fn refuse_base_columns(header: &[String], path: &str) -> Result<(), DataError> {
+    let base: Vec<String> = super::floating_csv::base_columns().collect();
+    match header.iter().find(|h| base.contains(h)) {
+        Some(h) => Err(DataError::Value {
+            path: path.into(),
+            row: 0,
+            column: h.clone(),
+            message: "the log of a floating base (the base's motion), and the robot was loaded with a fixed base: give --floating-base, or the sidecar's [floating_base] table (docs/floating-base.md)".into(),
+        }),
+        None => Ok(()),
+    }
 }
 
 /// Where each quantity's columns are in the header (per robot joint), and
