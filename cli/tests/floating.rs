@@ -215,7 +215,7 @@ fn bad_floating_base_logs_are_named() {
             "--data",
             log.to_str().unwrap(),
         ]);
-        refused(&args, &["column 'base_x'", "--floating-base"]);
+        refused(&args, &["column 'base_x'", "free-flying root"]);
     }
     assert!(!out.exists());
 }

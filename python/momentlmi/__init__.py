@@ -372,7 +372,13 @@ def simulate(robot: Robot, seconds: float, effects: Union[str, Sequence[str]] = 
     SI units) and ``joints``. `effects` are unmodelled effects by name (a list or a
     comma-separated string: ``"backlash,ripple"``), `params` their ``NAME=VALUE``
     overrides (a list, a comma-separated string or a dict), `noise` the torque noise σ
-    (N·m; 0: exact samples), `seed` an integer ≥ 0."""
+    (N·m; 0: exact samples), `seed` an integer ≥ 0.
+
+    A floating-base robot is hung from a harness (a load cell at its base) as
+    ``momentlmi simulate`` does it: the dict holds the log's columns, named as its CSV's
+    (``t``, ``base_x`` …, ``q_<joint>`` …, ``force_<link>_x`` …), which :func:`identify`
+    takes as a log; `effects` among ``joint_friction``, ``wrench_offset``, ``payload``
+    (fixed sizes, no `params`)."""
     r = _robot(robot)
     if isinstance(params, dict):
         params = [f"{k}={v}" for k, v in params.items()]

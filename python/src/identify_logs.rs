@@ -37,13 +37,15 @@ const MAX_BYTES: u64 = 8 << 30;
 fn logs(robot: &RobotDescription, what: &str, given: &[Log]) -> PyResult<Vec<Dataset>> {
     let ff = &robot.model;
     let mut out = Vec::with_capacity(given.len());
+    // (the files share the budget, as the command line's do)
+    let budget = MAX_BYTES / given.len().max(1) as u64;
     for (k, log) in given.iter().enumerate() {
         let name = match given.len() {
             1 => what.to_string(),
             _ => format!("{what}[{k}]"),
         };
         let mut read = match log {
-            Log::File(p) => (momentlmi::data::read_floating_logs(ff, &[p.as_path()], MAX_BYTES))
+            Log::File(p) => (momentlmi::data::read_floating_logs(ff, &[p.as_path()], budget))
                 .map_err(|e| PyValueError::new_err(format!("{name}: {e}")))?,
             Log::Columns(names, columns) => {
                 let columns: Vec<&[f64]> = (columns.iter())
@@ -117,7 +119,8 @@ fn identify_logs(
         logs(&desc, "validate", &validate)?,
     );
     let asked = rows.map(parse_rows).transpose()?;
-    let (rows, _) = Rows::for_logs(asked, &train).map_err(PyValueError::new_err)?;
+    let (rows, _) =
+        Rows::for_logs(asked, &train).map_err(|e| PyValueError::new_err(e.to_string()))?;
     let choice: ParamChoice = prior.parse().unwrap_or(ParamChoice::Cad);
     let mut notes: Vec<crate::notes::Note> = vec![];
     if setup.level == momentlmi::identify::Level::Ellipsoid {

@@ -1,6 +1,6 @@
 """A floating-base robot (Solo12, the repository's) identified from Python as the
-command line identifies it: from the files, or from their columns in a DataFrame,
-the same report to 1e-9; the options a floating base does not take are refused by
+command line identifies it: from the files, from their columns in a DataFrame, or
+from Python's own simulation of the same log, the same report to 1e-9; the options a floating base does not take are refused by
 name, and the functions for a fixed base refuse a floating one."""
 
 import json
@@ -88,8 +88,21 @@ def test_options_and_logs_a_floating_base_does_not_take_are_named(solo, logs):
         m.identify("cheetah3-leg", {"t": [0.0]}, rows="base")
 
 
+def test_simulate_gives_the_command_lines_log_as_columns(solo, logs, cli):
+    train, val = logs
+    columns = m.simulate(solo, 20, seed=1)
+    assert list(columns) == pd.read_csv(train, nrows=1).columns.tolist()
+    mine = m.identify(solo, columns, validate=val, rows="base", constraints="consistent")
+    theirs = cli_json(cli, train, val, "--rows", "base", "--constraints", "consistent")
+    assert json_differences(dict(mine), theirs, rel=1e-9, abs_=1e-12) == []
+    with pytest.raises(ValueError, match="effects: .*'ripple'.*joint_friction"):
+        m.simulate(solo, 1.0, effects="ripple")
+    with pytest.raises(ValueError, match="params: a floating base"):
+        m.simulate(solo, 1.0, effects="payload", params={"payload_mass": 1.0})
+
+
 def test_the_fixed_base_functions_refuse_a_floating_base(solo):
     z = np.zeros((2, solo.dof))
-    for call in (lambda: solo.rnea(z, z, z), lambda: m.simulate(solo, 1.0), lambda: m.Reducer(solo)):
+    for call in (lambda: solo.rnea(z, z, z), lambda: m.Reducer(solo)):
         with pytest.raises(ValueError, match="'solo' has a floating base"):
             call()

@@ -7,55 +7,10 @@
 //! then angular in base coordinates).
 
 use super::Dataset;
+pub use super::dataset::{BaseMotion, ContactChannel};
 use super::error::DataError;
 use super::raw::{limit, not_after, refusal};
 use crate::dynamics::{ContactWrench, DynamicsError, Model, Samples, WrenchFrame};
-
-/// The base's motion over a log, one row per sample.
-#[derive(Clone, Debug, PartialEq)]
-pub struct BaseMotion {
-    /// Position (world, m) then orientation quaternion `x, y, z, w`
-    /// (base → world): width 7.
-    pub pose: Samples,
-    /// Twist in base coordinates, linear (m/s) then angular (rad/s):
-    /// width 6.
-    pub twist: Samples,
-    /// The twist's time derivative, width 6.
-    pub accel: Samples,
-}
-
-impl BaseMotion {
-    /// No samples.
-    pub fn new() -> Self {
-        Self {
-            pose: Samples::new(7),
-            twist: Samples::new(6),
-            accel: Samples::new(6),
-        }
-    }
-
-    fn series(&mut self) -> [&mut Samples; 3] {
-        [&mut self.pose, &mut self.twist, &mut self.accel]
-    }
-}
-
-impl Default for BaseMotion {
-    fn default() -> Self {
-        Self::new()
-    }
-}
-
-/// The wrenches measured at one frame over a log.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ContactChannel {
-    /// The frame (a URDF link of the robot) where the wrench acts.
-    pub frame: String,
-    /// The axes the wrench is expressed in.
-    pub expressed: WrenchFrame,
-    /// Per sample, force (N) then moment about the frame origin (N·m):
-    /// `samples × 6`, sample-major.
-    pub wrench: Vec<f64>,
-}
 
 /// One sample's generalized state: `q` (nq), `v` and `a` (nv).
 pub type State = (Vec<f64>, Vec<f64>, Vec<f64>);
@@ -99,8 +54,13 @@ impl Dataset {
     }
 
     /// Appends one sample given as the generalized `q`, `v`, `a` (the
-    /// base's part first when the log has a base), its torques (none: not
-    /// measured) and its contact wrenches (one 6-vector per channel).
+    /// base's part first when the log has a base) and its torques (none:
+    /// not measured); the contact wrenches are pushed to
+    /// [`contacts`](Self::contacts) by the caller.
+    ///
+    /// # Panics
+    /// If a vector's length is not the log's width (a simulator's
+    /// programming error; readers check their rows first).
     pub fn push_state(&mut self, t: f64, (q, v, a): (&[f64], &[f64], &[f64]), tau: Option<&[f64]>) {
         let (qb, vb) = if self.base.is_some() { (7, 6) } else { (0, 0) };
         if let Some(b) = &mut self.base {
@@ -135,6 +95,13 @@ impl Dataset {
                 )));
             }
             None => {}
+        }
+        if self.joints != model.joint_names() {
+            return Err(log(format!(
+                "its joints {:?} are not the robot's {:?} (in order)",
+                self.joints,
+                model.joint_names()
+            )));
         }
         self.check_series(model.dof())?;
         for c in &self.contacts {
@@ -271,62 +238,41 @@ impl Dataset {
             })
             .collect()
     }
+}
 
-    /// Appends a segment's base motion and contacts, called before its
-    /// times are (a log with no samples yet takes them as they are).
-    pub(super) fn append_beyond_joints(
-        &mut self,
-        base: Option<BaseMotion>,
-        contacts: Vec<ContactChannel>,
-    ) {
-        match (&mut self.base, base) {
-            (Some(b), Some(mut more)) => (b.series().into_iter())
-                .zip(more.series())
-                .for_each(|(x, y)| x.append(y)),
-            (None, base) if self.t.is_empty() => self.base = base,
-            _ => {}
-        }
-        for c in contacts {
-            match (self.contacts.iter_mut())
-                .find(|d| d.frame == c.frame && d.expressed == c.expressed)
-            {
-                Some(d) => d.wrench.extend(c.wrench),
-                None => self.contacts.push(c),
-            }
-        }
-    }
+/// The base pose's column suffixes (`base_x` …).
+pub(super) const BASE_Q: [&str; 7] = ["x", "y", "z", "qx", "qy", "qz", "qw"];
+/// The base twist's column suffixes (`base_vx` …; its derivative's `base_dvx` …).
+pub(super) const BASE_V: [&str; 6] = ["vx", "vy", "vz", "wx", "wy", "wz"];
+/// A contact column's axes.
+pub(super) const AXES: [&str; 3] = ["x", "y", "z"];
 
-    /// Keeps the base's and the contacts' samples in `range` (beside
-    /// [`keep`](Self::keep)'s joints).
-    pub(super) fn keep_beyond_joints(&mut self, range: &std::ops::Range<usize>) {
-        if let Some(b) = &mut self.base {
-            b.series().into_iter().for_each(|x| x.keep(range.clone()));
-        }
-        for c in &mut self.contacts {
-            let end = (6 * range.end).min(c.wrench.len());
-            c.wrench.truncate(end);
-            c.wrench.drain(..(6 * range.start).min(end));
-        }
+/// A contact column's prefix for the axes it is expressed in.
+pub(super) fn prefix_of(expressed: WrenchFrame) -> &'static str {
+    match expressed {
+        WrenchFrame::Local => "",
+        WrenchFrame::WorldAligned => "world_",
     }
+}
 
-    /// The base's and the contacts' samples in `range`.
-    pub(super) fn slice_beyond_joints(
-        &self,
-        range: &std::ops::Range<usize>,
-    ) -> (Option<BaseMotion>, Vec<ContactChannel>) {
-        let base = self.base.as_ref().map(|b| BaseMotion {
-            pose: b.pose.slice(range.clone()),
-            twist: b.twist.slice(range.clone()),
-            accel: b.accel.slice(range.clone()),
-        });
-        let contacts = (self.contacts.iter())
-            .map(|c| ContactChannel {
-                wrench: c.wrench[6 * range.start..6 * range.end].to_vec(),
-                ..c.clone()
-            })
-            .collect();
-        (base, contacts)
-    }
+/// The base's columns: pose, twist, the twist's derivative.
+pub(super) fn base_columns() -> impl Iterator<Item = String> {
+    let pose = BASE_Q.iter().map(|c| format!("base_{c}"));
+    let twist = BASE_V.iter().map(|c| format!("base_{c}"));
+    pose.chain(twist)
+        .chain(BASE_V.iter().map(|c| format!("base_d{c}")))
+}
+
+/// A contact's columns: force, then moment, each x, y, z.
+pub(super) fn contact_columns(c: &ContactChannel) -> Vec<String> {
+    let w = prefix_of(c.expressed);
+    let kinds = ["force", "moment"].into_iter();
+    kinds
+        .flat_map(|kind| {
+            AXES.iter()
+                .map(move |a| format!("{w}{kind}_{}_{a}", c.frame))
+        })
+        .collect()
 }
 
 /// Lays logs end to end as [`Dataset::append_segment`] does: a log whose
@@ -344,7 +290,7 @@ pub fn lay_end_to_end(logs: &mut [Dataset]) {
 /// The CSV column of entry `e` of a series (its prefix as
 /// [`Dataset::series`] names it).
 fn column_name(prefix: &str, e: usize, joints: &[String]) -> String {
-    let base: Vec<String> = super::floating_csv::base_columns().collect();
+    let base: Vec<String> = base_columns().collect();
     match prefix {
         "base_pose" => base[e].clone(),
         "base_twist" => base[7 + e].clone(),
@@ -434,5 +380,22 @@ mod tests {
         let mut empty = Dataset::empty(&["a", "b"]);
         empty.append_segment(log(2));
         assert!(empty.base.is_some() && empty.contacts.len() == 1);
+    }
+
+    #[test]
+    fn what_one_segment_lacks_is_nan_not_lost() {
+        // a segment without base or contact after one with them, and the reverse
+        let mut joints_only = log(2);
+        (joints_only.base, joints_only.contacts) = (None, vec![]);
+        let mut d = log(3);
+        d.append_segment(joints_only.clone());
+        assert_eq!(d.base.as_ref().unwrap().pose.len(), 5);
+        assert!(d.state(4).0[0].is_nan() && d.contacts[0].wrench[6 * 4].is_nan());
+        assert_eq!(d.contacts[0].wrench.len(), 30);
+        let mut d = joints_only;
+        d.append_segment(log(3));
+        assert!(d.state(0).0[0].is_nan() && d.state(2).0[0] == 0.0);
+        assert_eq!(d.contacts[0].wrench.len(), 30);
+        assert!(d.contacts[0].wrench[0].is_nan() && d.contacts[0].wrench[12] == 0.40);
     }
 }

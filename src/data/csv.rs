@@ -62,30 +62,36 @@ impl Dataset {
         s.push('\n');
         for k in 0..self.len() {
             s += &format!("{}", self.t[k]);
-            let base = self.base.iter().flat_map(|b| [&b.pose, &b.twist, &b.accel]);
-            for v in base.chain([&self.q, &self.qd, &self.qdd, &self.tau]) {
-                if v.is_empty() {
-                    continue;
-                }
-                for x in &v[k] {
-                    s += &format!(",{x:e}");
-                }
-            }
-            for c in &self.contacts {
-                for x in &c.wrench[6 * k..6 * k + 6] {
-                    s += &format!(",{x:e}");
-                }
+            for x in &self.csv_row(k)[1..] {
+                s += &format!(",{x:e}");
             }
             s.push('\n');
         }
         s
     }
 
+    /// Sample `k`'s values in the order of [`csv_header`](Self::csv_header).
+    pub fn csv_row(&self, k: usize) -> Vec<f64> {
+        let mut row = vec![self.t[k]];
+        let base = self.base.iter().flat_map(|b| [&b.pose, &b.twist, &b.accel]);
+        for v in base.chain([&self.q, &self.qd, &self.qdd, &self.tau]) {
+            if !v.is_empty() {
+                row.extend(&v[k]);
+            }
+        }
+        for c in &self.contacts {
+            // (a channel shorter than the log, which `check` names: NaN)
+            let w = c.wrench.get(6 * k..6 * k + 6);
+            row.extend(w.map_or([f64::NAN; 6].to_vec(), <[f64]>::to_vec));
+        }
+        row
+    }
+
     /// The column names [`to_csv`](Self::to_csv) writes.
     pub fn csv_header(&self) -> Vec<String> {
         let mut h = vec!["t".to_string()];
         if self.base.is_some() {
-            h.extend(super::floating_csv::base_columns());
+            h.extend(super::base::base_columns());
         }
         for p in ["q", "qd", "qdd", "tau"] {
             if p != "tau" || !self.tau.is_empty() {
@@ -93,7 +99,7 @@ impl Dataset {
             }
         }
         for c in &self.contacts {
-            h.extend(super::floating_csv::contact_columns(c));
+            h.extend(super::base::contact_columns(c));
         }
         h
     }
@@ -175,20 +181,21 @@ pub(super) fn columns_of(
     Columns::find(header, path, mapping, joints, require_tau)
 }
 
-/// A floating base's log (the base's pose, twist, accelerations) read for a
-/// robot with a fixed base would lose the base's motion: an error naming
-/// the column and how to load the robot with a free root.
-fn refuse_base_columns(header: &[String], path: &str) -> Result<(), DataError> {
-    let base: Vec<String> = super::floating_csv::base_columns().collect();
-    match header.iter().find(|h| base.contains(h)) {
-        Some(h) => Err(DataError::Value {
-            path: path.into(),
-            row: 0,
-            column: h.clone(),
-            message: "the log of a floating base (the base's motion), and the robot was loaded with a fixed base: give --floating-base, or the sidecar's [floating_base] table (docs/floating-base.md)".into(),
-        }),
-        None => Ok(()),
+/// A floating base's log (the base's whole pose: `base_x` … `base_qw`) read
+/// for a robot with a fixed base would lose the base's motion: an error
+/// naming the first of its columns and how to load the robot with a free
+/// root. (A column or two of a base's name alone is an extra column, as any.)
+pub(super) fn refuse_base_columns(header: &[String], path: &str) -> Result<(), DataError> {
+    let pose: Vec<String> = super::base::base_columns().take(7).collect();
+    if !pose.iter().all(|c| header.contains(c)) {
+        return Ok(());
     }
+    Err(DataError::Value {
+        path: path.into(),
+        row: 0,
+        column: pose[0].clone(),
+        message: "the log of a floating base (the base's pose), and the robot was loaded with a fixed base: load it with a free-flying root (the floating-base option, or the sidecar's [floating_base] table; docs/floating-base.md)".into(),
+    })
 }
 
 /// Where each quantity's columns are in the header (per robot joint), and

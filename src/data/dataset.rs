@@ -2,8 +2,7 @@
 //! when the log has them, the base's motion and contact wrenches
 //! ([`base`](super::base)).
 
-use super::base::{BaseMotion, ContactChannel};
-use crate::dynamics::Samples;
+use crate::dynamics::{Samples, WrenchFrame};
 
 /// Samples of joint positions, velocities, accelerations and torques, and
 /// of the base's motion and contact wrenches where the robot has them.
@@ -65,7 +64,8 @@ impl Dataset {
             }
             self.segments.push(self.len());
         }
-        self.append_beyond_joints(s.base.take(), std::mem::take(&mut s.contacts));
+        let more = (s.base.take(), std::mem::take(&mut s.contacts));
+        self.append_beyond_joints(s.len(), more);
         self.t.append(&mut s.t);
         self.q.append(&mut s.q);
         self.qd.append(&mut s.qd);
@@ -152,5 +152,143 @@ pub(crate) fn follow(last: f64, t: &mut [f64]) {
     {
         let step = t.get(1).map_or(1e-3, |t1| t1 - first);
         t.iter_mut().for_each(|x| *x += last + step - first);
+    }
+}
+
+/// The base's motion over a log, one row per sample.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BaseMotion {
+    /// Position (world, m) then orientation quaternion `x, y, z, w`
+    /// (base → world): width 7.
+    pub pose: Samples,
+    /// Twist in base coordinates, linear (m/s) then angular (rad/s):
+    /// width 6.
+    pub twist: Samples,
+    /// The twist's time derivative, width 6.
+    pub accel: Samples,
+}
+
+impl BaseMotion {
+    /// No samples.
+    pub fn new() -> Self {
+        Self {
+            pose: Samples::new(7),
+            twist: Samples::new(6),
+            accel: Samples::new(6),
+        }
+    }
+
+    fn series(&mut self) -> [&mut Samples; 3] {
+        [&mut self.pose, &mut self.twist, &mut self.accel]
+    }
+
+    /// `rows` rows of NaN (a part of a log that had no base).
+    fn pad(&mut self, rows: usize) {
+        for x in self.series() {
+            let w = x.width();
+            (0..rows).for_each(|_| x.push(&vec![f64::NAN; w]));
+        }
+    }
+}
+
+impl Default for BaseMotion {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// The wrenches measured at one frame over a log.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ContactChannel {
+    /// The frame (a URDF link of the robot) where the wrench acts.
+    pub frame: String,
+    /// The axes the wrench is expressed in.
+    pub expressed: WrenchFrame,
+    /// Per sample, force (N) then moment about the frame origin (N·m):
+    /// `samples × 6`, sample-major.
+    pub wrench: Vec<f64>,
+}
+
+impl Dataset {
+    /// Appends the base motion and contacts of a segment of `added`
+    /// samples, called before its times are (a log with no samples yet
+    /// takes them as they are); what one side lacks is NaN, which
+    /// [`check`](Self::check) names.
+    fn append_beyond_joints(
+        &mut self,
+        added: usize,
+        (base, contacts): (Option<BaseMotion>, Vec<ContactChannel>),
+    ) {
+        let before = self.t.len();
+        match (&mut self.base, base) {
+            (Some(b), Some(mut more)) => (b.series().into_iter())
+                .zip(more.series())
+                .for_each(|(x, y)| x.append(y)),
+            (None, base) if before == 0 => self.base = base,
+            // a base on one side only: NaN rows, which `check` names
+            (Some(b), None) => b.pad(added),
+            (None, Some(mut more)) => {
+                let mut b = BaseMotion::new();
+                b.pad(before);
+                b.series()
+                    .into_iter()
+                    .zip(more.series())
+                    .for_each(|(x, y)| x.append(y));
+                self.base = Some(b);
+            }
+            (None, None) => {}
+        }
+        let mut seen = vec![false; self.contacts.len()];
+        for c in contacts {
+            match (self.contacts.iter())
+                .position(|d| d.frame == c.frame && d.expressed == c.expressed)
+            {
+                Some(i) => {
+                    self.contacts[i].wrench.extend(c.wrench);
+                    seen[i] = true;
+                }
+                None => {
+                    let mut wrench = vec![f64::NAN; 6 * before];
+                    wrench.extend(c.wrench);
+                    self.contacts.push(ContactChannel { wrench, ..c });
+                }
+            }
+        }
+        for (d, _) in self.contacts.iter_mut().zip(&seen).filter(|(_, s)| !**s) {
+            d.wrench.extend(vec![f64::NAN; 6 * added]);
+        }
+    }
+
+    /// Keeps the base's and the contacts' samples in `range` (beside
+    /// [`keep`](Self::keep)'s joints).
+    fn keep_beyond_joints(&mut self, range: &std::ops::Range<usize>) {
+        if let Some(b) = &mut self.base {
+            b.series().into_iter().for_each(|x| x.keep(range.clone()));
+        }
+        for c in &mut self.contacts {
+            let end = (6 * range.end).min(c.wrench.len());
+            c.wrench.truncate(end);
+            c.wrench.drain(..(6 * range.start).min(end));
+        }
+    }
+
+    /// The base's and the contacts' samples in `range`.
+    fn slice_beyond_joints(
+        &self,
+        range: &std::ops::Range<usize>,
+    ) -> (Option<BaseMotion>, Vec<ContactChannel>) {
+        let base = self.base.as_ref().map(|b| BaseMotion {
+            pose: b.pose.slice(range.clone()),
+            twist: b.twist.slice(range.clone()),
+            accel: b.accel.slice(range.clone()),
+        });
+        let contacts = (self.contacts.iter())
+            .map(|c| ContactChannel {
+                wrench: (c.wrench.get(6 * range.start..6 * range.end))
+                    .map_or_else(Vec::new, <[f64]>::to_vec),
+                ..c.clone()
+            })
+            .collect();
+        (base, contacts)
     }
 }

@@ -16,16 +16,12 @@
 //! column, [`read_floating_npz`]); [`Dataset::to_csv`] writes it.
 
 use super::Dataset;
-use super::base::ContactChannel;
+use super::base::{AXES, BASE_Q, BASE_V, prefix_of};
 use super::csv::MAX_COLUMNS;
 use super::error::DataError;
 use super::raw::{MAX_ROWS, limit, not_after, refusal};
 use crate::dynamics::{Model, WrenchFrame};
 use std::collections::HashMap;
-
-const BASE_Q: [&str; 7] = ["x", "y", "z", "qx", "qy", "qz", "qw"];
-const BASE_V: [&str; 6] = ["vx", "vy", "vz", "wx", "wy", "wz"];
-const AXES: [&str; 3] = ["x", "y", "z"];
 
 /// What a column holds: (array, width, index) or a contact's entry.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -37,33 +33,6 @@ enum Slot {
     T,
     /// Contact c's wrench entry (0..3 force, 3..6 moment).
     Wrench(usize, usize),
-}
-
-fn prefix_of(expressed: WrenchFrame) -> &'static str {
-    match expressed {
-        WrenchFrame::Local => "",
-        WrenchFrame::WorldAligned => "world_",
-    }
-}
-
-/// The base's columns: pose, twist, the twist's derivative.
-pub(super) fn base_columns() -> impl Iterator<Item = String> {
-    let pose = BASE_Q.iter().map(|c| format!("base_{c}"));
-    let twist = BASE_V.iter().map(|c| format!("base_{c}"));
-    pose.chain(twist)
-        .chain(BASE_V.iter().map(|c| format!("base_d{c}")))
-}
-
-/// A contact's columns: force, then moment, each x, y, z.
-pub(super) fn contact_columns(c: &ContactChannel) -> Vec<String> {
-    let w = prefix_of(c.expressed);
-    let kinds = ["force", "moment"].into_iter();
-    kinds
-        .flat_map(|kind| {
-            AXES.iter()
-                .map(move |a| format!("{w}{kind}_{}_{a}", c.frame))
-        })
-        .collect()
 }
 
 /// Every column's slot and the contacts found;
@@ -225,27 +194,24 @@ pub fn floating_from_columns<C: AsRef<[f64]>>(
     name: &str,
 ) -> Result<Dataset, DataError> {
     let rows = columns.first().map_or(0, |c| c.as_ref().len());
+    let array = |array: &str, message: String| DataError::Array {
+        path: name.into(),
+        array: array.into(),
+        message,
+    };
     if header.len() != columns.len() || header.len() > MAX_COLUMNS {
-        return Err(DataError::Row {
-            path: name.into(),
-            row: 0,
-            message: format!(
-                "{} names for {} columns (at most {MAX_COLUMNS})",
-                header.len(),
-                columns.len()
-            ),
-        });
+        let (h, c) = (header.len(), columns.len());
+        return Err(array(
+            "(columns)",
+            format!("{h} names for {c} columns (at most {MAX_COLUMNS})"),
+        ));
     }
     if let Some(i) = columns.iter().position(|c| c.as_ref().len() != rows) {
-        return Err(DataError::Value {
-            path: name.into(),
-            row: 0,
-            column: header[i].clone(),
-            message: format!(
-                "{} values; the first column has {rows}",
-                columns[i].as_ref().len()
-            ),
-        });
+        let found = columns[i].as_ref().len();
+        return Err(array(
+            &header[i],
+            format!("{found} values; the first column has {rows}"),
+        ));
     }
     let (slots, contacts) = slots(ff, header, name)?;
     check_forces(&slots, &contacts, name)?;

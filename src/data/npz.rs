@@ -206,6 +206,7 @@ pub fn read_npz(
 ) -> Result<RawLog, DataError> {
     let p = path.display().to_string();
     let (mut zip, names) = open_archive(path, &p)?;
+    super::csv::refuse_base_columns(&names, &p)?;
     let default = default_names();
     let has = |n: &str| names.iter().any(|x| x == n);
     let mapping = match mapping {

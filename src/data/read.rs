@@ -73,7 +73,7 @@ pub fn read_floating_logs(
     if bytes.saturating_mul(4) > max_bytes {
         let gib = |b: u64| b as f64 / (1u64 << 30) as f64;
         return Err(DataError::Option {
-            option: "max_memory_gib (--max-memory-gib)",
+            option: "max_memory_gib",
             value: format!("{:.1}", gib(max_bytes)),
             message: format!(
                 "{:.1} GB of logs could need {:.1} GiB in memory, over the limit",

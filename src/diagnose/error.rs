@@ -91,10 +91,49 @@ pub enum DiagnoseError {
     /// The model has no tool point (no moving body) for the payload candidate.
     #[error("the model has no tool point (no moving body) for the payload candidate")]
     NoTool,
-    /// A floating-base log that does not fit the robot, or a sample whose
-    /// dynamics failed.
-    #[error("floating base: {0}")]
-    Floating(String),
+    /// A floating-base diagnosis given no log.
+    #[error("floating base: no log to diagnose")]
+    NoLogs,
+    /// A floating-base log that does not fit the robot (1-based).
+    #[error("floating base: log {log}: {source}")]
+    Log {
+        /// The log (1-based).
+        log: usize,
+        /// Why.
+        #[source]
+        source: crate::data::DataError,
+    },
+    /// A floating-base log whose contacts are not the first log's.
+    #[error("floating base: log {log} has other contacts ({found}) than the first ({first})")]
+    Contacts {
+        /// The log (1-based).
+        log: usize,
+        /// Its contacts (frame and axes).
+        found: String,
+        /// The first log's.
+        first: String,
+    },
+    /// A floating-base log too short to split into fitted and held-out parts.
+    #[error(
+        "floating base: log {log} has {found} samples; a diagnosis needs at least {needed} (its last 30 % held out)"
+    )]
+    ShortLog {
+        /// The log (1-based).
+        log: usize,
+        /// Its samples.
+        found: usize,
+        /// The minimum.
+        needed: usize,
+    },
+    /// The nominal model's residual of a floating-base log failed.
+    #[error("floating base: log {log}: the nominal residual: {source}")]
+    Residual {
+        /// The log (1-based).
+        log: usize,
+        /// Why.
+        #[source]
+        source: crate::identify::IdentifyError,
+    },
     /// A fit the diagnosis cannot do without failed.
     #[error("{what}: {source}")]
     Fit {

@@ -16,10 +16,14 @@
 
 use super::error::DiagnoseError;
 use crate::data::Dataset;
-use crate::dynamics::{ContactWrench, Data, Model};
+use crate::dynamics::{ContactWrench, DEFAULT_STRIBECK_VELOCITY, Data, FrictionTerm, Model};
 use crate::identify::floating_fit::residual;
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
+
+/// The joint friction candidate's terms (the simulator's
+/// [`FloatingEffects::joint_friction`](crate::sim::floating::FloatingEffects)).
+const JOINT_FRICTION: [FrictionTerm; 2] = [FrictionTerm::Viscous, FrictionTerm::Coulomb];
 
 /// The unmodelled effects a floating-base diagnosis tries.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -194,9 +198,7 @@ impl<'a> Split<'a> {
     /// torques, else the base's) and its split; the logs must have the same
     /// contacts and at least 34 samples each.
     fn new(ff: &'a Model, theta: &[f64], logs: &'a [Dataset]) -> Result<Self, DiagnoseError> {
-        let first = logs
-            .first()
-            .ok_or(DiagnoseError::Floating("no log".into()))?;
+        let first = logs.first().ok_or(DiagnoseError::NoLogs)?;
         let joints = logs.iter().all(Dataset::has_torques);
         let rows = if joints { ff.nv() } else { 6 };
         let mut split = Split {
@@ -207,15 +209,16 @@ impl<'a> Split<'a> {
             cuts: vec![],
             weights: vec![],
         };
-        let fail = |e: String| DiagnoseError::Floating(e);
         for (i, log) in logs.iter().enumerate() {
-            log.check(ff).map_err(|e| fail(e.to_string()))?;
+            let l = i + 1;
+            log.check(ff)
+                .map_err(|source| DiagnoseError::Log { log: l, source })?;
             if contacts_of(log) != contacts_of(first) {
-                let (a, b) = (contacts_of(log), contacts_of(first));
-                return Err(fail(format!(
-                    "log {} has other contacts ({a:?}) than the first ({b:?})",
-                    i + 1
-                )));
+                return Err(DiagnoseError::Contacts {
+                    log: l,
+                    found: format!("{:?}", contacts_of(log)),
+                    first: format!("{:?}", contacts_of(first)),
+                });
             }
             let mut data = Data::new(ff);
             let r = (0..log.len())
@@ -223,13 +226,13 @@ impl<'a> Split<'a> {
                     residual(ff, &mut data, theta, log, k).map(|r| r.rows(0, rows).into_owned())
                 })
                 .collect::<Result<Vec<_>, _>>()
-                .map_err(|e| fail(e.to_string()))?;
+                .map_err(|source| DiagnoseError::Residual { log: l, source })?;
             if log.len() < MIN_SAMPLES {
-                return Err(fail(format!(
-                    "log {} has {} samples; a diagnosis needs at least {MIN_SAMPLES} (its last 30 % held out)",
-                    i + 1,
-                    log.len()
-                )));
+                return Err(DiagnoseError::ShortLog {
+                    log: l,
+                    found: log.len(),
+                    needed: MIN_SAMPLES,
+                });
             }
             let cut = (TRAIN_SHARE * log.len() as f64).round() as usize;
             split.residuals.push(r);
@@ -336,15 +339,16 @@ impl Split<'_> {
     ) -> Result<DMatrix<f64>, DiagnoseError> {
         let (ff, log) = (self.ff, &self.logs[l]);
         let (nv, n) = (ff.nv(), ff.dof());
-        let fail =
-            |e: crate::dynamics::DynamicsError| DiagnoseError::Floating(format!("sample {k}: {e}"));
+        let fail = |source| DiagnoseError::Regressor { sample: k, source };
         let (q, v, a) = log.state(k);
         let x = match effect {
             FloatingEffect::JointFriction => {
                 let mut x = DMatrix::zeros(nv, 2 * n);
-                for j in 0..n {
-                    x[(6 + j, j)] = v[6 + j];
-                    x[(6 + j, n + j)] = crate::dynamics::sign(v[6 + j]);
+                for (t, term) in JOINT_FRICTION.iter().enumerate() {
+                    for j in 0..n {
+                        x[(6 + j, t * n + j)] =
+                            term.basis(v[6 + j], 0.0, DEFAULT_STRIBECK_VELOCITY);
+                    }
                 }
                 x
             }
@@ -531,9 +535,8 @@ fn least_norm(g: DMatrix<f64>, b: &DVector<f64>) -> Result<DVector<f64>, Diagnos
     }
     let svd = g.svd(true, true);
     let eps = 1e-10 * svd.singular_values.max();
-    svd.solve(b, eps).map_err(|e| {
-        DiagnoseError::Floating(format!(
-            "a candidate's least squares (non-finite columns?): {e}"
-        ))
+    svd.solve(b, eps).map_err(|_| DiagnoseError::Fit {
+        what: "a floating-base candidate's least squares (non-finite columns?)",
+        source: super::error::FitError::Factorisation,
     })
 }

@@ -112,6 +112,14 @@ pub enum IdentifyError {
         /// The valid names.
         valid: String,
     },
+    /// Rows with joints asked of a floating-base log without joint torques.
+    #[error(
+        "rows {rows}: a log has no joint torques (tau_<joint> columns); the base rows need none"
+    )]
+    NoTorquesForRows {
+        /// The rows asked (`joints` or `all`).
+        rows: &'static str,
+    },
     /// The training data have no samples or no torques.
     #[error(
         "the training data need torques (tau_* columns) and at least one sample ({samples} samples, {torques} with torques)"

@@ -55,13 +55,12 @@ impl Rows {
     pub fn for_logs(
         asked: Option<Rows>,
         logs: &[Dataset],
-    ) -> Result<(Rows, Option<&'static str>), String> {
+    ) -> Result<(Rows, Option<&'static str>), IdentifyError> {
         let torques = logs.iter().all(Dataset::has_torques);
         match asked {
-            Some(r) if r != Rows::Base && !torques => Err(format!(
-                "rows {}: a log has no joint torques (tau_<joint> columns); the base rows need none",
-                r.as_str()
-            )),
+            Some(r) if r != Rows::Base && !torques => {
+                Err(IdentifyError::NoTorquesForRows { rows: r.as_str() })
+            }
             Some(r) => Ok((r, None)),
             None if torques => Ok((Rows::All, Some("every row (the logs have joint torques)"))),
             None => Ok((

@@ -120,6 +120,12 @@ pub fn fit_floating(
     train: &[Dataset],
     validate: &[Dataset],
 ) -> Result<FloatingFit, IdentifyError> {
+    if let Some(empty) = train.iter().find(|l| l.is_empty()) {
+        return Err(IdentifyError::NoTrainingData {
+            samples: empty.len(),
+            torques: 0,
+        });
+    }
     let red = reduce_floating_logs(ff, train, rows, None)?;
     for v in validate {
         v.check(ff)?;

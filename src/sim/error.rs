@@ -37,6 +37,14 @@ pub enum SimError {
         /// What it must be.
         requirement: &'static str,
     },
+    /// An effect name a floating-base simulation does not know.
+    #[error("floating-base effect '{name}': not one of {known}")]
+    UnknownEffect {
+        /// The name given.
+        name: String,
+        /// The known names.
+        known: String,
+    },
     /// A duration that gives too few or too many samples at the rate.
     #[error(
         "simulation setting 'seconds' = {}: {} samples at this rate; a data set needs at least 2 and at most {most}",

@@ -78,6 +78,32 @@ pub struct FloatingEffects {
 }
 
 impl FloatingEffects {
+    /// The effects a name switches on, each of a fixed size (the
+    /// command line's `--floating-effects` and Python's `effects`).
+    pub const NAMED: [&'static str; 3] = ["joint_friction", "wrench_offset", "payload"];
+
+    /// The effects `names` switch on ([`NAMED`](Self::NAMED)): 0.01
+    /// N·m·s/rad viscous and 0.05 N·m Coulomb friction at every joint;
+    /// every contact's sensor off by [1, −0.5, 2] N and [0.05, 0.02, −0.03]
+    /// N·m; 0.3 kg on the base at [0.05, 0, 0.03] m (base frame).
+    pub fn named<S: AsRef<str>>(names: &[S]) -> Result<Self, SimError> {
+        let mut e = Self::default();
+        for name in names {
+            match name.as_ref() {
+                "joint_friction" => e.joint_friction = Some([0.01, 0.05]),
+                "wrench_offset" => e.wrench_offset = Some([1.0, -0.5, 2.0, 0.05, 0.02, -0.03]),
+                "payload" => e.payload = Some((0.3, [0.05, 0.0, 0.03])),
+                other => {
+                    return Err(SimError::UnknownEffect {
+                        name: other.to_string(),
+                        known: Self::NAMED.join(", "),
+                    });
+                }
+            }
+        }
+        Ok(e)
+    }
+
     /// The names of the effects switched on.
     pub fn names(&self) -> Vec<&'static str> {
         let on = [
@@ -113,9 +139,10 @@ impl FloatingEffects {
     /// wrenches (before the noise).
     pub(super) fn apply(&self, log: &mut Dataset) {
         if let Some([b, c]) = self.joint_friction {
+            use crate::dynamics::{DEFAULT_STRIBECK_VELOCITY as VS, FrictionTerm as F};
             for (tau, qd) in log.tau.iter_mut().zip(log.qd.iter()) {
                 for (t, &qd) in tau.iter_mut().zip(qd) {
-                    *t += b * qd + c * crate::dynamics::sign(qd);
+                    *t += b * F::Viscous.basis(qd, 0.0, VS) + c * F::Coulomb.basis(qd, 0.0, VS);
                 }
             }
         }

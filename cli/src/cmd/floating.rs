@@ -32,19 +32,17 @@ pub enum SimEffect {
 }
 
 impl SimEffect {
-    /// The library's effects of a list.
+    /// The library's effects of a list
+    /// ([`FloatingEffects::named`](momentlmi::sim::floating::FloatingEffects::named)).
     pub fn effects(list: &[SimEffect]) -> momentlmi::sim::floating::FloatingEffects {
-        let mut e = momentlmi::sim::floating::FloatingEffects::default();
-        for s in list {
-            match s {
-                SimEffect::JointFriction => e.joint_friction = Some([0.01, 0.05]),
-                SimEffect::WrenchOffset => {
-                    e.wrench_offset = Some([1.0, -0.5, 2.0, 0.05, 0.02, -0.03])
-                }
-                SimEffect::Payload => e.payload = Some((0.3, [0.05, 0.0, 0.03])),
-            }
-        }
-        e
+        let names: Vec<&str> = (list.iter())
+            .map(|s| match s {
+                SimEffect::JointFriction => "joint_friction",
+                SimEffect::WrenchOffset => "wrench_offset",
+                SimEffect::Payload => "payload",
+            })
+            .collect();
+        momentlmi::sim::floating::FloatingEffects::named(&names).unwrap_or_default()
     }
 }
 
@@ -140,7 +138,13 @@ pub fn read_logs(
 ) -> Result<Vec<Dataset>, String> {
     let max_bytes = super::gib(max_gib)?;
     let paths: Vec<&Path> = paths.iter().map(PathBuf::as_path).collect();
-    momentlmi::data::read_floating_logs(ff, &paths, max_bytes).map_err(|e| format!("{what}: {e}"))
+    (momentlmi::data::read_floating_logs(ff, &paths, max_bytes)).map_err(|e| match e {
+        momentlmi::data::DataError::Option { message, .. } => format!(
+            "{what}: {message} of {} GiB (--max-memory-gib)",
+            momentlmi::numfmt::short(max_gib)
+        ),
+        e => format!("{what}: {e}"),
+    })
 }
 
 /// The regressor's parameter vector: every body's, then each friction

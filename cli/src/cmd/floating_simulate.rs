@@ -75,6 +75,8 @@ pub fn run(a: &SimulateArgs, robot: Robot) -> Result<(), String> {
         }
     }
     .map_err(|e| e.to_string())?;
+    // (what is written must read back: every value within the readers' limits)
+    log.check(&ff).map_err(|e| e.to_string())?;
     let record = record_of(&ff, &log, (contacts, &effects), &noise, a);
     let text = serde_json::to_string_pretty(&record).map_err(|e| e.to_string())?;
     staged
