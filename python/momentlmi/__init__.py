@@ -547,7 +547,9 @@ def identify(robot: Robot, data, constraints: str = "ellipsoid", prior="cad",
         return _identify_logs(r, data, validate, constraints, prior, weight, regularizer, friction,
                               rows, [k for k, v in given.items() if v])
     if rows is not None:
-        raise ValueError("rows: a fixed-base robot has only joint rows (rows is for a floating base)")
+        raise ValueError(f"rows: '{r._r.load_args[0]}' is loaded with a fixed base, which has only joint "
+                         "rows (rows is for a floating base: Robot.from_urdf(path, sidecar=...) with its "
+                         "[floating_base] table, or floating_base=True)")
     joints = r.joint_names
     if bounds is not None and not (isinstance(bounds, str) and bounds == "auto"):
         if isinstance(bounds, str):
@@ -574,6 +576,11 @@ def _floating_log(d, name: str):
         items = [(str(k), v) for k, v in d.items()]
     else:
         raise TypeError(f"{name}: a file's path, a DataFrame or a dict of columns, not {type(d).__name__}")
+    fixed = {"q", "qd", "qdd", "tau", "joints"} & {k for k, _ in items}
+    if fixed:
+        raise ValueError(f"{name}: a fixed-base log ({', '.join(sorted(fixed))}); a floating base's log "
+                         "has the CSV's columns: t, base_x …, q_<joint> …, force_<link>_x … "
+                         "(docs/floating-base.md)")
     columns = [_args.times(v, f"{name}: {k}") for k, v in items]
     for (k, _), c in zip(items, columns):
         if c.ndim != 1:

@@ -86,6 +86,8 @@ def test_options_and_logs_a_floating_base_does_not_take_are_named(solo, logs):
         m.identify(solo, 3)
     with pytest.raises(ValueError, match="rows is for a floating base"):
         m.identify("cheetah3-leg", {"t": [0.0]}, rows="base")
+    with pytest.raises(ValueError, match=r"a fixed-base log \(joints, q"):
+        m.identify(solo, {"t": [0.0, 0.1], "q": np.zeros((2, 12)), "joints": solo.joint_names})
 
 
 def test_simulate_gives_the_command_lines_log_as_columns(solo, logs, cli):

@@ -194,7 +194,7 @@ pub(super) fn refuse_base_columns(header: &[String], path: &str) -> Result<(), D
         path: path.into(),
         row: 0,
         column: pose[0].clone(),
-        message: "the log of a floating base (the base's pose), and the robot was loaded with a fixed base: load it with a free-flying root (the floating-base option, or the sidecar's [floating_base] table; docs/floating-base.md)".into(),
+        message: "a floating base's log (its pose), for a robot loaded with a fixed base: load it with a free-flying root (the floating-base option or [floating_base])".into(),
     })
 }
 

@@ -34,7 +34,9 @@ pub enum SimEffect {
 impl SimEffect {
     /// The library's effects of a list
     /// ([`FloatingEffects::named`](momentlmi::sim::floating::FloatingEffects::named)).
-    pub fn effects(list: &[SimEffect]) -> momentlmi::sim::floating::FloatingEffects {
+    pub fn effects(
+        list: &[SimEffect],
+    ) -> Result<momentlmi::sim::floating::FloatingEffects, String> {
         let names: Vec<&str> = (list.iter())
             .map(|s| match s {
                 SimEffect::JointFriction => "joint_friction",
@@ -42,7 +44,7 @@ impl SimEffect {
                 SimEffect::Payload => "payload",
             })
             .collect();
-        momentlmi::sim::floating::FloatingEffects::named(&names).unwrap_or_default()
+        momentlmi::sim::floating::FloatingEffects::named(&names).map_err(|e| e.to_string())
     }
 }
 
@@ -204,4 +206,19 @@ pub fn with_params(
         }
     };
     Ok((ff, friction))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::ValueEnum;
+
+    #[test]
+    fn every_simulated_effect_is_one_the_library_knows() {
+        for e in SimEffect::value_variants() {
+            let name = e.to_possible_value().unwrap().get_name().to_string();
+            let effects = SimEffect::effects(&[*e]).unwrap();
+            assert_eq!(effects.names(), vec![name.as_str()]);
+        }
+    }
 }

@@ -50,7 +50,7 @@ pub fn run(a: &SimulateArgs, robot: Robot) -> Result<(), String> {
     let ff = described.model;
     check_size(&ff, a.seconds, facts.feet.len().max(1))?;
     let noise = noise(a.noise)?;
-    let effects = super::floating::SimEffect::effects(&a.floating_effects);
+    let effects = super::floating::SimEffect::effects(&a.floating_effects)?;
     let contacts = a.contacts.unwrap_or(Contacts::Suspended);
     let log = match contacts {
         Contacts::Suspended => simulate_suspended(&ff, &SuspendedConfig {
