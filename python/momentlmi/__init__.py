@@ -330,6 +330,16 @@ def _robot_again(spec: str, sidecar, package_paths: list, signature: str, params
     return r
 
 
+def _fixed(r: Robot, what: str) -> Robot:
+    """`r`, unless its base floats: `what` takes a fixed-base robot for now (a
+    ValueError before its other arguments are read)."""
+    if r.floating_base:
+        raise ValueError(f"{what}: '{r._r.load_args[0]}' has a floating base, and this is for a "
+                         "fixed-base robot for now (a floating base's logs go to identify; "
+                         "docs/floating-base.md)")
+    return r
+
+
 def _robot(x, name: str = "robot") -> Robot:
     """A :class:`Robot`, or one loaded from a built-in robot's name or a URDF's path."""
     if isinstance(x, Robot):
@@ -620,7 +630,7 @@ def excite(robot: Robot, seconds: float = 10.0, criterion: str = "d", harmonics:
     if criterion not in ("d", "e", "cond"):
         raise ValueError(f"criterion: '{criterion}' is not one of d, e, cond")
     n = _args.number
-    text, (t, q, qd, qdd) = _native.excite(_robot(robot)._r, n(seconds, "seconds"), criterion,
+    text, (t, q, qd, qdd) = _native.excite(_fixed(_robot(robot), "excite")._r, n(seconds, "seconds"), criterion,
                                            _args.count(harmonics, "harmonics"), n(base_hz, "base_hz"),
                                            _args.count(seeds, "seeds"), _args.count(seed, "seed"),
                                            _args.count(pool, "pool"), n(rate_hz, "rate_hz"))
@@ -639,7 +649,7 @@ def diagnose(robot: Robot, data, nominal=None, repeats=None, nominal_data=None) 
     filtered); `nominal_data`, the data the nominal was identified on (as `data`), have
     its bodies refit with the friction law so that what they could not determine is not
     named an effect (``--nominal-data``)."""
-    r = _robot(robot)
+    r = _fixed(_robot(robot), "diagnose")
     joints = r.joint_names
     reps = _segments(repeats, joints, "repeats")
     own = _segments(nominal_data, joints, "nominal_data")

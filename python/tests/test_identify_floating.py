@@ -105,6 +105,8 @@ def test_simulate_gives_the_command_lines_log_as_columns(solo, logs, cli):
 
 def test_the_fixed_base_functions_refuse_a_floating_base(solo):
     z = np.zeros((2, solo.dof))
-    for call in (lambda: solo.rnea(z, z, z), lambda: m.Reducer(solo)):
-        with pytest.raises(ValueError, match="'solo' has a floating base"):
+    calls = (lambda: solo.rnea(z, z, z), lambda: m.Reducer(solo), lambda: m.excite(solo),
+             lambda: m.diagnose(solo, "x.csv"))  # (the refusal before the data are read)
+    for call in calls:
+        with pytest.raises(ValueError, match="solo.*has a floating base"):
             call()
