@@ -53,7 +53,8 @@ fn logs(robot: &RobotDescription, what: &str, given: &[Log]) -> PyResult<Vec<Dat
                     .collect::<Result<_, _>>()
                     .map_err(|e| PyValueError::new_err(format!("{name}: {e}")))?;
                 (floating_from_columns(ff, names, &columns, &name))
-                    .and_then(|d| checked(ff, d, &name))
+                    .and_then(|d| momentlmi::data::usable_floating_log(ff, d, &name))
+                    .map(|d| vec![d])
                     .map_err(|e| PyValueError::new_err(e.to_string()))?
             }
         };
@@ -61,28 +62,6 @@ fn logs(robot: &RobotDescription, what: &str, given: &[Log]) -> PyResult<Vec<Dat
     }
     momentlmi::data::base::lay_end_to_end(&mut out);
     Ok(out)
-}
-
-/// A log from columns, checked as a file's is.
-fn checked(
-    ff: &momentlmi::dynamics::Model,
-    d: Dataset,
-    name: &str,
-) -> Result<Vec<Dataset>, momentlmi::data::DataError> {
-    let file = |message: String| momentlmi::data::DataError::File {
-        path: name.into(),
-        message,
-    };
-    d.check(ff).map_err(|e| file(e.to_string()))?;
-    if d.is_empty() {
-        return Err(file("no samples".into()));
-    }
-    if d.contacts.is_empty() {
-        return Err(file(
-            "no contact wrench columns (force_<link>_x…): the base rows balance every contact wrench".into(),
-        ));
-    }
-    Ok(vec![d])
 }
 
 /// The report (JSON) of a floating-base robot's identification on the

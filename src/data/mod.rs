@@ -50,7 +50,10 @@ pub use mapping::Mapping;
 pub use options::ReadOptions;
 pub use prepare::{FileReport, Prepare, Velocity};
 pub use raw::RawLog;
-pub use read::{Reading, prepare_logs, read_as_csv, read_floating_logs, read_logs, read_raw_logs};
+pub use read::{
+    Reading, prepare_logs, read_as_csv, read_floating_logs, read_logs, read_raw_logs,
+    usable_floating_log,
+};
 pub use stats::{rms, rms_per_joint};
 pub use target::Target;
 pub use warning::ReadWarning;

@@ -110,6 +110,21 @@ fn read_floating_log(
         Some("npz") => super::floating_csv::read_floating_npz(model, p, values)?,
         _ => super::floating_csv::read_floating_csv(model, p)?,
     };
+    usable_floating_log(model, log, &p.display().to_string())
+}
+
+/// A floating-base log `name` as identification needs it: checked against
+/// the robot, with samples and a contact wrench (the readers' and the
+/// Python binding's columns' last step).
+pub fn usable_floating_log(
+    model: &crate::dynamics::Model,
+    log: Dataset,
+    name: &str,
+) -> Result<Dataset, DataError> {
+    let file = |message: &str| DataError::File {
+        path: name.into(),
+        message: message.into(),
+    };
     log.check(model).map_err(|e| file(&e.to_string()))?;
     if log.is_empty() {
         return Err(file("no samples (a header only)"));
